@@ -1,0 +1,106 @@
+"""Diagnostics: one type for every problem gpp reports, from syntax errors to failed runs.
+
+A Diagnostic carries a stable code, a severity, a primary span with an optional label,
+labelled secondary spans, notes, a help line and an optional fix (replacement edits). The
+renderers in gpp.render turn it into rustc-style terminal text, plain text or JSON.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from enum import Enum
+
+from gpp.source import Span
+
+
+class Severity(Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    NOTE = "note"
+
+
+@dataclass(frozen=True, slots=True)
+class Label:
+    """A span with a short message, drawn under the source line."""
+
+    span: Span
+    message: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Edit:
+    """Replace the text of `span` with `text` (an insertion when the span is empty)."""
+
+    span: Span
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Fix:
+    """A suggested change: a description and the edits that make it."""
+
+    message: str
+    edits: tuple[Edit, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    code: str
+    severity: Severity
+    message: str
+    span: Span
+    label: str = ""
+    secondary: tuple[Label, ...] = ()
+    notes: tuple[str, ...] = ()
+    help: str | None = None
+    fix: Fix | None = None
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity is Severity.ERROR
+
+    def sort_key(self) -> tuple[str, int, int, str]:
+        return (self.span.source.path, self.span.start, self.span.end, self.code)
+
+
+def error(
+    code: str,
+    message: str,
+    span: Span,
+    label: str = "",
+    *,
+    secondary: Iterable[Label] = (),
+    notes: Iterable[str] = (),
+    help: str | None = None,
+    fix: Fix | None = None,
+) -> Diagnostic:
+    return Diagnostic(code, Severity.ERROR, message, span, label, tuple(secondary), tuple(notes), help, fix)
+
+
+def warning(
+    code: str,
+    message: str,
+    span: Span,
+    label: str = "",
+    *,
+    secondary: Iterable[Label] = (),
+    notes: Iterable[str] = (),
+    help: str | None = None,
+    fix: Fix | None = None,
+) -> Diagnostic:
+    return Diagnostic(code, Severity.WARNING, message, span, label, tuple(secondary), tuple(notes), help, fix)
+
+
+@dataclass
+class DiagnosticSink:
+    """Collects diagnostics from a phase; phases append, callers read `items`."""
+
+    items: list[Diagnostic] = field(default_factory=list)
+
+    def add(self, diagnostic: Diagnostic) -> None:
+        self.items.append(diagnostic)
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.is_error for d in self.items)

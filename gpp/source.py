@@ -1,0 +1,111 @@
+"""Source text and positions: every diagnostic and every syntax node points into a Source."""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from dataclasses import dataclass
+from pathlib import Path
+
+
+class Source:
+    """The text of one file, with the line table needed to turn offsets into positions."""
+
+    __slots__ = ("_line_starts", "path", "text")
+
+    def __init__(self, text: str, path: str = "<input>") -> None:
+        self.path = path
+        self.text = text
+        self._line_starts: list[int] | None = None
+
+    @classmethod
+    def from_file(cls, path: str | Path) -> Source:
+        p = Path(path)
+        raw = p.read_bytes()
+        return cls(raw.decode("utf-8", errors="replace"), str(path))
+
+    def __repr__(self) -> str:
+        return f"Source({self.path!r})"
+
+    @property
+    def line_starts(self) -> list[int]:
+        if self._line_starts is None:
+            starts = [0]
+            text = self.text
+            i = text.find("\n")
+            while i >= 0:
+                starts.append(i + 1)
+                i = text.find("\n", i + 1)
+            self._line_starts = starts
+        return self._line_starts
+
+    def line_col(self, offset: int) -> tuple[int, int]:
+        """1-based line and column (in characters) of an offset."""
+        starts = self.line_starts
+        line = bisect_right(starts, offset) - 1
+        return line + 1, offset - starts[line] + 1
+
+    def line_count(self) -> int:
+        return len(self.line_starts)
+
+    def line_text(self, line: int) -> str:
+        """The text of a 1-based line, without its line break."""
+        starts = self.line_starts
+        start = starts[line - 1]
+        end = starts[line] - 1 if line < len(starts) else len(self.text)
+        return self.text[start:end].rstrip("\r")
+
+    def offset_of(self, line: int, col: int) -> int:
+        """Offset of a 1-based line and column, clamped to the text."""
+        starts = self.line_starts
+        line = max(1, min(line, len(starts)))
+        return min(starts[line - 1] + max(col, 1) - 1, len(self.text))
+
+    def lsp_position(self, offset: int) -> tuple[int, int]:
+        """0-based line and UTF-16 character of an offset, as the Language Server Protocol counts."""
+        line = self.line_col(offset)[0]
+        start = self.line_starts[line - 1]
+        prefix = self.text[start:offset]
+        units = len(prefix.encode("utf-16-le")) // 2
+        return line - 1, units
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """A half-open range of offsets [start, end) in a Source."""
+
+    source: Source
+    start: int
+    end: int
+
+    @property
+    def line(self) -> int:
+        return self.source.line_col(self.start)[0]
+
+    @property
+    def col(self) -> int:
+        return self.source.line_col(self.start)[1]
+
+    @property
+    def end_line(self) -> int:
+        return self.source.line_col(self.end)[0]
+
+    @property
+    def end_col(self) -> int:
+        return self.source.line_col(self.end)[1]
+
+    @property
+    def text(self) -> str:
+        return self.source.text[self.start : self.end]
+
+    def to(self, other: Span) -> Span:
+        """The span from the start of this one to the end of `other`."""
+        return Span(self.source, self.start, other.end)
+
+    def contains(self, offset: int) -> bool:
+        return self.start <= offset <= self.end
+
+    def lsp_range(self) -> tuple[tuple[int, int], tuple[int, int]]:
+        return self.source.lsp_position(self.start), self.source.lsp_position(self.end)
+
+    def __str__(self) -> str:
+        return f"{self.source.path}:{self.line}:{self.col}"

@@ -1,0 +1,296 @@
+"""The golog++ tokenizer.
+
+One regular expression with an alternative per token class, scanned with `finditer`.
+Keywords are reserved words with word boundaries: a NAME whose text is a keyword becomes that
+keyword's terminal. Three small pieces of context keep the language convenient:
+
+* section words (`effect`, `initially`, ...) are keywords only when a ':' follows;
+* the platform-model words (`state`, `next`, `until`, ...) are keywords only inside the braces
+  of a `component` or `constraints` declaration;
+* a keyword directly followed by a single '=' is a name (a mapping argument such as
+  `"/nav" { start = x }`);
+* a top-level '{' after the end of a declaration opens the legacy anonymous main block.
+
+Lexical errors (a stray character, an unterminated string or comment) become diagnostics and
+scanning goes on, so one bad character never hides the rest of the file.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from gpp.source import Source, Span
+
+
+class Token:
+    """A token: its terminal name (as in grammar/gpp.lark), its text and its offsets."""
+
+    __slots__ = ("end", "start", "type", "value")
+
+    def __init__(self, type: str, value: str, start: int, end: int) -> None:
+        self.type = type
+        self.value = value
+        self.start = start
+        self.end = end
+
+    def __repr__(self) -> str:
+        return f"Token({self.type}, {self.value!r}, {self.start})"
+
+
+@dataclass(frozen=True, slots=True)
+class LexError:
+    """A lexical problem, turned into a diagnostic by the parser."""
+
+    code: str
+    message: str
+    start: int
+    end: int
+    label: str = ""
+
+
+KEYWORDS: dict[str, str] = {
+    "action": "ACTION",
+    "exog_action": "EXOG_ACTION",
+    "fluent": "FLUENT",
+    "function": "FUNCTION",
+    "exog_function": "EXOG_FUNCTION",
+    "procedure": "PROCEDURE",
+    "domain": "DOMAIN",
+    "compound": "COMPOUND",
+    "list": "LIST",
+    "bool": "BOOL",
+    "number": "NUMBER_KW",
+    "string": "STRING_KW",
+    "symbol": "SYMBOL",
+    "void": "VOID",
+    "if": "IF",
+    "else": "ELSE",
+    "while": "WHILE",
+    "test": "TEST",
+    "choose": "CHOOSE",
+    "pick": "PICK",
+    "in": "IN",
+    "search": "SEARCH",
+    "solve": "SOLVE",
+    "concurrent": "CONCURRENT",
+    "during": "DURING",
+    "on_fail": "ON_FAIL",
+    "on_cancel": "ON_CANCEL",
+    "start": "HOOK",
+    "end": "HOOK",
+    "finish": "HOOK",
+    "fail": "HOOK",
+    "cancel": "HOOK",
+    "push_back": "LIST_PUSH",
+    "push_front": "LIST_PUSH",
+    "pop_back": "LIST_POP",
+    "pop_front": "LIST_POP",
+    "true": "TRUE",
+    "false": "FALSE",
+    "null": "NULL",
+    "exists": "QUANTIFIER",
+    "forall": "QUANTIFIER",
+    "length": "BUILTIN",
+    "to_string": "BUILTIN",
+    "component": "COMPONENT",
+    "constraints": "CONSTRAINTS",
+}
+
+# Keywords only inside the braces of `component { }` and `constraints { }`.
+PLATFORM_KEYWORDS: dict[str, str] = {
+    "resets": "RESETS",
+    "state": "STATE",
+    "next": "TEMPORAL_UN",
+    "previous": "TEMPORAL_UN",
+    "future": "TEMPORAL_UN",
+    "past": "TEMPORAL_UN",
+    "until": "TEMPORAL_BIN",
+    "since": "TEMPORAL_BIN",
+}
+
+SECTION_WORDS: dict[str, str] = {
+    "initially": "INITIALLY",
+    "precondition": "PRECONDITION",
+    "effect": "EFFECT",
+    "senses": "SENSES",
+    "mapping": "MAPPING",
+    "silent": "SILENT",
+    "duration": "DURATION",
+    "clocks": "CLOCKS",
+    "states": "STATES",
+    "transitions": "TRANSITIONS",
+}
+
+PUNCTUATION: dict[str, str] = {
+    "(": "LPAR",
+    ")": "RPAR",
+    "{": "LBRACE",
+    "}": "RBRACE",
+    "[": "LBRACKET",
+    "]": "RBRACKET",
+    ";": "SEMI",
+    ",": "COMMA",
+    ".": "DOT",
+    ":": "COLON",
+    "=": "EQ",
+    "=>": "CONTROLLABLE",
+    "*": "STAR",  # the wildcard inside `constraints { }`; elsewhere MUL_OP
+    "->": "ARROW",
+    "|": "BAR",
+    "&": "AMP",
+    "!": "BANG",
+    "**": "POW",
+    "==": "CMP_OP",
+    "!=": "CMP_OP",
+    "<=": "CMP_OP",
+    ">=": "CMP_OP",
+    "<": "CMP_OP",
+    ">": "CMP_OP",
+    "+": "ADD_OP",
+    "-": "ADD_OP",
+    "/": "MUL_OP",
+    "%": "MUL_OP",
+    "\\": "DOMAIN_OP",
+}
+
+_SECTION_RE = "|".join(SECTION_WORDS)
+_PUNCT_RE = "|".join(re.escape(p) for p in sorted(PUNCTUATION, key=len, reverse=True))
+
+# Whitespace and comments are skipped by the same match that reads the next token, so the
+# scanner makes one regex call per token.
+_TOKEN_RE = re.compile(
+    r"""
+    (?:[ \t\r\n\f\v]+|//[^\n]*|/\*(?:[^*]|\*(?!/))*\*/)*
+    (?:
+      (?P<section>(?:"""
+    + _SECTION_RE
+    + r""")\b[ \t\r\n\f\v]*:)
+    | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
+    | (?P<number>(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)
+    | (?P<string>"(?:[^"\\]|\\[\s\S])*")
+    | (?P<include>\#include\b)
+    | (?P<open_comment>/\*)
+    | (?P<punct>"""
+    + _PUNCT_RE
+    + r""")
+    | (?P<open_string>")
+    | (?P<eof>\Z)
+    | (?P<bad>.)
+    )
+    """,
+    re.VERBOSE | re.DOTALL,
+)
+
+# Token kinds after which a top-level '{' cannot continue the declaration, so it opens the
+# legacy main block.
+_ENDS_DECLARATION = frozenset({"SEMI", "RBRACE", "NUMBER", "STRING", "RBRACKET", "TRUE", "FALSE", "NULL"})
+
+
+def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
+    """Split a source into tokens (without whitespace and comments) and lexical errors."""
+    text = source.text
+    tokens: list[Token] = []
+    errors: list[LexError] = []
+    append = tokens.append
+    match = _TOKEN_RE.match
+    keywords = KEYWORDS
+    punctuation = PUNCTUATION
+    depth = 0
+    # Brace depth at which a `component`/`constraints` body was opened, or -1 outside one.
+    platform_depth = -1
+    platform_pending = False
+    prev_type = ""
+    pos = 0
+    n = len(text)
+    while pos < n:
+        m = match(text, pos)
+        assert m is not None  # the last alternative matches any character
+        kind = m.lastgroup
+        assert kind is not None
+        start = m.start(kind)
+        pos = m.end()
+        if kind == "eof":
+            break
+        value = m.group(kind)
+        if kind == "name":
+            ttype = keywords.get(value, "NAME")
+            if ttype == "NAME":
+                if platform_depth >= 0 and value in PLATFORM_KEYWORDS:
+                    ttype = PLATFORM_KEYWORDS[value]
+                elif value[0] == "_":
+                    errors.append(
+                        LexError("E0003", "a name cannot start with '_'", start, pos, "names start with a letter")
+                    )
+            elif ttype == "COMPONENT" or ttype == "CONSTRAINTS":
+                platform_pending = True
+        elif kind == "punct":
+            ttype = punctuation[value]
+            if value == "{":
+                if depth == 0 and (prev_type in _ENDS_DECLARATION or not tokens):
+                    ttype = "MAIN_LBRACE"
+                if platform_pending:
+                    platform_depth = depth
+                    platform_pending = False
+                depth += 1
+            elif value == "}":
+                depth = max(depth - 1, 0)
+                if depth == platform_depth:
+                    platform_depth = -1
+            elif value == "*" and platform_depth < 0:
+                ttype = "MUL_OP"
+            elif value == "=" and prev_type in _KEYWORD_TYPES:
+                # `start = x` in a mapping: the keyword is an argument name.
+                tokens[-1].type = "NAME"
+        elif kind == "number":
+            ttype = "NUMBER"
+        elif kind == "string":
+            ttype = "STRING"
+        elif kind == "section":
+            ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
+        elif kind == "include":
+            ttype = "INCLUDE"
+        elif kind == "open_comment":
+            errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
+            break
+        elif kind == "open_string":
+            line_end = text.find("\n", start)
+            pos = n if line_end < 0 else line_end
+            errors.append(
+                LexError("E0002", "unterminated string literal", start, start + 1, "no closing '\"' on this line")
+            )
+            # Read the rest of the line as the string so that parsing can go on.
+            ttype = "STRING"
+            value = text[start:pos] + '"'
+        else:
+            errors.append(LexError("E0001", f"unexpected character {value!r}", start, pos, "not valid here"))
+            continue
+        append(Token(ttype, value, start, pos))
+        prev_type = ttype
+    return tokens, errors
+
+
+_KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
+
+
+def span_of(source: Source, token: Token) -> Span:
+    return Span(source, token.start, token.end)
+
+
+def unescape_string(literal: str) -> str:
+    """The value of a string literal: verbatim but for the escapes \\" and \\\\."""
+    body = literal[1:-1]
+    if "\\" not in body:
+        return body
+    out: list[str] = []
+    i = 0
+    n = len(body)
+    while i < n:
+        c = body[i]
+        if c == "\\" and i + 1 < n and body[i + 1] in '"\\':
+            out.append(body[i + 1])
+            i += 2
+        else:
+            out.append(c)
+            i += 1
+    return "".join(out)

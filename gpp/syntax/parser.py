@@ -1,0 +1,518 @@
+"""The parser: gpp's tokenizer, lark's LALR tables, the AST builder, and error recovery.
+
+The loop below is lark's LALR algorithm written out so that gpp controls every step:
+
+* reductions call AstBuilder methods directly (no parse tree is built first);
+* chains of pass-through rules (`?sum: prod`, ...) are collapsed through a cache, which makes
+  the expression precedence levels almost free;
+* on a syntax error the parser reports it in the user's words and recovers: it inserts a
+  missing `;` `)` `]` `}`, deletes a stray token, or skips to the next statement or
+  declaration, and it does not report errors that follow from one it just reported.
+"""
+
+from __future__ import annotations
+
+import difflib
+import gc
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from gpp import diagnostics as diag
+from gpp.source import Source, Span
+from gpp.syntax import ast
+from gpp.syntax.build import AstBuilder
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
+from gpp.syntax.tables import Tables, load_tables
+
+
+@dataclass(frozen=True, slots=True)
+class ParseResult:
+    program: ast.Program
+    diagnostics: list[diag.Diagnostic]
+    tokens: list[Token]
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.is_error for d in self.diagnostics)
+
+
+def parse(source: Source) -> ParseResult:
+    """Parse one file. Always returns a Program (partial after syntax errors)."""
+    # The tree has no reference cycles; the cyclic collector would only rescan the growing
+    # heap again and again (it made parsing 50,000 lines twice as slow).
+    gc_was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        tokens, lex_errors = tokenize(source)
+        parser = _Parser(source, tokens, load_tables())
+        program = parser.run()
+    finally:
+        if gc_was_enabled:
+            gc.enable()
+    diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
+    diagnostics.extend(parser.diagnostics)
+    diagnostics.extend(parser.builder.diagnostics)
+    diagnostics.sort(key=diag.Diagnostic.sort_key)
+    return ParseResult(program, diagnostics, tokens)
+
+
+def parse_text(text: str, path: str = "<input>") -> ParseResult:
+    return parse(Source(text, path))
+
+
+# ---------------------------------------------------------------- words for terminals
+
+_TERMINAL_WORDS: dict[str, list[str]] = {}
+for _table in (PUNCTUATION, KEYWORDS, PLATFORM_KEYWORDS):
+    for _text, _type in _table.items():
+        _TERMINAL_WORDS.setdefault(_type, []).append(f"`{_text}`")
+for _word, _type in SECTION_WORDS.items():
+    _TERMINAL_WORDS[_type] = [f"`{_word}:`"]
+_TERMINAL_WORDS.update(
+    {
+        "NAME": ["a name"],
+        "NUMBER": ["a number"],
+        "STRING": ["a string"],
+        "INCLUDE": ["`#include`"],
+        "MAIN_LBRACE": ["`{`"],
+        "STAR": ["`*`"],
+        "$END": ["end of file"],
+    }
+)
+
+# Sets of terminals described by one phrase when all of them are expected.
+_EXPRESSION_START = frozenset(
+    {
+        "NAME",
+        "NUMBER",
+        "STRING",
+        "TRUE",
+        "FALSE",
+        "NULL",
+        "LPAR",
+        "BANG",
+        "ADD_OP",
+        "QUANTIFIER",
+        "IF",
+        "LIST",
+        "BUILTIN",
+    }
+)
+_STATEMENT_START = frozenset(
+    {"LBRACE", "IF", "WHILE", "TEST", "CHOOSE", "PICK", "SOLVE", "SEARCH", "CONCURRENT", "DURING", "HOOK"}
+    | {"LIST_PUSH", "LIST_POP", "NAME"}
+)
+_DECLARATION_START = frozenset({"ACTION", "EXOG_ACTION", "PROCEDURE", "COMPOUND", "COMPONENT", "CONSTRAINTS"})
+_TYPE_START = frozenset({"NAME", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID", "LIST"})
+_OPERATORS = frozenset({"ARROW", "BAR", "AMP", "CMP_OP", "ADD_OP", "MUL_OP", "POW", "DOT", "LBRACKET"})
+_KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
+_CLOSERS = {"LPAR": "RPAR", "LBRACKET": "RBRACKET", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE"}
+_INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE")
+# Tokens where skipping stops: the parser resumes at a statement or a declaration.
+_SYNC = frozenset({"SEMI", "RBRACE"}) | _DECLARATION_START | (_STATEMENT_START - {"NAME", "LBRACE"}) | {"INCLUDE"}
+
+# What a rule that ends in ';' is, for "expected `;` after this ...".
+_SEMI_CONTEXT = {
+    "test": "statement",
+    "hook": "statement",
+    "assign": "statement",
+    "list_pop": "statement",
+    "list_push": "statement",
+    "call_stmt": "statement",
+    "effect": "effect",
+    "cond_effect": "effect",
+    "sec_senses": "sensing assignment",
+    "initial": "initial value",
+    "constraint": "constraint",
+}
+
+_SUGGESTABLE_KEYWORDS = sorted(set(KEYWORDS) | set(SECTION_WORDS))
+
+
+def describe_found(token: Token) -> str:
+    if token.type == "$END":
+        return "end of file"
+    if token.type in _KEYWORD_TYPES:
+        return f"keyword `{token.value}`"
+    if token.type == "NAME":
+        return f"`{token.value}`"
+    if token.type == "NUMBER":
+        return f"number `{token.value}`"
+    if token.type == "STRING":
+        return "a string"
+    return f"`{token.value}`"
+
+
+def describe_expected(expected: set[str]) -> str:
+    """`expected` terminals in words: `;`, a name, an expression, ..."""
+    phrases: list[str] = []
+    rest = set(expected)
+    if rest >= _DECLARATION_START and rest >= _TYPE_START:
+        phrases.append("a declaration")
+        rest -= _DECLARATION_START | _TYPE_START | {"INCLUDE", "MAIN_LBRACE", "$END"}
+    if rest >= _STATEMENT_START:
+        phrases.append("a statement")
+        rest -= _STATEMENT_START
+    if rest >= _EXPRESSION_START:
+        phrases.append("an expression")
+        rest -= _EXPRESSION_START
+    if {"BOOL", "NUMBER_KW", "STRING_KW"} <= rest:
+        phrases.append("a type")
+        rest -= _TYPE_START
+    if len(_OPERATORS & rest) >= 4:
+        phrases.append("an operator")
+        rest -= _OPERATORS
+    words: list[str] = []
+    for t in sorted(rest, key=_terminal_order):
+        for w in _TERMINAL_WORDS.get(t, [t.lower()]):
+            if w not in words:
+                words.append(w)
+    phrases.extend(words)
+    if not phrases:
+        return "nothing more"
+    if len(phrases) == 1:
+        return phrases[0]
+    if len(phrases) > 8:
+        phrases = [*phrases[:7], "..."]
+        return "one of " + ", ".join(phrases)
+    return "one of " + ", ".join(phrases[:-1]) + " or " + phrases[-1]
+
+
+def _terminal_order(t: str) -> tuple[int, str]:
+    priority = {"SEMI": 0, "RPAR": 1, "RBRACE": 2, "RBRACKET": 3, "COMMA": 4, "EQ": 5, "NAME": 6}
+    return (priority.get(t, 10), t)
+
+
+class _Splice(list[Any]):
+    """The children of an inlined helper rule, joined into the parent's children."""
+
+
+def _flatten(children: list[Any]) -> list[Any]:
+    out: list[Any] = []
+    for c in children:
+        if type(c) is _Splice:
+            out.extend(c)
+        else:
+            out.append(c)
+    return out
+
+
+class _Parser:
+    def __init__(self, source: Source, tokens: list[Token], tables: Tables) -> None:
+        self.source = source
+        end = len(source.text)
+        self.tokens = [*tokens, Token("$END", "", end, end)]
+        self.tables = tables
+        self.builder = AstBuilder(source)
+        self.diagnostics: list[diag.Diagnostic] = []
+        # Index of the token up to which errors are not reported (cascade suppression).
+        self.quiet_until = -1
+        self.unit_cache: dict[tuple[int, int, str], int] = {}
+
+    # ---------------------------------------------------------------- the LALR loop
+
+    def run(self) -> ast.Program:
+        t = self.tables
+        actions, gotos, end_state = t.actions, t.gotos, t.end_state
+        rules: list[tuple[int, str, Callable[[list[Any]], Any] | None, bool, bool, bool]] = [
+            (r.size, r.origin, getattr(self.builder, r.builder) if r.builder else None, r.unit, r.splice, r.has_splices)
+            for r in t.rules
+        ]
+        unit_cache = self.unit_cache
+        ss: list[int] = [t.start_state]
+        vs: list[Any] = []
+        tokens = self.tokens
+        i = 0
+        while True:
+            tok = tokens[i]
+            tt = tok.type
+            x = actions[ss[-1]].get(tt)
+            if x is None:
+                recovered = self.recover(i, ss, vs)
+                if recovered is None:
+                    return self.partial_program(vs)
+                i = recovered
+                continue
+            if x >= 0:
+                ss.append(x)
+                vs.append(tok)
+                i += 1
+                continue
+            size, origin, callback, unit, splice, has_splices = rules[-1 - x]
+            if unit:
+                below = ss[-2]
+                key = (below, ss[-1], tt)
+                top = unit_cache.get(key)
+                if top is None:
+                    top = self.unit_chain(below, origin, tt)
+                    unit_cache[key] = top
+                ss[-1] = top
+                continue
+            if size:
+                children = vs[-size:]
+                del ss[-size:]
+                del vs[-size:]
+            else:
+                children = []
+            if has_splices:
+                children = _flatten(children)
+            value = _Splice(children) if splice else callback(children)  # type: ignore[misc]
+            g = gotos[ss[-1]][origin]
+            if g == end_state and tt == "$END":
+                assert isinstance(value, ast.Program)
+                return value
+            ss.append(g)
+            vs.append(value)
+
+    def unit_chain(self, below: int, origin: str, tt: str) -> int:
+        """The state reached from `below` after a chain of pass-through reductions on `tt`."""
+        actions, gotos, rules = self.tables.actions, self.tables.gotos, self.tables.rules
+        top = gotos[below][origin]
+        while True:
+            y = actions[top].get(tt)
+            if y is None or y >= 0 or not rules[-1 - y].unit:
+                return top
+            top = gotos[below][rules[-1 - y].origin]
+
+    def partial_program(self, vs: list[Any]) -> ast.Program:
+        decls: list[ast.Decl] = []
+        for v in vs:
+            if isinstance(v, ast.Decl):
+                decls.append(v)
+            elif type(v) is _Splice:
+                decls.extend(d for d in _flatten(v) if isinstance(d, ast.Decl))
+        return ast.Program(span=Span(self.source, 0, len(self.source.text)), declarations=tuple(decls))
+
+    # ---------------------------------------------------------------- simulation
+
+    def simulate(self, ss: Sequence[int], types: Sequence[str], reduced: list[str] | None = None) -> bool:
+        """Would the parser in state stack `ss` accept the token types `types`?"""
+        actions, gotos, rules, end_state = (
+            self.tables.actions,
+            self.tables.gotos,
+            self.tables.rules,
+            self.tables.end_state,
+        )
+        stack = list(ss)
+        for tt in types:
+            while True:
+                x = actions[stack[-1]].get(tt)
+                if x is None:
+                    return False
+                if x >= 0:
+                    stack.append(x)
+                    break
+                r = rules[-1 - x]
+                if reduced is not None:
+                    reduced.append(r.builder if r.builder else r.origin)
+                if r.size:
+                    del stack[-r.size :]
+                g = gotos[stack[-1]][r.origin]
+                if g == end_state and tt == "$END":
+                    return True
+                stack.append(g)
+        return True
+
+    def lookahead(self, i: int, count: int = 3) -> list[str]:
+        return [t.type for t in self.tokens[i : i + count]]
+
+    # ---------------------------------------------------------------- recovery
+
+    def report(self, i: int, d: diag.Diagnostic) -> None:
+        if i > self.quiet_until:
+            self.diagnostics.append(d)
+        self.quiet_until = i + 3
+
+    def recover(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
+        """Report the error at token i and repair the input; returns where to go on."""
+        tokens = self.tokens
+        tok = tokens[i]
+        expected = set(self.tables.actions[ss[-1]])
+        prev = tokens[i - 1] if i > 0 else None
+
+        # A keyword where a name must stand: say so, and read it as the name.
+        if "NAME" in expected and tok.type in _KEYWORD_TYPES:
+            self.report(
+                i,
+                diag.error(
+                    "E0013",
+                    f"`{tok.value}` is a reserved word and cannot be used as a name",
+                    self.span(tok),
+                    "reserved word",
+                    help=f"choose another name, such as `{tok.value}_`",
+                ),
+            )
+            tok.type = "NAME"
+            return i
+
+        if tok.type == "$END":
+            return self.recover_at_end(i, ss, expected)
+
+        after = self.lookahead(i, 3)
+        new_line = prev is not None and self.source.line_col(prev.end)[0] < self.source.line_col(tok.start)[0]
+        insertion = self.find_insertion(ss, expected, after)
+        deletion = self.simulate(ss, self.lookahead(i + 1, 3)) and tok.type != "$END"
+        if insertion and (new_line or not deletion or (insertion == "SEMI" and tok.type in _SYNC)):
+            self.report_insertion(i, ss, insertion, expected)
+            anchor = prev.end if prev is not None else tok.start
+            tokens.insert(i, Token(insertion, "", anchor, anchor))
+            return i
+        if deletion:
+            self.report_unexpected(i, expected, deleting=True)
+            return i + 1
+        if insertion:
+            self.report_insertion(i, ss, insertion, expected)
+            anchor = prev.end if prev is not None else tok.start
+            tokens.insert(i, Token(insertion, "", anchor, anchor))
+            return i
+        self.report_unexpected(i, expected, deleting=False)
+        return self.skip_to_sync(i, ss, vs)
+
+    def find_insertion(self, ss: list[int], expected: set[str], after: list[str]) -> str | None:
+        for candidate in _INSERTABLE:
+            if candidate in expected and self.simulate(ss, [candidate, *after]):
+                return candidate
+        return None
+
+    def skip_to_sync(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
+        """Panic mode: skip to a token where a statement or declaration can go on, and pop the
+        parser back to a state that accepts it."""
+        tokens = self.tokens
+        j = i
+        while j < len(tokens):
+            tt = tokens[j].type
+            if tt in _SYNC or tt == "$END":
+                resume = j + 1 if tt == "SEMI" else j
+                if resume >= len(tokens):
+                    return None
+                ahead = self.lookahead(resume, 3)
+                for depth in range(len(ss), 0, -1):
+                    if self.simulate(ss[:depth], ahead):
+                        del ss[depth:]
+                        del vs[depth - 1 :]
+                        self.quiet_until = max(self.quiet_until, resume + 2)
+                        return resume
+                if tt == "$END":
+                    return None
+            j += 1
+        return None
+
+    def recover_at_end(self, i: int, ss: list[int], expected: set[str]) -> int | None:
+        """End of file inside a declaration: close what is open."""
+        opener = self.innermost_unclosed(i)
+        secondary = []
+        if opener is not None:
+            secondary.append(diag.Label(self.span(opener), f"this `{opener.value}` is not closed"))
+        self.report(
+            i,
+            diag.error(
+                "E0012",
+                f"unexpected end of file, expected {describe_expected(expected)}",
+                self.span(self.tokens[i]),
+                "the file ends here",
+                secondary=secondary,
+            ),
+        )
+        self.quiet_until = len(self.tokens)
+        # Insert closers until the end of file is acceptable.
+        for _ in range(200):
+            if self.simulate(ss, ["$END"]):
+                return i
+            for candidate in _INSERTABLE:
+                if candidate in self.tables.actions[ss[-1]] and self.simulate(ss, [candidate]):
+                    end = self.tokens[i].start
+                    self.tokens.insert(i, Token(candidate, "", end, end))
+                    return i
+            break
+        return None
+
+    def innermost_unclosed(self, i: int) -> Token | None:
+        stack: list[Token] = []
+        for t in self.tokens[:i]:
+            if t.type in _CLOSERS:
+                stack.append(t)
+            elif t.type in ("RPAR", "RBRACKET", "RBRACE") and t.value and stack and _CLOSERS[stack[-1].type] == t.type:
+                stack.pop()
+        return stack[-1] if stack else None
+
+    def report_insertion(self, i: int, ss: list[int], inserted: str, expected: set[str]) -> None:
+        tokens = self.tokens
+        tok = tokens[i]
+        prev = tokens[i - 1] if i > 0 else tok
+        at = Span(self.source, prev.end, prev.end)
+        text = _TERMINAL_WORDS[inserted][0]
+        secondary: list[diag.Label] = []
+        if inserted == "SEMI":
+            reduced: list[str] = []
+            self.simulate(ss, ["SEMI", tok.type], reduced)
+            what = next((_SEMI_CONTEXT[r] for r in reduced if r in _SEMI_CONTEXT), None)
+            message = f"expected `;` after this {what}" if what else "expected `;`"
+            code = "E0011"
+        else:
+            message = f"expected {text}, found {describe_found(tok)}"
+            code = "E0010"
+            opener = self.innermost_unclosed(i)
+            if opener is not None and _CLOSERS.get(opener.type) == inserted:
+                secondary.append(diag.Label(self.span(opener), f"to close this `{opener.value}`"))
+        if tok.type != "$END" and self.source.line_col(tok.start)[0] == self.source.line_col(prev.end)[0]:
+            secondary.append(diag.Label(self.span(tok), f"found {describe_found(tok)}"))
+        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),))
+        self.report(
+            i,
+            diag.error(
+                code,
+                message,
+                at,
+                f"add {text} here",
+                secondary=secondary,
+                help=self.keyword_hint(i),
+                fix=fix,
+            ),
+        )
+
+    def report_unexpected(self, i: int, expected: set[str], deleting: bool) -> None:
+        tok = self.tokens[i]
+        prev = self.tokens[i - 1] if i > 0 else None
+        help = self.keyword_hint(i)
+        notes: list[str] = []
+        fix = None
+        if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE":
+            message = "unexpected `;` after `}`"
+            help = "remove this `;`: a statement or declaration that ends with `}` takes no `;`"
+            fix = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+        elif tok.type == "SEMI" and "$END" in expected:
+            message = "unexpected `;` after a declaration"
+            help = "remove this `;`: a function body is an expression and takes no `;`"
+            fix = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+        else:
+            message = f"expected {describe_expected(expected)}, found {describe_found(tok)}"
+            if tok.type == "EQ" and "CMP_OP" in expected:
+                help = help or "to compare two values write `==`"
+            if deleting and help is None:
+                fix = diag.Fix(f"remove {describe_found(tok)}", (diag.Edit(self.span(tok), ""),))
+        self.report(
+            i,
+            diag.error(
+                "E0010",
+                message,
+                self.span(tok),
+                "unexpected " + ("token" if tok.type != "$END" else "end of file"),
+                notes=notes,
+                help=help,
+                fix=fix,
+            ),
+        )
+
+    def keyword_hint(self, i: int) -> str | None:
+        """`did you mean `procedure`?` when a name just before the error looks like a keyword."""
+        for t in reversed(self.tokens[max(0, i - 4) : i + 1]):
+            if t.type == "NAME" and t.value not in KEYWORDS:
+                close = difflib.get_close_matches(t.value, _SUGGESTABLE_KEYWORDS, n=1, cutoff=0.8)
+                if close:
+                    word = close[0]
+                    return f"did you mean `{word}`?" if word not in SECTION_WORDS else f"did you mean `{word}:`?"
+        return None
+
+    def span(self, tok: Token) -> Span:
+        return Span(self.source, tok.start, tok.end)

@@ -1,0 +1,1 @@
+"""The golog++ language server (built on gpp.model)."""
