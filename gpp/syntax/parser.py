@@ -189,8 +189,17 @@ class _Splice(list[Any]):
 
 
 def _flatten(children: list[Any]) -> list[Any]:
-    out: list[Any] = []
-    for c in children:
+    """Join spliced children into one list. A repetition `x*` reduces as `rep: rep x`, so
+    its accumulated list comes first: it is extended in place (copying it would make long
+    repetitions quadratic), which is safe because only the value stack refers to it."""
+    first = children[0] if children else None
+    if type(first) is _Splice:
+        out: list[Any] = first
+        rest = children[1:]
+    else:
+        out = []
+        rest = children
+    for c in rest:
         if type(c) is _Splice:
             out.extend(c)
         else:
@@ -257,7 +266,10 @@ class _Parser:
                 children = []
             if has_splices:
                 children = _flatten(children)
-            value = _Splice(children) if splice else callback(children)  # type: ignore[misc]
+            if splice:
+                value = children if type(children) is _Splice else _Splice(children)
+            else:
+                value = callback(children)  # type: ignore[misc]
             g = gotos[ss[-1]][origin]
             if g == end_state and tt == "$END":
                 assert isinstance(value, ast.Program)

@@ -1,0 +1,114 @@
+"""Parse speed of gpp's front end: throughput for growing programs and growing nesting depth.
+
+Run: .venv/bin/python bench/parse_speed.py [--quick]
+
+Prints lines/s and the per-line cost relative to the smallest program (1.00 means perfectly
+linear), and the same for nesting depth per token. For comparison it also times lark's own
+LALR driver building a parse tree with positions from the same tokens (no AST), which is
+what a plain lark front end would cost.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from genprog import generate_program, nested_expression_program  # noqa: E402
+
+from gpp.source import Source  # noqa: E402
+from gpp.syntax.lexer import tokenize  # noqa: E402
+from gpp.syntax.parser import parse  # noqa: E402
+
+
+def best_of(n: int, fn: Callable[[], object]) -> float:
+    best = float("inf")
+    for _ in range(n):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def lark_baseline() -> Callable[[Source], object]:
+    """lark's LALR parser with positions, fed gpp's tokens, building lark's parse tree."""
+    from lark import Lark
+    from lark import Token as LarkToken
+    from lark.lexer import Lexer
+
+    class GppTokens(Lexer):
+        def __init__(self, conf: object) -> None:
+            pass
+
+        def lex(self, source: Source) -> Iterator[LarkToken]:  # type: ignore[override]
+            for t in tokenize(source)[0]:
+                yield LarkToken(t.type, t.value, t.start, 1, 1, 1, 1, t.end)
+
+    from gpp.resources import grammar_path
+
+    lark = Lark(
+        grammar_path().read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer=GppTokens,
+        propagate_positions=True,
+        keep_all_tokens=True,
+    )
+    return lambda source: lark.parse(source)  # type: ignore[arg-type]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--quick", action="store_true", help="smaller sizes, for a smoke run")
+    args = ap.parse_args()
+    sizes = [500, 2_000, 10_000] if args.quick else [500, 2_000, 10_000, 50_000]
+    depths = [10, 100, 1_000] if args.quick else [10, 100, 1_000, 10_000]
+    repeat = 3
+    baseline = lark_baseline()
+
+    print("parse (tokenize + LALR + AST), best of", repeat)
+    print(
+        f"{'lines':>8} {'tokens':>9} {'seconds':>9} {'lines/s':>9} {'cost/line':>10} {'lark tree':>10} {'speed-up':>9}"
+    )
+    first_cost = None
+    for lines in sizes:
+        text = generate_program(lines)
+        source = Source(text, f"gen{lines}.gpp")
+        n_lines = text.count("\n")
+        n_tokens = len(tokenize(source)[0])
+        result = parse(source)
+        assert not result.diagnostics, result.diagnostics[:3]
+        seconds = best_of(repeat, lambda: parse(source))
+        cost = seconds / n_lines
+        first_cost = first_cost or cost
+        gc.disable()
+        try:
+            lark_seconds = best_of(1 if lines > 10_000 else repeat, lambda: baseline(source))
+        finally:
+            gc.enable()
+        print(
+            f"{n_lines:>8,} {n_tokens:>9,} {seconds:>9.3f} {n_lines / seconds:>9,.0f} "
+            f"{cost / first_cost:>10.2f} {lark_seconds:>9.3f}s {lark_seconds / seconds:>8.1f}x"
+        )
+
+    print()
+    print("nesting depth: parentheses and blocks nested N deep")
+    print(f"{'depth':>8} {'tokens':>9} {'seconds':>9} {'µs/token':>9} {'cost/token':>11}")
+    first = None
+    for depth in depths:
+        source = Source(nested_expression_program(depth), f"deep{depth}.gpp")
+        n_tokens = len(tokenize(source)[0])
+        result = parse(source)
+        assert not result.diagnostics, result.diagnostics[:3]
+        seconds = best_of(repeat, lambda: parse(source))
+        per_token = seconds / n_tokens
+        first = first or per_token
+        print(f"{depth:>8,} {n_tokens:>9,} {seconds:>9.4f} {per_token * 1e6:>9.2f} {per_token / first:>11.2f}")
+
+
+if __name__ == "__main__":
+    main()
