@@ -19,18 +19,18 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from genprog import generate_program, nested_expression_program  # noqa: E402
+from genprog import generate_program, nested_expression_program
 
-from gpp.source import Source  # noqa: E402
-from gpp.syntax.lexer import tokenize  # noqa: E402
-from gpp.syntax.parser import parse  # noqa: E402
+from gpp.source import Source
+from gpp.syntax.lexer import tokenize
+from gpp.syntax.parser import parse
 
 
-def best_of(n: int, fn: Callable[[], object]) -> float:
+def best_of(n: int, fn: Callable[[Source], object], source: Source) -> float:
     best = float("inf")
     for _ in range(n):
         t0 = time.perf_counter()
-        fn()
+        fn(source)
         best = min(best, time.perf_counter() - t0)
     return best
 
@@ -82,12 +82,12 @@ def main() -> None:
         n_tokens = len(tokenize(source)[0])
         result = parse(source)
         assert not result.diagnostics, result.diagnostics[:3]
-        seconds = best_of(repeat, lambda: parse(source))
+        seconds = best_of(repeat, parse, source)
         cost = seconds / n_lines
         first_cost = first_cost or cost
         gc.disable()
         try:
-            lark_seconds = best_of(1 if lines > 10_000 else repeat, lambda: baseline(source))
+            lark_seconds = best_of(1 if lines > 10_000 else repeat, baseline, source)
         finally:
             gc.enable()
         print(
@@ -104,7 +104,7 @@ def main() -> None:
         n_tokens = len(tokenize(source)[0])
         result = parse(source)
         assert not result.diagnostics, result.diagnostics[:3]
-        seconds = best_of(repeat, lambda: parse(source))
+        seconds = best_of(repeat, parse, source)
         per_token = seconds / n_tokens
         first = first or per_token
         print(f"{depth:>8,} {n_tokens:>9,} {seconds:>9.4f} {per_token * 1e6:>9.2f} {per_token / first:>11.2f}")
