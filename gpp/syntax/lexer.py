@@ -167,7 +167,7 @@ _TOKEN_RE = re.compile(
     + _SECTION_RE
     + r""")\b[ \t\r\n\f\v]*:)
     | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
-    | (?P<number>(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)
+    | (?P<number>(?:[0-9]+\.[0-9]*|\.[0-9]+|[0-9]+)(?:[eE][+-]?[0-9]+)?)
     | (?P<string>"(?:[^"\\]|\\[\s\S])*")
     | (?P<include>\#include\b)
     | (?P<open_comment>/\*)

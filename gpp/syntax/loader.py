@@ -35,6 +35,8 @@ class ParsedFile:
 class LoadResult:
     files: list[ParsedFile] = field(default_factory=list)
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    # The resolved paths of the files asked for (not reached only through `#include`).
+    roots: list[Path] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -84,6 +86,8 @@ class _Loader:
 
     def load_root(self, path: Path) -> None:
         resolved = path.resolve()
+        if resolved not in self.result.roots:
+            self.result.roots.append(resolved)
         if resolved in self.loaded:
             return
         source = self.read(resolved)

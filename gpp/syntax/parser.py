@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import difflib
 import gc
+from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -46,6 +47,7 @@ def parse(source: Source) -> ParseResult:
     try:
         tokens, lex_errors = tokenize(source)
         parser = _Parser(source, tokens, load_tables())
+        parser.quiet_after_lex_errors([e.start for e in lex_errors])
         program = parser.run()
     finally:
         if gc_was_enabled:
@@ -82,35 +84,30 @@ _TERMINAL_WORDS.update(
 )
 
 # Sets of terminals described by one phrase when all of them are expected.
-_EXPRESSION_START = frozenset(
-    {
-        "NAME",
-        "NUMBER",
-        "STRING",
-        "TRUE",
-        "FALSE",
-        "NULL",
-        "LPAR",
-        "BANG",
-        "ADD_OP",
-        "QUANTIFIER",
-        "IF",
-        "LIST",
-        "BUILTIN",
-    }
-)
-_STATEMENT_START = frozenset(
-    {"LBRACE", "IF", "WHILE", "TEST", "CHOOSE", "PICK", "SOLVE", "SEARCH", "CONCURRENT", "DURING", "HOOK"}
-    | {"LIST_PUSH", "LIST_POP", "NAME"}
+_PRIMARY_START = frozenset({"NAME", "NUMBER", "STRING", "TRUE", "FALSE", "NULL", "LPAR", "LIST", "BUILTIN"})
+_EXPRESSION_START = _PRIMARY_START | {"BANG", "ADD_OP", "QUANTIFIER", "IF"}
+_STATEMENT_START = (
+    frozenset({"LBRACE", "IF", "WHILE", "TEST", "CHOOSE", "PICK", "SOLVE", "SEARCH", "CONCURRENT", "DURING", "HOOK"})
+    | frozenset({"LIST_PUSH", "LIST_POP"})
+    | _PRIMARY_START
 )
 _DECLARATION_START = frozenset({"ACTION", "EXOG_ACTION", "PROCEDURE", "COMPOUND", "COMPONENT", "CONSTRAINTS"})
 _TYPE_START = frozenset({"NAME", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID", "LIST"})
 _OPERATORS = frozenset({"ARROW", "BAR", "AMP", "CMP_OP", "ADD_OP", "MUL_OP", "POW", "DOT", "LBRACKET"})
 _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
 _CLOSERS = {"LPAR": "RPAR", "LBRACKET": "RBRACKET", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE"}
-_INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE")
+_INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE", "COMMA")
+# Tokens that start an operand; when one is missing, a placeholder operand is inserted.
+_OPERAND_START = _PRIMARY_START
+_TYPED_DECLARATION = frozenset({"FLUENT", "FUNCTION", "EXOG_FUNCTION", "DOMAIN"})
+# A keyword that starts a statement or declaration comes after one of these (or first).
+_STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
+# How many tokens a repair must let the parser read to be believed.
+_PROBE = 8
 # Tokens where skipping stops: the parser resumes at a statement or a declaration.
-_SYNC = frozenset({"SEMI", "RBRACE"}) | _DECLARATION_START | (_STATEMENT_START - {"NAME", "LBRACE"}) | {"INCLUDE"}
+_SYNC = (
+    frozenset({"SEMI", "RBRACE"}) | _DECLARATION_START | (_STATEMENT_START - _PRIMARY_START - {"LBRACE"}) | {"INCLUDE"}
+)
 
 # What a rule that ends in ';' is, for "expected `;` after this ...".
 _SEMI_CONTEXT = {
@@ -153,8 +150,8 @@ def describe_expected(expected: set[str]) -> str:
         rest -= _DECLARATION_START | _TYPE_START | {"INCLUDE", "MAIN_LBRACE", "$END"}
     if rest >= _STATEMENT_START:
         phrases.append("a statement")
-        rest -= _STATEMENT_START
-    if rest >= _EXPRESSION_START:
+        rest -= _STATEMENT_START | _EXPRESSION_START
+    elif rest >= _PRIMARY_START:
         phrases.append("an expression")
         rest -= _EXPRESSION_START
     if {"BOOL", "NUMBER_KW", "STRING_KW"} <= rest:
@@ -218,6 +215,9 @@ class _Parser:
         # Index of the token up to which errors are not reported (cascade suppression).
         self.quiet_until = -1
         self.unit_cache: dict[tuple[int, int, str], int] = {}
+        # Repairs tried at each token (by identity), to stop a repair that makes no progress.
+        self.repairs: dict[int, int] = {}
+        self.quiet_tokens: set[int] = set()
 
     # ---------------------------------------------------------------- the LALR loop
 
@@ -331,20 +331,46 @@ class _Parser:
 
     # ---------------------------------------------------------------- recovery
 
+    def quiet_after_lex_errors(self, offsets: list[int]) -> None:
+        """A token the lexer dropped leaves a gap the parser would report again: errors at the
+        token that follows a lexical error are not reported."""
+        starts = [t.start for t in self.tokens]
+        for offset in offsets:
+            self.quiet_tokens.add(bisect_left(starts, offset))
+
     def report(self, i: int, d: diag.Diagnostic) -> None:
-        if i > self.quiet_until:
+        if i > self.quiet_until and i not in self.quiet_tokens:
             self.diagnostics.append(d)
         self.quiet_until = i + 3
+
+    def acceptable(self, ss: list[int]) -> set[str]:
+        """The terminals that can really come next. The LALR table of the top state also lists
+        lookaheads merged from other contexts; simulating each one on the actual stack leaves
+        only those that lead to a shift."""
+        return {t for t in self.tables.actions[ss[-1]] if self.simulate(ss, [t])}
+
+    def progress(self, ss: Sequence[int], types: Sequence[str]) -> int:
+        """How many of `types` the parser in state `ss` accepts before it fails."""
+        for n in range(len(types), 0, -1):
+            if self.simulate(ss, types[:n]):
+                return n
+        return 0
 
     def recover(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
         """Report the error at token i and repair the input; returns where to go on."""
         tokens = self.tokens
         tok = tokens[i]
-        expected = set(self.tables.actions[ss[-1]])
+        expected = self.acceptable(ss)
         prev = tokens[i - 1] if i > 0 else None
+        ahead = self.lookahead(i, _PROBE)
 
-        # A keyword where a name must stand: say so, and read it as the name.
-        if "NAME" in expected and tok.type in _KEYWORD_TYPES:
+        # A keyword where a name must stand (`action test() {}`): say so, and read it as the name.
+        if (
+            "NAME" in expected
+            and tok.type in _KEYWORD_TYPES
+            and self.progress(ss, ["NAME", *ahead[1:]]) >= min(3, len(ahead))
+            and not any(self.simulate(ss, [c, *ahead[:2]]) for c in _INSERTABLE)
+        ):
             self.report(
                 i,
                 diag.error(
@@ -361,57 +387,81 @@ class _Parser:
         if tok.type == "$END":
             return self.recover_at_end(i, ss, expected)
 
-        after = self.lookahead(i, 3)
+        # A repair that did not get the parser past this token is not tried again: skip instead.
+        tries = self.repairs.get(id(tok), 0)
+        self.repairs[id(tok)] = tries + 1
+        if tries >= 2:
+            return self.skip_to_sync(i + 1, ss, vs) if tries < 4 else None
+
+        # Candidate repairs, scored by how far the parse then gets.
         new_line = prev is not None and self.source.line_col(prev.end)[0] < self.source.line_col(tok.start)[0]
-        insertion = self.find_insertion(ss, expected, after)
-        deletion = self.simulate(ss, self.lookahead(i + 1, 3)) and tok.type != "$END"
-        if insertion and (new_line or not deletion or (insertion == "SEMI" and tok.type in _SYNC)):
-            self.report_insertion(i, ss, insertion, expected)
+        candidates: list[tuple[int, int, str]] = []  # (progress, preference, repair)
+        for order, inserted in enumerate(_INSERTABLE):
+            if inserted in expected:
+                gain = self.progress(ss, [inserted, *ahead]) - 1
+                preference = 0 if inserted == "SEMI" and new_line else 1 + order
+                candidates.append((gain, -preference, inserted))
+        if expected & _OPERAND_START and tok.type not in _OPERAND_START:
+            gain = self.progress(ss, ["NAME", *ahead]) - 1
+            candidates.append((gain, -7, "OPERAND"))
+        # The deleted token counts as read, so that deleting and inserting compare fairly.
+        deletion = self.progress(ss, self.lookahead(i + 1, _PROBE - 1)) + 1
+        candidates.append((deletion, -0.5 if not new_line else -6, "DELETE"))  # type: ignore[arg-type]
+        candidates.sort(reverse=True)
+        gain, _, repair = candidates[0]
+        if gain >= min(2, len(ahead)):
             anchor = prev.end if prev is not None else tok.start
-            tokens.insert(i, Token(insertion, "", anchor, anchor))
-            return i
-        if deletion:
-            self.report_unexpected(i, expected, deleting=True)
-            return i + 1
-        if insertion:
-            self.report_insertion(i, ss, insertion, expected)
-            anchor = prev.end if prev is not None else tok.start
-            tokens.insert(i, Token(insertion, "", anchor, anchor))
+            if repair == "DELETE":
+                self.report_unexpected(i, expected, deleting=True)
+                return i + 1
+            if repair == "OPERAND":
+                self.report_unexpected(i, expected, deleting=False)
+                # A placeholder operand (a name no one can write) completes the expression.
+                tokens.insert(i, Token("NAME", "", tok.start, tok.start))
+                return i
+            self.report_insertion(i, ss, repair, expected)
+            tokens.insert(i, Token(repair, "", anchor, anchor))
             return i
         self.report_unexpected(i, expected, deleting=False)
         return self.skip_to_sync(i, ss, vs)
 
-    def find_insertion(self, ss: list[int], expected: set[str], after: list[str]) -> str | None:
-        for candidate in _INSERTABLE:
-            if candidate in expected and self.simulate(ss, [candidate, *after]):
-                return candidate
-        return None
+    def is_sync(self, j: int) -> bool:
+        """Can parsing resume at token j? At `;` and `}`, statement keywords, declaration
+        keywords, and a type that starts a line or is followed by `fluent`/`function`/`domain`."""
+        t = self.tokens[j]
+        if t.type in _SYNC:
+            return True
+        if t.type in _TYPE_START and j + 1 < len(self.tokens):
+            if self.tokens[j + 1].type in _TYPED_DECLARATION:
+                return True
+            prev = self.tokens[j - 1] if j > 0 else None
+            starts_line = prev is None or self.source.line_col(prev.end)[0] < self.source.line_col(t.start)[0]
+            return starts_line and t.type != "NAME"
+        return False
 
     def skip_to_sync(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
         """Panic mode: skip to a token where a statement or declaration can go on, and pop the
         parser back to a state that accepts it."""
         tokens = self.tokens
-        j = i
-        while j < len(tokens):
-            tt = tokens[j].type
-            if tt in _SYNC or tt == "$END":
-                resume = j + 1 if tt == "SEMI" else j
-                if resume >= len(tokens):
-                    return None
-                ahead = self.lookahead(resume, 3)
-                for depth in range(len(ss), 0, -1):
-                    if self.simulate(ss[:depth], ahead):
-                        del ss[depth:]
-                        del vs[depth - 1 :]
-                        self.quiet_until = max(self.quiet_until, resume + 2)
-                        return resume
-                if tt == "$END":
-                    return None
-            j += 1
+        for j in range(i, len(tokens)):
+            if not (tokens[j].type == "$END" or self.is_sync(j)):
+                continue
+            resume = j + 1 if tokens[j].type == "SEMI" else j
+            if resume >= len(tokens):
+                return None
+            ahead = self.lookahead(resume, 3)
+            for depth in range(len(ss), 0, -1):
+                if self.simulate(ss[:depth], ahead):
+                    del ss[depth:]
+                    del vs[depth - 1 :]
+                    self.quiet_until = max(self.quiet_until, resume + 2)
+                    return resume
+            if tokens[j].type == "$END":
+                return None
         return None
 
     def recover_at_end(self, i: int, ss: list[int], expected: set[str]) -> int | None:
-        """End of file inside a declaration: close what is open."""
+        """End of file inside a declaration: say what is open, then close it."""
         opener = self.innermost_unclosed(i)
         secondary = []
         if opener is not None:
@@ -427,25 +477,44 @@ class _Parser:
             ),
         )
         self.quiet_until = len(self.tokens)
-        # Insert closers until the end of file is acceptable.
-        for _ in range(200):
-            if self.simulate(ss, ["$END"]):
+        # Close what is open, innermost first, completing a statement or operand where needed,
+        # so that the declaration being written still reaches the model (an editor needs it).
+        fillers: tuple[list[str], ...] = (
+            [],
+            ["SEMI"],
+            ["NAME"],
+            ["NAME", "SEMI"],
+            ["RPAR", "SEMI"],
+            ["NAME", "RPAR", "SEMI"],
+        )
+        inserted: list[str] = []
+        for opener in reversed(self.unclosed(i)):
+            closer = _CLOSERS[opener.type]
+            for filler in fillers:
+                if self.simulate(ss, [*inserted, *filler, closer]):
+                    inserted += [*filler, closer]
+                    break
+            else:
+                break
+        for filler in fillers[:4]:
+            if self.simulate(ss, [*inserted, *filler, "$END"]):
+                end = self.tokens[i].start
+                self.tokens[i:i] = [Token(t, "", end, end) for t in [*inserted, *filler]]
                 return i
-            for candidate in _INSERTABLE:
-                if candidate in self.tables.actions[ss[-1]] and self.simulate(ss, [candidate]):
-                    end = self.tokens[i].start
-                    self.tokens.insert(i, Token(candidate, "", end, end))
-                    return i
-            break
         return None
 
-    def innermost_unclosed(self, i: int) -> Token | None:
+    def unclosed(self, i: int) -> list[Token]:
+        """The brackets opened before token i and not closed, outermost first."""
         stack: list[Token] = []
         for t in self.tokens[:i]:
             if t.type in _CLOSERS:
                 stack.append(t)
             elif t.type in ("RPAR", "RBRACKET", "RBRACE") and t.value and stack and _CLOSERS[stack[-1].type] == t.type:
                 stack.pop()
+        return stack
+
+    def innermost_unclosed(self, i: int) -> Token | None:
+        stack = self.unclosed(i)
         return stack[-1] if stack else None
 
     def report_insertion(self, i: int, ss: list[int], inserted: str, expected: set[str]) -> None:
@@ -487,16 +556,20 @@ class _Parser:
         tok = self.tokens[i]
         prev = self.tokens[i - 1] if i > 0 else None
         help = self.keyword_hint(i)
-        notes: list[str] = []
         fix = None
-        if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE":
+        remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+        if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE" and prev.value:
             message = "unexpected `;` after `}`"
             help = "remove this `;`: a statement or declaration that ends with `}` takes no `;`"
-            fix = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+            fix = remove
         elif tok.type == "SEMI" and "$END" in expected:
             message = "unexpected `;` after a declaration"
             help = "remove this `;`: a function body is an expression and takes no `;`"
-            fix = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+            fix = remove
+        elif tok.type == "SEMI" and prev is not None and prev.type == "SEMI":
+            message = "unexpected `;`"
+            help = "remove this `;`: there is no empty statement (write `{}` for one that does nothing)"
+            fix = remove
         else:
             message = f"expected {describe_expected(expected)}, found {describe_found(tok)}"
             if tok.type == "EQ" and "CMP_OP" in expected:
@@ -510,21 +583,30 @@ class _Parser:
                 message,
                 self.span(tok),
                 "unexpected " + ("token" if tok.type != "$END" else "end of file"),
-                notes=notes,
                 help=help,
                 fix=fix,
             ),
         )
 
     def keyword_hint(self, i: int) -> str | None:
-        """`did you mean `procedure`?` when a name just before the error looks like a keyword."""
-        for t in reversed(self.tokens[max(0, i - 4) : i + 1]):
-            if t.type == "NAME" and t.value not in KEYWORDS:
-                close = difflib.get_close_matches(t.value, _SUGGESTABLE_KEYWORDS, n=1, cutoff=0.8)
-                if close:
-                    word = close[0]
-                    return f"did you mean `{word}`?" if word not in SECTION_WORDS else f"did you mean `{word}:`?"
-        return None
+        """`did you mean `procedure`?` when a name near the error looks like a keyword: of the
+        names on the error's line (and the error token), the one most similar to a keyword."""
+        line = self.source.line_col(self.tokens[i].start)[0]
+        best: tuple[float, str] | None = None
+        for k in range(max(0, i - 12), i + 1):
+            t = self.tokens[k]
+            if t.type != "NAME" or not t.value or self.source.line_col(t.start)[0] < line - 1:
+                continue
+            if k > 0 and self.tokens[k - 1].type not in _STARTS_AFTER:
+                continue
+            for word in difflib.get_close_matches(t.value, _SUGGESTABLE_KEYWORDS, n=1, cutoff=0.75):
+                ratio = difflib.SequenceMatcher(None, t.value, word).ratio()
+                if best is None or ratio > best[0]:
+                    best = (ratio, word)
+        if best is None:
+            return None
+        word = best[1]
+        return f"did you mean `{word}:`?" if word in SECTION_WORDS else f"did you mean `{word}`?"
 
     def span(self, tok: Token) -> Span:
         return Span(self.source, tok.start, tok.end)

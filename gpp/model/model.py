@@ -1,0 +1,183 @@
+"""The code model: every declaration, every reference with its target, every expression with
+its type. Built once by gpp.model.build; the checker, the interpreter and the language server
+all read it. The query methods are what an editor needs (hover, definition, references,
+completion, outline)."""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from gpp.model.symbols import GLOBAL_KINDS, Reference, ScopeRecord, Symbol, SymbolKind
+from gpp.model.types import ERROR, DomainType, Type
+from gpp.source import Source, Span
+from gpp.syntax import ast
+from gpp.syntax.loader import ParsedFile
+from gpp.syntax.walk import path_to
+
+
+@dataclass(frozen=True, slots=True)
+class OutlineItem:
+    name: str
+    kind: SymbolKind
+    span: Span  # the whole declaration
+    selection: Span  # its name
+    detail: str
+    children: tuple[OutlineItem, ...] = ()
+
+
+@dataclass
+class Model:
+    files: list[ParsedFile]
+    globals: dict[str, Symbol] = field(default_factory=dict)
+    types: dict[str, Symbol] = field(default_factory=dict)
+    # Domain elements by name.
+    symbols: dict[str, Symbol] = field(default_factory=dict)
+    references: list[Reference] = field(default_factory=list)
+    scopes: list[ScopeRecord] = field(default_factory=list)
+    # id(ast node) -> its type / the symbol it names. Nodes are kept alive by `files`.
+    expr_types: dict[int, Type] = field(default_factory=dict)
+    targets: dict[int, Symbol] = field(default_factory=dict)
+    # id(expression) -> the expression it stands for after boolean `==`/`!=` were given their
+    # golog++ precedence (see gpp.model.build.reassociate); consumers use `effective()`.
+    rewritten: dict[int, ast.Expr] = field(default_factory=dict)
+    main: Symbol | None = None
+
+    def __post_init__(self) -> None:
+        self._refs_by_source: dict[int, list[Reference]] | None = None
+        self._refs_by_symbol: dict[int, list[Reference]] | None = None
+
+    # ---------------------------------------------------------------- facts
+
+    def type_of(self, expr: ast.Expr) -> Type:
+        return self.expr_types.get(id(expr), ERROR)
+
+    def target(self, node: ast.Node) -> Symbol | None:
+        """The symbol a Name, Call, Ident or NamedType refers to."""
+        return self.targets.get(id(node))
+
+    def effective(self, expr: ast.Expr) -> ast.Expr:
+        return self.rewritten.get(id(expr), expr)
+
+    def lookup(self, name: str) -> Symbol | None:
+        return self.globals.get(name) or self.types.get(name) or self.symbols.get(name)
+
+    def file_of(self, source: Source) -> ParsedFile | None:
+        return next((f for f in self.files if f.source is source), None)
+
+    def domain(self, name: str) -> DomainType | None:
+        s = self.types.get(name)
+        return s.type if s is not None and isinstance(s.type, DomainType) else None
+
+    # ---------------------------------------------------------------- indexes
+
+    def _index(self) -> None:
+        by_source: dict[int, list[Reference]] = {}
+        by_symbol: dict[int, list[Reference]] = {}
+        for r in self.references:
+            by_source.setdefault(id(r.span.source), []).append(r)
+            by_symbol.setdefault(id(r.symbol), []).append(r)
+        for refs in by_source.values():
+            refs.sort(key=lambda r: (r.span.start, -r.span.end))
+        self._refs_by_source = by_source
+        self._refs_by_symbol = by_symbol
+
+    def references_in(self, source: Source) -> list[Reference]:
+        if self._refs_by_source is None:
+            self._index()
+        assert self._refs_by_source is not None
+        return self._refs_by_source.get(id(source), [])
+
+    # ---------------------------------------------------------------- editor queries
+
+    def reference_at(self, source: Source, offset: int) -> Reference | None:
+        """The name occurrence (declaration or use) under `offset`."""
+        refs = self.references_in(source)
+        i = bisect_right([r.span.start for r in refs], offset)
+        best: Reference | None = None
+        for r in refs[max(0, i - 8) : i]:
+            if r.span.start <= offset <= r.span.end and (best is None or r.span.start >= best.span.start):
+                best = r
+        return best
+
+    def symbol_at(self, source: Source, offset: int) -> Symbol | None:
+        ref = self.reference_at(source, offset)
+        return ref.symbol if ref else None
+
+    def definition(self, symbol: Symbol) -> Span | None:
+        return symbol.span
+
+    def references_to(self, symbol: Symbol, include_declaration: bool = True) -> list[Reference]:
+        if self._refs_by_symbol is None:
+            self._index()
+        assert self._refs_by_symbol is not None
+        refs = self._refs_by_symbol.get(id(symbol), [])
+        return [r for r in refs if include_declaration or not r.declaration]
+
+    def node_path(self, source: Source, offset: int) -> list[ast.Node]:
+        """Syntax nodes from the declaration down to the innermost node at `offset`."""
+        pf = self.file_of(source)
+        if pf is None:
+            return []
+        return path_to(pf.program, offset)[1:]
+
+    def expression_at(self, source: Source, offset: int) -> ast.Expr | None:
+        for node in reversed(self.node_path(source, offset)):
+            if isinstance(node, ast.Expr):
+                return node
+        return None
+
+    def visible_at(self, source: Source, offset: int) -> list[Symbol]:
+        """Names usable at `offset`: globals, domain symbols, types, and the local variables of
+        every scope around it (inner ones last, so they shadow)."""
+        out: dict[str, Symbol] = {}
+        for table in (self.types, self.symbols, self.globals):
+            out.update(table)
+        for scope in self.scopes:
+            if scope.span.source is source and scope.span.start <= offset <= scope.span.end:
+                for s in scope.symbols:
+                    out[s.name] = s
+        return list(out.values())
+
+    def outline(self, source: Source) -> list[OutlineItem]:
+        pf = self.file_of(source)
+        if pf is None:
+            return []
+        items: list[OutlineItem] = []
+        for decl in pf.program.declarations:
+            item = self._outline_item(decl)
+            if item is not None:
+                items.append(item)
+        return items
+
+    def _outline_item(self, decl: ast.Decl) -> OutlineItem | None:
+        name_node: ast.Ident | None = getattr(decl, "name", None)
+        if isinstance(decl, ast.MainBlock):
+            sym = self.main
+            return OutlineItem("main", SymbolKind.PROCEDURE, decl.span, decl.span, "legacy main block")
+        if name_node is None or not isinstance(name_node, ast.Ident):
+            return None
+        sym = self.target(name_node)
+        if sym is None:
+            return None
+        children: list[OutlineItem] = []
+        kids: Iterable[Symbol] = list(sym.params) + list(sym.members.values())
+        for child in kids:
+            if child.span is not None:
+                children.append(OutlineItem(child.name, child.kind, child.span, child.span, child.signature()))
+        if isinstance(sym.type, DomainType) and sym.kind is SymbolKind.DOMAIN:
+            for v in sym.type.values:
+                element = self.symbols.get(str(v))
+                span = element.span if element is not None else None
+                if (
+                    element is not None
+                    and span is not None
+                    and span.source is decl.span.source
+                    and decl.span.contains(span.start)
+                ):
+                    children.append(OutlineItem(element.name, element.kind, span, span, "symbol"))
+        return OutlineItem(sym.name, sym.kind, decl.span, name_node.span, sym.signature(), tuple(children))
+
+    def global_symbols(self) -> list[Symbol]:
+        return [s for s in self.globals.values() if s.kind in GLOBAL_KINDS]

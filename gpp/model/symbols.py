@@ -1,0 +1,153 @@
+"""Symbols: everything a name can refer to, and the references to them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+from gpp.model.types import Type
+from gpp.source import Span
+from gpp.syntax import ast
+
+
+class SymbolKind(Enum):
+    DOMAIN = "domain"
+    COMPOUND = "compound type"
+    BUILTIN_TYPE = "type"
+    FLUENT = "fluent"
+    ACTION = "action"
+    EXOG_ACTION = "exogenous action"
+    FUNCTION = "function"
+    EXOG_FUNCTION = "exogenous function"
+    PROCEDURE = "procedure"
+    COMPONENT = "component"
+    PARAMETER = "parameter"
+    VARIABLE = "variable"
+    SYMBOL = "symbol"
+    FIELD = "field"
+    CLOCK = "clock"
+    STATE = "state"
+
+    @property
+    def article(self) -> str:
+        return "an" if self.value[0] in "aeiou" else "a"
+
+
+GLOBAL_KINDS = frozenset(
+    {
+        SymbolKind.FLUENT,
+        SymbolKind.ACTION,
+        SymbolKind.EXOG_ACTION,
+        SymbolKind.FUNCTION,
+        SymbolKind.EXOG_FUNCTION,
+        SymbolKind.PROCEDURE,
+        SymbolKind.COMPONENT,
+    }
+)
+# Kinds that can be called inside an expression, and as a statement.
+EXPRESSION_CALLABLE = frozenset({SymbolKind.FLUENT, SymbolKind.FUNCTION, SymbolKind.EXOG_FUNCTION})
+STATEMENT_CALLABLE = frozenset({SymbolKind.ACTION, SymbolKind.PROCEDURE})
+
+
+@dataclass(eq=False)
+class Symbol:
+    """A declared thing. Compared by identity: two symbols are the same only if they are."""
+
+    name: str
+    kind: SymbolKind
+    # The name at the defining declaration (or at the first forward declaration when there is
+    # no definition); None for predefined symbols.
+    span: Span | None
+    # The declaration that defines it (ast.FluentDecl, ast.Param, ast.Pick, ...).
+    decl: ast.Node | None = None
+    # Value type (fluents, functions, parameters, variables, fields), the type a domain or
+    # compound declares, or the result type of an action/procedure (void).
+    type: Type | None = None
+    params: tuple[Symbol, ...] = ()
+    # Forward declarations and repeated symbol occurrences in domain sets.
+    other_spans: list[Span] = field(default_factory=list)
+    # For parameters, fields, clocks and states: the symbol they belong to.
+    owner: Symbol | None = None
+    predefined: bool = False
+    # For components: its states and clocks by name; for compounds: its fields.
+    members: dict[str, Symbol] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return f"Symbol({self.kind.value} {self.name})"
+
+    @property
+    def is_defined(self) -> bool:
+        """False for a global that has only forward declarations."""
+        d = self.decl
+        if isinstance(d, ast.FluentDecl):
+            return d.initially is not None
+        if isinstance(d, ast.ActionDecl):
+            return d.sections is not None
+        if isinstance(d, ast.FunctionDecl):
+            return d.body is not None
+        if isinstance(d, ast.ProcedureDecl):
+            return d.body is not None
+        if isinstance(d, ast.DomainDecl):
+            return d.definition is not None
+        return True
+
+    def signature(self) -> str:
+        """How hover and messages show it: `number fluent count(block b)`."""
+        params = ", ".join(f"{p.type} {p.name}" for p in self.params)
+        k = self.kind
+        if k in (SymbolKind.FLUENT, SymbolKind.FUNCTION):
+            return f"{self.type} {k.value} {self.name}({params})"
+        if k is SymbolKind.EXOG_FUNCTION:
+            return f"{self.type} exog_function {self.name}({params})"
+        if k is SymbolKind.ACTION:
+            return f"action {self.name}({params})"
+        if k is SymbolKind.EXOG_ACTION:
+            return f"exog_action {self.name}({params})"
+        if k is SymbolKind.PROCEDURE:
+            return f"procedure {self.name}({params})"
+        if k is SymbolKind.DOMAIN:
+            from gpp.model.types import DomainType
+
+            t = self.type
+            if isinstance(t, DomainType):
+                shown = ", ".join(_show_value(v) for v in t.values[:12])
+                more = ", ..." if len(t.values) > 12 else ""
+                return f"{t.element} domain {self.name} = {{{shown}{more}}}"
+            return f"domain {self.name}"
+        if k is SymbolKind.COMPOUND:
+            from gpp.model.types import CompoundType
+
+            t = self.type
+            if isinstance(t, CompoundType):
+                fields = ", ".join(f"{ft} {fn}" for fn, ft in t.fields.items())
+                return f"compound {self.name} {{ {fields} }}"
+        if k in (SymbolKind.PARAMETER, SymbolKind.VARIABLE, SymbolKind.FIELD):
+            return f"{self.type} {self.name}"
+        return f"{k.value} {self.name}"
+
+
+def _show_value(v: object) -> str:
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+@dataclass(frozen=True, slots=True)
+class Reference:
+    """An occurrence of a symbol's name in the source; `declaration` marks the defining name
+    or a forward declaration's name."""
+
+    span: Span
+    symbol: Symbol
+    declaration: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class ScopeRecord:
+    """A local scope (a body with parameters, a pick, a quantifier) and its variables, kept so
+    that completion knows what is visible where."""
+
+    span: Span
+    symbols: tuple[Symbol, ...]

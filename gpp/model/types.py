@@ -1,0 +1,171 @@
+"""Semantic types of golog++ and the rules that relate them (LANGUAGE.md §3.5 as amended by
+SEMANTICS.md §2.4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from gpp.model.symbols import Symbol
+
+
+class Type:
+    """Base of all types. `str(t)` is the name users write."""
+
+    def __str__(self) -> str:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, slots=True)
+class BuiltinType(Type):
+    name: str
+
+    def __str__(self) -> str:
+        return self.name
+
+
+BOOL = BuiltinType("bool")
+NUMBER = BuiltinType("number")
+STRING = BuiltinType("string")
+SYMBOL = BuiltinType("symbol")
+VOID = BuiltinType("void")
+BUILTIN_TYPES = {t.name: t for t in (BOOL, NUMBER, STRING, SYMBOL, VOID)}
+
+
+@dataclass(frozen=True, slots=True)
+class Sym:
+    """A symbol value (an element of a symbol domain). Never equal to a string."""
+
+    name: str
+
+    def __str__(self) -> str:
+        return self.name
+
+
+DomainValue = int | float | str | bool | Sym
+
+
+@dataclass(eq=False, slots=True)
+class DomainType(Type):
+    """A named finite set of values of one element type; also usable as a type."""
+
+    name: str
+    element: BuiltinType
+    symbol: Symbol | None = None
+    # Members in declaration order, filled when the domain's definition is evaluated.
+    values: tuple[DomainValue, ...] = ()
+    defined: bool = False
+
+    def __str__(self) -> str:
+        return self.name
+
+    def contains(self, value: DomainValue) -> bool:
+        return any(_same_value(value, v) for v in self.values)
+
+
+def _same_value(a: DomainValue, b: DomainValue) -> bool:
+    if isinstance(a, Sym) or isinstance(b, Sym):
+        return a == b
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b
+    return a == b
+
+
+@dataclass(eq=False, slots=True)
+class CompoundType(Type):
+    """A nominal record type."""
+
+    name: str
+    symbol: Symbol | None = None
+    # Field name -> type, in declaration order; filled when the declaration is resolved.
+    fields: dict[str, Type] = field(default_factory=dict)
+
+    def __str__(self) -> str:
+        return self.name
+
+
+@dataclass(frozen=True, slots=True)
+class ListType(Type):
+    element: Type
+
+    def __str__(self) -> str:
+        return f"list[{self.element}]"
+
+
+@dataclass(frozen=True, slots=True)
+class _SpecialType(Type):
+    name: str
+
+    def __str__(self) -> str:
+        return self.name
+
+
+# The type of `null`: fits every slot.
+NULL = _SpecialType("null")
+# The type of an expression that already has an error: fits everything, so one mistake is
+# reported once and not again by every expression around it.
+ERROR = _SpecialType("{error}")
+
+
+def base(t: Type) -> Type:
+    """A domain's element type; any other type itself."""
+    return t.element if isinstance(t, DomainType) else t
+
+
+def is_error(t: Type) -> bool:
+    return t is ERROR
+
+
+def assignable(target: Type, source: Type) -> bool:
+    """Does a slot of type `target` accept a value of type `source`?
+
+    Domain membership of computed values is checked at run time (SEMANTICS §2.4), so a domain
+    accepts any value of its element type here; literals are checked by the caller.
+    """
+    if source is NULL or source is ERROR or target is ERROR:
+        return True
+    if target == source:
+        return True
+    if isinstance(target, BuiltinType):
+        return isinstance(source, DomainType) and source.element == target
+    if isinstance(target, DomainType):
+        return base(source) == target.element
+    if isinstance(target, ListType) and isinstance(source, ListType):
+        return assignable(target.element, source.element)
+    return False
+
+
+def equatable(a: Type, b: Type) -> bool:
+    """May `a == b` compare values of these types?"""
+    if a is NULL or b is NULL or a is ERROR or b is ERROR:
+        return True
+    ba, bb = base(a), base(b)
+    return ba == bb and ba in (BOOL, NUMBER, STRING, SYMBOL)
+
+
+def ordered(t: Type) -> bool:
+    """May values of this type be compared with `<`?"""
+    return t is ERROR or base(t) in (NUMBER, STRING, SYMBOL)
+
+
+def is_finite(t: Type) -> bool:
+    """Can a quantifier or `pick` enumerate this type?"""
+    return t is ERROR or t is BOOL or isinstance(t, DomainType)
+
+
+def common_type(a: Type, b: Type) -> Type | None:
+    """The type of `if (c) a else b`, or None when the branches do not fit together."""
+    if a is ERROR or b is ERROR:
+        return ERROR
+    if a is NULL:
+        return b
+    if b is NULL or a == b:
+        return a
+    if assignable(a, b) and not isinstance(a, DomainType):
+        return a
+    if assignable(b, a) and not isinstance(b, DomainType):
+        return b
+    if base(a) == base(b):
+        return base(a)
+    return None

@@ -1,0 +1,203 @@
+"""End-to-end tests of the `gpp` command, run as a real process (`python -m gpp ...`)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import gpp
+
+GOOD = "number fluent x() { initially: () = 0; }\nprocedure main() {\n  x() = 1;\n}\n"
+MISSING_SEMICOLON = "procedure main() {\n    x() = 1\n}\n"
+
+
+def run_gpp(*args: str, cwd: Path, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    full_env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
+    full_env.update(env or {})
+    return subprocess.run(
+        [sys.executable, "-m", "gpp", *args],
+        cwd=cwd,
+        env=full_env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    (tmp_path / "good.gpp").write_text(GOOD)
+    (tmp_path / "bad.gpp").write_text(MISSING_SEMICOLON)
+    return tmp_path
+
+
+def test_version(tmp_path: Path) -> None:
+    result = run_gpp("--version", cwd=tmp_path)
+    assert result.returncode == 0
+    assert result.stdout == f"gpp {gpp.__version__}\n"
+
+
+def test_help_lists_check(tmp_path: Path) -> None:
+    result = run_gpp("--help", cwd=tmp_path)
+    assert result.returncode == 0
+    assert "check" in result.stdout
+
+
+def test_check_clean_file_exits_0(project: Path) -> None:
+    result = run_gpp("check", "good.gpp", cwd=project)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "no problems found\n", "")
+
+
+def test_check_file_with_errors_exits_1(project: Path) -> None:
+    result = run_gpp("check", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    lines = result.stdout.splitlines()
+    assert lines[0] == "error[E0011]: expected `;` after this statement"
+    assert lines[1] == " --> bad.gpp:2:12"
+    assert lines[-1] == "error: 1 error"
+
+
+def test_check_orders_diagnostics_by_file_and_position(project: Path) -> None:
+    (project / "worse.gpp").write_text("procedure main() {\n  a() = 1\n  b() = 2\n}\n")
+    result = run_gpp("check", "worse.gpp", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    locations = [line.strip() for line in result.stdout.splitlines() if line.lstrip().startswith("-->")]
+    assert locations == ["--> bad.gpp:2:12", "--> worse.gpp:2:10", "--> worse.gpp:3:10"]
+    assert result.stdout.endswith("error: 3 errors\n")
+
+
+def test_check_reports_missing_include(project: Path) -> None:
+    (project / "inc.gpp").write_text('#include "nowhere.gpp"\nprocedure main() {\n}\n')
+    result = run_gpp("check", "inc.gpp", cwd=project)
+    assert result.returncode == 1
+    assert " --> inc.gpp:1:10" in result.stdout
+
+
+def test_json_output_points_right_after_the_previous_token(project: Path) -> None:
+    result = run_gpp("check", "--format", "json", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    report = json.loads(result.stdout)
+    assert report["version"] == 1
+    assert report["summary"] == {"errors": 1, "warnings": 0}
+    [item] = report["diagnostics"]
+    assert item["code"] == "E0011"
+    assert item["file"] == "bad.gpp"
+    line_text = MISSING_SEMICOLON.splitlines()[1]
+    assert (item["line"], item["column"]) == (2, line_text.index("1") + 2)
+    assert item["offset"] == MISSING_SEMICOLON.index("1") + 1
+    assert item["fix"]["edits"][0]["text"] == ";"
+
+
+def test_json_output_for_a_clean_file(project: Path) -> None:
+    result = run_gpp("check", "--format", "json", "good.gpp", cwd=project)
+    assert result.returncode == 0
+    assert json.loads(result.stdout)["diagnostics"] == []
+
+
+def test_missing_file_is_a_usage_error(project: Path) -> None:
+    result = run_gpp("check", "good.gpp", "missing.gpp", cwd=project)
+    assert result.returncode == 2
+    assert result.stderr == "error: cannot read 'missing.gpp': No such file or directory\n"
+    assert result.stdout == ""
+
+
+def test_directory_is_a_usage_error(project: Path) -> None:
+    result = run_gpp("check", ".", cwd=project)
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: cannot read '.': ")
+    assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["check"], ["check", "--format", "xml", "good.gpp"], ["check", "--color", "sometimes", "good.gpp"], ["nope"]],
+)
+def test_bad_usage_exits_2(project: Path, args: list[str]) -> None:
+    result = run_gpp(*args, cwd=project)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+
+
+def test_colour_follows_the_color_option(project: Path) -> None:
+    assert "\x1b[" in run_gpp("check", "--color", "always", "bad.gpp", cwd=project).stdout
+    assert "\x1b[" not in run_gpp("check", "--color", "never", "bad.gpp", cwd=project).stdout
+    # auto: a pipe is not a terminal, and NO_COLOR wins over FORCE_COLOR.
+    assert "\x1b[" not in run_gpp("check", "bad.gpp", cwd=project).stdout
+    assert "\x1b[" in run_gpp("check", "bad.gpp", cwd=project, env={"FORCE_COLOR": "1"}).stdout
+    assert "\x1b[" not in run_gpp("check", "bad.gpp", cwd=project, env={"NO_COLOR": "1", "FORCE_COLOR": "1"}).stdout
+
+
+def test_coloured_and_plain_output_have_the_same_text(project: Path) -> None:
+    import re
+
+    coloured = run_gpp("check", "--color", "always", "bad.gpp", cwd=project).stdout
+    plain = run_gpp("check", "--color", "never", "bad.gpp", cwd=project).stdout
+    assert re.sub(r"\x1b\[[0-9;]*m", "", coloured) == plain
+
+
+INTERNAL_ERROR_SCRIPT = """
+import sys
+import gpp.syntax.loader
+
+def broken_load(*args, **kwargs):
+    raise RuntimeError("boom")
+
+gpp.syntax.loader.load = broken_load
+from gpp.cli import main
+main(sys.argv[1:])
+"""
+
+
+def test_internal_error_is_short_and_exits_3(project: Path) -> None:
+    command = [sys.executable, "-c", INTERNAL_ERROR_SCRIPT, "check", "good.gpp"]
+    env = {k: v for k, v in os.environ.items() if k != "GPP_DEBUG"}
+    result = subprocess.run(command, cwd=project, env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 3
+    assert result.stderr.startswith("internal error: RuntimeError: boom\n")
+    assert "GPP_DEBUG=1" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_gpp_debug_shows_the_traceback(project: Path) -> None:
+    command = [sys.executable, "-c", INTERNAL_ERROR_SCRIPT, "check", "good.gpp"]
+    env = {**os.environ, "GPP_DEBUG": "1"}
+    result = subprocess.run(command, cwd=project, env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode not in (0, 3)
+    assert "RuntimeError: boom" in result.stderr
+    assert "Traceback" in result.stderr
+
+
+def imported_modules(args: list[str], cwd: Path) -> set[str]:
+    result = subprocess.run(
+        [sys.executable, "-X", "importtime", "-m", "gpp", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode in (0, 1), result.stderr
+    return {
+        line.split("|")[-1].strip()
+        for line in result.stderr.splitlines()
+        if line.startswith("import time:") and "|" in line
+    }
+
+
+def test_check_does_not_import_heavy_packages(project: Path) -> None:
+    modules = imported_modules(["check", "bad.gpp"], project)
+    assert "gpp.syntax.parser" in modules  # the measurement itself works
+    heavy = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich"}
+    assert {m for m in modules if m.split(".")[0] in heavy} == set()
+
+
+def test_installed_console_script_runs(tmp_path: Path) -> None:
+    script = Path(sys.executable).with_name("gpp")
+    if not script.exists():
+        pytest.skip("no gpp console script beside this interpreter")
+    result = subprocess.run([str(script), "--version"], capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout) == (0, f"gpp {gpp.__version__}\n")
