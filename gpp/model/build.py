@@ -16,7 +16,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from gpp import diagnostics as diag
 from gpp.model.model import Model
@@ -51,9 +51,11 @@ from gpp.model.types import (
     is_finite,
     ordered,
 )
+from gpp.perf import paused_gc
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
+from gpp.syntax.walk import walk
 
 Op = ast.BinaryOp
 
@@ -96,7 +98,8 @@ def is_literal(e: ast.Expr) -> bool:
 
 def build_model(files: Sequence[ParsedFile]) -> tuple[Model, list[diag.Diagnostic]]:
     builder = ModelBuilder(files)
-    builder.run()
+    with paused_gc():
+        builder.run()
     return builder.model, builder.diagnostics
 
 
@@ -115,6 +118,8 @@ class ModelBuilder:
         self.silent = 0
         self.reassociated: set[int] = set()
         self.domains_in_progress: set[int] = set()
+        # Parameters of forward declarations -> the same parameter of the definition.
+        self.merged: dict[int, Symbol] = {}
 
     # ---------------------------------------------------------------- reporting
 
@@ -163,6 +168,13 @@ class ModelBuilder:
         for pf in self.model.files:
             for decl in pf.program.declarations:
                 self.check_declaration(decl)
+        if self.merged:
+            self.model.references = [
+                Reference(r.span, self.merged.get(id(r.symbol), r.symbol), r.declaration) for r in self.model.references
+            ]
+            for key, symbol in list(self.model.targets.items()):
+                if id(symbol) in self.merged:
+                    self.model.targets[key] = self.merged[id(symbol)]
 
     def predefine(self) -> None:
         g = self.model.globals
@@ -502,6 +514,28 @@ class ModelBuilder:
             return None
         return _literal_value(e)
 
+    def expect_literal(self, e: ast.Expr, target: Type | None, what: str, context: str, span: Span | None) -> None:
+        """Check an expression where only a literal may stand (initial values, `pick ... in`,
+        constraint patterns): written as a literal, and every bare name in it a symbol."""
+        if not is_literal(e):
+            self.error("E0213", f"{what} must be literals", e.span, "not a literal")
+            self.expr(e)
+            return
+        if target is not None:
+            self.expect(e, target, context, span)
+        else:
+            self.expr(e)
+        for node in walk(e):
+            if isinstance(node, ast.Name):
+                symbol = self.model.target(node)
+                if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
+                    self.error(
+                        "E0213",
+                        f"{what} must be literals, but `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
+                        node.span,
+                        "not a literal",
+                    )
+
     def check_forward_declarations(self) -> None:
         self.resolve_compound_fields()
         for symbol in list(self.model.globals.values()):
@@ -543,6 +577,10 @@ class ModelBuilder:
             )
             return
         for p, q in zip(mine, theirs, strict=True):
+            if p.name == q.name and q.span is not None:
+                # One parameter, declared twice: rename and references see both names.
+                self.merged[id(q)] = p
+                p.other_spans.append(q.span)
             if p.type is not ERROR and q.type is not ERROR and p.type != q.type:
                 assert p.span is not None
                 self.error(
@@ -658,25 +696,11 @@ class ModelBuilder:
                         help="a parameter name stands for every value, and only in its own position",
                     )
                     continue
-            if not is_literal(arg):
-                self.error("E0213", "initial values must be literals", arg.span, "not a literal")
-                self.expr(arg)
-                continue
             if param is not None and param.type is not None:
-                self.expect(arg, param.type, f"parameter `{param.name}`", param.span)
+                self.expect_literal(arg, param.type, "initial values", f"parameter `{param.name}`", param.span)
             else:
-                self.expr(arg)
-        if not is_literal(init.value):
-            self.error(
-                "E0213",
-                "initial values must be literals",
-                init.value.span,
-                "not a literal",
-                help="compute the value in a procedure and assign it there",
-            )
-            self.expr(init.value)
-        elif fluent.type is not None:
-            self.expect(init.value, fluent.type, f"the type of `{fluent.name}`", fluent.span)
+                self.expect_literal(arg, None, "initial values", "", None)
+        self.expect_literal(init.value, fluent.type, "initial values", f"the type of `{fluent.name}`", fluent.span)
 
     def check_section(
         self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], section: ast.ActionSection
@@ -830,11 +854,7 @@ class ModelBuilder:
             for arg, p in zip(g.args, action.params, strict=True):
                 if isinstance(arg, ast.Wildcard):
                     continue
-                if not is_literal(arg):
-                    self.error("E0213", "constraint patterns take literals or `*`", arg.span)
-                    continue
-                assert p.type is not None
-                self.expect(arg, p.type, f"parameter `{p.name}`", p.span)
+                self.expect_literal(arg, p.type, "constraint pattern arguments", f"parameter `{p.name}`", p.span)
 
     # ---------------------------------------------------------------- statements
 
@@ -920,12 +940,11 @@ class ModelBuilder:
                 )
         else:
             for v in s.values:
-                if not is_literal(v):
-                    self.error("E0213", "`pick ... in {...}` lists literal values", v.span, "not a literal")
-                    self.expr(v)
-                else:
-                    self.expect(v, var_type, f"the type of `{s.var.name}`", s.var_type.span)
-        with self.scope(s.span, [variable]):
+                self.expect_literal(
+                    v, var_type, "the values of `pick ... in {...}`", f"`{s.var.name}`", s.var_type.span
+                )
+        # The variable is visible in the body only (not in its own list of values).
+        with self.scope(s.body.span, [variable]):
             self.stmt(s.body)
 
     def solve(self, s: ast.Solve) -> None:
@@ -1081,7 +1100,7 @@ class ModelBuilder:
                     f"`{vt}` has infinitely many values",
                     help="quantify over a domain (or bool)",
                 )
-            with self.scope(e.span, [variable]):
+            with self.scope(e.body.span, [variable]):
                 self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")
             return BOOL
         if isinstance(e, ast.Conditional):
@@ -1445,29 +1464,36 @@ class ModelBuilder:
         changes (almost always, and cheaply: the operand types are only computed when the chain
         has both kinds of operator)."""
         ops: set[object] = set()
-        _chain_ops(e, ops)
+        _chain_ops(e, ops, root=True)
         if not (ops & _EQUALITY) or not (ops - _EQUALITY):
             return None
         items: list[ast.Expr | Op | _Not] = []
         self.silent += 1
         try:
-            self.flatten_chain(e, items)
+            self.flatten_chain(e, items, root=True)
         finally:
             self.silent -= 1
         rebuilt, rest = _climb(items, 0)
         assert not rest
+        if rebuilt == e:
+            return None
+        if e.parenthesized:
+            rebuilt = replace(rebuilt, span=e.span, parenthesized=True)
         _mark(rebuilt, self.reassociated)
-        return None if rebuilt == e else rebuilt
+        # The parsed chain's own nodes are all boolean; an editor pointing at one asks its type.
+        _mark_types(e, self.model.expr_types)
+        return rebuilt
 
-    def flatten_chain(self, e: ast.Expr, out: list[ast.Expr | Op | _Not]) -> None:
-        if not e.parenthesized and isinstance(e, ast.Binary) and e.op in _BOOL_CHAIN:
+    def flatten_chain(self, e: ast.Expr, out: list[ast.Expr | Op | _Not], root: bool = False) -> None:
+        inside = root or not e.parenthesized
+        if inside and isinstance(e, ast.Binary) and e.op in _BOOL_CHAIN:
             self.flatten_chain(e.left, out)
             out.append(e.op)
             self.flatten_chain(e.right, out)
-        elif not e.parenthesized and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        elif inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
             out.append(_Not(e.span))
             self.flatten_chain(e.operand, out)
-        elif not e.parenthesized and isinstance(e, ast.Binary) and e.op in _EQUALITY and self.is_boolean_pair(e):
+        elif inside and isinstance(e, ast.Binary) and e.op in _EQUALITY and self.is_boolean_pair(e):
             self.flatten_chain(e.left, out)
             out.append(e.op)
             self.flatten_chain(e.right, out)
@@ -1478,9 +1504,10 @@ class ModelBuilder:
         return base(self.expr(e.left)) is BOOL and base(self.expr(e.right)) is BOOL
 
 
-def _chain_ops(e: ast.Expr, ops: set[object]) -> None:
-    """The operators of the unparenthesised boolean/equality chain rooted at `e`."""
-    if e.parenthesized:
+def _chain_ops(e: ast.Expr, ops: set[object], root: bool = False) -> None:
+    """The operators of the unparenthesised boolean/equality chain rooted at `e` (parentheses
+    around the whole chain do not end it)."""
+    if e.parenthesized and not root:
         return
     if isinstance(e, ast.Binary) and (e.op in _BOOL_CHAIN or e.op in _EQUALITY):
         ops.add(e.op)
@@ -1532,6 +1559,18 @@ def _mark(e: ast.Expr, done: set[int]) -> None:
     elif isinstance(e, ast.Unary):
         done.add(id(e))
         _mark(e.operand, done)
+
+
+def _mark_types(e: ast.Expr, types: dict[int, Type]) -> None:
+    if e.parenthesized and id(e) in types:
+        return
+    if isinstance(e, ast.Binary) and (e.op in _BOOL_CHAIN or e.op in _EQUALITY):
+        types.setdefault(id(e), BOOL)
+        _mark_types(e.left, types)
+        _mark_types(e.right, types)
+    elif isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        types.setdefault(id(e), BOOL)
+        _mark_types(e.operand, types)
 
 
 def _literal_value(e: ast.Expr) -> DomainValue | None:

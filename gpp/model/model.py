@@ -6,7 +6,6 @@ completion, outline)."""
 from __future__ import annotations
 
 from bisect import bisect_right
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from gpp.model.symbols import GLOBAL_KINDS, Reference, ScopeRecord, Symbol, SymbolKind
@@ -14,7 +13,7 @@ from gpp.model.types import ERROR, DomainType, Type
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
-from gpp.syntax.walk import path_to
+from gpp.syntax.walk import path_to, walk
 
 
 @dataclass(frozen=True, slots=True)
@@ -152,32 +151,44 @@ class Model:
         return items
 
     def _outline_item(self, decl: ast.Decl) -> OutlineItem | None:
-        name_node: ast.Ident | None = getattr(decl, "name", None)
         if isinstance(decl, ast.MainBlock):
-            sym = self.main
             return OutlineItem("main", SymbolKind.PROCEDURE, decl.span, decl.span, "legacy main block")
-        if name_node is None or not isinstance(name_node, ast.Ident):
+        name_node = getattr(decl, "name", None)
+        if not isinstance(name_node, ast.Ident):
             return None
         sym = self.target(name_node)
         if sym is None:
             return None
+        # Children come from this declaration's own text, so that they lie inside it (a forward
+        # declaration lists its own parameters, not the definition's).
         children: list[OutlineItem] = []
-        kids: Iterable[Symbol] = list(sym.params) + list(sym.members.values())
-        for child in kids:
-            if child.span is not None:
-                children.append(OutlineItem(child.name, child.kind, child.span, child.span, child.signature()))
-        if isinstance(sym.type, DomainType) and sym.kind is SymbolKind.DOMAIN:
-            for v in sym.type.values:
-                element = self.symbols.get(str(v))
-                span = element.span if element is not None else None
-                if (
-                    element is not None
-                    and span is not None
-                    and span.source is decl.span.source
-                    and decl.span.contains(span.start)
-                ):
-                    children.append(OutlineItem(element.name, element.kind, span, span, "symbol"))
+        params: tuple[ast.Param, ...] = getattr(decl, "params", ())
+        kind = SymbolKind.PARAMETER
+        if isinstance(decl, ast.CompoundDecl):
+            params, kind = decl.fields, SymbolKind.FIELD
+        for p in params:
+            children.append(OutlineItem(p.name.name, kind, p.span, p.name.span, f"{_type_text(p.type)} {p.name.name}"))
+        if isinstance(decl, ast.ComponentDecl):
+            for section in decl.sections:
+                names: tuple[ast.Ident, ...] = ()
+                member_kind = SymbolKind.CLOCK
+                if isinstance(section, ast.ClocksSection):
+                    names = section.clocks
+                elif isinstance(section, ast.StatesSection):
+                    names, member_kind = tuple(st.name for st in section.states), SymbolKind.STATE
+                for n in names:
+                    children.append(OutlineItem(n.name, member_kind, n.span, n.span, member_kind.value))
+        if isinstance(decl, ast.DomainDecl) and decl.definition is not None:
+            for node in walk(decl.definition):
+                if isinstance(node, ast.Name):
+                    element = self.target(node)
+                    if element is not None and element.span is node.span:
+                        children.append(OutlineItem(node.name, SymbolKind.SYMBOL, node.span, node.span, "symbol"))
         return OutlineItem(sym.name, sym.kind, decl.span, name_node.span, sym.signature(), tuple(children))
 
     def global_symbols(self) -> list[Symbol]:
         return [s for s in self.globals.values() if s.kind in GLOBAL_KINDS]
+
+
+def _type_text(t: ast.TypeExpr) -> str:
+    return f"list[{_type_text(t.element)}]" if isinstance(t, ast.ListType) else t.name

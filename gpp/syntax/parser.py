@@ -13,13 +13,13 @@ The loop below is lark's LALR algorithm written out so that gpp controls every s
 from __future__ import annotations
 
 import difflib
-import gc
 from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from gpp import diagnostics as diag
+from gpp.perf import paused_gc
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
@@ -40,18 +40,11 @@ class ParseResult:
 
 def parse(source: Source) -> ParseResult:
     """Parse one file. Always returns a Program (partial after syntax errors)."""
-    # The tree has no reference cycles; the cyclic collector would only rescan the growing
-    # heap again and again (it made parsing 50,000 lines twice as slow).
-    gc_was_enabled = gc.isenabled()
-    gc.disable()
-    try:
+    with paused_gc():
         tokens, lex_errors = tokenize(source)
         parser = _Parser(source, tokens, load_tables())
         parser.quiet_after_lex_errors([e.start for e in lex_errors])
         program = parser.run()
-    finally:
-        if gc_was_enabled:
-            gc.enable()
     diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
@@ -181,6 +174,10 @@ def _terminal_order(t: str) -> tuple[int, str]:
     return (priority.get(t, 10), t)
 
 
+# Results of `_Parser.unit_chain`, per table set; they depend on the tables only.
+_UNIT_CHAINS: dict[int, dict[tuple[int, int, str], int]] = {}
+
+
 class _Splice(list[Any]):
     """The children of an inlined helper rule, joined into the parent's children."""
 
@@ -214,7 +211,7 @@ class _Parser:
         self.diagnostics: list[diag.Diagnostic] = []
         # Index of the token up to which errors are not reported (cascade suppression).
         self.quiet_until = -1
-        self.unit_cache: dict[tuple[int, int, str], int] = {}
+        self.unit_cache = _UNIT_CHAINS.setdefault(id(tables), {})
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()

@@ -8,8 +8,8 @@ single nodes, e.g. for diagnostics.
 The output parses back to an equal tree (`parse_text(format_program(p)).program == p`) for
 every tree the parser can produce, and formatting is idempotent. To get there the printer adds
 parentheses where precedence or associativity need them, and around a greedy form (a
-quantifier body or a conditional's `else` branch, which extend as far right as they can) that
-something would follow; parentheses the user wrote (`parenthesized=True`) are kept. A few
+quantifier's body, a conditional's `else` branch) that an operator it would take in follows;
+parentheses the user wrote (`parenthesized=True`) are kept. A few
 trees the parser cannot produce are printed as the nearest text that parses:
 
 * a statement that would take a following `else`/`on_fail`/`on_cancel` as its own (the
@@ -71,24 +71,26 @@ _BINARY_LEVELS: dict[ast.BinaryOp, _Level] = {
 @dataclass(frozen=True, slots=True)
 class _Printed:
     """An expression's text with what its surroundings need to know: the grammar level it was
-    produced at and whether it ends in a greedy form (`open`) that would swallow whatever
-    follows it."""
+    produced at, and, if it ends in a greedy form, the loosest operator level that form would
+    take in if one followed: any operator after a quantifier (its body is a whole expression),
+    `+` and tighter after a conditional (its else branch is a sum)."""
 
     text: str
     level: _Level
-    open: bool = False
+    greedy: _Level | None = None
 
 
 def _parens(p: _Printed) -> _Printed:
     return _Printed(f"({p.text})", _Level.POSTFIX)
 
 
-def _sub(e: ast.Expr, at_least: _Level, closed: bool = False, force: bool = False) -> _Printed:
-    """`e` printed where the grammar wants level `at_least` (and, if `closed`, where more of the
-    expression follows), in parentheses if it needs them or the user wrote them."""
+def _sub(e: ast.Expr, at_least: _Level, followed_by: _Level | None = None, force: bool = False) -> _Printed:
+    """`e` printed where the grammar wants level `at_least`, followed by an operator of level
+    `followed_by` (if any), in parentheses if it needs them or the user wrote them."""
     p = _print_expr(e)
+    swallows = p.greedy is not None and followed_by is not None and followed_by >= p.greedy
     # A wildcard cannot be parenthesised: `(*)` is not a constraint argument.
-    if force or (e.parenthesized and type(e) is not ast.Wildcard) or p.level < at_least or (closed and p.open):
+    if force or (e.parenthesized and type(e) is not ast.Wildcard) or p.level < at_least or swallows:
         return _parens(p)
     return p
 
@@ -123,25 +125,26 @@ def _print_expr(e: ast.Expr) -> _Printed:
             level = _BINARY_LEVELS[e.op]
             # Left-associative: the left operand may be at the same level, the right one must
             # bind tighter (a comparison's right side is a sum, which is the next level too).
-            left = _sub(e.left, level, closed=True)
-            right = _sub(e.right, _Level(level + 1))
-            return _Printed(f"{left.text} {e.op.value} {right.text}", level, right.open)
+            left = _sub(e.left, level, followed_by=level)
+            right = _sub(e.right, level)
+            return _Printed(f"{left.text} {e.op.value} {right.text}", level, right.greedy)
         case ast.Quantified():
             body = _sub(e.body, _Level.ANY)
             head = f"{e.quantifier.value}({format_type(e.var_type)} {e.var.name})"
-            return _Printed(f"{head} {body.text}", _Level.NOT, open=True)
+            return _Printed(f"{head} {body.text}", _Level.NOT, greedy=_Level.IMPLIES)
         case ast.Conditional():
             condition = _sub(e.condition, _Level.ANY)
             then = _sub(e.then, _Level.ANY)
             # The else branch is a sum (grammar: `ELSE sum | ELSE sum_o`).
-            otherwise = _sub(e.otherwise, _Level.ANY)
-            return _Printed(f"if ({condition.text}) {then.text} else {otherwise.text}", _Level.UNARY, open=True)
+            otherwise = _sub(e.otherwise, _Level.SUM)
+            text = f"if ({condition.text}) {then.text} else {otherwise.text}"
+            return _Printed(text, _Level.UNARY, greedy=_Level.SUM)
         case ast.FieldAccess():
             # `1.x` would read as the number `1.` followed by `x`.
-            subject = _sub(e.subject, _Level.POSTFIX, closed=True, force=type(e.subject) is ast.NumberLit)
+            subject = _sub(e.subject, _Level.POSTFIX, _Level.POSTFIX, force=type(e.subject) is ast.NumberLit)
             return _Printed(f"{subject.text}.{e.field.name}", _Level.POSTFIX)
         case ast.Index():
-            subject = _sub(e.subject, _Level.POSTFIX, closed=True)
+            subject = _sub(e.subject, _Level.POSTFIX, _Level.POSTFIX)
             return _Printed(f"{subject.text}[{format_expr(e.index)}]", _Level.POSTFIX)
         case ast.CompoundLit():
             if not e.fields:
@@ -158,13 +161,13 @@ def _print_expr(e: ast.Expr) -> _Printed:
 def _print_unary(e: ast.Unary) -> _Printed:
     if e.op is ast.UnaryOp.NOT:
         operand = _sub(e.operand, _Level.NOT)
-        return _Printed(f"!{operand.text}", _Level.NOT, operand.open)
+        return _Printed(f"!{operand.text}", _Level.NOT, operand.greedy)
     # The parser folds `-` into a non-negative literal (`-5`), so keep the operand apart.
     literal = isinstance(e.operand, ast.NumberLit) and e.operand.value >= 0
     operand = _sub(e.operand, _Level.UNARY, force=literal)
     # `- -4`: two minus signs in a row read fine, but keep them visibly apart.
     space = " " if operand.text.startswith("-") else ""
-    return _Printed(f"-{space}{operand.text}", _Level.UNARY, operand.open)
+    return _Printed(f"-{space}{operand.text}", _Level.UNARY, operand.greedy)
 
 
 def _expr_list(exprs: tuple[ast.Expr, ...]) -> str:
@@ -201,12 +204,12 @@ def format_string(value: str) -> str:
 def _target(e: ast.Expr) -> str:
     """The left side of `=` (an assignment, effect or sensing target): a postfix expression;
     a keyword literal is parenthesised because the lexer reads `true =` as a name."""
-    return _sub(e, _Level.POSTFIX, closed=True, force=type(e) in (ast.BoolLit, ast.NullLit)).text
+    return _sub(e, _Level.POSTFIX, force=type(e) in (ast.BoolLit, ast.NullLit)).text
 
 
 def _postfix(e: ast.Expr) -> str:
     """An expression where the grammar wants a postfix expression (a called action)."""
-    return _sub(e, _Level.POSTFIX, closed=True).text
+    return _sub(e, _Level.POSTFIX).text
 
 
 # ---------------------------------------------------------------- types

@@ -1,0 +1,360 @@
+"""The dummy platform: virtual time, scripted or seeded-random outcomes.
+
+Activities succeed after a duration (the action's `duration:` minimum, else 1 s) unless a
+scenario says otherwise. A scenario (TOML) scripts, per action pattern, the outcome (final,
+fail, cancel), the duration and the sensing result; exogenous events at given times; and the
+answers of exogenous functions. With `random=True` and a seed it generates them instead, as
+the original golog++ dummy backend did: durations of 0.01-0.5 s (or within `duration:`), an
+exogenous event every 0-2 s, random exogenous function answers; reproducible per seed.
+
+Time is virtual: when the program waits, the clock jumps to the next scheduled happening, so
+runs take as long as the CPU needs, not as long as the robot would.
+"""
+
+from __future__ import annotations
+
+import heapq
+import random
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.platform.base import (
+    Activity,
+    ActivityUpdate,
+    Event,
+    ExogEvent,
+    Platform,
+    PlatformError,
+    ProgramInterface,
+)
+from gpp.runtime.state import ActivityStatus, GroundAction
+from gpp.runtime.values import CompoundValue, Value, show
+
+
+class ScenarioError(Exception):
+    """A scenario file that cannot be used; the message says where and why."""
+
+
+@dataclass
+class ActionRule:
+    pattern: str
+    name: str
+    args: tuple[str, ...] | None  # None: any arguments; "*" matches any one argument
+    outcome: ActivityStatus = ActivityStatus.FINAL
+    duration: float | None = None
+    result: Any = None
+    has_result: bool = False
+    times: int | None = None  # applies to the first `times` matching activities
+    used: int = 0
+
+    def matches(self, g: GroundAction) -> bool:
+        if g.name != self.name or (self.times is not None and self.used >= self.times):
+            return False
+        if self.args is None:
+            return True
+        if len(self.args) != len(g.args):
+            return False
+        return all(p == "*" or p == show(a) for p, a in zip(self.args, g.args, strict=True))
+
+
+@dataclass
+class ExogRule:
+    at: float
+    action: str
+    args: list[Any]
+
+
+@dataclass
+class FunctionRule:
+    name: str
+    args: dict[str, Any] | None
+    values: list[Any]
+    used: int = 0
+
+
+@dataclass
+class Scenario:
+    default_duration: float | None = None
+    actions: list[ActionRule] = field(default_factory=list)
+    exogs: list[ExogRule] = field(default_factory=list)
+    functions: list[FunctionRule] = field(default_factory=list)
+
+    @classmethod
+    def load(cls, path: Path) -> Scenario:
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except OSError as e:
+            raise ScenarioError(f"cannot read scenario '{path}': {e.strerror}") from None
+        except tomllib.TOMLDecodeError as e:
+            raise ScenarioError(f"scenario '{path}' is not valid TOML: {e}") from None
+        return cls.from_data(data, str(path))
+
+    @classmethod
+    def from_data(cls, data: Mapping[str, Any], where: str = "scenario") -> Scenario:
+        known = {"defaults", "action", "exog", "exog_function"}
+        unknown = set(data) - known
+        if unknown:
+            raise ScenarioError(
+                f"{where}: unknown section(s) {', '.join(sorted(unknown))} (known: {', '.join(sorted(known))})"
+            )
+        scenario = cls()
+        defaults = data.get("defaults", {})
+        if "duration" in defaults:
+            scenario.default_duration = _seconds(defaults["duration"], f"{where}: [defaults] duration")
+        for i, entry in enumerate(data.get("action", [])):
+            at = f"{where}: [[action]] #{i + 1}"
+            pattern = entry.get("match")
+            if not isinstance(pattern, str):
+                raise ScenarioError(f'{at}: `match = "name(args)"` is required')
+            name, args = _parse_pattern(pattern, at)
+            outcome = {"final": ActivityStatus.FINAL, "fail": ActivityStatus.FAILED, "cancel": ActivityStatus.CANCELLED}
+            word = entry.get("outcome", "final")
+            if word not in outcome:
+                raise ScenarioError(f"{at}: outcome must be final, fail or cancel, not {word!r}")
+            rule = ActionRule(pattern, name, args, outcome[word])
+            if "duration" in entry:
+                rule.duration = _seconds(entry["duration"], f"{at} duration")
+            if "result" in entry:
+                rule.result, rule.has_result = entry["result"], True
+            if "times" in entry:
+                rule.times = int(entry["times"])
+            scenario.actions.append(rule)
+        for i, entry in enumerate(data.get("exog", [])):
+            at = f"{where}: [[exog]] #{i + 1}"
+            if "action" not in entry or "at" not in entry:
+                raise ScenarioError(f'{at}: `at = <seconds>` and `action = "name"` are required')
+            scenario.exogs.append(
+                ExogRule(_seconds(entry["at"], f"{at} at"), str(entry["action"]), list(entry.get("args", [])))
+            )
+        for i, entry in enumerate(data.get("exog_function", [])):
+            at = f"{where}: [[exog_function]] #{i + 1}"
+            if "name" not in entry or not ("value" in entry or "values" in entry):
+                raise ScenarioError(f"{at}: `name` and `value` (or `values = [...]`) are required")
+            values = list(entry["values"]) if "values" in entry else [entry["value"]]
+            scenario.functions.append(FunctionRule(str(entry["name"]), entry.get("args"), values))
+        return scenario
+
+
+class DummyPlatform(Platform):
+    name = "dummy"
+    virtual_time = True
+
+    def __init__(self, scenario: Scenario | None = None, seed: int = 1, random_mode: bool = False) -> None:
+        super().__init__()
+        self.scenario = scenario or Scenario()
+        self.random_mode = random_mode
+        self.rng = random.Random(seed)
+        self.clock = 0.0
+        self._agenda: list[tuple[float, int, Event]] = []
+        self._seq = 0
+        self._pending: dict[int, tuple[float, int]] = {}  # activity id -> scheduled (time, seq)
+        self._cancelled: set[int] = set()
+        self._results: dict[int, tuple[bool, Any]] = {}
+        self.interface: ProgramInterface | None = None
+        self._next_random_exog = 0.0
+
+    # ---------------------------------------------------------------- contract
+
+    def attach(self, interface: ProgramInterface) -> list[str]:
+        self.interface = interface
+        problems: list[str] = []
+        for rule in self.scenario.actions:
+            if rule.name not in interface.actions:
+                problems.append(f"scenario: no action `{rule.name}` in the program (pattern `{rule.pattern}`)")
+        for exog in self.scenario.exogs:
+            signature = interface.exog_actions.get(exog.action)
+            if signature is None:
+                problems.append(f"scenario: no exogenous action `{exog.action}` in the program")
+                continue
+            if len(exog.args) != len(signature.params):
+                n, given = len(signature.params), len(exog.args)
+                problems.append(f"scenario: `{exog.action}` takes {n} argument(s), the scenario gives {given}")
+                continue
+            try:
+                args = tuple(to_value(a, t) for a, t in zip(exog.args, signature.param_types, strict=True))
+            except ScenarioError as e:
+                problems.append(f"scenario: `{exog.action}`: {e}")
+                continue
+            self._schedule(exog.at, ExogEvent(exog.action, args))
+        for f in self.scenario.functions:
+            if f.name not in interface.exog_functions:
+                problems.append(f"scenario: no exogenous function `{f.name}` in the program")
+        if self.random_mode and interface.exog_actions:
+            self._next_random_exog = self.rng.uniform(0.0, 2.0)
+        return problems
+
+    def start(self, activity: Activity) -> None:
+        rule = next((r for r in self.scenario.actions if r.matches(activity.action)), None)
+        if rule is not None:
+            rule.used += 1
+        duration = self._duration(activity, rule)
+        outcome = rule.outcome if rule is not None else ActivityStatus.FINAL
+        if rule is not None and rule.has_result:
+            sensed = self.interface.sensing.get(activity.action.name) if self.interface else None
+            try:
+                self._results[activity.id] = (True, to_value(rule.result, sensed))
+            except ScenarioError as e:
+                raise PlatformError(f"scenario result for `{rule.pattern}`: {e}") from None
+        update = ActivityUpdate(activity.id, outcome, reason="scenario" if rule else "")
+        self._pending[activity.id] = self._schedule(self.clock + duration, update)
+
+    def preempt(self, activity: Activity) -> None:
+        if activity.id not in self._pending:
+            return  # already ended
+        del self._pending[activity.id]
+        self._cancelled.add(activity.id)
+        self.queue.put(ActivityUpdate(activity.id, ActivityStatus.CANCELLED, reason="preempted"), self.clock)
+
+    def exog_function(
+        self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
+    ) -> Value:
+        for rule in self.scenario.functions:
+            if rule.name != name:
+                continue
+            if rule.args is not None and any(
+                show(args.get(k)) != show(to_value(v, None)) for k, v in rule.args.items()
+            ):
+                continue
+            value = rule.values[min(rule.used, len(rule.values) - 1)]
+            rule.used += 1
+            return to_value(value, return_type)
+        if self.random_mode:
+            return random_value(self.rng, return_type)
+        shown = ", ".join(f"{k}={show(v)}" for k, v in args.items())
+        raise PlatformError(f"the scenario gives no answer for `{name}({shown})`")
+
+    def now(self) -> float:
+        return self.clock
+
+    def wait(self, deadline: float | None) -> bool:
+        self._schedule_random_exog()
+        while self._agenda:
+            t, seq, event = self._agenda[0]
+            if deadline is not None and t > deadline:
+                self.clock = max(self.clock, deadline)
+                return False
+            heapq.heappop(self._agenda)
+            if isinstance(event, ActivityUpdate):
+                if event.activity_id in self._cancelled or self._pending.get(event.activity_id) != (t, seq):
+                    continue  # preempted before it ended
+                del self._pending[event.activity_id]
+                has_result, result = self._results.pop(event.activity_id, (False, None))
+                if has_result and event.status is ActivityStatus.FINAL:
+                    event = ActivityUpdate(event.activity_id, event.status, result, True, event.reason)
+            self.clock = max(self.clock, t)
+            self.queue.put(event, self.clock)
+            return True
+        if deadline is not None:
+            self.clock = max(self.clock, deadline)
+        return False
+
+    def live(self) -> bool:
+        return bool(self._agenda) or (self.random_mode and bool(self.interface and self.interface.exog_actions))
+
+    # ---------------------------------------------------------------- helpers
+
+    def _schedule(self, t: float, event: Event) -> tuple[float, int]:
+        self._seq += 1
+        heapq.heappush(self._agenda, (t, self._seq, event))
+        return (t, self._seq)
+
+    def _duration(self, activity: Activity, rule: ActionRule | None) -> float:
+        if rule is not None and rule.duration is not None:
+            return rule.duration
+        low, high = activity.duration if activity.duration is not None else (None, None)
+        if self.random_mode:
+            if low is not None and high is not None:
+                return self.rng.uniform(low, high)
+            return self.rng.uniform(0.01, 0.5)
+        if self.scenario.default_duration is not None:
+            return self.scenario.default_duration
+        return low if low is not None and low > 0 else 1.0
+
+    def _schedule_random_exog(self) -> None:
+        """Random mode: keep one random exogenous event scheduled ahead (every 0-2 s)."""
+        if not self.random_mode or self.interface is None or not self.interface.exog_actions:
+            return
+        if any(isinstance(e, ExogEvent) for _, _, e in self._agenda):
+            return
+        signature = self.rng.choice(sorted(self.interface.exog_actions.values(), key=lambda s: s.name))
+        args = tuple(random_value(self.rng, t) for t in signature.param_types)
+        at = max(self._next_random_exog, self.clock)
+        self._schedule(at, ExogEvent(signature.name, args))
+        self._next_random_exog = at + self.rng.uniform(0.0, 2.0)
+
+
+def _seconds(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or value < 0:
+        raise ScenarioError(f"{what} must be a number of seconds >= 0, not {value!r}")
+    return float(value)
+
+
+def _parse_pattern(pattern: str, where: str) -> tuple[str, tuple[str, ...] | None]:
+    text = pattern.replace(" ", "")
+    if "(" not in text:
+        return text, None
+    if not text.endswith(")"):
+        raise ScenarioError(f"{where}: pattern {pattern!r} must look like `name(arg, *, ...)`")
+    name, _, rest = text.partition("(")
+    inner = rest[:-1]
+    return name, tuple(inner.split(",")) if inner else ()
+
+
+def to_value(v: Any, t: Type | None) -> Value:
+    """A TOML value as a golog++ value of type `t` (strings become symbols where a symbol is
+    expected; `{ null = true }` is null)."""
+    if isinstance(v, dict) and v.get("null") is True:
+        return None
+    element = t.element if isinstance(t, DomainType) else t
+    if element is SYMBOL:
+        if not isinstance(v, str):
+            raise ScenarioError(f"expected a symbol name, got {v!r}")
+        value: Value = Sym(v)
+    elif element is NUMBER:
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            raise ScenarioError(f"expected a number, got {v!r}")
+        value = v
+    elif element is STRING:
+        if not isinstance(v, str):
+            raise ScenarioError(f"expected a string, got {v!r}")
+        value = v
+    elif element is BOOL:
+        if not isinstance(v, bool):
+            raise ScenarioError(f"expected true or false, got {v!r}")
+        value = v
+    elif isinstance(t, ListType):
+        if not isinstance(v, list):
+            raise ScenarioError(f"expected a list, got {v!r}")
+        value = tuple(to_value(x, t.element) for x in v)
+    elif isinstance(t, CompoundType):
+        if not isinstance(v, dict):
+            raise ScenarioError(f"expected a table for `{t.name}`, got {v!r}")
+        value = CompoundValue(t.name, tuple((n, to_value(v.get(n, {"null": True}), ft)) for n, ft in t.fields.items()))
+    else:
+        value = v if isinstance(v, bool | int | float | str) else None
+    if isinstance(t, DomainType) and value is not None and value not in t.values:
+        raise ScenarioError(f"{show(value)} is not in domain `{t.name}`")
+    return value
+
+
+def random_value(rng: random.Random, t: Type) -> Value:
+    """A random value of type `t`, like the original dummy backend's."""
+    if isinstance(t, DomainType):
+        return rng.choice(t.values) if t.values else None
+    if t is BOOL:
+        return rng.random() < 0.5
+    if t is NUMBER:
+        return rng.randint(-1000, 1000)
+    if t is STRING:
+        return "".join(rng.choice("abcdefghijklmnopqrstuvwxyz ") for _ in range(rng.randint(0, 16)))
+    if t is SYMBOL:
+        return Sym("s" + str(rng.randint(0, 99)))
+    if isinstance(t, ListType):
+        return tuple(random_value(rng, t.element) for _ in range(rng.randint(0, 4)))
+    if isinstance(t, CompoundType):
+        return CompoundValue(t.name, tuple((n, random_value(rng, ft)) for n, ft in t.fields.items()))
+    return None

@@ -1,0 +1,1 @@
+"""Running golog++ programs: values, state, the transition semantics and the online executor."""

@@ -1,0 +1,598 @@
+"""A checked program prepared for execution: fluent slots and initial values, actions,
+functions and procedures, and expressions compiled to closures.
+
+Expressions are compiled once into Python closures (`Evaluator = Callable[[Env], Value]`):
+the planner evaluates the same conditions millions of times, and a closure does no dispatch
+on node types at run time. Evaluation follows SEMANTICS §3; every runtime error carries the
+span of the expression that caused it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from gpp.model.model import Model
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import BOOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.state import Activities, GroundAction, State
+from gpp.runtime.values import CompoundValue, Value, same, show, to_string
+from gpp.source import Span
+from gpp.syntax import ast
+
+Op = ast.BinaryOp
+
+
+class Context(Protocol):
+    """What evaluation needs from outside the program: exog functions and the clock."""
+
+    def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value: ...
+
+    def now(self) -> float: ...
+
+
+class Env:
+    """Everything an expression is evaluated in."""
+
+    __slots__ = ("ctx", "state", "vars")
+
+    def __init__(self, state: State, variables: dict[int, Value], ctx: Context) -> None:
+        self.state = state
+        self.vars = variables
+        self.ctx = ctx
+
+    def bind(self, variables: dict[int, Value]) -> Env:
+        return Env(self.state, variables, self.ctx)
+
+
+Evaluator = Callable[[Env], Value]
+
+
+@dataclass(frozen=True, slots=True)
+class PathStep:
+    """One `.field` or `[index]` step of an assignment target below a fluent."""
+
+    field: str | None
+    index: Evaluator | None
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Target:
+    """A compiled assignment target: a fluent instance and a path inside its value."""
+
+    fluent: str
+    args: tuple[Evaluator, ...]
+    path: tuple[PathStep, ...]
+    value_type: Type
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Effect:
+    condition: Evaluator | None
+    target: Target
+    value: Evaluator
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class ActionInfo:
+    symbol: Symbol
+    exogenous: bool
+    param_ids: tuple[int, ...]
+    param_names: tuple[str, ...]
+    # The conjuncts of the precondition (top-level `&` split), to say which one is false.
+    precondition: tuple[tuple[Evaluator, ast.Expr], ...]
+    effects: tuple[Effect, ...]
+    senses: Effect | None
+    mapped_name: str
+    mapped_args: tuple[tuple[str, Evaluator], ...]
+    decl: ast.ActionDecl | None
+
+
+@dataclass
+class FluentInfo:
+    symbol: Symbol
+    # `initially:` entries, later ones override earlier ones: (pattern, value); None in a
+    # pattern is a wildcard (the parameter's own name).
+    initially: list[tuple[tuple[Value | _Wildcard, ...], Value]] = field(default_factory=list)
+
+
+class _Wildcard:
+    def __repr__(self) -> str:
+        return "*"
+
+
+WILDCARD = _Wildcard()
+
+
+class CompiledProgram:
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self._slots: dict[tuple[str, tuple[Value, ...]], int] = {}
+        self.instances: list[tuple[str, tuple[Value, ...]]] = []
+        self._initials: list[Value] = []
+        self._compiled: dict[int, Evaluator] = {}
+        self._functions: dict[str, tuple[tuple[int, ...], Evaluator | None]] = {}
+        self._actions: dict[str, ActionInfo] = {}
+        self.fluents: dict[str, FluentInfo] = {}
+        self._empty_state = State()
+        for symbol in model.globals.values():
+            if symbol.kind is SymbolKind.FLUENT:
+                self.fluents[symbol.name] = self._fluent_info(symbol)
+
+    # ---------------------------------------------------------------- fluent slots
+
+    def slot(self, fluent: str, args: tuple[Value, ...]) -> int:
+        key = (fluent, args)
+        s = self._slots.get(key)
+        if s is None:
+            s = len(self.instances)
+            self._slots[key] = s
+            self.instances.append(key)
+            self._initials.append(self._initial_value(fluent, args))
+        return s
+
+    def initial(self, slot: int) -> Value:
+        return self._initials[slot]
+
+    def instance_text(self, slot: int) -> str:
+        name, args = self.instances[slot]
+        return f"{name}({','.join(show(a) for a in args)})"
+
+    def read(self, state: State, fluent: str, args: tuple[Value, ...]) -> Value:
+        return state.get(self.slot(fluent, args), self.initial)
+
+    def _fluent_info(self, symbol: Symbol) -> FluentInfo:
+        info = FluentInfo(symbol)
+        decl = symbol.decl
+        if not isinstance(decl, ast.FluentDecl) or decl.initially is None:
+            return info
+        env = Env(self._empty_state, {}, _NO_CONTEXT)
+        names = [p.name for p in symbol.params]
+        for init in decl.initially:
+            pattern: list[Value | _Wildcard] = []
+            for i, arg in enumerate(init.args):
+                if isinstance(arg, ast.Name) and i < len(names) and arg.name == names[i]:
+                    pattern.append(WILDCARD)
+                else:
+                    pattern.append(self.expr(arg)(env))
+            info.initially.append((tuple(pattern), self.expr(init.value)(env)))
+        return info
+
+    def _initial_value(self, fluent: str, args: tuple[Value, ...]) -> Value:
+        info = self.fluents.get(fluent)
+        if info is None:
+            return None
+        for pattern, value in reversed(info.initially):
+            if all(p is WILDCARD or same(p, a) for p, a in zip(pattern, args, strict=False)):  # type: ignore[arg-type]
+                return value
+        return None
+
+    # ---------------------------------------------------------------- declarations
+
+    def action(self, name: str) -> ActionInfo:
+        info = self._actions.get(name)
+        if info is None:
+            info = self._action_info(self.model.globals[name])
+            self._actions[name] = info
+        return info
+
+    def _action_info(self, symbol: Symbol) -> ActionInfo:
+        decl = symbol.decl if isinstance(symbol.decl, ast.ActionDecl) else None
+        precondition: list[tuple[Evaluator, ast.Expr]] = []
+        effects: list[Effect] = []
+        senses: Effect | None = None
+        mapped_name = symbol.name
+        mapped: list[tuple[str, Evaluator]] | None = None
+        for section in (decl.sections or ()) if decl else ():
+            if isinstance(section, ast.PreconditionSection):
+                for conjunct in _conjuncts(self.model.effective(section.condition)):
+                    precondition.append((self.expr(conjunct), conjunct))
+            elif isinstance(section, ast.EffectSection):
+                for e in section.effects:
+                    condition = self.expr(e.condition) if e.condition is not None else None
+                    effects.append(Effect(condition, self.target(e.target), self.expr(e.value), e.span))
+            elif isinstance(section, ast.SensesSection):
+                senses = Effect(None, self.target(section.target), self.expr(section.value), section.span)
+            elif isinstance(section, ast.MappingSection):
+                mapped_name = section.mapping.name.value
+                mapped = [(a.name.name, self.expr(a.value)) for a in section.mapping.args]
+        if mapped is None:
+            mapped = [(p.name, _variable(id(p))) for p in symbol.params]
+        return ActionInfo(
+            symbol=symbol,
+            exogenous=symbol.kind is SymbolKind.EXOG_ACTION,
+            param_ids=tuple(id(p) for p in symbol.params),
+            param_names=tuple(p.name for p in symbol.params),
+            precondition=tuple(precondition),
+            effects=tuple(effects),
+            senses=senses,
+            mapped_name=mapped_name,
+            mapped_args=tuple(mapped),
+            decl=decl,
+        )
+
+    def procedure(self, name: str) -> tuple[tuple[int, ...], ast.Stmt | None]:
+        symbol = self.model.globals[name]
+        decl = symbol.decl
+        body = decl.body if isinstance(decl, ast.ProcedureDecl | ast.MainBlock) else None
+        return tuple(id(p) for p in symbol.params), body
+
+    def function(self, name: str) -> tuple[tuple[int, ...], Evaluator | None]:
+        entry = self._functions.get(name)
+        if entry is None or entry[1] is None:
+            symbol = self.model.globals[name]
+            params = tuple(id(p) for p in symbol.params)
+            # Registered before compiling the body, so that recursion finds it.
+            self._functions[name] = (params, None)
+            decl = symbol.decl
+            body = self.expr(decl.body) if isinstance(decl, ast.FunctionDecl) and decl.body is not None else None
+            entry = (params, body)
+            self._functions[name] = entry
+        return entry
+
+    # ---------------------------------------------------------------- expressions
+
+    def expr(self, e: ast.Expr) -> Evaluator:
+        key = id(e)
+        compiled = self._compiled.get(key)
+        if compiled is None:
+            compiled = self._compile(self.model.effective(e))
+            self._compiled[key] = compiled
+        return compiled
+
+    def _compile(self, e: ast.Expr) -> Evaluator:
+        if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
+            value = e.value
+            return lambda env: value
+        if isinstance(e, ast.NullLit):
+            return lambda env: None
+        if isinstance(e, ast.Name):
+            target = self.model.target(e)
+            if target is not None and target.kind is SymbolKind.SYMBOL:
+                sym = Sym(e.name)
+                return lambda env: sym
+            if target is None:
+                raise _internal(e.span, f"unresolved name `{e.name}`")
+            return _variable(id(target))
+        if isinstance(e, ast.Call):
+            return self._call(e)
+        if isinstance(e, ast.Unary):
+            operand = self.expr(e.operand)
+            if e.op is ast.UnaryOp.NOT:
+                return lambda env: not _truth(operand(env))
+            span = e.span
+
+            def negate(env: Env) -> Value:
+                v = operand(env)
+                if v is None:
+                    raise GppRuntimeError("R0002", "`-` applied to `null`", span)
+                return -v  # type: ignore[operator]
+
+            return negate
+        if isinstance(e, ast.Binary):
+            return self._binary(e)
+        if isinstance(e, ast.Quantified):
+            return self._quantifier(e)
+        if isinstance(e, ast.Conditional):
+            cond, then, otherwise = self.expr(e.condition), self.expr(e.then), self.expr(e.otherwise)
+            return lambda env: then(env) if _truth(cond(env)) else otherwise(env)
+        if isinstance(e, ast.FieldAccess):
+            subject = self.expr(e.subject)
+            name, span = e.field.name, e.span
+
+            def get_field(env: Env) -> Value:
+                v = subject(env)
+                if v is None:
+                    raise GppRuntimeError("R0002", f"field `{name}` of `null`", span)
+                assert isinstance(v, CompoundValue)
+                return v.get(name)
+
+            return get_field
+        if isinstance(e, ast.Index):
+            subject, index, span = self.expr(e.subject), self.expr(e.index), e.span
+            return lambda env: _element(subject(env), index(env), span)
+        if isinstance(e, ast.CompoundLit):
+            ctype = self.model.type_of(e)
+            assert isinstance(ctype, CompoundType)
+            given = {f.name.name: self.expr(f.value) for f in e.fields}
+            order = tuple((name, given[name]) for name in ctype.fields if name in given)
+            type_name = ctype.name
+            return lambda env: CompoundValue(type_name, tuple((n, f(env)) for n, f in order))
+        if isinstance(e, ast.ListLit):
+            elements = tuple(self.expr(x) for x in e.elements)
+            return lambda env: tuple(x(env) for x in elements)
+        if isinstance(e, ast.BuiltinCall):
+            arg, span = self.expr(e.arg), e.span
+            if e.function is ast.Builtin.LENGTH:
+
+                def length(env: Env) -> Value:
+                    v = arg(env)
+                    if v is None:
+                        raise GppRuntimeError("R0002", "`length` of `null`", span)
+                    assert isinstance(v, tuple)
+                    return len(v)
+
+                return length
+            return lambda env: to_string(arg(env))
+        raise _internal(e.span, f"cannot evaluate {type(e).__name__}")
+
+    def _call(self, e: ast.Call) -> Evaluator:
+        symbol = self.model.target(e)
+        if symbol is None:
+            raise _internal(e.span, f"unresolved call `{e.name.name}`")
+        args = tuple(self.expr(a) for a in e.args)
+        name = symbol.name
+        if symbol.kind is SymbolKind.FLUENT:
+            if symbol.predefined and name == "context_time":
+                return lambda env: env.ctx.now()
+            slot_of, initial = self.slot, self.initial
+
+            def fluent(env: Env) -> Value:
+                return env.state.get(slot_of(name, tuple(a(env) for a in args)), initial)
+
+            return fluent
+        if symbol.kind is SymbolKind.FUNCTION:
+            program = self
+
+            def function(env: Env) -> Value:
+                params, body = program.function(name)
+                if body is None:
+                    raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                values = [a(env) for a in args]
+                return body(env.bind(dict(zip(params, values, strict=True))))
+
+            return function
+        if symbol.kind is SymbolKind.EXOG_FUNCTION:
+            names = tuple(p.name for p in symbol.params)
+            rtype = symbol.type
+            assert rtype is not None
+            span = e.span
+
+            def exog(env: Env) -> Value:
+                values = {n: a(env) for n, a in zip(names, args, strict=True)}
+                return env.ctx.exog_function(name, values, rtype, span)
+
+            return exog
+        raise _internal(e.span, f"`{name}` cannot be evaluated")
+
+    def _binary(self, e: ast.Binary) -> Evaluator:
+        op, span = e.op, e.span
+        left, right = self.expr(e.left), self.expr(e.right)
+        if op is Op.AND:
+            return lambda env: _truth(left(env)) and _truth(right(env))
+        if op is Op.OR:
+            return lambda env: _truth(left(env)) or _truth(right(env))
+        if op is Op.IMPLIES:
+            return lambda env: (not _truth(left(env))) or _truth(right(env))
+        if op is Op.EQ:
+            return lambda env: same(left(env), right(env))
+        if op is Op.NE:
+            return lambda env: not same(left(env), right(env))
+        if op in (Op.LT, Op.LE, Op.GT, Op.GE):
+            compare = _ORDER[op]
+
+            def order(env: Env) -> Value:
+                a, b = left(env), right(env)
+                if a is None or b is None:
+                    raise GppRuntimeError("R0002", f"`{op.value}` compares `null`", span)
+                if isinstance(a, Sym):
+                    return compare(a.name, b.name)  # type: ignore[union-attr]
+                return compare(a, b)
+
+            return order
+        arithmetic = _ARITHMETIC[op]
+
+        def calculate(env: Env) -> Value:
+            a, b = left(env), right(env)
+            if a is None or b is None:
+                raise GppRuntimeError("R0002", f"`{op.value}` applied to `null`", span)
+            return arithmetic(a, b, span)
+
+        return calculate
+
+    def _quantifier(self, e: ast.Quantified) -> Evaluator:
+        variable = self.model.target(e.var)
+        assert variable is not None
+        values = domain_values(variable.type)
+        var_id = id(variable)
+        body = self.expr(e.body)
+        exists = e.quantifier is ast.Quantifier.EXISTS
+
+        def quantify(env: Env) -> Value:
+            bindings = dict(env.vars)
+            inner = env.bind(bindings)
+            for v in values:
+                bindings[var_id] = v
+                if _truth(body(inner)) == exists:
+                    return exists
+            return not exists
+
+        return quantify
+
+    # ---------------------------------------------------------------- assignment targets
+
+    def target(self, e: ast.Expr) -> Target:
+        path: list[PathStep] = []
+        node = e
+        while isinstance(node, ast.FieldAccess | ast.Index):
+            if isinstance(node, ast.FieldAccess):
+                path.append(PathStep(node.field.name, None, node.span))
+            else:
+                path.append(PathStep(None, self.expr(node.index), node.span))
+            node = node.subject
+        assert isinstance(node, ast.Call)
+        symbol = self.model.target(node)
+        assert symbol is not None
+        return Target(
+            fluent=symbol.name,
+            args=tuple(self.expr(a) for a in node.args),
+            path=tuple(reversed(path)),
+            value_type=self.model.type_of(e),
+            span=e.span,
+        )
+
+    def assignment(self, target: Target, value: Value, env: Env, pending: dict[int, Value]) -> int:
+        """Compute the new value of the target's fluent instance after `target = value`
+        (a functional update along the path) and record it in `pending`; returns the slot.
+        `pending` holds the values already assigned by the same step (effects of one action)."""
+        check_domain(value, target.value_type, target.span)
+        slot = self.slot(target.fluent, tuple(a(env) for a in target.args))
+        if not target.path:
+            pending[slot] = value
+            return slot
+        current = pending[slot] if slot in pending else env.state.get(slot, self.initial)
+        pending[slot] = _update_path(current, [(p, p.index(env) if p.index else None) for p in target.path], value)
+        return slot
+
+
+def _update_path(current: Value, path: Sequence[tuple[PathStep, Value]], value: Value) -> Value:
+    (step, index), rest = path[0], path[1:]
+    if current is None:
+        raise GppRuntimeError("R0002", "assignment into a `null` value", step.span)
+    if step.field is not None:
+        assert isinstance(current, CompoundValue)
+        inner = current.get(step.field)
+        return current.replace(step.field, _update_path(inner, rest, value) if rest else value)
+    assert isinstance(current, tuple)
+    i = _index(index, len(current), step.span)
+    new = _update_path(current[i], rest, value) if rest else value
+    return (*current[:i], new, *current[i + 1 :])
+
+
+def check_domain(value: Value, t: Type, span: Span) -> None:
+    """Domain membership of a computed value, checked when it is stored (SEMANTICS §2.4)."""
+    if isinstance(t, DomainType) and value is not None and not any(same(value, v) for v in t.values):
+        shown = ", ".join(show(v) for v in t.values[:10])
+        raise GppRuntimeError(
+            "R0004", f"`{show(value)}` is not in domain `{t.name}`", span, (f"`{t.name}` = {{{shown}}}",)
+        )
+    if isinstance(t, ListType) and isinstance(value, tuple) and isinstance(t.element, DomainType):
+        for v in value:
+            check_domain(v, t.element, span)
+
+
+def domain_values(t: Type | None) -> tuple[Value, ...]:
+    if t is BOOL:
+        return (False, True)
+    if isinstance(t, DomainType):
+        return t.values
+    raise AssertionError(f"not a finite type: {t}")
+
+
+def ground(action: ActionInfo, args: Sequence[Value]) -> GroundAction:
+    return GroundAction(action.symbol.name, tuple(args))
+
+
+def _conjuncts(e: ast.Expr) -> list[ast.Expr]:
+    if isinstance(e, ast.Binary) and e.op is Op.AND:
+        return _conjuncts(e.left) + _conjuncts(e.right)
+    return [e]
+
+
+def _variable(var_id: int) -> Evaluator:
+    return lambda env: env.vars[var_id]
+
+
+def _truth(v: Value) -> bool:
+    # `null` in a condition is false (LANGUAGE.md §6.4).
+    return v is True
+
+
+def _index(i: Value, n: int, span: Span) -> int:
+    if isinstance(i, float) and i.is_integer():
+        i = int(i)
+    if not isinstance(i, int) or isinstance(i, bool):
+        raise GppRuntimeError("R0003", f"list index `{show(i)}` is not a whole number", span)
+    if not 0 <= i < n:
+        raise GppRuntimeError("R0003", f"list index {i} is out of range (the list has {n} elements)", span)
+    return i
+
+
+def _element(v: Value, i: Value, span: Span) -> Value:
+    if v is None:
+        raise GppRuntimeError("R0002", "indexing `null`", span)
+    assert isinstance(v, tuple)
+    return v[_index(i, len(v), span)]
+
+
+def _add(a: Value, b: Value, span: Span) -> Value:
+    return a + b  # type: ignore[operator]
+
+
+def _sub(a: Value, b: Value, span: Span) -> Value:
+    return a - b  # type: ignore[operator]
+
+
+def _mul(a: Value, b: Value, span: Span) -> Value:
+    return a * b  # type: ignore[operator]
+
+
+def _div(a: Value, b: Value, span: Span) -> Value:
+    if b == 0:
+        raise GppRuntimeError("R0001", "division by zero", span)
+    return a / b  # type: ignore[operator]
+
+
+def _mod(a: Value, b: Value, span: Span) -> Value:
+    if not isinstance(a, int) or not isinstance(b, int):
+        raise GppRuntimeError("R0001", f"`%` needs whole numbers, got {show(a)} and {show(b)}", span)
+    if b == 0:
+        raise GppRuntimeError("R0001", "modulo by zero", span)
+    return a % b
+
+
+def _pow(a: Value, b: Value, span: Span) -> Value:
+    assert isinstance(a, int | float) and isinstance(b, int | float)
+    if isinstance(a, int) and isinstance(b, int) and b >= 0:
+        power: int = a**b
+        return power
+    try:
+        return math.pow(a, b)
+    except ZeroDivisionError:
+        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` divides by zero", span) from None
+    except OverflowError:
+        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is too large", span) from None
+    except ValueError:
+        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is not a real number", span) from None
+
+
+_ARITHMETIC: dict[Op, Callable[[Value, Value, Span], Value]] = {
+    Op.ADD: _add,
+    Op.SUB: _sub,
+    Op.MUL: _mul,
+    Op.DIV: _div,
+    Op.MOD: _mod,
+    Op.POW: _pow,
+}
+
+_ORDER: dict[Op, Callable[[object, object], bool]] = {
+    Op.LT: lambda a, b: a < b,  # type: ignore[operator]
+    Op.LE: lambda a, b: a <= b,  # type: ignore[operator]
+    Op.GT: lambda a, b: a > b,  # type: ignore[operator]
+    Op.GE: lambda a, b: a >= b,  # type: ignore[operator]
+}
+
+
+def _internal(span: Span, message: str) -> GppRuntimeError:
+    return GppRuntimeError("R0099", f"internal: {message} (the program should not have passed the checker)", span)
+
+
+class _NoContext:
+    """Initial values are literals: they never call the platform."""
+
+    def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
+        raise GppRuntimeError("R0099", "an initial value cannot call an exogenous function", span)
+
+    def now(self) -> float:
+        return 0.0
+
+
+_NO_CONTEXT = _NoContext()
+
+__all__ = ["Activities", "CompiledProgram", "Context", "Env", "Evaluator"]

@@ -1,0 +1,569 @@
+"""The online executor (SEMANTICS §4): runs `main()` against a platform.
+
+Between program steps it drains the platform's queue (activity updates and exogenous events,
+in arrival order). Each step is the first successor `trans` offers (so online `choose` and
+`pick` take the first alternative that can step). When no step is possible the program is
+blocked: the executor lets the platform's time pass until something arrives; when nothing
+can arrive any more, the run stops with a diagnostic that says what the program waits for.
+Every step and event goes to the trace as it happens.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+
+from gpp import diagnostics as diag
+from gpp.model.types import Type
+from gpp.platform.base import (
+    Activity,
+    ActivityUpdate,
+    ExogEvent,
+    ExogSignature,
+    Platform,
+    PlatformError,
+    ProgramInterface,
+)
+from gpp.runtime.compiled import CompiledProgram, Env
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.semantics import (
+    AssignStep,
+    AwaitEnd,
+    CancelStep,
+    Code,
+    Conc,
+    DoStep,
+    DuringEnd,
+    EndKind,
+    EndStep,
+    Frame,
+    Planned,
+    PlanStep,
+    Prog,
+    ReplanStep,
+    Rest,
+    Semantics,
+    Seq,
+    StartStep,
+    Step,
+    TestStep,
+)
+from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
+from gpp.runtime.trace import Trace
+from gpp.runtime.values import Value, show, to_json
+from gpp.source import Span
+from gpp.syntax import ast
+
+
+class RunStatus(Enum):
+    FINISHED = "finished"
+    BLOCKED = "blocked"
+    ERROR = "error"
+    TIMEOUT = "timeout"
+    INTERRUPTED = "interrupted"
+
+
+@dataclass
+class RunResult:
+    status: RunStatus
+    diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    state: State = field(default_factory=State)
+    activities: Activities = field(default_factory=Activities)
+    postcond: bool | None = None
+    actions: int = 0
+    failures: int = 0
+    unhandled_failures: int = 0
+    exog_events: int = 0
+    steps: int = 0
+    platform_time: float = 0.0
+    wall_time: float = 0.0
+
+
+class _ExecContext:
+    """Evaluation context online: exog functions go to the platform, the clock is its clock."""
+
+    def __init__(self, platform: Platform) -> None:
+        self.platform = platform
+        self.activity: Activity | None = None
+        # While a `senses:` section is evaluated: the activity's result, if it has one.
+        self.result: tuple[bool, Value] = (False, None)
+
+    def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
+        if self.result[0]:
+            return self.result[1]
+        try:
+            return self.platform.exog_function(name, args, return_type, self.activity)
+        except PlatformError as e:
+            raise GppRuntimeError("R0007", f"exogenous function `{name}` failed: {e}", span) from None
+
+    def now(self) -> float:
+        return self.platform.now()
+
+
+class Executor:
+    def __init__(
+        self,
+        program: CompiledProgram,
+        platform: Platform,
+        trace: Trace,
+        timeout: float | None = None,
+        entry: str = "main",
+    ) -> None:
+        self.program = program
+        self.platform = platform
+        self.trace = trace
+        self.timeout = timeout
+        self.entry = entry
+        self.ctx = _ExecContext(platform)
+        self.sem = Semantics(program, self.ctx, planning=False)
+        self.state = State()
+        self.acts = Activities()
+        self.records: dict[GroundAction, Activity] = {}
+        self.by_id: dict[int, GroundAction] = {}
+        self.results: dict[GroundAction, tuple[bool, Value]] = {}
+        self.next_id = 1
+        self.result = RunResult(RunStatus.FINISHED)
+
+    # ---------------------------------------------------------------- set-up
+
+    def interface(self) -> ProgramInterface:
+        actions: dict[str, tuple[str, tuple[str, ...]]] = {}
+        exogs: dict[str, ExogSignature] = {}
+        functions: dict[str, tuple[tuple[str, ...], Type]] = {}
+        sensing: dict[str, Type] = {}
+        for symbol in self.program.model.globals.values():
+            kind = symbol.kind.name
+            if kind == "ACTION" and not symbol.predefined:
+                info = self.program.action(symbol.name)
+                actions[symbol.name] = (info.mapped_name, tuple(n for n, _ in info.mapped_args))
+                if info.senses is not None:
+                    sensing[symbol.name] = info.senses.target.value_type
+            elif kind == "EXOG_ACTION" and not symbol.predefined:
+                info = self.program.action(symbol.name)
+                fields = {n: _param_name(e) for n, e in _mapping_fields(info.decl)}
+                if info.decl is None or info.decl.section(ast.MappingSection) is None:
+                    fields = {p: p for p in info.param_names}
+                types = tuple(p.type for p in symbol.params if p.type is not None)
+                exogs[symbol.name] = ExogSignature(symbol.name, info.param_names, types, info.mapped_name, fields)
+            elif kind == "EXOG_FUNCTION":
+                assert symbol.type is not None
+                functions[symbol.name] = (tuple(p.name for p in symbol.params), symbol.type)
+        return ProgramInterface(actions, exogs, functions, sensing)
+
+    # ---------------------------------------------------------------- the loop
+
+    def run(self) -> RunResult:
+        started = time.perf_counter()
+        result = self.result
+        prog: Prog | None = None
+        try:
+            prog = self.sem.entry(self.entry)
+            while True:
+                self.drain()
+                if self.sem.final(prog, self.state, self.acts):
+                    result.status = RunStatus.FINISHED
+                    break
+                successors = self.sem.trans(prog, self.state, self.acts)
+                if successors:
+                    next_prog, step = successors[0]
+                    self.perform(step)
+                    result.steps += 1
+                    prog = next_prog
+                    continue
+                deadline = self.timeout if self.timeout is not None else None
+                if deadline is not None and self.platform.now() >= deadline:
+                    result.status = RunStatus.TIMEOUT
+                    self.trace.emit("error", self.platform.now(), message=f"timeout after {deadline:g} s")
+                    result.diagnostics.append(self.timeout_diagnostic(prog))
+                    break
+                if not self.platform.wait(deadline) and len(self.platform.queue) == 0:
+                    result.status = RunStatus.BLOCKED
+                    d = self.blocked_diagnostic(prog)
+                    result.diagnostics.append(d)
+                    self.trace.emit("blocked", self.platform.now(), message=d.message, at=_where(d.span))
+                    break
+        except GppRuntimeError as e:
+            result.status = RunStatus.ERROR
+            error = e.diagnostic()
+            if error is not None:
+                result.diagnostics.append(error)
+            self.trace.emit("error", self.platform.now(), code=e.code, message=e.message, at=_where(e.span))
+        except KeyboardInterrupt:
+            result.status = RunStatus.INTERRUPTED
+            self.trace.emit("error", self.platform.now(), message="interrupted")
+        finally:
+            self.stop_running_activities()
+            result.state, result.activities = self.state, self.acts
+            result.platform_time = self.platform.now()
+            result.wall_time = time.perf_counter() - started
+            self.trace.emit(
+                "finish",
+                self.platform.now(),
+                status=result.status.value,
+                actions=result.actions,
+                failures=result.failures,
+                exog_events=result.exog_events,
+            )
+        return result
+
+    def evaluate_postcond(self) -> bool | None:
+        """`bool function postcond()` in the final state, if the program defines one."""
+        symbol = self.program.model.globals.get("postcond")
+        if symbol is None or symbol.kind.name != "FUNCTION" or symbol.params:
+            return None
+        _, body = self.program.function("postcond")
+        if body is None:
+            return None
+        value = body(Env(self.state, {}, self.ctx))
+        self.result.postcond = value is True
+        return self.result.postcond
+
+    # ---------------------------------------------------------------- events
+
+    def drain(self) -> None:
+        for t, event in self.platform.queue.drain():
+            if isinstance(event, ActivityUpdate):
+                self.on_update(t, event)
+            else:
+                self.on_exog(t, event)
+
+    def on_update(self, t: float, update: ActivityUpdate) -> None:
+        g = self.by_id.get(update.activity_id)
+        if g is None or self.acts.status(g) is not ActivityStatus.RUNNING:
+            return  # a late update for an activity already consumed
+        self.acts = self.acts.with_status(g, update.status)
+        if update.has_result:
+            self.results[g] = (True, update.result)
+        fields: dict[str, object] = {"action": g.text, "status": update.status.value, "id": update.activity_id}
+        if update.reason:
+            fields["reason"] = update.reason
+        if update.has_result:
+            fields["result"] = to_json(update.result)
+        self.trace.emit("update", t, **fields)
+        if update.status is ActivityStatus.FAILED:
+            self.result.failures += 1
+
+    def on_exog(self, t: float, event: ExogEvent) -> None:
+        info = self.program.action(event.action)
+        g = GroundAction(event.action, event.args)
+        holds = self.sem.precondition_holds(info, g, self.state)
+        self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
+        self.result.exog_events += 1
+        fields: dict[str, object] = {"action": g.text}
+        if not holds:
+            fields["precondition"] = False
+        self.trace.emit("exog", t, **fields)
+
+    # ---------------------------------------------------------------- steps
+
+    def perform(self, step: Step) -> None:
+        now = self.platform.now()
+        if isinstance(step, StartStep):
+            self.start(step.action, step.span)
+        elif isinstance(step, EndStep):
+            self.end(step)
+        elif isinstance(step, CancelStep):
+            record = self.records[step.action]
+            self.trace.emit("cancel", now, action=step.action.text, id=record.id)
+            self.platform.preempt(record)
+        elif isinstance(step, AssignStep):
+            self.state = self.state.updated(dict(step.updates), self.program.initial)
+            for slot, value in step.updates:
+                self.trace.emit("assign", now, fluent=self.program.instance_text(slot), value=to_json(value))
+        elif isinstance(step, PlanStep):
+            holder = step.holder
+            plan = holder.make_plan(self.sem, holder.body, self.state, self.acts)
+            holder.install(plan, 0, self.state)
+            self.trace_plan("plan", holder.kind, plan)
+        elif isinstance(step, ReplanStep):
+            holder = step.holder
+            point = holder.program_at(step.index) if holder.policy is not None else holder.body
+            if holder.policy is not None:
+                holder.horizon -= holder.used_horizon(step.index)
+                holder.body = point
+            plan = holder.make_plan(self.sem, point, self.state, self.acts)
+            holder.install(plan, step.index, self.state)
+            self.trace_plan("replan", holder.kind, plan)
+        elif isinstance(step, TestStep | DoStep):
+            pass
+        else:
+            raise AssertionError(f"unknown step {step!r}")
+
+    def trace_plan(self, event: str, kind: str, plan: object) -> None:
+        from gpp.planner.result import Plan
+
+        assert isinstance(plan, Plan)
+        self.trace.emit(
+            event,
+            self.platform.now(),
+            kind=kind,
+            feasible=plan.feasible,
+            value=plan.value,
+            horizon=plan.horizon,
+            policy=plan.actions(),
+            nodes=plan.stats.nodes,
+            cache_hits=plan.stats.cache_hits,
+            pruned=plan.stats.pruned,
+            reward_evaluations=plan.stats.reward_evaluations,
+            seconds=round(plan.stats.seconds, 6),
+        )
+
+    def start(self, g: GroundAction, span: Span) -> None:
+        status = self.acts.status(g)
+        if status is not None and status.terminal:
+            raise GppRuntimeError(
+                "R0009",
+                f"`{g.text}` is started again before its previous activity was ended",
+                span,
+                ("`end(...)`, `finish(...)` or `fail(...)` consumes an activity that has terminated",),
+            )
+        info = self.program.action(g.name)
+        env = Env(self.state, dict(zip(info.param_ids, g.args, strict=True)), self.ctx)
+        args = {name: evaluate(env) for name, evaluate in info.mapped_args}
+        duration = _duration(info.decl)
+        activity = Activity(self.next_id, g, info.mapped_name, args, duration)
+        self.next_id += 1
+        self.records[g] = activity
+        self.by_id[activity.id] = g
+        self.results.pop(g, None)
+        self.acts = self.acts.with_status(g, ActivityStatus.RUNNING)
+        self.result.actions += 1
+        self.trace.emit(
+            "start",
+            self.platform.now(),
+            action=g.text,
+            id=activity.id,
+            mapped=info.mapped_name,
+            args={k: to_json(v) for k, v in args.items()},
+        )
+        try:
+            self.platform.start(activity)
+        except PlatformError as e:
+            raise GppRuntimeError("R0007", f"the platform cannot start `{g.text}`: {e}", span) from None
+
+    def end(self, step: EndStep) -> None:
+        g = step.action
+        status = self.acts.status(g)
+        assert status is not None
+        record = self.records.get(g)
+        now = self.platform.now()
+        if status is ActivityStatus.FINAL:
+            info = self.program.action(g.name)
+            if info.senses is not None and record is not None:
+                self.sense(g, record, info.senses)
+            self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
+        elif status is ActivityStatus.FAILED and step.hook == EndKind.CALL:
+            self.result.unhandled_failures += 1
+        self.trace.emit("end", now, action=g.text, status=status.value, hook=step.hook)
+        self.acts = self.acts.with_status(g, None)
+        self.records.pop(g, None)
+        self.results.pop(g, None)
+
+    def sense(self, g: GroundAction, record: Activity, senses: object) -> None:
+        from gpp.runtime.compiled import Effect
+
+        assert isinstance(senses, Effect)
+        info = self.program.action(g.name)
+        env = Env(self.state, dict(zip(info.param_ids, g.args, strict=True)), self.ctx)
+        self.ctx.activity = record
+        self.ctx.result = self.results.get(g, (False, None))
+        try:
+            value = senses.value(env)
+        finally:
+            self.ctx.activity = None
+            self.ctx.result = (False, None)
+        pending: dict[int, Value] = {}
+        slot = self.program.assignment(senses.target, value, env, pending)
+        self.state = self.state.updated(pending, self.program.initial)
+        self.trace.emit(
+            "sense", self.platform.now(), action=g.text, fluent=self.program.instance_text(slot), value=to_json(value)
+        )
+
+    def stop_running_activities(self) -> None:
+        for g in self.acts.running():
+            record = self.records.get(g)
+            if record is None:
+                continue
+            self.trace.emit("cancel", self.platform.now(), action=g.text, id=record.id, reason="the program ended")
+            # Stopping must go on whatever the platform does.
+            with contextlib.suppress(Exception):
+                self.platform.preempt(record)
+
+    # ---------------------------------------------------------------- diagnostics
+
+    def blocked_diagnostic(self, prog: Prog) -> diag.Diagnostic:
+        why = self.why_blocked(prog)
+        if why is None:
+            span = self.program.model.globals[self.entry].span
+            assert span is not None
+            return diag.error("R0011", "the program is blocked and nothing can change that", span)
+        return why
+
+    def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
+        blocked = self.why_blocked(prog)
+        span = blocked.span if blocked is not None else self.program.model.globals[self.entry].span
+        assert span is not None
+        notes = [blocked.message] if blocked else []
+        return diag.error(
+            "R0013", f"the run reached its timeout of {self.timeout:g} s", span, "waiting here", notes=notes
+        )
+
+    def why_blocked(self, p: Prog) -> diag.Diagnostic | None:
+        state, acts = self.state, self.acts
+        if isinstance(p, Seq):
+            if self.sem.final(p.first, state, acts):
+                return self.why_blocked(p.first) or self.why_blocked(p.rest)
+            return self.why_blocked(p.first)
+        if isinstance(p, Rest):
+            for s in p.block.body[p.index :]:
+                why = self.why_blocked(Code(s, p.frame))
+                if why is not None or not self.sem.final(Code(s, p.frame), state, acts):
+                    return why
+            return None
+        if isinstance(p, Conc):
+            for b in p.branches:
+                why = self.why_blocked(b)
+                if why is not None:
+                    return why
+            return None
+        if isinstance(p, AwaitEnd | DuringEnd):
+            return self.waiting(p.action, p.span, "to end")
+        if isinstance(p, Planned):
+            stmt = p.holder.stmt
+            return diag.error(
+                "R0011",
+                f"the program is blocked: `{stmt.__class__.__name__.lower()}` found no plan",
+                stmt.span,
+                "no feasible plan from the current state",
+                notes=["every branch within the horizon has an impossible action or a false test"],
+            )
+        if not isinstance(p, Code):
+            return None
+        s, frame = p.stmt, p.frame
+        if isinstance(s, ast.Block):
+            return self.why_blocked(Rest(s, 0, frame)) if s.body else None
+        if isinstance(s, ast.Test):
+            return diag.error(
+                "R0011",
+                "the program is blocked: this test is false and nothing can change that",
+                s.span,
+                "waits for this condition",
+                notes=self.fluent_notes(s.condition, state, frame),
+            )
+        if isinstance(s, ast.If):
+            branch = s.then if self.sem.condition(s.condition, state, frame) else s.otherwise
+            return self.why_blocked(Code(branch, frame)) if branch is not None else None
+        if isinstance(s, ast.While):
+            return self.why_blocked(Code(s.body, frame))
+        if isinstance(s, ast.Choose):
+            return self.why_blocked(Code(s.alternatives[0], frame)) if s.alternatives else None
+        if isinstance(s, ast.Pick):
+            frames = self.sem.pick_frames(s, frame)
+            return self.why_blocked(Code(s.body, frames[0])) if frames else None
+        if isinstance(s, ast.Concurrent):
+            return self.why_blocked(Conc(tuple(Code(b, frame) for b in s.branches)))
+        if isinstance(s, ast.CallStmt):
+            callee = self.sem.callee(s)
+            if callee.kind.name == "PROCEDURE":
+                body, inner = self.sem.procedure_body(s, callee.name, state, frame)
+                return self.why_blocked(Code(body, inner))
+            _, g = self.sem.ground_call(s.call, frame, state)
+            return self.cannot_start(g, s.span, frame)
+        if isinstance(s, ast.During):
+            _, g = self.sem.ground_call(s.action, frame, state)
+            return self.cannot_start(g, s.span, frame)
+        if isinstance(s, ast.HookStmt):
+            _, g = self.sem.ground_call(s.action, frame, state)
+            if s.hook is ast.Hook.START:
+                return self.cannot_start(g, s.span, frame)
+            wanted = {"end": "to end", "finish": "to finish", "fail": "to fail", "cancel": "to be running"}
+            return self.waiting(g, s.span, wanted[s.hook.value])
+        return None
+
+    def waiting(self, g: GroundAction, span: Span, what: str) -> diag.Diagnostic:
+        status = self.acts.status(g)
+        shown = status.value if status is not None else "not started"
+        return diag.error(
+            "R0011",
+            f"the program is blocked: it waits for `{g.text}` {what}",
+            span,
+            f"`{g.text}` is {shown}",
+            notes=[f"the platform `{self.platform.name}` reports nothing more that could change this"],
+        )
+
+    def cannot_start(self, g: GroundAction, span: Span, frame: Frame) -> diag.Diagnostic:
+        if self.acts.status(g) is ActivityStatus.RUNNING:
+            return self.waiting(g, span, "(already running) to end before it can start again")
+        info = self.program.action(g.name)
+        env_vars = dict(zip(info.param_ids, g.args, strict=True))
+        false = self.sem.false_conjuncts(g, self.state)
+        notes: list[str] = []
+        for conjunct in false:
+            notes.append(f"false: `{_text(conjunct)}`")
+            notes.extend(self.fluent_notes(conjunct, self.state, Frame(tuple(env_vars.items())), indent="  "))
+        return diag.error(
+            "R0011",
+            f"the program is blocked: the precondition of `{g.text}` is false",
+            span,
+            "cannot start",
+            notes=notes,
+        )
+
+    def fluent_notes(self, e: ast.Expr, state: State, frame: Frame, indent: str = "") -> list[str]:
+        """`loc(a) = table` for every fluent instance the expression reads."""
+        from gpp.syntax.walk import walk
+
+        notes: list[str] = []
+        env = Env(state, frame.vars, self.ctx)
+        for node in walk(e):
+            if isinstance(node, ast.Call) and not isinstance(node, ast.Quantified):
+                symbol = self.program.model.target(node)
+                if symbol is None or symbol.kind.name != "FLUENT":
+                    continue
+                try:
+                    args = tuple(self.program.expr(a)(env) for a in node.args)
+                except (GppRuntimeError, KeyError):
+                    continue  # reads a quantified variable: not one instance
+                value = self.program.read(state, symbol.name, args)
+                text = f"{indent}{symbol.name}({','.join(show(a) for a in args)}) = {show(value)}"
+                if text not in notes:
+                    notes.append(text)
+        return notes
+
+
+def _text(e: ast.Expr) -> str:
+    return e.span.text
+
+
+def _where(span: Span | None) -> str | None:
+    return str(span) if span is not None else None
+
+
+def _duration(decl: ast.ActionDecl | None) -> tuple[float, float] | None:
+    if decl is None:
+        return None
+    section = decl.section(ast.DurationSection)
+    if isinstance(section, ast.DurationSection):
+        low, high = section.low, section.high
+        if isinstance(low, ast.NumberLit) and isinstance(high, ast.NumberLit):
+            return float(low.value), float(high.value)
+    return None
+
+
+def _mapping_fields(decl: ast.ActionDecl | None) -> list[tuple[str, ast.Expr]]:
+    if decl is None:
+        return []
+    section = decl.section(ast.MappingSection)
+    if isinstance(section, ast.MappingSection):
+        return [(a.name.name, a.value) for a in section.mapping.args]
+    return []
+
+
+def _param_name(e: ast.Expr) -> str:
+    return e.name if isinstance(e, ast.Name) else ""
+
+
+__all__ = ["Executor", "Mapping", "RunResult", "RunStatus"]

@@ -1,0 +1,603 @@
+"""The transition semantics of golog++ (SEMANTICS §4, §5): `final` and `trans`, defined once
+for every statement kind and used by both the online executor and the planner.
+
+A configuration is a program continuation (a `Prog`), a State and the Activities. `trans`
+returns the possible next steps as (continuation, Step) pairs, in textual order (the online
+executor takes the first; the planner weighs them all). A `Step` says what happens to the
+world: start or end an activity, assign fluents, pass a test. `Semantics.apply` performs a
+step hypothetically (planning); the executor performs it for real (platform, clock, trace).
+
+Two modes differ only where SEMANTICS says so: while planning (`planning=True`) an action
+call `a(args);` is a single step whose activity ends instantly in `final`, `fail(...)` and
+`cancel(...)` are impossible, and `solve`/`search` inside a plan are transparent; online, a
+call starts an activity and waits for the platform, and `solve`/`search` ask the planner.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from gpp.model.symbols import SymbolKind
+from gpp.model.types import DomainType
+from gpp.runtime.compiled import ActionInfo, CompiledProgram, Context, Env, domain_values, ground
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
+from gpp.runtime.values import Value, same, show
+from gpp.source import Span
+from gpp.syntax import ast
+
+if TYPE_CHECKING:
+    from gpp.planner.policy import PlanHolder
+
+# ---------------------------------------------------------------- bindings
+
+
+class Frame:
+    """Variable bindings of a procedure body, `pick` or quantifier: immutable, hashable."""
+
+    __slots__ = ("_hash", "items", "vars")
+
+    def __init__(self, items: tuple[tuple[int, Value], ...] = ()) -> None:
+        self.items = items
+        self.vars: dict[int, Value] = dict(items)
+        self._hash = hash(items)
+
+    def bind(self, var_id: int, value: Value) -> Frame:
+        return Frame((*[(k, v) for k, v in self.items if k != var_id], (var_id, value)))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Frame) and self.items == other.items
+
+    def __hash__(self) -> int:
+        return self._hash
+
+
+EMPTY_FRAME = Frame()
+
+# ---------------------------------------------------------------- continuations
+
+
+class Prog:
+    """A program continuation: what remains to be executed."""
+
+    __slots__ = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Done(Prog):
+    pass
+
+
+DONE = Done()
+
+
+@dataclass(frozen=True, slots=True)
+class Seq(Prog):
+    first: Prog
+    rest: Prog
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Code(Prog):
+    """A statement not yet started, with the bindings it sees. Compared by the statement's
+    identity (not its text) and the bindings."""
+
+    stmt: ast.Stmt
+    frame: Frame
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Code) and self.stmt is other.stmt and self.frame == other.frame
+
+    def __hash__(self) -> int:
+        return hash((id(self.stmt), self.frame))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Rest(Prog):
+    """The statements of a block from `index` on."""
+
+    block: ast.Block
+    index: int
+    frame: Frame
+
+    def __eq__(self, other: object) -> bool:
+        return (
+            isinstance(other, Rest) and self.block is other.block and self.index == other.index
+        ) and self.frame == other.frame
+
+    def __hash__(self) -> int:
+        return hash((id(self.block), self.index, self.frame))
+
+
+class EndKind:
+    CALL = "call"  # the end of `a(args);`
+    DURING = "during"
+
+
+@dataclass(frozen=True, slots=True)
+class AwaitEnd(Prog):
+    """`a(args);` after its start: waits for the activity to end, then ends it."""
+
+    action: GroundAction
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class DuringEnd(Prog):
+    """The end of `during (a) body ...`: waits for `a`, then runs the matching handler."""
+
+    action: GroundAction
+    on_fail: Prog | None
+    on_cancel: Prog | None
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Conc(Prog):
+    branches: tuple[Prog, ...]
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Planned(Prog):
+    """Online only: a `solve`/`search` whose plan is being executed; `holder` is filled by the
+    executor when it performs the PlanStep/ReplanStep (see gpp.planner.policy)."""
+
+    holder: PlanHolder
+    index: int
+
+
+# ---------------------------------------------------------------- steps
+
+
+class Step:
+    """What one transition does to the world. `cost` counts against a `solve` horizon."""
+
+    __slots__ = ()
+    cost = 1
+
+    def describe(self) -> str:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, slots=True)
+class TestStep(Step):
+    span: Span = field(compare=False)
+    cost = 0
+
+    def describe(self) -> str:
+        return "test"
+
+
+@dataclass(frozen=True, slots=True)
+class StartStep(Step):
+    """Start an activity: `start(a)`, or the start of `a(args);` / `during (a)` online."""
+
+    action: GroundAction
+    span: Span = field(compare=False)
+
+    def describe(self) -> str:
+        return f"start({self.action.text})"
+
+
+@dataclass(frozen=True, slots=True)
+class EndStep(Step):
+    """Consume a terminated activity; its effects apply only if it ended `final`."""
+
+    action: GroundAction
+    hook: str  # "end", "finish", "fail", "call", "during"
+    span: Span = field(compare=False)
+
+    @property
+    def cost(self) -> int:  # type: ignore[override]
+        # The end of a plain call or a `during` is part of the call, which already counted.
+        return 0 if self.hook in (EndKind.CALL, EndKind.DURING) else 1
+
+    def describe(self) -> str:
+        return f"{'end' if self.hook in (EndKind.CALL, EndKind.DURING) else self.hook}({self.action.text})"
+
+
+@dataclass(frozen=True, slots=True)
+class CancelStep(Step):
+    action: GroundAction
+    span: Span = field(compare=False)
+
+    def describe(self) -> str:
+        return f"cancel({self.action.text})"
+
+
+@dataclass(frozen=True, slots=True)
+class DoStep(Step):
+    """Planning only: `a(args);` as one step (start, instant success, end)."""
+
+    action: GroundAction
+    span: Span = field(compare=False)
+
+    def describe(self) -> str:
+        return self.action.text
+
+
+@dataclass(frozen=True, slots=True)
+class AssignStep(Step):
+    """Assignments to fluent instances (a fluent, a field or element, push/pop)."""
+
+    updates: tuple[tuple[int, Value], ...]
+    span: Span = field(compare=False)
+    text: str = field(compare=False, default="")
+
+    def describe(self) -> str:
+        return self.text
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class PlanStep(Step):
+    """Online only: run the planner for a `solve`/`search` (filled into `holder`)."""
+
+    holder: PlanHolder
+    cost = 0
+
+    def describe(self) -> str:
+        return "plan"
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ReplanStep(Step):
+    """Online only: the world deviated from the plan; plan again from `index`."""
+
+    holder: PlanHolder
+    index: int
+    cost = 0
+
+    def describe(self) -> str:
+        return "replan"
+
+
+Successor = tuple[Prog, Step]
+
+# ---------------------------------------------------------------- the semantics
+
+
+class Semantics:
+    """`final`, `trans` and hypothetical `apply` over a compiled program."""
+
+    def __init__(self, program: CompiledProgram, ctx: Context, planning: bool) -> None:
+        self.program = program
+        self.ctx = ctx
+        self.planning = planning
+        self.model = program.model
+
+    def with_mode(self, planning: bool) -> Semantics:
+        return Semantics(self.program, self.ctx, planning)
+
+    def env(self, state: State, frame: Frame) -> Env:
+        return Env(state, frame.vars, self.ctx)
+
+    def entry(self, name: str = "main") -> Prog:
+        body = self.program.procedure(name)[1]
+        if body is None:
+            symbol = self.model.globals[name]
+            raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", symbol.span)
+        return Code(body, EMPTY_FRAME)
+
+    # ---------------------------------------------------------------- final
+
+    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+        if p is DONE or isinstance(p, Done):
+            return True
+        if isinstance(p, Seq):
+            return self.final(p.first, state, acts) and self.final(p.rest, state, acts)
+        if isinstance(p, Rest):
+            body = p.block.body
+            return all(self.final(Code(s, p.frame), state, acts) for s in body[p.index :])
+        if isinstance(p, Conc):
+            return all(self.final(b, state, acts) for b in p.branches)
+        if isinstance(p, Planned):
+            return p.holder.exhausted(p.index)
+        if isinstance(p, AwaitEnd | DuringEnd):
+            return False
+        assert isinstance(p, Code)
+        return self._final_code(p.stmt, p.frame, state, acts)
+
+    def _final_code(self, s: ast.Stmt, frame: Frame, state: State, acts: Activities) -> bool:
+        if isinstance(s, ast.Block):
+            return all(self._final_code(x, frame, state, acts) for x in s.body)
+        if isinstance(s, ast.If):
+            if self.condition(s.condition, state, frame):
+                return self._final_code(s.then, frame, state, acts)
+            return s.otherwise is None or self._final_code(s.otherwise, frame, state, acts)
+        if isinstance(s, ast.While):
+            return not self.condition(s.condition, state, frame) or self._final_code(s.body, frame, state, acts)
+        if isinstance(s, ast.Choose):
+            return any(self._final_code(x, frame, state, acts) for x in s.alternatives)
+        if isinstance(s, ast.Concurrent):
+            return all(self._final_code(x, frame, state, acts) for x in s.branches)
+        if isinstance(s, ast.Pick):
+            return any(self._final_code(s.body, f, state, acts) for f in self.pick_frames(s, frame))
+        if isinstance(s, ast.Solve | ast.Search):
+            return self.planning and self._final_code(s.body, frame, state, acts)
+        if isinstance(s, ast.CallStmt):
+            callee = self.callee(s)
+            if callee.kind is SymbolKind.PROCEDURE:
+                body, inner = self.procedure_body(s, callee.name, state, frame)
+                return self._final_code(body, inner, state, acts)
+        return False
+
+    # ---------------------------------------------------------------- trans
+
+    def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
+        if isinstance(p, Done):
+            return []
+        if isinstance(p, Seq):
+            out = [(self.seq(q, p.rest), step) for q, step in self.trans(p.first, state, acts)]
+            if self.final(p.first, state, acts):
+                out.extend(self.trans(p.rest, state, acts))
+            return out
+        if isinstance(p, Rest):
+            body = p.block.body
+            if p.index >= len(body):
+                return []
+            head = Code(body[p.index], p.frame)
+            tail: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(body) else DONE
+            return self.trans(Seq(head, tail), state, acts)
+        if isinstance(p, Conc):
+            # Prioritised interleaving: the first branch that can step does.
+            for i, branch in enumerate(p.branches):
+                succ = self.trans(branch, state, acts)
+                if succ:
+                    return [(self.conc(p.branches, i, q), step) for q, step in succ]
+            return []
+        if isinstance(p, AwaitEnd):
+            status = acts.status(p.action)
+            if status is not None and status.terminal:
+                return [(DONE, EndStep(p.action, EndKind.CALL, p.span))]
+            return []
+        if isinstance(p, DuringEnd):
+            status = acts.status(p.action)
+            if status is None or not status.terminal:
+                return []
+            handler = p.on_fail if status is ActivityStatus.FAILED else None
+            if status is ActivityStatus.CANCELLED:
+                handler = p.on_cancel
+            return [(handler or DONE, EndStep(p.action, EndKind.DURING, p.span))]
+        if isinstance(p, Planned):
+            from gpp.planner.policy import planned_successors
+
+            return planned_successors(self, p, state, acts)
+        assert isinstance(p, Code)
+        return self._trans_code(p.stmt, p.frame, state, acts)
+
+    @staticmethod
+    def seq(first: Prog, rest: Prog) -> Prog:
+        if isinstance(first, Done):
+            return rest
+        if isinstance(rest, Done):
+            return first
+        return Seq(first, rest)
+
+    @staticmethod
+    def conc(branches: tuple[Prog, ...], i: int, q: Prog) -> Prog:
+        new = (*branches[:i], q, *branches[i + 1 :])
+        return DONE if all(isinstance(b, Done) for b in new) else Conc(new)
+
+    def _trans_code(self, s: ast.Stmt, frame: Frame, state: State, acts: Activities) -> list[Successor]:
+        if isinstance(s, ast.Block):
+            if not s.body:
+                return []
+            return self.trans(Rest(s, 0, frame), state, acts)
+        if isinstance(s, ast.If):
+            if self.condition(s.condition, state, frame):
+                return self._trans_code(s.then, frame, state, acts)
+            return self._trans_code(s.otherwise, frame, state, acts) if s.otherwise is not None else []
+        if isinstance(s, ast.While):
+            if not self.condition(s.condition, state, frame):
+                return []
+            loop = Code(s, frame)
+            return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts)]
+        if isinstance(s, ast.Test):
+            return [(DONE, TestStep(s.span))] if self.condition(s.condition, state, frame) else []
+        if isinstance(s, ast.Choose):
+            out: list[Successor] = []
+            for alternative in s.alternatives:
+                out.extend(self._trans_code(alternative, frame, state, acts))
+            return out
+        if isinstance(s, ast.Concurrent):
+            return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts)
+        if isinstance(s, ast.Pick):
+            out = []
+            for f in self.pick_frames(s, frame):
+                out.extend(self._trans_code(s.body, f, state, acts))
+            return out
+        if isinstance(s, ast.Solve | ast.Search):
+            if self.planning:
+                return self._trans_code(s.body, frame, state, acts)
+            from gpp.planner.policy import PlanHolder
+
+            holder = PlanHolder.for_statement(self, s, frame, state)
+            return [(Planned(holder, 0), PlanStep(holder))]
+        if isinstance(s, ast.CallStmt):
+            return self.call(s, frame, state, acts)
+        if isinstance(s, ast.Assign):
+            return [(DONE, self.assign_step(s, frame, state))]
+        if isinstance(s, ast.ListStmt):
+            return [(DONE, self.list_step(s, frame, state))]
+        if isinstance(s, ast.HookStmt):
+            return self.hook(s, frame, state, acts)
+        if isinstance(s, ast.During):
+            action, g = self.ground_call(s.action, frame, state)
+            if not self.startable(action, g, state, acts):
+                return []
+            end = DuringEnd(
+                g,
+                Code(s.on_fail, frame) if s.on_fail is not None else None,
+                Code(s.on_cancel, frame) if s.on_cancel is not None else None,
+                s.span,
+            )
+            return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span))]
+        raise AssertionError(f"unhandled statement {type(s).__name__}")
+
+    # ---------------------------------------------------------------- statements
+
+    def call(self, s: ast.CallStmt, frame: Frame, state: State, acts: Activities) -> list[Successor]:
+        callee = self.callee(s)
+        if callee.kind is SymbolKind.PROCEDURE:
+            body, inner = self.procedure_body(s, callee.name, state, frame)
+            return self._trans_code(body, inner, state, acts)
+        action, g = self.ground_call(s.call, frame, state)
+        if not self.startable(action, g, state, acts):
+            return []
+        if self.planning:
+            return [(DONE, DoStep(g, s.span))]
+        return [(AwaitEnd(g, s.span), StartStep(g, s.span))]
+
+    def hook(self, s: ast.HookStmt, frame: Frame, state: State, acts: Activities) -> list[Successor]:
+        action, g = self.ground_call(s.action, frame, state)
+        status = acts.status(g)
+        hook = s.hook
+        if hook is ast.Hook.START:
+            return [(DONE, StartStep(g, s.span))] if self.startable(action, g, state, acts) else []
+        if hook is ast.Hook.END:
+            ok = status is not None and status.terminal
+        elif hook is ast.Hook.FINISH:
+            ok = status is ActivityStatus.FINAL
+        elif hook is ast.Hook.FAIL:
+            ok = status is ActivityStatus.FAILED
+        else:
+            return [(DONE, CancelStep(g, s.span))] if status is ActivityStatus.RUNNING else []
+        return [(DONE, EndStep(g, hook.value, s.span))] if ok else []
+
+    def callee(self, s: ast.CallStmt) -> Any:
+        symbol = self.model.target(s.call)
+        assert symbol is not None
+        return symbol
+
+    def procedure_body(self, s: ast.CallStmt, name: str, state: State, frame: Frame) -> tuple[ast.Stmt, Frame]:
+        params, body = self.program.procedure(name)
+        if body is None:
+            raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", s.span)
+        call = s.call
+        assert isinstance(call, ast.Call)
+        env = self.env(state, frame)
+        values = tuple(self.program.expr(a)(env) for a in call.args)
+        symbol = self.model.globals[name]
+        for p, v, a in zip(symbol.params, values, call.args, strict=True):
+            if isinstance(p.type, DomainType):
+                from gpp.runtime.compiled import check_domain
+
+                check_domain(v, p.type, a.span)
+        return body, Frame(tuple(zip(params, values, strict=True)))
+
+    def ground_call(self, e: ast.Expr, frame: Frame, state: State) -> tuple[ActionInfo, GroundAction]:
+        assert isinstance(e, ast.Call)
+        symbol = self.model.target(e)
+        assert symbol is not None
+        action = self.program.action(symbol.name)
+        env = self.env(state, frame)
+        values = tuple(self.program.expr(a)(env) for a in e.args)
+        for p, v, a in zip(symbol.params, values, e.args, strict=True):
+            if isinstance(p.type, DomainType):
+                from gpp.runtime.compiled import check_domain
+
+                check_domain(v, p.type, a.span)
+        return action, ground(action, values)
+
+    def startable(self, action: ActionInfo, g: GroundAction, state: State, acts: Activities) -> bool:
+        """`start` needs the precondition and no identical activity running (SEMANTICS §4)."""
+        if acts.status(g) is ActivityStatus.RUNNING:
+            return False
+        return self.precondition_holds(action, g, state)
+
+    def precondition_holds(self, action: ActionInfo, g: GroundAction, state: State) -> bool:
+        if not action.precondition:
+            return True
+        env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
+        return all(check(env) is True for check, _ in action.precondition)
+
+    def false_conjuncts(self, g: GroundAction, state: State) -> list[ast.Expr]:
+        """The precondition conjuncts of `g` that do not hold (for the blocked diagnostic)."""
+        action = self.program.action(g.name)
+        env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
+        return [expr for check, expr in action.precondition if check(env) is not True]
+
+    def pick_frames(self, s: ast.Pick, frame: Frame) -> list[Frame]:
+        variable = self.model.target(s.var)
+        assert variable is not None
+        if s.values is not None:
+            empty = Env(State(), frame.vars, self.ctx)
+            values: tuple[Value, ...] = tuple(self.program.expr(v)(empty) for v in s.values)
+        else:
+            values = domain_values(variable.type)
+        return [frame.bind(id(variable), v) for v in values]
+
+    def condition(self, e: ast.Expr, state: State, frame: Frame) -> bool:
+        return self.program.expr(e)(self.env(state, frame)) is True
+
+    def assign_step(self, s: ast.Assign, frame: Frame, state: State) -> AssignStep:
+        env = self.env(state, frame)
+        target = self.program.target(s.target)
+        value = self.program.expr(s.value)(env)
+        pending: dict[int, Value] = {}
+        slot = self.program.assignment(target, value, env, pending)
+        text = f"{self.program.instance_text(slot)} = {show(pending[slot])}"
+        return AssignStep(tuple(pending.items()), s.span, text)
+
+    def list_step(self, s: ast.ListStmt, frame: Frame, state: State) -> AssignStep:
+        env = self.env(state, frame)
+        target = self.program.target(s.target)
+        current = self.program.expr(s.target)(env)
+        if current is None:
+            raise GppRuntimeError("R0002", f"`{s.op.value}` on a `null` list", s.target.span)
+        assert isinstance(current, tuple)
+        if s.op in (ast.ListOp.POP_BACK, ast.ListOp.POP_FRONT) and not current:
+            raise GppRuntimeError("R0006", f"`{s.op.value}` on an empty list", s.span)
+        if s.op is ast.ListOp.PUSH_BACK or s.op is ast.ListOp.PUSH_FRONT:
+            assert s.value is not None
+            element = self.program.expr(s.value)(env)
+            new = (*current, element) if s.op is ast.ListOp.PUSH_BACK else (element, *current)
+        else:
+            new = current[:-1] if s.op is ast.ListOp.POP_BACK else current[1:]
+        pending: dict[int, Value] = {}
+        slot = self.program.assignment(target, new, env, pending)
+        return AssignStep(tuple(pending.items()), s.span, f"{s.op.value}({self.program.instance_text(slot)})")
+
+    # ---------------------------------------------------------------- effects
+
+    def effects(self, g: GroundAction, state: State) -> dict[int, Value]:
+        """The updates of `g`'s effects, all evaluated in `state` (SEMANTICS §4). Two effects
+        that give one instance different values are an error."""
+        action = self.program.action(g.name)
+        env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
+        pending: dict[int, Value] = {}
+        written: dict[tuple[int, str], tuple[Value, Span]] = {}
+        for effect in action.effects:
+            if effect.condition is not None and effect.condition(env) is not True:
+                continue
+            value = effect.value(env)
+            before = dict(pending)
+            slot = self.program.assignment(effect.target, value, env, pending)
+            key = (slot, repr([p.field for p in effect.target.path]))
+            previous = written.get(key)
+            if previous is not None and not same(previous[0], value) and not effect.target.path:
+                raise GppRuntimeError(
+                    "R0005",
+                    f"`{g.text}` assigns {self.program.instance_text(slot)} both {show(previous[0])} and {show(value)}",
+                    effect.span,
+                )
+            written[key] = (value, effect.span)
+            del before
+        return pending
+
+    def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
+        """Perform a step hypothetically (planning): activities end instantly in `final`."""
+        program = self.program
+        if isinstance(step, DoStep):
+            return state.updated(self.effects(step.action, state), program.initial), acts
+        if isinstance(step, AssignStep):
+            return state.updated(dict(step.updates), program.initial), acts
+        if isinstance(step, StartStep):
+            return state, acts.with_status(step.action, ActivityStatus.FINAL)
+        if isinstance(step, EndStep):
+            status = acts.status(step.action)
+            if status is ActivityStatus.FINAL:
+                state = state.updated(self.effects(step.action, state), program.initial)
+            return state, acts.with_status(step.action, None)
+        return state, acts

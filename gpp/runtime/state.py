@@ -1,0 +1,137 @@
+"""The explicit, hashable world state: fluent instances interned to slots, and activities.
+
+A State stores only the instances whose value differs from their initial value, so two states
+describing the same world are equal and hash alike (the planner memoises on them). Updates
+return a new State; nothing is ever changed in place.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from enum import Enum
+
+from gpp.runtime.values import Value, same, show
+
+
+class State:
+    __slots__ = ("_hash", "_values")
+
+    def __init__(self, values: dict[int, Value] | None = None) -> None:
+        self._values: dict[int, Value] = values or {}
+        self._hash: int | None = None
+
+    def get(self, slot: int, initial: Callable[[int], Value]) -> Value:
+        values = self._values
+        if slot in values:
+            return values[slot]
+        return initial(slot)
+
+    def updated(self, updates: Mapping[int, Value], initial: Callable[[int], Value]) -> State:
+        """A new state with `updates` applied (instances set back to their initial value are
+        dropped, to keep the representation canonical)."""
+        values = dict(self._values)
+        for slot, value in updates.items():
+            if _identical(value, initial(slot)):
+                values.pop(slot, None)
+            else:
+                values[slot] = value
+        return State(values)
+
+    def changed_slots(self) -> Iterator[tuple[int, Value]]:
+        return iter(self._values.items())
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, State):
+            return NotImplemented
+        if self._hash is not None and other._hash is not None and self._hash != other._hash:
+            return False
+        return self._values.keys() == other._values.keys() and all(
+            _identical(v, other._values[k]) for k, v in self._values.items()
+        )
+
+    def __hash__(self) -> int:
+        if self._hash is None:
+            self._hash = hash(frozenset((k, _key(v)) for k, v in self._values.items()))
+        return self._hash
+
+    def __repr__(self) -> str:
+        return f"State({self._values})"
+
+
+def _identical(a: Value, b: Value) -> bool:
+    """Same value, also in type (1 and 1.0 are equal in golog++ but stored distinctly)."""
+    return type(a) is type(b) and a == b
+
+
+def _key(v: Value) -> object:
+    # bool and int hash alike in Python; keep them apart in state hashes.
+    return (type(v).__name__, v)
+
+
+@dataclass(frozen=True, slots=True)
+class GroundAction:
+    """An action with argument values: what an activity executes."""
+
+    name: str
+    args: tuple[Value, ...]
+
+    @property
+    def text(self) -> str:
+        """`name(arg1,arg2)`: symbols by name, no spaces (the trace's `action` field)."""
+        return f"{self.name}({','.join(show(a) for a in self.args)})"
+
+    def __str__(self) -> str:
+        return self.text
+
+
+class ActivityStatus(Enum):
+    RUNNING = "running"
+    FINAL = "final"
+    FAILED = "failed"
+    CANCELLED = "cancelled"
+
+    @property
+    def terminal(self) -> bool:
+        return self is not ActivityStatus.RUNNING
+
+
+class Activities:
+    """Activities that started and were not yet consumed by `end`/`finish`/`fail`."""
+
+    __slots__ = ("_hash", "_items")
+
+    def __init__(self, items: dict[GroundAction, ActivityStatus] | None = None) -> None:
+        self._items: dict[GroundAction, ActivityStatus] = items or {}
+        self._hash: int | None = None
+
+    def status(self, action: GroundAction) -> ActivityStatus | None:
+        return self._items.get(action)
+
+    def with_status(self, action: GroundAction, status: ActivityStatus | None) -> Activities:
+        items = dict(self._items)
+        if status is None:
+            items.pop(action, None)
+        else:
+            items[action] = status
+        return Activities(items)
+
+    def running(self) -> list[GroundAction]:
+        return [a for a, s in self._items.items() if s is ActivityStatus.RUNNING]
+
+    def items(self) -> list[tuple[GroundAction, ActivityStatus]]:
+        return list(self._items.items())
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Activities) and self._items == other._items
+
+    def __hash__(self) -> int:
+        if self._hash is None:
+            self._hash = hash(frozenset(self._items.items()))
+        return self._hash
+
+
+__all__ = ["Activities", "ActivityStatus", "GroundAction", "State", "same"]
