@@ -8,9 +8,9 @@ single nodes, e.g. for diagnostics.
 The output parses back to an equal tree (`parse_text(format_program(p)).program == p`) for
 every tree the parser can produce, and formatting is idempotent. To get there the printer adds
 parentheses where precedence or associativity need them, and around a greedy form (a
-quantifier's body, a conditional's `else` branch) that an operator it would take in follows;
-parentheses the user wrote (`parenthesized=True`) are kept. A few
-trees the parser cannot produce are printed as the nearest text that parses:
+quantifier's body, a conditional's `else` branch) when an operator it would take in follows;
+parentheses the user wrote (`parenthesized=True`) are kept. A few trees the parser cannot
+produce are printed as the nearest text that parses:
 
 * a statement that would take a following `else`/`on_fail`/`on_cancel` as its own (the
   dangling `else`) is wrapped in braces, which adds a Block to the tree;
@@ -126,7 +126,7 @@ def _print_expr(e: ast.Expr) -> _Printed:
             # Left-associative: the left operand may be at the same level, the right one must
             # bind tighter (a comparison's right side is a sum, which is the next level too).
             left = _sub(e.left, level, followed_by=level)
-            right = _sub(e.right, level)
+            right = _sub(e.right, _Level(level + 1))
             return _Printed(f"{left.text} {e.op.value} {right.text}", level, right.greedy)
         case ast.Quantified():
             body = _sub(e.body, _Level.ANY)
