@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import TypedDict, Unpack
 
 from gpp.source import Span
 
@@ -64,32 +65,35 @@ class Diagnostic:
         return (self.span.source.path, self.span.start, self.span.end, self.code)
 
 
-def error(
-    code: str,
-    message: str,
-    span: Span,
-    label: str = "",
-    *,
-    secondary: Iterable[Label] = (),
-    notes: Iterable[str] = (),
-    help: str | None = None,
-    fix: Fix | None = None,
-) -> Diagnostic:
-    return Diagnostic(code, Severity.ERROR, message, span, label, tuple(secondary), tuple(notes), help, fix)
+class Details(TypedDict, total=False):
+    """The optional parts of a diagnostic, as keyword arguments of `error` and `warning`."""
+
+    secondary: Iterable[Label]
+    notes: Iterable[str]
+    help: str | None
+    fix: Fix | None
 
 
-def warning(
-    code: str,
-    message: str,
-    span: Span,
-    label: str = "",
-    *,
-    secondary: Iterable[Label] = (),
-    notes: Iterable[str] = (),
-    help: str | None = None,
-    fix: Fix | None = None,
-) -> Diagnostic:
-    return Diagnostic(code, Severity.WARNING, message, span, label, tuple(secondary), tuple(notes), help, fix)
+def _make(severity: Severity, code: str, message: str, span: Span, label: str, details: Details) -> Diagnostic:
+    return Diagnostic(
+        code,
+        severity,
+        message,
+        span,
+        label,
+        tuple(details.get("secondary", ())),
+        tuple(details.get("notes", ())),
+        details.get("help"),
+        details.get("fix"),
+    )
+
+
+def error(code: str, message: str, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
+    return _make(Severity.ERROR, code, message, span, label, details)
+
+
+def warning(code: str, message: str, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
+    return _make(Severity.WARNING, code, message, span, label, details)
 
 
 @dataclass

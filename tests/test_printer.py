@@ -30,8 +30,9 @@ P = TypeVar("P", ast.Expr, ast.DomainExpr, ast.ClockFormula, ast.Spec)
 
 # Identifiers: a small pool of non-keywords, so that generated names collide often.
 NAMES = ("a", "b", "c", "x", "y", "foo", "bar", "Room", "item_at", "p2")
-# Field-initialiser and mapping-argument names may be keywords (`"/nav" { start = x }`).
-FIELD_NAMES = (*NAMES, "start", "if", "true", "in", "length", "effect")
+# Field-initialiser and mapping-argument names may be keywords (`"/nav" { start = x }`), but
+# not `true`, `false` or `null`, which stay values.
+FIELD_NAMES = (*NAMES, "start", "if", "in", "length", "effect")
 BUILTIN_TYPES = ("bool", "number", "string", "symbol", "void")
 RESERVED = set(KEYWORDS) | set(SECTION_WORDS) | set(PLATFORM_KEYWORDS)
 

@@ -9,6 +9,8 @@ from pathlib import Path
 from gpp import diagnostics as diag
 from gpp.model.build import build_model
 from gpp.model.model import Model
+from gpp.perf import with_deep_stack
+from gpp.source import Source
 from gpp.syntax.loader import LoadResult, load
 
 # After a syntax error the parser may have skipped a declaration; names declared there would
@@ -32,11 +34,22 @@ class CheckResult:
 
 
 def check_loaded(loaded: LoadResult, lint: bool = True, allow: Collection[str] = ()) -> CheckResult:
+    # The checker recurses over the tree; thousands of nested terms need a deep stack.
+    return with_deep_stack(lambda: _check_loaded(loaded, lint, allow))
+
+
+def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> CheckResult:
     model, model_diagnostics = build_model(loaded.files)
-    syntax_errors = any(d.is_error for d in loaded.diagnostics)
+    syntax_errors = [d for d in loaded.diagnostics if d.is_error]
     found = list(loaded.diagnostics)
     if syntax_errors:
-        found.extend(d for d in model_diagnostics if d.code not in _NAME_CODES)
+        damaged = _damaged_declarations(loaded, syntax_errors)
+        found.extend(
+            d
+            for d in model_diagnostics
+            if d.code not in _NAME_CODES
+            and not any(d.span.source is src and a <= d.span.start <= b for src, a, b in damaged)
+        )
     else:
         found.extend(model_diagnostics)
         if lint:
@@ -66,6 +79,24 @@ def merged_diagnostics(results: Sequence[CheckResult]) -> list[diag.Diagnostic]:
 
 def check_text(text: str, path: Path = Path("<input>.gpp"), lint: bool = True) -> CheckResult:
     return check_program(path, lint, overrides={path: text})
+
+
+def _damaged_declarations(loaded: LoadResult, syntax_errors: list[diag.Diagnostic]) -> list[tuple[Source, int, int]]:
+    """The declarations that contain a syntax error: the parser repaired them, so what the
+    checker would say about them is likely about the repair, not the program."""
+    damaged: list[tuple[Source, int, int]] = []
+    for pf in loaded.files:
+        errors = [d.span.start for d in syntax_errors if d.span.source is pf.source]
+        if not errors:
+            continue
+        decls = pf.program.declarations
+        for k, decl in enumerate(decls):
+            # Up to the next declaration: an error just after a declaration (`f() = n() = 1`)
+            # is about it too.
+            end = decls[k + 1].span.start if k + 1 < len(decls) else len(pf.source.text)
+            if any(decl.span.start <= at <= end for at in errors):
+                damaged.append((pf.source, decl.span.start, end))
+    return damaged
 
 
 def _dedupe(found: list[diag.Diagnostic]) -> list[diag.Diagnostic]:

@@ -68,6 +68,7 @@ _KIND_OF_DECL: dict[type[ast.Decl], SymbolKind] = {
 }
 
 _BOOL_CHAIN = frozenset({Op.AND, Op.OR, Op.IMPLIES})
+_INITIAL_LITERAL = "initial values must be literals"
 _EQUALITY = frozenset({Op.EQ, Op.NE})
 
 
@@ -147,6 +148,11 @@ class ModelBuilder:
         if node is not None:
             self.model.targets[id(node)] = symbol
 
+    def given_twice(self, code: str, what: str, span: Span, first: Span) -> None:
+        self.error(
+            code, f"{what} is given twice", span, "given again", secondary=[diag.Label(first, "first given here")]
+        )
+
     def declared_here(self, symbol: Symbol, what: str = "declared here") -> list[diag.Label]:
         return [diag.Label(symbol.span, what)] if symbol.span is not None else []
 
@@ -218,6 +224,11 @@ class ModelBuilder:
         existing = table.get(name.name)
         if existing is None:
             symbol = Symbol(name.name, kind, name.span, decl=decl)
+            # Types exist from the start, so a use before the declaration resolves (§2.1).
+            if kind is SymbolKind.DOMAIN:
+                symbol.type = DomainType(name.name, SYMBOL, symbol)
+            elif kind is SymbolKind.COMPOUND:
+                symbol.type = CompoundType(name.name, symbol)
             table[name.name] = symbol
             return self.attach(symbol, name, decl)
         detached = Symbol(name.name, kind, name.span, decl=decl)
@@ -345,27 +356,33 @@ class ModelBuilder:
         if symbol is None:
             return
         if isinstance(decl, ast.DomainDecl):
+            dtype = symbol.type
+            if not isinstance(dtype, DomainType):
+                return  # a clashing declaration, already reported
             element = self.resolve_type(decl.element_type)
-            if isinstance(symbol.type, DomainType):
-                if element is not ERROR and symbol.type.element != element:
-                    self.error(
-                        "E0303",
-                        f"domain `{symbol.name}` is declared with element type `{element}` and `{symbol.type.element}`",
-                        decl.element_type.span,
-                        secondary=self.declared_here(symbol),
-                    )
-                return
-            if element is not ERROR and element not in (SYMBOL, NUMBER, STRING, BOOL):
+            if element is ERROR:
+                dtype.broken = True
+            elif not (isinstance(element, BuiltinType) and element in (SYMBOL, NUMBER, STRING, BOOL)):
                 self.error(
                     "E0311",
                     f"a domain's elements must be symbols, numbers, strings or bools, not `{element}`",
                     decl.element_type.span,
                 )
-            symbol.type = DomainType(symbol.name, element if isinstance(element, BuiltinType) else SYMBOL, symbol)
+                dtype.broken = True
+            elif not dtype.element_known:
+                dtype.element = element
+                dtype.element_known = True
+            elif dtype.element != element:
+                self.error(
+                    "E0303",
+                    f"`{symbol.name}` has element type `{dtype.element}` in one declaration and `{element}` here",
+                    decl.element_type.span,
+                    "different element type",
+                    secondary=self.declared_here(symbol),
+                )
+                dtype.broken = True
             return
         if isinstance(decl, ast.CompoundDecl):
-            ctype = CompoundType(symbol.name, symbol)
-            symbol.type = ctype
             return
         if isinstance(decl, ast.FluentDecl | ast.FunctionDecl | ast.ExogFunctionDecl):
             value_type = self.resolve_type(decl.type)
@@ -430,7 +447,7 @@ class ModelBuilder:
         if dtype.defined:
             return dtype.values
         decl = symbol.decl
-        if not isinstance(decl, ast.DomainDecl) or decl.definition is None:
+        if not isinstance(decl, ast.DomainDecl) or decl.definition is None or dtype.broken:
             dtype.defined = True
             return ()
         if id(symbol) in self.domains_in_progress:
@@ -453,8 +470,9 @@ class ModelBuilder:
             other = self.model.types.get(d.name.name)
             if other is None or other.kind is not SymbolKind.DOMAIN:
                 domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
-                what = "not a domain" if other is not None else "unknown domain"
-                self.error("E0105", f"`{d.name.name}` is {what}", d.name.span, help=suggest(d.name.name, domains))
+                name = d.name.name
+                message = f"`{name}` is not a domain" if other is not None else f"unknown domain `{name}`"
+                self.error("E0105", message, d.name.span, help=suggest(name, domains))
                 return ()
             self.refer(d.name.span, other, d.name)
             values = self.evaluate_domain(other)
@@ -514,11 +532,19 @@ class ModelBuilder:
             return None
         return _literal_value(e)
 
-    def expect_literal(self, e: ast.Expr, target: Type | None, what: str, context: str, span: Span | None) -> None:
+    def expect_literal(
+        self,
+        e: ast.Expr,
+        target: Type | None,
+        message: str,
+        context: str,
+        span: Span | None,
+        help: str | None = None,
+    ) -> None:
         """Check an expression where only a literal may stand (initial values, `pick ... in`,
         constraint patterns): written as a literal, and every bare name in it a symbol."""
         if not is_literal(e):
-            self.error("E0213", f"{what} must be literals", e.span, "not a literal")
+            self.error("E0213", message, e.span, "not a literal", help=help)
             self.expr(e)
             return
         if target is not None:
@@ -531,9 +557,10 @@ class ModelBuilder:
                 if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
                     self.error(
                         "E0213",
-                        f"{what} must be literals, but `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
+                        f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
                         node.span,
                         "not a literal",
+                        help=help,
                     )
 
     def check_forward_declarations(self) -> None:
@@ -697,10 +724,17 @@ class ModelBuilder:
                     )
                     continue
             if param is not None and param.type is not None:
-                self.expect_literal(arg, param.type, "initial values", f"parameter `{param.name}`", param.span)
+                self.expect_literal(arg, param.type, _INITIAL_LITERAL, f"parameter `{param.name}`", param.span)
             else:
-                self.expect_literal(arg, None, "initial values", "", None)
-        self.expect_literal(init.value, fluent.type, "initial values", f"the type of `{fluent.name}`", fluent.span)
+                self.expect_literal(arg, None, _INITIAL_LITERAL, "", None)
+        self.expect_literal(
+            init.value,
+            fluent.type,
+            _INITIAL_LITERAL,
+            f"the type of `{fluent.name}`",
+            fluent.span,
+            help="compute the value in a procedure and assign it there",
+        )
 
     def check_section(
         self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], section: ast.ActionSection
@@ -748,12 +782,7 @@ class ModelBuilder:
         for arg in mapping.args:
             first = seen.get(arg.name.name)
             if first is not None:
-                self.error(
-                    "E0305",
-                    f"mapping argument `{arg.name.name}` is given twice",
-                    arg.name.span,
-                    secondary=[diag.Label(first.name.span, "first given here")],
-                )
+                self.given_twice("E0305", f"mapping argument `{arg.name.name}`", arg.name.span, first.name.span)
             else:
                 seen[arg.name.name] = arg
             self.expr(arg.value)
@@ -854,7 +883,9 @@ class ModelBuilder:
             for arg, p in zip(g.args, action.params, strict=True):
                 if isinstance(arg, ast.Wildcard):
                     continue
-                self.expect_literal(arg, p.type, "constraint pattern arguments", f"parameter `{p.name}`", p.span)
+                self.expect_literal(
+                    arg, p.type, "constraint patterns take literals or `*`", f"parameter `{p.name}`", p.span
+                )
 
     # ---------------------------------------------------------------- statements
 
@@ -863,7 +894,7 @@ class ModelBuilder:
             for x in s.body:
                 self.stmt(x)
         elif isinstance(s, ast.CallStmt):
-            if isinstance(s.call, ast.Call) and not s.call.parenthesized:
+            if isinstance(s.call, ast.Call):
                 self.call(s.call, "statement")
             else:
                 self.expr(s.call)
@@ -920,7 +951,7 @@ class ModelBuilder:
                 self.expect(s.value, element, "the list's element type")
 
     def action_call(self, e: ast.Expr, hook: str) -> None:
-        if isinstance(e, ast.Call) and not e.parenthesized:
+        if isinstance(e, ast.Call):
             self.call(e, hook)
         else:
             self.expr(e)
@@ -941,7 +972,7 @@ class ModelBuilder:
         else:
             for v in s.values:
                 self.expect_literal(
-                    v, var_type, "the values of `pick ... in {...}`", f"`{s.var.name}`", s.var_type.span
+                    v, var_type, "`pick ... in {...}` lists literal values", f"`{s.var.name}`", s.var_type.span
                 )
         # The variable is visible in the body only (not in its own list of values).
         with self.scope(s.body.span, [variable]):
@@ -952,8 +983,10 @@ class ModelBuilder:
         reward = s.reward
         if isinstance(reward, ast.Call) and not reward.parenthesized:
             symbol = self.model.globals.get(reward.name.name)
-            t = self.expr(reward)
             if symbol is not None and symbol.kind is not SymbolKind.FUNCTION:
+                self.refer(reward.name.span, symbol, reward)
+                for a in reward.args:
+                    self.expr(a)
                 self.error(
                     "E0212",
                     f"the reward of `solve` must be a function, but `{symbol.name}` is "
@@ -962,7 +995,7 @@ class ModelBuilder:
                     secondary=self.declared_here(symbol),
                     help="declare `number function reward() = ...` and call it here",
                 )
-            elif t is not ERROR and base(t) is not NUMBER:
+            elif (t := self.expr(reward)) is not ERROR and base(t) is not NUMBER:
                 self.error("E0212", f"the reward of `solve` must be a number, found `{t}`", reward.span)
         else:
             self.expr(reward)
@@ -994,13 +1027,18 @@ class ModelBuilder:
         if isinstance(root, ast.Name):
             self.expr(root)
             target = self.model.target(root)
-            what = f"{target.kind.value} `{root.name}`" if target else f"`{root.name}`"
+            if target is None:
+                return ERROR  # an unknown name: already reported
+            if target.kind is SymbolKind.SYMBOL:
+                help = "a symbol is a constant; assign a fluent that holds symbols instead"
+            else:
+                help = "parameters and variables are immutable; declare a fluent to hold changing values"
             self.error(
                 "E0306",
-                f"cannot assign to {what}",
+                f"cannot assign to {target.kind.value} `{root.name}`",
                 root.span,
                 "not a fluent",
-                help="parameters and variables are immutable; declare a fluent to hold changing values",
+                help=help,
             )
             return ERROR
         self.expr(e)
@@ -1196,7 +1234,7 @@ class ModelBuilder:
         self.error(
             "E0204",
             f"cannot {what} `{left}` and `{right}`" if op is not Op.POW else f"cannot raise `{left}` to `{right}`",
-            e.span,
+            operator_span(e),
             f"`{op.value}` needs two numbers" + (" or two strings" if op is Op.ADD else ""),
             secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
             help=help,
@@ -1232,7 +1270,7 @@ class ModelBuilder:
                     self.error(
                         "E0204",
                         f"cannot compare `{left}` with `{right}`",
-                        e.span,
+                        operator_span(e),
                         secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
                     )
             return BOOL
@@ -1242,7 +1280,7 @@ class ModelBuilder:
             self.error(
                 "E0204",
                 f"cannot order `{left}` and `{right}` with `{e.op.value}`",
-                e.span,
+                operator_span(e),
                 secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
                 notes=["`<`, `<=`, `>`, `>=` compare two numbers, two strings or two symbols"],
             )
@@ -1402,13 +1440,9 @@ class ModelBuilder:
         symbol = self.model.types.get(e.type_name.name)
         if symbol is None or symbol.kind is not SymbolKind.COMPOUND:
             compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
-            what = "unknown compound type" if symbol is None else f"`{symbol.name}` is not a compound type:"
-            self.error(
-                "E0105",
-                f"{what} `{e.type_name.name}`" if symbol is None else what,
-                e.type_name.span,
-                help=suggest(e.type_name.name, compounds),
-            )
+            name = e.type_name.name
+            message = f"unknown compound type `{name}`" if symbol is None else f"`{name}` is not a compound type"
+            self.error("E0105", message, e.type_name.span, help=suggest(name, compounds))
             for f in e.fields:
                 self.expr(f.value)
             return ERROR
@@ -1430,12 +1464,7 @@ class ModelBuilder:
                 continue
             first = given.get(f.name.name)
             if first is not None:
-                self.error(
-                    "E0208",
-                    f"field `{f.name.name}` is given twice",
-                    f.name.span,
-                    secondary=[diag.Label(first.name.span, "first given here")],
-                )
+                self.given_twice("E0208", f"field `{f.name.name}`", f.name.span, first.name.span)
             given[f.name.name] = f
             member = symbol.members.get(f.name.name)
             if member is not None:
@@ -1464,8 +1493,11 @@ class ModelBuilder:
         changes (almost always, and cheaply: the operand types are only computed when the chain
         has both kinds of operator)."""
         ops: set[object] = set()
-        _chain_ops(e, ops, root=True)
+        members: list[int] = []
+        _chain_ops(e, ops, members, root=True)
         if not (ops & _EQUALITY) or not (ops - _EQUALITY):
+            # Nothing to re-associate here, nor in any sub-chain: do not look again.
+            self.reassociated.update(members)
             return None
         items: list[ast.Expr | Op | _Not] = []
         self.silent += 1
@@ -1504,18 +1536,24 @@ class ModelBuilder:
         return base(self.expr(e.left)) is BOOL and base(self.expr(e.right)) is BOOL
 
 
-def _chain_ops(e: ast.Expr, ops: set[object], root: bool = False) -> None:
+def _chain_ops(e: ast.Expr, ops: set[object], members: list[int], root: bool = False) -> None:
     """The operators of the unparenthesised boolean/equality chain rooted at `e` (parentheses
-    around the whole chain do not end it)."""
-    if e.parenthesized and not root:
-        return
-    if isinstance(e, ast.Binary) and (e.op in _BOOL_CHAIN or e.op in _EQUALITY):
-        ops.add(e.op)
-        _chain_ops(e.left, ops)
-        _chain_ops(e.right, ops)
-    elif isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
-        ops.add(ast.UnaryOp.NOT)
-        _chain_ops(e.operand, ops)
+    around the whole chain do not end it), and the ids of the chain's nodes. Iterative: a
+    chain of thousands of `&` is a deep tree."""
+    stack = [(e, root)]
+    while stack:
+        node, is_root = stack.pop()
+        if node.parenthesized and not is_root:
+            continue
+        if isinstance(node, ast.Binary) and (node.op in _BOOL_CHAIN or node.op in _EQUALITY):
+            ops.add(node.op)
+            members.append(id(node))
+            stack.append((node.left, False))
+            stack.append((node.right, False))
+        elif isinstance(node, ast.Unary) and node.op is ast.UnaryOp.NOT:
+            ops.add(ast.UnaryOp.NOT)
+            members.append(id(node))
+            stack.append((node.operand, False))
 
 
 _LEVELS: tuple[frozenset[Op], ...] = (
@@ -1559,6 +1597,17 @@ def _mark(e: ast.Expr, done: set[int]) -> None:
     elif isinstance(e, ast.Unary):
         done.add(id(e))
         _mark(e.operand, done)
+
+
+def operator_span(e: ast.Binary) -> Span:
+    """The span of a binary expression's operator token (found between its operands)."""
+    source = e.span.source
+    start, end = e.left.span.end, e.right.span.start
+    text = source.text[start:end]
+    at = text.find(e.op.value)
+    if at < 0:
+        return e.span
+    return Span(source, start + at, start + at + len(e.op.value))
 
 
 def _mark_types(e: ast.Expr, types: dict[int, Type]) -> None:

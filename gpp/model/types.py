@@ -56,6 +56,10 @@ class DomainType(Type):
     # Members in declaration order, filled when the domain's definition is evaluated.
     values: tuple[DomainValue, ...] = ()
     defined: bool = False
+    # The element type is known once a declaration of the domain has been resolved; a domain
+    # whose declarations are in error is `broken` (its values are not evaluated).
+    element_known: bool = False
+    broken: bool = False
 
     def __str__(self) -> str:
         return self.name

@@ -7,6 +7,7 @@ and nodes its rule matched; methods pick their parts by token type and node clas
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any, TypeVar
@@ -320,7 +321,7 @@ class AstBuilder:
             return result
         if op.value == "-":
             # A minus sign directly on a number literal is part of the literal: `-5`.
-            if type(operand) is ast.NumberLit and not operand.parenthesized and operand.value >= 0:
+            if type(operand) is ast.NumberLit and not operand.parenthesized and math.copysign(1, operand.value) > 0:
                 return ast.NumberLit(span=span, value=-operand.value)
             return ast.Unary(span=span, op=ast.UnaryOp.NEG, operand=operand)
         return ast.Unary(span=span, op=ast.UnaryOp.NOT, operand=operand)

@@ -239,7 +239,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                     platform_depth = -1
             elif value == "*" and platform_depth < 0:
                 ttype = "MUL_OP"
-            elif value == "=" and prev_type in _KEYWORD_TYPES:
+            elif value == "=" and prev_type in _NAMEABLE_KEYWORDS:
                 # `start = x` in a mapping: the keyword is an argument name.
                 tokens[-1].type = "NAME"
         elif kind == "number":
@@ -263,7 +263,12 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             ttype = "STRING"
             value = text[start:pos] + '"'
         else:
-            errors.append(LexError("E0001", f"unexpected character {value!r}", start, pos, "not valid here"))
+            last = errors[-1] if errors else None
+            if last is not None and last.code == "E0001" and last.end == start:
+                # A run of stray characters is one problem, not one per character.
+                errors[-1] = LexError("E0001", "unexpected characters", last.start, pos, "not valid here")
+            else:
+                errors.append(LexError("E0001", f"unexpected character {value!r}", start, pos, "not valid here"))
             continue
         append(Token(ttype, value, start, pos))
         prev_type = ttype
@@ -271,6 +276,9 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
 
 
 _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
+# Keywords that may name a mapping argument (`"/nav" { start = x }`); `true`, `false` and
+# `null` stay values (`true = 1;` is an assignment to a literal, which the checker rejects).
+_NAMEABLE_KEYWORDS = _KEYWORD_TYPES - {"TRUE", "FALSE", "NULL"}
 
 
 def span_of(source: Source, token: Token) -> Span:

@@ -84,6 +84,14 @@ class _Loader:
         raw = path.read_bytes()
         return Source(raw.decode("utf-8", errors="replace"), display_path(path))
 
+    def exists(self, candidate: Path) -> bool:
+        """Is there a file (or an editor buffer) at `candidate`? A path the OS cannot even look
+        up (a NUL byte, a name too long) is simply not there."""
+        try:
+            return candidate.resolve() in self.overrides or candidate.is_file()
+        except (OSError, ValueError):
+            return False
+
     def load_root(self, path: Path) -> None:
         resolved = path.resolve()
         if resolved not in self.result.roots:
@@ -111,7 +119,7 @@ class _Loader:
     def include(self, path: Path, decl: ast.Include, chain: list[tuple[Path, ast.Include]]) -> Path | None:
         name = decl.path.value
         candidates = [path.parent / name, stdlib_dir() / name]
-        target = next((c.resolve() for c in candidates if c.resolve() in self.overrides or c.is_file()), None)
+        target = next((c.resolve() for c in candidates if self.exists(c)), None)
         if target is None:
             self.result.diagnostics.append(
                 diag.error(

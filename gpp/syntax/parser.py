@@ -333,7 +333,10 @@ class _Parser:
         token that follows a lexical error are not reported."""
         starts = [t.start for t in self.tokens]
         for offset in offsets:
-            self.quiet_tokens.add(bisect_left(starts, offset))
+            at = bisect_left(starts, offset)
+            # The token at the error (an unterminated string read to the end of its line) and
+            # the one after it.
+            self.quiet_tokens.update((at, at + 1))
 
     def report(self, i: int, d: diag.Diagnostic) -> None:
         if i > self.quiet_until and i not in self.quiet_tokens:
@@ -383,6 +386,12 @@ class _Parser:
 
         if tok.type == "$END":
             return self.recover_at_end(i, ss, expected)
+
+        # A top-level `{` after `... = f()` opens the legacy main block; the tokenizer cannot
+        # tell it from the `{` of a declaration, the parser state can.
+        if tok.type == "LBRACE" and "MAIN_LBRACE" in expected:
+            tok.type = "MAIN_LBRACE"
+            return i
 
         # A repair that did not get the parser past this token is not tried again: skip instead.
         tries = self.repairs.get(id(tok), 0)

@@ -1,0 +1,189 @@
+"""`gpp run` and `gpp test`: the commands users run most. Registered on the app by gpp.cli.
+
+Like the rest of the CLI, everything heavy (the interpreter, rich, the platforms) is imported
+inside the commands, so `gpp check` does not pay for it.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+if TYPE_CHECKING:
+    from gpp.runview import RunView
+
+PlatformOption = Annotated[
+    str, typer.Option("--platform", "-p", help="Where to run: dummy (virtual time), sim (physics), ros2.")
+]
+ScenarioOption = Annotated[
+    Path | None, typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events.")
+]
+SeedOption = Annotated[int, typer.Option("--seed", help="Seed for random outcomes and simulated faults.")]
+RandomOption = Annotated[
+    bool, typer.Option("--random", help="Dummy platform: random durations, exog events and answers (seeded).")
+]
+TimeoutOption = Annotated[
+    float | None, typer.Option("--timeout", help="Stop a run after this much platform time (seconds).")
+]
+WorldOption = Annotated[
+    str | None, typer.Option("--world", help="Sim platform: a world name from stdlib/worlds or a TOML file.")
+]
+
+
+def register(app: typer.Typer) -> None:
+    app.command()(run)
+    app.command(name="test")(test_command)
+
+
+def run(
+    file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
+    platform: PlatformOption = "dummy",
+    scenario: ScenarioOption = None,
+    seed: SeedOption = 1,
+    random: RandomOption = False,
+    trace: Annotated[Path | None, typer.Option("--trace", help="Write the run's trace (JSON lines) here.")] = None,
+    timeout: TimeoutOption = None,
+    world: WorldOption = None,
+    record: Annotated[Path | None, typer.Option("--record", help="Sim platform: write an animated GIF.")] = None,
+    snapshot: Annotated[
+        Path | None, typer.Option("--snapshot", help="Sim platform: write the last frame (PNG).")
+    ] = None,
+    realtime: Annotated[bool, typer.Option("--realtime", help="Pace platform time to wall time.")] = False,
+    profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No live view or event lines; only the summary.")
+    ] = False,
+) -> None:
+    """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
+
+    Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise."""
+    from gpp.cli import (
+        EXIT_OK,
+        EXIT_PROBLEMS,
+        EXIT_USAGE,
+        ColorMode,
+        OutputFormat,
+        _emit_diagnostics,
+        _require_readable,
+        _usage_error,
+        use_color,
+    )
+    from gpp.runner import RunOptions, RunSetupError, run_program
+
+    _require_readable(file)
+    from gpp.check import check_program
+
+    checked = check_program(file)
+    shown = list(checked.diagnostics)
+    if shown:
+        _emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
+    if checked.errors:
+        raise typer.Exit(EXIT_PROBLEMS)
+    options = RunOptions(
+        platform=platform,
+        scenario=scenario,
+        seed=seed,
+        random=random,
+        timeout=timeout,
+        trace=trace,
+        world=world,
+        record=record,
+        snapshot=snapshot,
+        realtime=realtime,
+    )
+    view = _view(file, platform, quiet, use_color(ColorMode.AUTO))
+    try:
+        with view:
+            outcome = run_program(file, options, [view] if view.shows else None, checked=checked)
+    except RunSetupError as e:
+        _usage_error(str(e))
+    runtime = [d for d in outcome.diagnostics if d not in shown]
+    if runtime:
+        _emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
+    if profile and outcome.trace is not None:
+        from rich.console import Console
+
+        from gpp.planner.profile import render_profile
+
+        render_profile(outcome.trace.records, Console(file=sys.stdout, highlight=False))
+    from gpp.runview import summary_lines
+
+    print("\n".join(summary_lines(outcome)))
+    if outcome.result is not None and outcome.result.status.value == "interrupted":
+        raise typer.Exit(130)
+    raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS if outcome.result is not None else EXIT_USAGE)
+
+
+def test_command(
+    paths: Annotated[
+        list[Path] | None,
+        typer.Argument(metavar="[PATH]...", help="Programs or folders to run (default: tests/programs)."),
+    ] = None,
+    platform: PlatformOption = "dummy",
+    scenario: ScenarioOption = None,
+    seed: SeedOption = 1,
+    random: RandomOption = False,
+    timeout: TimeoutOption = None,
+    world: WorldOption = None,
+) -> None:
+    """Run every program's `main()` and check its `postcond()`; a table of the results.
+
+    Exit code 0 when every program passes, 1 when one fails."""
+    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, ColorMode, OutputFormat, _emit_diagnostics, _usage_error, use_color
+    from gpp.runner import RunOptions
+    from gpp.testing import Verdict, discover, run_all
+
+    targets = paths or [Path("tests/programs")]
+    for p in targets:
+        if not p.exists():
+            _usage_error(f"no such file or folder: '{p}'")
+    files = discover(targets)
+    if not files:
+        _usage_error("no .gpp files found in " + ", ".join(f"'{p}'" for p in targets))
+    options = RunOptions(platform=platform, scenario=scenario, seed=seed, random=random, timeout=timeout, world=world)
+    cases = run_all(files, options)
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(file=sys.stdout, highlight=False, no_color=not use_color(ColorMode.AUTO), width=120)
+    table = Table(title=f"gpp test ({platform})", title_justify="left")
+    table.add_column("program")
+    table.add_column("result")
+    table.add_column("time", justify="right")
+    table.add_column("detail", overflow="fold")
+    style = {Verdict.PASS: "green", Verdict.FAIL: "red", Verdict.ERROR: "red", Verdict.SKIP: "yellow"}
+    for case in cases:
+        table.add_row(
+            str(case.path),
+            f"[{style[case.verdict]}]{case.verdict.value}[/]",
+            f"{case.seconds:.2f} s",
+            case.detail,
+        )
+    console.print(table)
+    failed = [c for c in cases if c.verdict in (Verdict.FAIL, Verdict.ERROR)]
+    for case in failed:
+        if case.outcome is not None and case.outcome.diagnostics:
+            _emit_diagnostics(
+                [d for d in case.outcome.diagnostics if d.is_error], OutputFormat.TEXT, ColorMode.AUTO, summary=False
+            )
+    counts = {v: sum(1 for c in cases if c.verdict is v) for v in Verdict}
+    print(
+        f"{counts[Verdict.PASS]} passed, {counts[Verdict.FAIL] + counts[Verdict.ERROR]} failed"
+        + (f", {counts[Verdict.SKIP]} skipped" if counts[Verdict.SKIP] else "")
+    )
+    raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
+
+
+def _view(file: Path, platform: str, quiet: bool, color: bool) -> RunView:
+    from gpp.runview import LiveView, NoView, PlainView
+
+    if quiet:
+        return NoView()
+    if color and sys.stdout.isatty():
+        from rich.console import Console
+
+        return LiveView(Console(file=sys.stdout), f"{file} on {platform}")
+    return PlainView(sys.stdout)

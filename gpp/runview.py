@@ -1,0 +1,218 @@
+"""What `gpp run` shows while a program runs, fed only by trace records (the run view is not
+tangled into the interpreter). On a terminal: a live panel with the platform clock, the
+running activities, the current plan and the latest events. Elsewhere: one plain line per
+event, so logs and CI output stay readable."""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import TYPE_CHECKING, Any, Protocol, TextIO
+
+from gpp.runtime.trace import TraceRecord
+
+if TYPE_CHECKING:
+    from rich.console import Console, RenderableType
+    from rich.live import Live
+
+    from gpp.runner import RunOutcome
+
+
+def describe(record: TraceRecord) -> str | None:
+    """One line for a trace record (None for records not worth a line of their own)."""
+    event = record["event"]
+    action = record.get("action", "")
+    if event == "start":
+        return f"start  {action}"
+    if event == "end":
+        status = record.get("status")
+        mark = "" if status == "final" else f"  [{status}]"
+        return f"end    {action}{mark}"
+    if event == "update":
+        if record.get("status") == "final":
+            return None
+        return f"update {action} {record.get('status')}" + (f" ({record['reason']})" if record.get("reason") else "")
+    if event == "exog":
+        suffix = " (its precondition was false)" if record.get("precondition") is False else ""
+        return f"exog   {action}{suffix}"
+    if event == "sense":
+        return f"sense  {record.get('fluent')} = {_show(record.get('value'))} (by {action})"
+    if event == "assign":
+        return f"assign {record.get('fluent')} = {_show(record.get('value'))}"
+    if event == "cancel":
+        return f"cancel {action}" + (f" ({record['reason']})" if record.get("reason") else "")
+    if event in ("plan", "replan"):
+        if not record.get("feasible", True):
+            return f"{event:<6} no feasible plan ({record.get('nodes')} nodes)"
+        policy = "; ".join(record.get("policy", [])) or "(nothing to do)"
+        return (
+            f"{event:<6} value {record.get('value'):g}, horizon {record.get('horizon')}: {policy}"
+            f"  [{record.get('nodes')} nodes, {record.get('seconds', 0):.3f} s]"
+        )
+    if event in ("blocked", "error"):
+        return f"{event:<6} {record.get('message')}"
+    if event == "finish":
+        return f"finish {record.get('status')}"
+    return None
+
+
+def _show(value: Any) -> str:
+    if isinstance(value, dict) and "symbol" in value:
+        return str(value["symbol"])
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "null"
+    return str(value)
+
+
+class RunView(Protocol):
+    """A trace listener that is also a context manager (set up and torn down around a run)."""
+
+    shows: bool
+
+    def __call__(self, record: TraceRecord) -> None: ...
+
+    def __enter__(self) -> RunView: ...
+
+    def __exit__(self, *exc: object) -> None: ...
+
+
+class NoView:
+    """`--quiet`: show nothing while running."""
+
+    shows = False
+
+    def __call__(self, record: TraceRecord) -> None:
+        pass
+
+    def __enter__(self) -> NoView:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        pass
+
+
+class PlainView:
+    """One line per event: `[   4.000 s] start  stack(a,table)`."""
+
+    shows = True
+
+    def __init__(self, out: TextIO) -> None:
+        self.out = out
+
+    def __call__(self, record: TraceRecord) -> None:
+        line = describe(record)
+        if line is not None:
+            self.out.write(f"[{record['t']:>9.3f} s] {line}\n")
+            self.out.flush()
+
+    def __enter__(self) -> PlainView:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        pass
+
+
+class LiveView:
+    """A rich live panel, redrawn at most a few times a second."""
+
+    shows = True
+
+    def __init__(self, console: Console, title: str) -> None:
+        self.console = console
+        self.title = title
+        self.time = 0.0
+        self.running: dict[str, float] = {}
+        self.events: deque[str] = deque(maxlen=10)
+        self.plan: TraceRecord | None = None
+        self.counts = {"actions": 0, "failed": 0, "exog": 0}
+        self._live: Live | None = None
+
+    def __call__(self, record: TraceRecord) -> None:
+        self.time = record["t"]
+        event = record["event"]
+        action = record.get("action", "")
+        if event == "start":
+            self.running[action] = record["t"]
+            self.counts["actions"] += 1
+        elif event in ("end", "cancel"):
+            self.running.pop(action, None)
+        elif event == "update" and record.get("status") == "failed":
+            self.counts["failed"] += 1
+        elif event == "exog":
+            self.counts["exog"] += 1
+        elif event in ("plan", "replan"):
+            self.plan = record
+        line = describe(record)
+        if line is not None:
+            self.events.append(f"[dim]{record['t']:>8.2f}s[/dim] {_escape(line)}")
+        if self._live is not None:
+            self._live.update(self.render())
+
+    def render(self) -> RenderableType:
+        from rich.console import Group
+        from rich.panel import Panel
+        from rich.table import Table
+
+        header = (
+            f"[bold]{_escape(self.title)}[/bold]   t = {self.time:.2f} s   actions {self.counts['actions']}"
+            f"   failed {self.counts['failed']}   exog events {self.counts['exog']}"
+        )
+        running = Table(show_header=True, header_style="bold", box=None, expand=False)
+        running.add_column("running activity")
+        running.add_column("since", justify="right")
+        for action, since in self.running.items():
+            running.add_row(_escape(action), f"{since:.2f} s")
+        if not self.running:
+            running.add_row("[dim](none)[/dim]", "")
+        parts: list[RenderableType] = [header, running]
+        if self.plan is not None and self.plan.get("feasible", True):
+            plan = self.plan
+            policy = " → ".join(plan.get("policy", [])) or "(nothing to do)"
+            title = f"{plan['event']} (value {plan.get('value'):g}, horizon {plan.get('horizon')})"
+            parts.append(Panel(_escape(policy), title=title, title_align="left"))
+        parts.append(Panel("\n".join(self.events) or "[dim](no events yet)[/dim]", title="events", title_align="left"))
+        return Group(*parts)
+
+    def __enter__(self) -> LiveView:
+        from rich.live import Live
+
+        self._live = Live(self.render(), console=self.console, refresh_per_second=8, transient=False)
+        self._live.__enter__()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._live is not None:
+            self._live.update(self.render())
+            self._live.__exit__(None, None, None)
+            self._live = None
+
+
+def _escape(text: str) -> str:
+    from rich.markup import escape
+
+    return escape(text)
+
+
+def summary_lines(outcome: RunOutcome) -> list[str]:
+    """The run summary: how it ended, what was executed, time, and postcond."""
+    result = outcome.result
+    if result is None:
+        return ["not run: the program has errors"]
+    lines = [f"{outcome.path}: {result.status.value}"]
+    failures = f"{result.failures} failed"
+    if result.unhandled_failures:
+        failures += f" ({result.unhandled_failures} not handled by the program)"
+    lines.append(f"  actions executed   {result.actions} ({failures})")
+    lines.append(f"  exogenous events   {result.exog_events}")
+    lines.append(f"  steps              {result.steps}")
+    ratio = result.platform_time / result.wall_time if result.wall_time > 0 else 0.0
+    lines.append(
+        f"  time               {result.platform_time:.3f} s platform, {result.wall_time:.3f} s wall"
+        + (f" ({ratio:,.0f}x real time)" if result.platform_time > 0 else "")
+    )
+    if result.postcond is not None:
+        lines.append(f"  postcond()         {'holds' if result.postcond else 'does NOT hold'}")
+    return lines
