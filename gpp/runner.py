@@ -12,6 +12,7 @@ from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_program
 from gpp.platform import platform_class
 from gpp.platform.base import Platform, PlatformError
+from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace, TraceRecord
 
@@ -110,11 +111,15 @@ def make_platform(options: RunOptions, program: Path) -> Platform:
 
 
 def run_program(
-    path: Path, options: RunOptions, listeners: list[Callable[[TraceRecord], None]] | None = None
+    path: Path,
+    options: RunOptions,
+    listeners: list[Callable[[TraceRecord], None]] | None = None,
+    checked: CheckResult | None = None,
 ) -> RunOutcome:
-    """Check and run one program. Raises OSError for an unreadable file and RunSetupError when
-    the platform cannot be set up; everything about the program itself is in the outcome."""
-    check = check_program(path)
+    """Check and run one program (`checked`: the result of checking it already). Raises OSError
+    for an unreadable file and RunSetupError when the platform cannot be set up; everything
+    about the program itself is in the outcome."""
+    check = checked if checked is not None else check_program(path)
     outcome = RunOutcome(path, check, diagnostics=list(check.diagnostics))
     if check.errors:
         return outcome
@@ -134,15 +139,10 @@ def run_program(
         if problems:
             main = check.model.main
             span = main.span if main.span is not None else check.loaded.files[-1].program.span
-            outcome.diagnostics.append(
-                diag.error(
-                    "R0007",
-                    f"the program does not fit platform `{platform.name}`",
-                    span,
-                    notes=problems,
-                )
-            )
-            trace.emit("error", platform.now(), message="; ".join(problems))
+            problem = diag.error("R0007", f"the program does not fit platform `{platform.name}`", span, notes=problems)
+            outcome.diagnostics.append(problem)
+            trace.emit("error", platform.now(), code=problem.code, message="; ".join(problems), at=str(span))
+            trace.emit("finish", platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
             return outcome
         result = executor.run()
         outcome.result = result
@@ -150,12 +150,9 @@ def run_program(
         if result.status is RunStatus.FINISHED:
             try:
                 executor.evaluate_postcond()
-            except Exception as e:
-                from gpp.runtime.errors import GppRuntimeError
-
-                if not isinstance(e, GppRuntimeError):
-                    raise
-                d = e.diagnostic()
+            except GppRuntimeError as e:
+                postcond = check.model.globals.get("postcond")
+                d = e.diagnostic(postcond.span if postcond is not None else None)
                 if d is not None:
                     outcome.diagnostics.append(d)
                 result.postcond = False

@@ -13,8 +13,11 @@ runs take as long as the CPU needs, not as long as the robot would.
 
 from __future__ import annotations
 
+import copy
 import heapq
+import math
 import random
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -39,6 +42,17 @@ class ScenarioError(Exception):
     """A scenario file that cannot be used; the message says where and why."""
 
 
+_OUTCOMES = {"final": ActivityStatus.FINAL, "fail": ActivityStatus.FAILED, "cancel": ActivityStatus.CANCELLED}
+
+# The keys each kind of scenario entry may have.
+_KEYS: dict[str, frozenset[str]] = {
+    "defaults": frozenset({"duration"}),
+    "action": frozenset({"match", "outcome", "duration", "result", "times"}),
+    "exog": frozenset({"at", "action", "args"}),
+    "exog_function": frozenset({"name", "args", "value", "values"}),
+}
+
+
 @dataclass
 class ActionRule:
     pattern: str
@@ -58,7 +72,7 @@ class ActionRule:
             return True
         if len(self.args) != len(g.args):
             return False
-        return all(p == "*" or p == show(a) for p, a in zip(self.args, g.args, strict=True))
+        return all(_arg_matches(p, a) for p, a in zip(self.args, g.args, strict=True))
 
 
 @dataclass
@@ -75,6 +89,11 @@ class FunctionRule:
     values: list[Any]
     used: int = 0
 
+    def matches(self, name: str, args: Mapping[str, Value]) -> bool:
+        if name != self.name:
+            return False
+        return self.args is None or all(k in args and _value_matches(v, args[k]) for k, v in self.args.items())
+
 
 @dataclass
 class Scenario:
@@ -89,54 +108,87 @@ class Scenario:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except OSError as e:
             raise ScenarioError(f"cannot read scenario '{path}': {e.strerror}") from None
+        except UnicodeDecodeError:
+            raise ScenarioError(f"scenario '{path}' is not UTF-8 text") from None
         except tomllib.TOMLDecodeError as e:
             raise ScenarioError(f"scenario '{path}' is not valid TOML: {e}") from None
         return cls.from_data(data, str(path))
 
     @classmethod
     def from_data(cls, data: Mapping[str, Any], where: str = "scenario") -> Scenario:
-        known = {"defaults", "action", "exog", "exog_function"}
-        unknown = set(data) - known
+        unknown = set(data) - set(_KEYS)
         if unknown:
             raise ScenarioError(
-                f"{where}: unknown section(s) {', '.join(sorted(unknown))} (known: {', '.join(sorted(known))})"
+                f"{where}: unknown section(s) {', '.join(sorted(unknown))} (known: {', '.join(sorted(_KEYS))})"
             )
         scenario = cls()
         defaults = data.get("defaults", {})
+        if not isinstance(defaults, dict):
+            raise ScenarioError(f"{where}: [defaults] must be a table")
+        _check_keys(defaults, "defaults", f"{where}: [defaults]")
         if "duration" in defaults:
             scenario.default_duration = _seconds(defaults["duration"], f"{where}: [defaults] duration")
-        for i, entry in enumerate(data.get("action", [])):
+        for i, entry in enumerate(_entries(data, "action", where)):
             at = f"{where}: [[action]] #{i + 1}"
+            _check_keys(entry, "action", at)
             pattern = entry.get("match")
             if not isinstance(pattern, str):
                 raise ScenarioError(f'{at}: `match = "name(args)"` is required')
             name, args = _parse_pattern(pattern, at)
-            outcome = {"final": ActivityStatus.FINAL, "fail": ActivityStatus.FAILED, "cancel": ActivityStatus.CANCELLED}
             word = entry.get("outcome", "final")
-            if word not in outcome:
+            if not isinstance(word, str) or word not in _OUTCOMES:
                 raise ScenarioError(f"{at}: outcome must be final, fail or cancel, not {word!r}")
-            rule = ActionRule(pattern, name, args, outcome[word])
+            rule = ActionRule(pattern, name, args, _OUTCOMES[word])
             if "duration" in entry:
                 rule.duration = _seconds(entry["duration"], f"{at} duration")
             if "result" in entry:
                 rule.result, rule.has_result = entry["result"], True
             if "times" in entry:
-                rule.times = int(entry["times"])
+                times = entry["times"]
+                if isinstance(times, bool) or not isinstance(times, int) or times < 1:
+                    raise ScenarioError(f"{at}: times must be a whole number >= 1, not {times!r}")
+                rule.times = times
             scenario.actions.append(rule)
-        for i, entry in enumerate(data.get("exog", [])):
+        for i, entry in enumerate(_entries(data, "exog", where)):
             at = f"{where}: [[exog]] #{i + 1}"
+            _check_keys(entry, "exog", at)
             if "action" not in entry or "at" not in entry:
                 raise ScenarioError(f'{at}: `at = <seconds>` and `action = "name"` are required')
-            scenario.exogs.append(
-                ExogRule(_seconds(entry["at"], f"{at} at"), str(entry["action"]), list(entry.get("args", [])))
-            )
-        for i, entry in enumerate(data.get("exog_function", [])):
+            if not isinstance(entry["action"], str) or not _is_name(entry["action"]):
+                raise ScenarioError(f"{at}: action must be the name of an exogenous action, not {entry['action']!r}")
+            args = entry.get("args", [])
+            if not isinstance(args, list):
+                raise ScenarioError(f"{at}: args must be a list of values, not {args!r}")
+            scenario.exogs.append(ExogRule(_seconds(entry["at"], f"{at} at"), entry["action"], list(args)))
+        for i, entry in enumerate(_entries(data, "exog_function", where)):
             at = f"{where}: [[exog_function]] #{i + 1}"
+            _check_keys(entry, "exog_function", at)
             if "name" not in entry or not ("value" in entry or "values" in entry):
                 raise ScenarioError(f"{at}: `name` and `value` (or `values = [...]`) are required")
+            if "value" in entry and "values" in entry:
+                raise ScenarioError(f"{at}: give either `value` or `values`, not both")
+            if "values" in entry and (not isinstance(entry["values"], list) or not entry["values"]):
+                raise ScenarioError(f"{at}: values must be a non-empty list of answers")
+            fargs = entry.get("args")
+            if fargs is not None and not isinstance(fargs, dict):
+                raise ScenarioError(f'{at}: args must be a table such as `{{ room = "kitchen" }}`')
             values = list(entry["values"]) if "values" in entry else [entry["value"]]
-            scenario.functions.append(FunctionRule(str(entry["name"]), entry.get("args"), values))
+            scenario.functions.append(FunctionRule(str(entry["name"]), fargs, values))
         return scenario
+
+
+def _entries(data: Mapping[str, Any], section: str, where: str) -> list[dict[str, Any]]:
+    entries = data.get(section, [])
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        raise ScenarioError(f"{where}: `{section}` must be an array of tables, written [[{section}]]")
+    return entries
+
+
+def _check_keys(entry: Mapping[str, Any], section: str, at: str) -> None:
+    unknown = set(entry) - _KEYS[section]
+    if unknown:
+        known = ", ".join(sorted(_KEYS[section]))
+        raise ScenarioError(f"{at}: unknown key(s) {', '.join(sorted(unknown))} (known: {known})")
 
 
 class DummyPlatform(Platform):
@@ -145,7 +197,8 @@ class DummyPlatform(Platform):
 
     def __init__(self, scenario: Scenario | None = None, seed: int = 1, random_mode: bool = False) -> None:
         super().__init__()
-        self.scenario = scenario or Scenario()
+        # A copy: the rules count their uses, and a scenario may serve several runs.
+        self.scenario = copy.deepcopy(scenario) if scenario is not None else Scenario()
         self.random_mode = random_mode
         self.rng = random.Random(seed)
         self.clock = 0.0
@@ -165,6 +218,15 @@ class DummyPlatform(Platform):
         for rule in self.scenario.actions:
             if rule.name not in interface.actions:
                 problems.append(f"scenario: no action `{rule.name}` in the program (pattern `{rule.pattern}`)")
+            elif rule.has_result:
+                sensed = interface.sensing.get(rule.name)
+                if sensed is None:
+                    problems.append(f"scenario: `{rule.pattern}` gives a result, but `{rule.name}` senses nothing")
+                    continue
+                try:
+                    to_value(rule.result, sensed)
+                except ScenarioError as e:
+                    problems.append(f"scenario: the result for `{rule.pattern}`: {e}")
         for exog in self.scenario.exogs:
             signature = interface.exog_actions.get(exog.action)
             if signature is None:
@@ -177,24 +239,44 @@ class DummyPlatform(Platform):
             try:
                 args = tuple(to_value(a, t) for a, t in zip(exog.args, signature.param_types, strict=True))
             except ScenarioError as e:
-                problems.append(f"scenario: `{exog.action}`: {e}")
+                problems.append(f"scenario: `{exog.action}` at {exog.at:g} s: {e}")
                 continue
             self._schedule(exog.at, ExogEvent(exog.action, args))
         for f in self.scenario.functions:
-            if f.name not in interface.exog_functions:
+            function = interface.exog_functions.get(f.name)
+            if function is None:
                 problems.append(f"scenario: no exogenous function `{f.name}` in the program")
+                continue
+            params, return_type = function
+            for key in f.args or {}:
+                if key not in params:
+                    shown = ", ".join(params) if params else "none"
+                    problems.append(f"scenario: `{f.name}` has no parameter `{key}` (parameters: {shown})")
+            for value in f.values:
+                try:
+                    to_value(value, return_type)
+                except ScenarioError as e:
+                    problems.append(f"scenario: an answer of `{f.name}`: {e}")
         if self.random_mode and interface.exog_actions:
             self._next_random_exog = self.rng.uniform(0.0, 2.0)
         return problems
 
     def start(self, activity: Activity) -> None:
-        rule = next((r for r in self.scenario.actions if r.matches(activity.action)), None)
+        g = activity.action
+        rule = next((r for r in self.scenario.actions if r.matches(g)), None)
+        if rule is None:
+            wrong = next((r for r in self.scenario.actions if r.name == g.name and r.args is not None), None)
+            if wrong is not None and wrong.args is not None and len(wrong.args) != len(g.args):
+                raise PlatformError(
+                    f"scenario pattern `{wrong.pattern}` has {len(wrong.args)} argument(s), "
+                    f"`{g.name}` takes {len(g.args)}"
+                )
         if rule is not None:
             rule.used += 1
         duration = self._duration(activity, rule)
         outcome = rule.outcome if rule is not None else ActivityStatus.FINAL
         if rule is not None and rule.has_result:
-            sensed = self.interface.sensing.get(activity.action.name) if self.interface else None
+            sensed = self.interface.sensing.get(g.name) if self.interface else None
             try:
                 self._results[activity.id] = (True, to_value(rule.result, sensed))
             except ScenarioError as e:
@@ -213,15 +295,14 @@ class DummyPlatform(Platform):
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
         for rule in self.scenario.functions:
-            if rule.name != name:
-                continue
-            if rule.args is not None and any(
-                show(args.get(k)) != show(to_value(v, None)) for k, v in rule.args.items()
-            ):
+            if not rule.matches(name, args):
                 continue
             value = rule.values[min(rule.used, len(rule.values) - 1)]
             rule.used += 1
-            return to_value(value, return_type)
+            try:
+                return to_value(value, return_type)
+            except ScenarioError as e:
+                raise PlatformError(f"the scenario's answer for `{name}`: {e}") from None
         if self.random_mode:
             return random_value(self.rng, return_type)
         shown = ", ".join(f"{k}={show(v)}" for k, v in args.items())
@@ -235,7 +316,8 @@ class DummyPlatform(Platform):
         while self._agenda:
             t, seq, event = self._agenda[0]
             if deadline is not None and t > deadline:
-                self.clock = max(self.clock, deadline)
+                # Something will happen, but after the deadline: time runs up to it.
+                self.clock = max(self.clock, float(deadline))
                 return False
             heapq.heappop(self._agenda)
             if isinstance(event, ActivityUpdate):
@@ -248,8 +330,7 @@ class DummyPlatform(Platform):
             self.clock = max(self.clock, t)
             self.queue.put(event, self.clock)
             return True
-        if deadline is not None:
-            self.clock = max(self.clock, deadline)
+        # Nothing can ever happen: the clock stays where the program got stuck.
         return False
 
     def live(self) -> bool:
@@ -288,20 +369,107 @@ class DummyPlatform(Platform):
 
 
 def _seconds(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or value < 0:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value < math.inf:
         raise ScenarioError(f"{what} must be a number of seconds >= 0, not {value!r}")
     return float(value)
 
 
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def _is_name(text: str) -> bool:
+    return _NAME.fullmatch(text) is not None
+
+
 def _parse_pattern(pattern: str, where: str) -> tuple[str, tuple[str, ...] | None]:
-    text = pattern.replace(" ", "")
+    """`name` (any arguments) or `name(arg, ...)`: each argument is `*`, a number, `true`,
+    `false`, `null`, a symbol name or a double-quoted string (spaces inside strings kept)."""
+    bad = ScenarioError(
+        f"{where}: pattern {pattern!r} must look like `name` or `name(arg, ...)` with arguments such as "
+        '`*`, `kitchen`, `3`, `"text"`'
+    )
+    text = pattern.strip()
     if "(" not in text:
+        if not _is_name(text):
+            raise bad
         return text, None
-    if not text.endswith(")"):
-        raise ScenarioError(f"{where}: pattern {pattern!r} must look like `name(arg, *, ...)`")
     name, _, rest = text.partition("(")
-    inner = rest[:-1]
-    return name, tuple(inner.split(",")) if inner else ()
+    name = name.strip()
+    if not _is_name(name) or not rest.rstrip().endswith(")"):
+        raise bad
+    inner = rest.rstrip()[:-1]
+    args: list[str] = []
+    current = ""
+    quoted = escaped = False
+    for ch in inner:
+        if quoted:
+            current += ch
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                quoted = False
+        elif ch == '"':
+            if current.strip():
+                raise bad
+            current = ch
+            quoted = True
+        elif ch == ",":
+            args.append(current.strip())
+            current = ""
+        elif ch in "()":
+            raise bad
+        else:
+            current += ch
+    if quoted:
+        raise bad
+    if inner.strip() or args:
+        args.append(current.strip())
+    for a in args:
+        if a.startswith('"') and (len(a) < 2 or not a.endswith('"')):
+            raise bad
+        if not a or (not a.startswith('"') and " " in a):
+            raise bad
+    return name, tuple(args)
+
+
+def _arg_matches(pattern: str, value: Value) -> bool:
+    """Does one pattern argument match an actual argument value?"""
+    if pattern == "*":
+        return True
+    if pattern.startswith('"'):
+        return isinstance(value, str) and pattern[1:-1].replace('\\"', '"').replace("\\\\", "\\") == value
+    if value is None or isinstance(value, bool):
+        return pattern == show(value)
+    if isinstance(value, int | float):
+        try:
+            return float(pattern) == value
+        except ValueError:
+            return False
+    return pattern == show(value)
+
+
+def _value_matches(wanted: Any, value: Value) -> bool:
+    """Does a TOML value (an `args` entry of an exog_function rule) equal a golog++ value?"""
+    if isinstance(wanted, dict) and wanted.get("null") is True:
+        return value is None
+    if isinstance(wanted, bool) or isinstance(value, bool):
+        return isinstance(wanted, bool) and isinstance(value, bool) and wanted == value
+    if isinstance(wanted, int | float):
+        return isinstance(value, int | float) and wanted == value
+    if isinstance(wanted, str):
+        return value == wanted if isinstance(value, str) else isinstance(value, Sym) and value.name == wanted
+    if isinstance(wanted, list):
+        return (
+            isinstance(value, tuple)
+            and len(value) == len(wanted)
+            and all(_value_matches(w, v) for w, v in zip(wanted, value, strict=True))
+        )
+    if isinstance(wanted, dict) and isinstance(value, CompoundValue):
+        names = {n for n, _ in value.fields}
+        return set(wanted) <= names and all(_value_matches(w, value.get(k)) for k, w in wanted.items())
+    return False
 
 
 def to_value(v: Any, t: Type | None) -> Value:

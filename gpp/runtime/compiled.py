@@ -77,6 +77,7 @@ class Effect:
     target: Target
     value: Evaluator
     span: Span
+    value_span: Span | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -196,9 +197,12 @@ class CompiledProgram:
             elif isinstance(section, ast.EffectSection):
                 for e in section.effects:
                     condition = self.expr(e.condition) if e.condition is not None else None
-                    effects.append(Effect(condition, self.target(e.target), self.expr(e.value), e.span))
+                    target, value = self.target(e.target), self.expr(e.value)
+                    effects.append(Effect(condition, target, value, e.span, e.value.span))
             elif isinstance(section, ast.SensesSection):
-                senses = Effect(None, self.target(section.target), self.expr(section.value), section.span)
+                senses = Effect(
+                    None, self.target(section.target), self.expr(section.value), section.span, section.value.span
+                )
             elif isinstance(section, ast.MappingSection):
                 mapped_name = section.mapping.name.value
                 mapped = [(a.name.name, self.expr(a.value)) for a in section.mapping.args]
@@ -392,7 +396,10 @@ class CompiledProgram:
             a, b = left(env), right(env)
             if a is None or b is None:
                 raise GppRuntimeError("R0002", f"`{op.value}` applied to `null`", span)
-            return arithmetic(a, b, span)
+            try:
+                return arithmetic(a, b, span)
+            except OverflowError:
+                raise GppRuntimeError("R0001", f"the result of `{op.value}` is too large for a number", span) from None
 
         return calculate
 
@@ -437,11 +444,14 @@ class CompiledProgram:
             span=e.span,
         )
 
-    def assignment(self, target: Target, value: Value, env: Env, pending: dict[int, Value]) -> int:
+    def assignment(
+        self, target: Target, value: Value, env: Env, pending: dict[int, Value], value_span: Span | None = None
+    ) -> int:
         """Compute the new value of the target's fluent instance after `target = value`
         (a functional update along the path) and record it in `pending`; returns the slot.
-        `pending` holds the values already assigned by the same step (effects of one action)."""
-        check_domain(value, target.value_type, target.span)
+        `pending` holds the values already assigned by the same step (effects of one action).
+        A value outside the target's domain is an error at `value_span` (else the target's)."""
+        check_domain(value, target.value_type, value_span if value_span is not None else target.span)
         slot = self.slot(target.fluent, tuple(a(env) for a in target.args))
         if not target.path:
             pending[slot] = value
@@ -549,7 +559,11 @@ def _mod(a: Value, b: Value, span: Span) -> Value:
 
 def _pow(a: Value, b: Value, span: Span) -> Value:
     assert isinstance(a, int | float) and isinstance(b, int | float)
+    if a == 0 and b < 0:
+        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` divides by zero", span)
     if isinstance(a, int) and isinstance(b, int) and b >= 0:
+        if abs(a) > 1 and b * math.log2(abs(a)) > _MAX_POWER_BITS:
+            raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is too large", span)
         power: int = a**b
         return power
     try:
@@ -561,6 +575,9 @@ def _pow(a: Value, b: Value, span: Span) -> Value:
     except ValueError:
         raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is not a real number", span) from None
 
+
+# Whole-number powers beyond this many bits would take the machine's memory, not give a value.
+_MAX_POWER_BITS = 1_000_000
 
 _ARITHMETIC: dict[Op, Callable[[Value, Value, Span], Value]] = {
     Op.ADD: _add,

@@ -9,14 +9,26 @@ from gpp.source import Span
 class GppRuntimeError(Exception):
     """A runtime error with its code (R0xxx) and the span of the expression or statement."""
 
-    def __init__(self, code: str, message: str, span: Span | None, notes: tuple[str, ...] = ()) -> None:
+    def __init__(
+        self,
+        code: str,
+        message: str,
+        span: Span | None,
+        notes: tuple[str, ...] = (),
+        label: str = "",
+        secondary: tuple[diag.Label, ...] = (),
+    ) -> None:
         super().__init__(message)
         self.code = code
         self.message = message
         self.span = span
         self.notes = notes
+        self.label = label
+        self.secondary = secondary
 
-    def diagnostic(self) -> diag.Diagnostic | None:
-        if self.span is None:
+    def diagnostic(self, fallback: Span | None = None) -> diag.Diagnostic | None:
+        """The diagnostic at the error's span (or at `fallback` when it has none)."""
+        span = self.span if self.span is not None else fallback
+        if span is None:
             return None
-        return diag.error(self.code, self.message, self.span, notes=self.notes)
+        return diag.error(self.code, self.message, span, self.label, secondary=self.secondary, notes=self.notes)

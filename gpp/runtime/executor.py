@@ -11,8 +11,10 @@ Every step and event goes to the trace as it happens.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import sys
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 
@@ -37,7 +39,6 @@ from gpp.runtime.semantics import (
     Conc,
     DoStep,
     DuringEnd,
-    EndKind,
     EndStep,
     Frame,
     Planned,
@@ -126,6 +127,7 @@ class Executor:
         self.results: dict[GroundAction, tuple[bool, Value]] = {}
         self.next_id = 1
         self.result = RunResult(RunStatus.FINISHED)
+        self._silent: dict[str, bool] = {}
 
     # ---------------------------------------------------------------- set-up
 
@@ -156,6 +158,10 @@ class Executor:
     # ---------------------------------------------------------------- the loop
 
     def run(self) -> RunResult:
+        with deep_recursion():
+            return self._run()
+
+    def _run(self) -> RunResult:
         started = time.perf_counter()
         result = self.result
         prog: Prog | None = None
@@ -166,34 +172,47 @@ class Executor:
                 if self.sem.final(prog, self.state, self.acts):
                     result.status = RunStatus.FINISHED
                     break
-                successors = self.sem.trans(prog, self.state, self.acts)
+                if self.timed_out(strictly=True):
+                    self.stop_at_timeout(prog)
+                    break
+                successors = self.sem.trans(prog, self.state, self.acts, first=True)
                 if successors:
                     next_prog, step = successors[0]
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
                     continue
-                deadline = self.timeout if self.timeout is not None else None
-                if deadline is not None and self.platform.now() >= deadline:
-                    result.status = RunStatus.TIMEOUT
-                    self.trace.emit("error", self.platform.now(), message=f"timeout after {deadline:g} s")
-                    result.diagnostics.append(self.timeout_diagnostic(prog))
+                # Blocked: let the platform's time pass until something arrives.
+                if self.timed_out():
+                    self.stop_at_timeout(prog)
                     break
-                if not self.platform.wait(deadline) and len(self.platform.queue) == 0:
-                    result.status = RunStatus.BLOCKED
-                    d = self.blocked_diagnostic(prog)
-                    result.diagnostics.append(d)
-                    self.trace.emit("blocked", self.platform.now(), message=d.message, at=_where(d.span))
+                if self.platform.wait(self.timeout) or len(self.platform.queue) > 0:
+                    continue
+                if self.timed_out():
+                    self.stop_at_timeout(prog)
                     break
+                result.status = RunStatus.BLOCKED
+                d = self.blocked_diagnostic(prog)
+                result.diagnostics.append(d)
+                self.trace.emit("blocked", self.platform.now(), message=d.message, at=_where(d.span))
+                break
         except GppRuntimeError as e:
-            result.status = RunStatus.ERROR
-            error = e.diagnostic()
-            if error is not None:
-                result.diagnostics.append(error)
-            self.trace.emit("error", self.platform.now(), code=e.code, message=e.message, at=_where(e.span))
+            self.fail(e)
+        except RecursionError:
+            self.fail(
+                GppRuntimeError(
+                    "R0012",
+                    "the program nests procedure or function calls too deeply",
+                    _head_span(prog) if prog is not None else None,
+                    ("a recursion without an end, or one deeper than the interpreter's stack allows",),
+                    label="while executing this statement",
+                )
+            )
         except KeyboardInterrupt:
             result.status = RunStatus.INTERRUPTED
             self.trace.emit("error", self.platform.now(), message="interrupted")
+        except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
+            self.fail(GppRuntimeError("R0099", f"internal error: {type(e).__name__}: {e}", self.entry_span()))
         finally:
             self.stop_running_activities()
             result.state, result.activities = self.state, self.acts
@@ -205,9 +224,37 @@ class Executor:
                 status=result.status.value,
                 actions=result.actions,
                 failures=result.failures,
+                unhandled_failures=result.unhandled_failures,
                 exog_events=result.exog_events,
             )
         return result
+
+    def timed_out(self, strictly: bool = False) -> bool:
+        """Has the platform's clock reached the timeout (passed it, when `strictly`)? Steps at
+        the very moment of the timeout still happen; waiting beyond it does not."""
+        if self.timeout is None:
+            return False
+        now = self.platform.now()
+        return now > self.timeout if strictly else now >= self.timeout
+
+    def stop_at_timeout(self, prog: Prog) -> None:
+        self.result.status = RunStatus.TIMEOUT
+        d = self.timeout_diagnostic(prog)
+        self.result.diagnostics.append(d)
+        self.trace.emit("error", self.platform.now(), code=d.code, message=d.message, at=_where(d.span))
+
+    def fail(self, e: GppRuntimeError) -> None:
+        """Stop the run on a runtime error: one diagnostic and an `error` trace record."""
+        self.result.status = RunStatus.ERROR
+        error = e.diagnostic(self.entry_span())
+        if error is not None:
+            self.result.diagnostics.append(error)
+        at = _where(error.span if error is not None else None)
+        self.trace.emit("error", self.platform.now(), code=e.code, message=e.message, at=at)
+
+    def entry_span(self) -> Span | None:
+        symbol = self.program.model.globals.get(self.entry)
+        return symbol.span if symbol is not None else None
 
     def evaluate_postcond(self) -> bool | None:
         """`bool function postcond()` in the final state, if the program defines one."""
@@ -217,7 +264,11 @@ class Executor:
         _, body = self.program.function("postcond")
         if body is None:
             return None
-        value = body(Env(self.state, {}, self.ctx))
+        try:
+            with deep_recursion():
+                value = body(Env(self.state, {}, self.ctx))
+        except RecursionError:
+            raise GppRuntimeError("R0012", "`postcond()` nests function calls too deeply", symbol.span) from None
         self.result.postcond = value is True
         return self.result.postcond
 
@@ -242,7 +293,7 @@ class Executor:
             fields["reason"] = update.reason
         if update.has_result:
             fields["result"] = to_json(update.result)
-        self.trace.emit("update", t, **fields)
+        self.trace.emit("update", t, **fields, **self.quiet(g.name))
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
 
@@ -255,7 +306,19 @@ class Executor:
         fields: dict[str, object] = {"action": g.text}
         if not holds:
             fields["precondition"] = False
-        self.trace.emit("exog", t, **fields)
+        self.trace.emit("exog", t, **fields, **self.quiet(event.action))
+
+    def quiet(self, action: str) -> dict[str, bool]:
+        """`{"silent": True}` for the records of an action declared `silent: true`: the trace
+        keeps them (it is the complete record), a console view leaves them out."""
+        silent = self._silent.get(action)
+        if silent is None:
+            decl = self.program.action(action).decl
+            section = decl.section(ast.SilentSection) if decl is not None else None
+            value = section.value if isinstance(section, ast.SilentSection) else None
+            silent = isinstance(value, ast.BoolLit) and value.value
+            self._silent[action] = silent
+        return {"silent": True} if silent else {}
 
     # ---------------------------------------------------------------- steps
 
@@ -338,6 +401,7 @@ class Executor:
             id=activity.id,
             mapped=info.mapped_name,
             args={k: to_json(v) for k, v in args.items()},
+            **self.quiet(g.name),
         )
         try:
             self.platform.start(activity)
@@ -355,9 +419,12 @@ class Executor:
             if info.senses is not None and record is not None:
                 self.sense(g, record, info.senses)
             self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
-        elif status is ActivityStatus.FAILED and step.hook == EndKind.CALL:
+        fields: dict[str, object] = {}
+        if status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure:
+            # Nothing in the program reacts to this failure: it goes on, but it is reported.
             self.result.unhandled_failures += 1
-        self.trace.emit("end", now, action=g.text, status=status.value, hook=step.hook)
+            fields["unhandled"] = True
+        self.trace.emit("end", now, action=g.text, status=status.value, hook=step.hook, **fields, **self.quiet(g.name))
         self.acts = self.acts.with_status(g, None)
         self.records.pop(g, None)
         self.results.pop(g, None)
@@ -376,10 +443,15 @@ class Executor:
             self.ctx.activity = None
             self.ctx.result = (False, None)
         pending: dict[int, Value] = {}
-        slot = self.program.assignment(senses.target, value, env, pending)
+        slot = self.program.assignment(senses.target, value, env, pending, senses.value_span)
         self.state = self.state.updated(pending, self.program.initial)
         self.trace.emit(
-            "sense", self.platform.now(), action=g.text, fluent=self.program.instance_text(slot), value=to_json(value)
+            "sense",
+            self.platform.now(),
+            action=g.text,
+            fluent=self.program.instance_text(slot),
+            value=to_json(value),
+            **self.quiet(g.name),
         )
 
     def stop_running_activities(self) -> None:
@@ -396,17 +468,18 @@ class Executor:
 
     def blocked_diagnostic(self, prog: Prog) -> diag.Diagnostic:
         why = self.why_blocked(prog)
+        final_note = f"nothing can change this: platform `{self.platform.name}` has no more events to report"
         if why is None:
-            span = self.program.model.globals[self.entry].span
+            span = self.entry_span()
             assert span is not None
-            return diag.error("R0011", "the program is blocked and nothing can change that", span)
-        return why
+            return diag.error("R0011", BLOCKED + "nothing can make a step", span, notes=[final_note])
+        return dataclasses.replace(why, notes=(*why.notes, final_note))
 
     def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
-        blocked = self.why_blocked(prog)
-        span = blocked.span if blocked is not None else self.program.model.globals[self.entry].span
+        waiting = self.why_blocked(prog)
+        span = waiting.span if waiting is not None else self.entry_span()
         assert span is not None
-        notes = [blocked.message] if blocked else []
+        notes = [f"it waits here: {waiting.message.removeprefix(BLOCKED)}", *waiting.notes] if waiting else []
         return diag.error(
             "R0013", f"the run reached its timeout of {self.timeout:g} s", span, "waiting here", notes=notes
         )
@@ -435,10 +508,14 @@ class Executor:
             stmt = p.holder.stmt
             return diag.error(
                 "R0011",
-                f"the program is blocked: `{stmt.__class__.__name__.lower()}` found no plan",
+                BLOCKED + f"`{stmt.__class__.__name__.lower()}` found no plan",
                 stmt.span,
                 "no feasible plan from the current state",
-                notes=["every branch within the horizon has an impossible action or a false test"],
+                notes=[
+                    "every branch within the horizon has an impossible action or a false test"
+                    if isinstance(stmt, ast.Solve)
+                    else "every way to execute it meets an impossible action or a false test"
+                ],
             )
         if not isinstance(p, Code):
             return None
@@ -448,7 +525,7 @@ class Executor:
         if isinstance(s, ast.Test):
             return diag.error(
                 "R0011",
-                "the program is blocked: this test is false and nothing can change that",
+                BLOCKED + "this test is false",
                 s.span,
                 "waits for this condition",
                 notes=self.fluent_notes(s.condition, state, frame),
@@ -488,10 +565,9 @@ class Executor:
         shown = status.value if status is not None else "not started"
         return diag.error(
             "R0011",
-            f"the program is blocked: it waits for `{g.text}` {what}",
+            BLOCKED + f"it waits for `{g.text}` {what}",
             span,
             f"`{g.text}` is {shown}",
-            notes=[f"the platform `{self.platform.name}` reports nothing more that could change this"],
         )
 
     def cannot_start(self, g: GroundAction, span: Span, frame: Frame) -> diag.Diagnostic:
@@ -502,11 +578,13 @@ class Executor:
         false = self.sem.false_conjuncts(g, self.state)
         notes: list[str] = []
         for conjunct in false:
-            notes.append(f"false: `{_text(conjunct)}`")
+            used = _variables(conjunct)
+            bound = ", ".join(f"{n} = {show(v)}" for n, v in zip(info.param_names, g.args, strict=True) if n in used)
+            notes.append(f"false: `{_text(conjunct)}`" + (f" (with {bound})" if bound else ""))
             notes.extend(self.fluent_notes(conjunct, self.state, Frame(tuple(env_vars.items())), indent="  "))
         return diag.error(
             "R0011",
-            f"the program is blocked: the precondition of `{g.text}` is false",
+            BLOCKED + f"the precondition of `{g.text}` is false",
             span,
             "cannot start",
             notes=notes,
@@ -532,6 +610,56 @@ class Executor:
                 if text not in notes:
                     notes.append(text)
         return notes
+
+
+# Python frames a run may use: golog++ recursion (procedures, functions) nests a few frames
+# per level; the default limit of 1000 would stop a recursion about 100 levels deep.
+RECURSION_LIMIT = 20_000
+
+
+@contextlib.contextmanager
+def deep_recursion() -> Iterator[None]:
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(old, RECURSION_LIMIT))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)
+
+
+BLOCKED = "the program is blocked: "
+
+
+def _head_span(p: Prog) -> Span | None:
+    """The span of the statement a continuation executes next."""
+    for _ in range(10_000):
+        if isinstance(p, Seq):
+            p = p.first
+        elif isinstance(p, Rest):
+            return p.block.body[p.index].span if p.index < len(p.block.body) else p.block.span
+        elif isinstance(p, Conc):
+            if not p.branches:
+                return None
+            p = p.branches[0]
+        elif isinstance(p, Code):
+            if isinstance(p.stmt, ast.Block) and p.stmt.body:
+                p = Rest(p.stmt, 0, p.frame)
+            else:
+                return p.stmt.span
+        elif isinstance(p, AwaitEnd | DuringEnd):
+            return p.span
+        elif isinstance(p, Planned):
+            return p.holder.stmt.span
+        else:
+            return None
+    return None
+
+
+def _variables(e: ast.Expr) -> set[str]:
+    """The names of the variables (and symbols) an expression mentions."""
+    from gpp.syntax.walk import walk
+
+    return {node.name for node in walk(e) if isinstance(node, ast.Name)}
 
 
 def _text(e: ast.Expr) -> str:

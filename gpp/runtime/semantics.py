@@ -18,12 +18,22 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from gpp import diagnostics as diag
 from gpp.model.symbols import SymbolKind
-from gpp.model.types import DomainType
-from gpp.runtime.compiled import ActionInfo, CompiledProgram, Context, Env, domain_values, ground
+from gpp.model.types import DomainType, ListType
+from gpp.runtime.compiled import (
+    ActionInfo,
+    CompiledProgram,
+    Context,
+    Env,
+    PathStep,
+    check_domain,
+    domain_values,
+    ground,
+)
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
-from gpp.runtime.values import Value, same, show
+from gpp.runtime.values import CompoundValue, Value, same, show
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -187,6 +197,8 @@ class EndStep(Step):
     action: GroundAction
     hook: str  # "end", "finish", "fail", "call", "during"
     span: Span = field(compare=False)
+    # The end of a `during` with an `on_fail` handler: a failure is handled by the program.
+    handles_failure: bool = field(compare=False, default=False)
 
     @property
     def cost(self) -> int:  # type: ignore[override]
@@ -254,6 +266,9 @@ class ReplanStep(Step):
 
 Successor = tuple[Prog, Step]
 
+# How many `final` results of procedure calls are remembered (then the memo starts afresh).
+_FINAL_MEMO_SIZE = 100_000
+
 # ---------------------------------------------------------------- the semantics
 
 
@@ -265,6 +280,7 @@ class Semantics:
         self.ctx = ctx
         self.planning = planning
         self.model = program.model
+        self._final_memo: dict[tuple[int, Frame, State, Activities], bool] = {}
 
     def with_mode(self, planning: bool) -> Semantics:
         return Semantics(self.program, self.ctx, planning)
@@ -318,19 +334,31 @@ class Semantics:
         if isinstance(s, ast.CallStmt):
             callee = self.callee(s)
             if callee.kind is SymbolKind.PROCEDURE:
-                body, inner = self.procedure_body(s, callee.name, state, frame)
-                return self._final_code(body, inner, state, acts)
+                # Remembered: `trans` asks again at every level of a recursion, which would
+                # make each step quadratic in the depth of the recursion.
+                key = (id(s), frame, state, acts)
+                known = self._final_memo.get(key)
+                if known is None:
+                    body, inner = self.procedure_body(s, callee.name, state, frame)
+                    known = self._final_code(body, inner, state, acts)
+                    if len(self._final_memo) >= _FINAL_MEMO_SIZE:
+                        self._final_memo.clear()
+                    self._final_memo[key] = known
+                return known
         return False
 
     # ---------------------------------------------------------------- trans
 
-    def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
+    def trans(self, p: Prog, state: State, acts: Activities, first: bool = False) -> list[Successor]:
+        """The successors of `p`, in textual order. With `first`, only as many as it takes to
+        find the first one (online execution takes the first: later alternatives are not
+        evaluated, so they can neither fail nor ask the platform)."""
         if isinstance(p, Done):
             return []
         if isinstance(p, Seq):
-            out = [(self.seq(q, p.rest), step) for q, step in self.trans(p.first, state, acts)]
-            if self.final(p.first, state, acts):
-                out.extend(self.trans(p.rest, state, acts))
+            out = [(self.seq(q, p.rest), step) for q, step in self.trans(p.first, state, acts, first)]
+            if not (first and out) and self.final(p.first, state, acts):
+                out.extend(self.trans(p.rest, state, acts, first))
             return out
         if isinstance(p, Rest):
             body = p.block.body
@@ -338,11 +366,11 @@ class Semantics:
                 return []
             head = Code(body[p.index], p.frame)
             tail: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(body) else DONE
-            return self.trans(Seq(head, tail), state, acts)
+            return self.trans(Seq(head, tail), state, acts, first)
         if isinstance(p, Conc):
             # Prioritised interleaving: the first branch that can step does.
             for i, branch in enumerate(p.branches):
-                succ = self.trans(branch, state, acts)
+                succ = self.trans(branch, state, acts, first)
                 if succ:
                     return [(self.conc(p.branches, i, q), step) for q, step in succ]
             return []
@@ -358,64 +386,83 @@ class Semantics:
             handler = p.on_fail if status is ActivityStatus.FAILED else None
             if status is ActivityStatus.CANCELLED:
                 handler = p.on_cancel
-            return [(handler or DONE, EndStep(p.action, EndKind.DURING, p.span))]
+            step = EndStep(p.action, EndKind.DURING, p.span, handles_failure=p.on_fail is not None)
+            return [(handler or DONE, step)]
         if isinstance(p, Planned):
             from gpp.planner.policy import planned_successors
 
             return planned_successors(self, p, state, acts)
         assert isinstance(p, Code)
-        return self._trans_code(p.stmt, p.frame, state, acts)
+        return self._trans_code(p.stmt, p.frame, state, acts, first)
 
     @staticmethod
     def seq(first: Prog, rest: Prog) -> Prog:
+        """`first; rest`, kept right-nested (the `first` of a Seq is never a Seq), so that
+        `trans` and `final` look at the head of a deep continuation without walking it."""
         if isinstance(first, Done):
             return rest
         if isinstance(rest, Done):
             return first
-        return Seq(first, rest)
+        if not isinstance(first, Seq):
+            return Seq(first, rest)
+        heads: list[Prog] = []
+        p: Prog = first
+        while isinstance(p, Seq):
+            heads.append(p.first)
+            p = p.rest
+        out = Seq(p, rest)
+        for head in reversed(heads):
+            out = Seq(head, out)
+        return out
 
     @staticmethod
     def conc(branches: tuple[Prog, ...], i: int, q: Prog) -> Prog:
         new = (*branches[:i], q, *branches[i + 1 :])
         return DONE if all(isinstance(b, Done) for b in new) else Conc(new)
 
-    def _trans_code(self, s: ast.Stmt, frame: Frame, state: State, acts: Activities) -> list[Successor]:
+    def _trans_code(
+        self, s: ast.Stmt, frame: Frame, state: State, acts: Activities, first: bool = False
+    ) -> list[Successor]:
         if isinstance(s, ast.Block):
             if not s.body:
                 return []
-            return self.trans(Rest(s, 0, frame), state, acts)
+            return self.trans(Rest(s, 0, frame), state, acts, first)
         if isinstance(s, ast.If):
             if self.condition(s.condition, state, frame):
-                return self._trans_code(s.then, frame, state, acts)
-            return self._trans_code(s.otherwise, frame, state, acts) if s.otherwise is not None else []
+                return self._trans_code(s.then, frame, state, acts, first)
+            return self._trans_code(s.otherwise, frame, state, acts, first) if s.otherwise is not None else []
         if isinstance(s, ast.While):
             if not self.condition(s.condition, state, frame):
                 return []
             loop = Code(s, frame)
-            return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts)]
+            return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts, first)]
         if isinstance(s, ast.Test):
             return [(DONE, TestStep(s.span))] if self.condition(s.condition, state, frame) else []
         if isinstance(s, ast.Choose):
             out: list[Successor] = []
             for alternative in s.alternatives:
-                out.extend(self._trans_code(alternative, frame, state, acts))
+                out.extend(self._trans_code(alternative, frame, state, acts, first))
+                if first and out:
+                    break
             return out
         if isinstance(s, ast.Concurrent):
-            return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts)
+            return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts, first)
         if isinstance(s, ast.Pick):
             out = []
             for f in self.pick_frames(s, frame):
-                out.extend(self._trans_code(s.body, f, state, acts))
+                out.extend(self._trans_code(s.body, f, state, acts, first))
+                if first and out:
+                    break
             return out
         if isinstance(s, ast.Solve | ast.Search):
             if self.planning:
-                return self._trans_code(s.body, frame, state, acts)
+                return self._trans_code(s.body, frame, state, acts, first)
             from gpp.planner.policy import PlanHolder
 
             holder = PlanHolder.for_statement(self, s, frame, state)
             return [(Planned(holder, 0), PlanStep(holder))]
         if isinstance(s, ast.CallStmt):
-            return self.call(s, frame, state, acts)
+            return self.call(s, frame, state, acts, first)
         if isinstance(s, ast.Assign):
             return [(DONE, self.assign_step(s, frame, state))]
         if isinstance(s, ast.ListStmt):
@@ -437,11 +484,13 @@ class Semantics:
 
     # ---------------------------------------------------------------- statements
 
-    def call(self, s: ast.CallStmt, frame: Frame, state: State, acts: Activities) -> list[Successor]:
+    def call(
+        self, s: ast.CallStmt, frame: Frame, state: State, acts: Activities, first: bool = False
+    ) -> list[Successor]:
         callee = self.callee(s)
         if callee.kind is SymbolKind.PROCEDURE:
             body, inner = self.procedure_body(s, callee.name, state, frame)
-            return self._trans_code(body, inner, state, acts)
+            return self._trans_code(body, inner, state, acts, first)
         action, g = self.ground_call(s.call, frame, state)
         if not self.startable(action, g, state, acts):
             return []
@@ -481,8 +530,6 @@ class Semantics:
         symbol = self.model.globals[name]
         for p, v, a in zip(symbol.params, values, call.args, strict=True):
             if isinstance(p.type, DomainType):
-                from gpp.runtime.compiled import check_domain
-
                 check_domain(v, p.type, a.span)
         return body, Frame(tuple(zip(params, values, strict=True)))
 
@@ -495,8 +542,6 @@ class Semantics:
         values = tuple(self.program.expr(a)(env) for a in e.args)
         for p, v, a in zip(symbol.params, values, e.args, strict=True):
             if isinstance(p.type, DomainType):
-                from gpp.runtime.compiled import check_domain
-
                 check_domain(v, p.type, a.span)
         return action, ground(action, values)
 
@@ -536,7 +581,7 @@ class Semantics:
         target = self.program.target(s.target)
         value = self.program.expr(s.value)(env)
         pending: dict[int, Value] = {}
-        slot = self.program.assignment(target, value, env, pending)
+        slot = self.program.assignment(target, value, env, pending, s.value.span)
         text = f"{self.program.instance_text(slot)} = {show(pending[slot])}"
         return AssignStep(tuple(pending.items()), s.span, text)
 
@@ -552,6 +597,9 @@ class Semantics:
         if s.op is ast.ListOp.PUSH_BACK or s.op is ast.ListOp.PUSH_FRONT:
             assert s.value is not None
             element = self.program.expr(s.value)(env)
+            list_type = target.value_type
+            if isinstance(list_type, ListType):
+                check_domain(element, list_type.element, s.value.span)
             new = (*current, element) if s.op is ast.ListOp.PUSH_BACK else (element, *current)
         else:
             new = current[:-1] if s.op is ast.ListOp.POP_BACK else current[1:]
@@ -563,27 +611,32 @@ class Semantics:
 
     def effects(self, g: GroundAction, state: State) -> dict[int, Value]:
         """The updates of `g`'s effects, all evaluated in `state` (SEMANTICS §4). Two effects
-        that give one instance different values are an error."""
+        that give one instance (or one field or element of it) different values are an error."""
         action = self.program.action(g.name)
         env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
         pending: dict[int, Value] = {}
-        written: dict[tuple[int, str], tuple[Value, Span]] = {}
+        # Per instance: the (path, value, span) of every effect that wrote into it.
+        written: dict[int, list[tuple[tuple[str | int, ...], Value, Span]]] = {}
         for effect in action.effects:
             if effect.condition is not None and effect.condition(env) is not True:
                 continue
             value = effect.value(env)
-            before = dict(pending)
-            slot = self.program.assignment(effect.target, value, env, pending)
-            key = (slot, repr([p.field for p in effect.target.path]))
-            previous = written.get(key)
-            if previous is not None and not same(previous[0], value) and not effect.target.path:
-                raise GppRuntimeError(
-                    "R0005",
-                    f"`{g.text}` assigns {self.program.instance_text(slot)} both {show(previous[0])} and {show(value)}",
-                    effect.span,
-                )
-            written[key] = (value, effect.span)
-            del before
+            slot = self.program.assignment(effect.target, value, env, pending, effect.value_span)
+            path = concrete_path(effect.target.path, env)
+            for other_path, other_value, other_span in written.get(slot, []):
+                if _conflict(path, value, other_path, other_value):
+                    where = self.program.instance_text(slot) + "".join(
+                        f".{p}" if isinstance(p, str) else f"[{p}]" for p in max(path, other_path, key=len)
+                    )
+                    raise GppRuntimeError(
+                        "R0005",
+                        f"`{g.text}` assigns {where} two different values",
+                        effect.span,
+                        label=f"gives {show(value)}",
+                        secondary=(diag.Label(other_span, f"gives {show(other_value)}"),),
+                        notes=("the effects of one action are applied together, so they must agree",),
+                    )
+            written.setdefault(slot, []).append((path, value, effect.span))
         return pending
 
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
@@ -601,3 +654,44 @@ class Semantics:
                 state = state.updated(self.effects(step.action, state), program.initial)
             return state, acts.with_status(step.action, None)
         return state, acts
+
+
+def concrete_path(path: tuple[PathStep, ...], env: Env) -> tuple[str | int, ...]:
+    """An assignment path with its indices evaluated: `("pos", "x")`, `(2,)`."""
+    out: list[str | int] = []
+    for step in path:
+        if step.field is not None:
+            out.append(step.field)
+        else:
+            assert step.index is not None
+            i = step.index(env)
+            out.append(int(i) if isinstance(i, int | float) and not isinstance(i, bool) else -1)
+    return tuple(out)
+
+
+def _conflict(path: tuple[str | int, ...], value: Value, other_path: tuple[str | int, ...], other_value: Value) -> bool:
+    """Do two writes into one instance disagree? Writes to disjoint parts never do; a write
+    to a part of what the other write covers disagrees if the values there differ."""
+    if len(path) < len(other_path):
+        path, value, other_path, other_value = other_path, other_value, path, value
+    if path[: len(other_path)] != other_path:
+        return False
+    covered: Value = other_value
+    for step in path[len(other_path) :]:
+        if isinstance(step, str) and isinstance(covered, CompoundValue):
+            covered = covered.get(step)
+        elif isinstance(step, int) and isinstance(covered, tuple) and 0 <= step < len(covered):
+            covered = covered[step]
+        else:
+            return True
+    return not _same_deep(covered, value)
+
+
+def _same_deep(a: Value, b: Value) -> bool:
+    if isinstance(a, tuple) and isinstance(b, tuple):
+        return len(a) == len(b) and all(_same_deep(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, CompoundValue) and isinstance(b, CompoundValue):
+        return a.type_name == b.type_name and all(
+            _same_deep(x, y) for (_, x), (_, y) in zip(a.fields, b.fields, strict=True)
+        )
+    return same(a, b)

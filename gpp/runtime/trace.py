@@ -18,7 +18,7 @@ class Trace:
         self._file: IO[str] | None = path.open("w", encoding="utf-8") if path is not None else None
 
     def emit(self, event: str, t: float, **fields: Any) -> TraceRecord:
-        record: TraceRecord = {"t": round(t, 6), "event": event, **fields}
+        record: TraceRecord = {"t": round(float(t), 6), "event": event, **fields}
         self.records.append(record)
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False) + "\n")
