@@ -1,0 +1,44 @@
+"""Actions as tasks: generators that command a scene for the next physics step, yield once per
+step, and return an Outcome when they are done (see platform.py for the stepping loop)."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Generator, Iterable
+from dataclasses import dataclass
+
+from gpp.runtime.state import ActivityStatus
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """How a task ended: a terminal status, an optional sensing result, a reason."""
+
+    status: ActivityStatus
+    result: object = None
+    has_result: bool = False
+    reason: str = ""
+
+
+Task = Generator[None, None, Outcome]
+
+
+def final(result: object = None, has_result: bool = False, reason: str = "") -> Outcome:
+    return Outcome(ActivityStatus.FINAL, result, has_result, reason)
+
+
+def fail(reason: str) -> Outcome:
+    return Outcome(ActivityStatus.FAILED, reason=reason)
+
+
+def closest(name: str, known: Iterable[str]) -> str | None:
+    """The known name most like `name` (a did-you-mean), if one is close enough."""
+    matches = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
+    return matches[0] if matches else None
+
+
+def unknown(what: str, name: str, known: Iterable[str]) -> str:
+    """`no frame `eats` on the map; did you mean `east`?` (or the known names)."""
+    names = sorted(known)
+    hint = closest(name, names)
+    return f"no {what}" + (f"; did you mean `{hint}`?" if hint else f" (known: {', '.join(names)})")

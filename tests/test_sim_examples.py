@@ -1,0 +1,210 @@
+"""Agents on the sim platform end to end: the examples reach their postcond() with real
+physics; the program's mappings are checked against what the sim serves; worlds load from
+data; runs are reproducible; frames are recorded."""
+
+from __future__ import annotations
+
+import time
+import tomllib
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from gpp.platform.sim import SimPlatform, World, WorldError
+from gpp.platform.sim.platform import run_action
+from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
+from gpp.runtime.executor import RunStatus
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+
+def sim_run(name: str, record: Path | None = None, snapshot: Path | None = None) -> RunOutcome:
+    outcome = run_program(EXAMPLES / name, RunOptions(platform="sim", record=record, snapshot=snapshot))
+    messages = [d.message + " " + " ".join(d.notes) for d in outcome.diagnostics]
+    assert outcome.result is not None, messages
+    assert outcome.result.status is RunStatus.FINISHED, messages
+    assert outcome.postcond is True, messages
+    return outcome
+
+
+def events(outcome: RunOutcome, kind: str) -> list[dict[str, object]]:
+    assert outcome.trace is not None
+    return outcome.trace.events(kind)
+
+
+def test_blocksworld_sim_senses_plans_and_builds_the_tower() -> None:
+    outcome = sim_run("blocksworld_sim.gpp")
+    plans = events(outcome, "plan")
+    assert plans[0]["policy"] == ["stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)"]
+    ends = [r for r in events(outcome, "update") if str(r["action"]).startswith("stack")]
+    assert [r["status"] for r in ends] == ["final"] * 4
+    senses = {r["fluent"]: r["value"] for r in events(outcome, "sense")}  # the last reading wins
+    assert senses == {"loc(a)": {"symbol": "b"}, "loc(b)": {"symbol": "c"}, "loc(c)": {"symbol": "t3"}}
+    assert outcome.result is not None
+    assert 20 < outcome.result.platform_time < 60
+
+
+def test_blocksworld_faults_recovers_from_slips() -> None:
+    outcome = sim_run("blocksworld_faults.gpp")
+    failed = [r for r in events(outcome, "update") if r["status"] == "failed"]
+    assert failed and all("the grasp slipped" in str(r["reason"]) for r in failed)
+    assert len(events(outcome, "plan")) >= 2  # planned again from what it saw
+
+
+def test_rescue_finds_the_victims_and_returns_home() -> None:
+    outcome = sim_run("rescue.gpp")
+    exogs = [str(r["action"]) for r in events(outcome, "exog")]
+    assert "victim_detected(v1)" in exogs and "victim_detected(v2)" in exogs
+    # It reacted to the second victim by giving up its drive and heading home.
+    cancelled = [r for r in events(outcome, "update") if r["status"] == "cancelled"]
+    assert [r["action"] for r in cancelled] == ["navigate_to_frame(room3)"]
+    batteries = [str(a) for a in exogs if a.startswith("battery_report")]
+    assert batteries[0] == "battery_report(100)" and len(batteries) > 5
+
+
+def test_the_world_option_overrides_the_directive() -> None:
+    outcome = run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", world="blocksworld"))
+    assert outcome.result is None  # did not start
+    notes = [n for d in outcome.diagnostics for n in d.notes]
+    assert any('"/victim_detected", which world `blocksworld` does not produce' in n for n in notes)
+
+
+def test_runs_are_reproducible() -> None:
+    def trace() -> list[tuple[object, ...]]:
+        outcome = run_program(EXAMPLES / "blocksworld_faults.gpp", RunOptions(platform="sim"))
+        assert outcome.trace is not None
+        return [(r["t"], r["event"], r.get("action"), r.get("reason")) for r in outcome.trace.records]
+
+    assert trace() == trace()
+
+
+def test_mappings_are_checked_against_what_the_sim_serves() -> None:
+    outcome = run_program(EXAMPLES / "blocksworld.gpp", RunOptions(platform="sim"))
+    assert outcome.result is None
+    (error,) = [d for d in outcome.diagnostics if d.code == "R0007"]
+    assert error.message == "the program does not fit platform `sim`"
+    assert error.notes[0] == (
+        'action `stack` is mapped to "stack_block", which the sim does not serve; did you mean `/stack`?'
+    )
+    assert error.notes[-1] == (
+        'the sim serves "/get_block_pose" {block}, "/gripper_home" {}, "/navigate_to_frame" {frame}, '
+        '"/stack" {block, location}'
+    )
+
+
+def test_unknown_arguments_and_fields_are_problems(tmp_path: Path) -> None:
+    program = tmp_path / "wrong.gpp"
+    program.write_text(
+        """
+symbol domain block = {a, b, c}
+symbol domain spot = {t1, t2, t3}
+action put(block x, spot y) {
+mapping:
+    "/stack" { blok = x, location = y }
+}
+exog_action low(number l) {
+mapping:
+    "/battery" { levl = l }
+}
+procedure main() { put(a, t3); }
+""",
+        encoding="utf-8",
+    )
+    outcome = run_program(program, RunOptions(platform="sim"))
+    notes = [n for d in outcome.diagnostics for n in d.notes]
+    assert notes == [
+        'action `put`: "/stack" has no argument `blok`; did you mean `block`? (its arguments: `block`, `location`)',
+        'action `put`: the mapping to "/stack" must give `block`',
+        'exogenous action `low`: "/battery" has no field `levl`; did you mean `level`? (its fields: `level`)',
+    ]
+
+
+def test_the_program_domains_must_hold_the_world_names(tmp_path: Path) -> None:
+    program = tmp_path / "small.gpp"
+    program.write_text(
+        """
+#include "sim/blocksworld.gpp"
+#include "sim/rescue.gpp"
+symbol domain block = {a, b}
+symbol domain slot = {t1, t2, t3}
+symbol domain frame = {home, table}
+symbol domain victim = {v1}
+procedure main() { get_block_pose(a); }
+""",
+        encoding="utf-8",
+    )
+    world = tmp_path / "both.toml"
+    world.write_text(
+        (World.directory() / "blocksworld.toml").read_text(encoding="utf-8")
+        + '[[map.region]]\nname = "v2"\ncircle = [2, 2, 1]\nevent = "/victim_detected"\nfields = { id = "v2" }\n',
+        encoding="utf-8",
+    )
+    outcome = run_program(program, RunOptions(platform="sim", world=str(world)))
+    notes = [n for d in outcome.diagnostics for n in d.notes]
+    assert notes == [
+        'action `get_block_pose` senses into type `location`, which lacks `c`: "/get_block_pose" can report these '
+        "in world `blocksworld`",
+        "exogenous action `victim_detected`: region `v2` sends id: v2 is not in domain `victim`",
+    ]
+
+
+def test_unknown_worlds_are_setup_errors() -> None:
+    with pytest.raises(RunSetupError, match=r"no world `rescu` \(available: .*rescue.*; did you mean `rescue`\?"):
+        run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", world="rescu"))
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ('name = "x"', "a world needs a [workbench] or a [map]"),
+        (
+            '[workbench]\n[[workbench.slot]]\nname = "t1"\nx = 160\n[[workbench.block]]\nname = "a"\non = "t9"',
+            "block `a` is on `t9`, which is no slot or block (did you mean `t1`?)",
+        ),
+        ("[map]\nsize = [4, 4]\n[map.robot]\nstart = 'hom'\n[[map.frame]]\nname = 'home'\nat = [1, 1]", "`home`"),
+        ("[map]\nsize = [4, 4]\nwals = []", "unknown key(s) `wals` (did you mean `walls`?)"),
+        ('[workbench]\n[[workbench.block]]\nname = "a"\non = "b"\n[[workbench.block]]\nname = "b"\non = "a"', "cycle"),
+    ],
+)
+def test_bad_world_files_say_what_is_wrong(text: str, message: str) -> None:
+    with pytest.raises(WorldError) as error:
+        World.from_data(tomllib.loads(text))
+    assert message in str(error.value)
+
+
+def test_record_and_snapshot(tmp_path: Path) -> None:
+    gif, png = tmp_path / "run.gif", tmp_path / "end.png"
+    sim_run("blocksworld_sim.gpp", record=gif, snapshot=png)
+    with Image.open(gif) as animation:
+        frames = getattr(animation, "n_frames", 1)
+        size = animation.size
+    stats = SimPlatform.last_run
+    assert stats is not None
+    assert frames >= stats.sim_time / 0.25  # one frame every 0.25 s of sim time
+    assert gif.stat().st_size < 1_000_000
+    with Image.open(png) as last:
+        assert last.size == size
+        colors = {c for _, c in last.convert("RGB").getcolors(1 << 16) or []}
+    # The three blocks are drawn in their world colours.
+    assert {(0xD1, 0x49, 0x5B), (0x2E, 0x86, 0xAB), (0xD4, 0xA0, 0x17)} <= colors
+
+
+def test_realtime_paces_sim_time_to_wall_time() -> None:
+    sim = SimPlatform(World.load("blocksworld"), realtime=True)
+    started = time.perf_counter()
+    run_action(sim, "/get_block_pose", block="a")
+    assert time.perf_counter() - started >= 0.9 * sim.now() > 0.1
+
+
+def test_create_picks_the_world_and_the_seed() -> None:
+    faults = EXAMPLES / "blocksworld_faults.gpp"
+    sim = SimPlatform.create(RunOptions(platform="sim"), faults)
+    assert (sim.world.name, sim.seed) == ("blocksworld_faults", 3)  # the directive, the world's seed
+    sim = SimPlatform.create(RunOptions(platform="sim", seed=5), faults)
+    assert sim.seed == 5  # --seed wins over the world's
+    sim = SimPlatform.create(RunOptions(platform="sim", world="rescue"), faults)
+    assert sim.world.name == "rescue" and sim.workbench is None
+    sim = SimPlatform.create(RunOptions(platform="sim"), EXAMPLES / "blocksworld.gpp")
+    assert sim.world.name == "blocksworld"  # the default world
