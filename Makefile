@@ -18,8 +18,9 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[dev]'
 	touch $@ $(VENV)/.installed
 
+# The blocksworld agent on the physics simulator; leaves an animation in run.gif.
 run: $(VENV)/.installed
-	$(BIN)/gpp check examples/*.gpp
+	$(BIN)/gpp run examples/blocksworld_sim.gpp --platform sim --record run.gif
 
 lint: $(VENV)/.installed-dev
 	$(BIN)/ruff check gpp lsp tests bench
@@ -35,6 +36,8 @@ test: lint typecheck pytest
 
 bench: $(VENV)/.installed
 	$(BIN)/python bench/parse_speed.py
+	$(BIN)/python bench/planner.py
+	$(BIN)/python bench/sim.py
 
 clean:
 	rm -rf $(VENV) build dist .mypy_cache .pytest_cache .ruff_cache

@@ -7,7 +7,7 @@ GPP_DEBUG=1 is set.
 Start-up time matters for `gpp check` in editors and CI, so this module imports only typer
 at the top; each command imports what it needs (the parser, the renderers, rich) when it runs.
 
-Adding a command (`run`, `test`, `lsp`, `explain`, ...): write a function decorated with
+Adding a command (`run`, `test`, `lsp`, ...): write a function decorated with
 `@app.command()` below `check`, import its machinery inside the function, report problems
 through `_emit_diagnostics`, user mistakes through `_usage_error`, and end with
 `raise typer.Exit(code)`.
@@ -36,10 +36,11 @@ EXIT_INTERNAL = 3
 
 
 class OutputFormat(StrEnum):
-    """How diagnostics are written (`sarif` is planned beside these)."""
+    """How diagnostics are written: rustc-style text, gpp's JSON report, or SARIF 2.1.0."""
 
     TEXT = "text"
     JSON = "json"
+    SARIF = "sarif"
 
 
 class ColorMode(StrEnum):
@@ -80,27 +81,94 @@ def _root(
 @app.command()
 def check(
     files: Annotated[
-        list[Path], typer.Argument(metavar="FILE", help="The .gpp files to check (their includes are checked too).")
-    ],
+        list[Path] | None,
+        typer.Argument(metavar="FILE", help="The .gpp files to check (their includes are checked too)."),
+    ] = None,
     output_format: Annotated[
-        OutputFormat, typer.Option("--format", help="Write diagnostics as text or as one JSON document.")
+        OutputFormat, typer.Option("--format", help="Write diagnostics as text, one JSON document, or SARIF 2.1.0.")
     ] = OutputFormat.TEXT,
     color: Annotated[
         ColorMode, typer.Option("--color", help="Colour the text output: auto (when a terminal), always, never.")
     ] = ColorMode.AUTO,
+    no_lint: Annotated[bool, typer.Option("--no-lint", help="Report errors only, no lint warnings.")] = False,
+    allow: Annotated[
+        list[str] | None,
+        typer.Option("--allow", metavar="LINT", help="Do not report this lint (a code such as W0101, or its name)."),
+    ] = None,
+    deny_warnings: Annotated[
+        bool, typer.Option("--deny-warnings", help="Exit with status 1 when there are warnings, too.")
+    ] = False,
+    list_lints: Annotated[bool, typer.Option("--list-lints", help="List the lints and exit.")] = False,
 ) -> None:
     """Parse FILES and everything they include, and report the problems found."""
+    if list_lints:
+        _print_lints()
+        raise typer.Exit(EXIT_OK)
+    if not files:
+        _usage_error("no files to check (give one or more .gpp files, or --list-lints)")
+    allowed = [_lint_code(a) for a in allow or ()]
     for path in files:
         _require_readable(path)
     from gpp.check import check_paths, merged_diagnostics
 
     try:
-        results = check_paths(files)
+        results = check_paths(files, lint=not no_lint, allow=allowed)
     except OSError as e:  # a root file that vanished after the check above
         _usage_error(f"cannot read '{e.filename or files[0]}': {e.strerror or e}")
     diagnostics = merged_diagnostics(results)
     _emit_diagnostics(diagnostics, output_format, color)
-    raise typer.Exit(EXIT_PROBLEMS if any(d.is_error for d in diagnostics) else EXIT_OK)
+    failed = any(d.is_error or deny_warnings for d in diagnostics)
+    raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
+
+
+def _lint_code(code_or_name: str) -> str:
+    """The code of a lint given by code or name, or a usage error."""
+    from gpp import codes
+
+    info = codes.lookup(code_or_name)
+    if info is None:
+        _usage_error(f"unknown lint `{code_or_name}`" + _did_you_mean(codes.close_matches(code_or_name, lints=True)))
+    if not info.is_lint:
+        _usage_error(f"`{info.code}` is an error, not a lint: only lints can be allowed")
+    return info.code
+
+
+def _print_lints() -> None:
+    from gpp import codes
+
+    rows = [(c.code, c.name, c.summary) for c in codes.lints()]
+    width = max(len(name) for _, name, _ in rows)
+    print(f"{'code':<7}{'name':<{width + 2}}summary")
+    for code, name, summary in rows:
+        print(f"{code:<7}{name:<{width + 2}}{summary}")
+
+
+# ---------------------------------------------------------------- gpp explain
+
+
+@app.command()
+def explain(
+    code: Annotated[str, typer.Argument(metavar="CODE", help="A diagnostic code (E0011, W0101) or its name (unused).")],
+) -> None:
+    """Explain a diagnostic code, with an example of the problem and its fix."""
+    from gpp import codes
+
+    info = codes.lookup(code)
+    if info is None:
+        _usage_error(f"unknown code `{code}`" + _did_you_mean(codes.close_matches(code)))
+    kind = "lint" if info.is_lint else "error"
+    print(f"{info.code} ({kind} `{info.name}`): {info.summary}")
+    if info.explanation:
+        print()
+        print(info.explanation)
+    raise typer.Exit(EXIT_OK)
+
+
+def _did_you_mean(candidates: Sequence[str]) -> str:
+    if not candidates:
+        return ""
+    shown = [f"`{c}`" for c in candidates]
+    return "; did you mean " + (shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " or " + shown[-1]) + "?"
 
 
 # ---------------------------------------------------------------- shared by the commands
@@ -134,30 +202,47 @@ def use_color(mode: ColorMode, stream: object = None) -> bool:
     return bool(isatty and isatty())
 
 
-def _emit_diagnostics(diagnostics: Sequence[Diagnostic], output_format: OutputFormat, color: ColorMode) -> None:
-    """Write diagnostics to stdout in the chosen format; text ends with the summary line."""
+def _emit_diagnostics(
+    diagnostics: Sequence[Diagnostic], output_format: OutputFormat, color: ColorMode, *, summary: bool = True
+) -> None:
+    """Write diagnostics to stdout in the chosen format; text ends with the summary line
+    (unless `summary` is false: `gpp run` prints its own summary)."""
     from gpp import render
 
     if output_format is OutputFormat.JSON:
         sys.stdout.write(render.render_json(diagnostics))
+    elif output_format is OutputFormat.SARIF:
+        from gpp.sarif import render_sarif
+
+        sys.stdout.write(render_sarif(diagnostics))
     elif use_color(color):
         from rich.console import Console
 
         # "standard" colours: our theme needs no more, and they work even where TERM is unknown.
         console = Console(file=sys.stdout, force_terminal=True, no_color=False, color_system="standard")
-        render.print_diagnostics(console, diagnostics)
+        render.print_diagnostics(console, diagnostics, summary=summary)
     else:
-        sys.stdout.write(render.render_text(diagnostics))
+        sys.stdout.write(render.render_text(diagnostics, summary=summary))
     sys.stdout.flush()
 
+
+# `gpp run` and `gpp test` live in their own module.
+from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
+
+register(app)
 
 # ---------------------------------------------------------------- entry point
 
 
 def main(argv: Sequence[str] | None = None) -> None:
     """The console script `gpp`: run the app and turn any internal failure into exit code 3."""
+    # Programs nest deeply; Python 3.11 runs Python-to-Python calls without the C stack.
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
     try:
         app(args=None if argv is None else list(argv), prog_name="gpp")
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        sys.exit(130)
     except BrokenPipeError:
         # The reader went away (`gpp check ... | head`); silence the final flush too.
         devnull = os.open(os.devnull, os.O_WRONLY)

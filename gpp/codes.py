@@ -7,7 +7,8 @@ meaning forever; retired codes are not reused.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import difflib
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True, slots=True)
@@ -84,6 +85,960 @@ _CODES: list[CodeInfo] = [
     CodeInfo("W0111", "shadowed-symbol", "a parameter or variable named like a domain symbol"),
 ]
 
+# `gpp explain CODE`: what the problem is, in plain words, and a small example with its fix
+# (examples are indented by 4 spaces; tests/test_explain.py checks that each one does what it says).
+_EXPLANATIONS: dict[str, str] = {
+    "E0001": """
+A character appears that no golog++ token starts with, such as `$`, `@`, `#` (outside
+`#include`), `^` or `?`. gpp skips the character and goes on checking.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = count() $ 1;
+    }
+
+Remove the character, or write the operator golog++ has:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = count() + 1;
+    }
+""",
+    "E0002": """
+A string literal must be closed by `"` on the same line, and a block comment `/* ... */`
+must be closed by `*/` before the end of the file.
+
+For example:
+
+    string fluent greeting() {
+    initially:
+        () = "hello;
+    }
+
+Close the string:
+
+    string fluent greeting() {
+    initially:
+        () = "hello";
+    }
+""",
+    "E0003": """
+Names (of fluents, actions, parameters, symbols, ...) start with a letter; `_` may appear
+inside a name but not at its start.
+
+For example:
+
+    number fluent _count() { initially: () = 0; }
+
+Rename it:
+
+    number fluent count() { initially: () = 0; }
+""",
+    "E0010": """
+The parser found a token where the grammar does not allow it. The message lists what could
+stand there instead. Common causes: a missing operand, a missing `)` or `}`, or a misspelled
+keyword.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = count() + ;
+    }
+
+Complete the expression:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = count() + 1;
+    }
+""",
+    "E0011": """
+Every statement, every effect and every initial value ends with `;`. The error points just
+after the token where the `;` is missing.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = 1
+    }
+
+Add the `;`:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = 1;
+    }
+""",
+    "E0012": """
+The file ends in the middle of a declaration, usually because a `}` or `)` is missing. The
+error shows where the unclosed construct was opened.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = 1;
+
+Close the procedure:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = 1;
+    }
+""",
+    "E0013": """
+Keywords such as `if`, `while`, `pick`, `search`, `solve`, `test`, `exists` or `true` are
+reserved and cannot be used as names.
+
+For example:
+
+    number fluent search() { initially: () = 0; }
+
+Choose another name:
+
+    number fluent searches() { initially: () = 0; }
+""",
+    "E0020": """
+Each section of an action (`precondition:`, `effect:`, `senses:`, `mapping:`, `silent:`,
+`duration:`) may appear only once. Put everything into one section: an `effect:` section
+holds any number of effects.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    bool fluent done() { initially: () = false; }
+    action step() {
+    effect:
+        count() = count() + 1;
+    effect:
+        done() = true;
+    }
+
+Merge the sections:
+
+    number fluent count() { initially: () = 0; }
+    bool fluent done() { initially: () = false; }
+    action step() {
+    effect:
+        count() = count() + 1;
+        done() = true;
+    }
+""",
+    "E0021": """
+A `during` statement has at most one `on_fail` and one `on_cancel` handler. Use a block to
+run several statements in one handler.
+
+For example:
+
+    action drive() { }
+    action say(string text) { }
+    procedure main() {
+        during (drive()) say("driving");
+        on_fail say("drive failed");
+        on_fail say("trying again");
+    }
+
+Join the handlers in one block:
+
+    action drive() { }
+    action say(string text) { }
+    procedure main() {
+        during (drive()) say("driving");
+        on_fail { say("drive failed"); say("trying again"); }
+    }
+""",
+    "E0030": """
+An `#include "path.gpp"` is looked up relative to the including file and then in gpp's
+standard library. The file must exist there and be readable.
+
+For example:
+
+    #include "helpers.gpp"
+    procedure main() { }
+
+Fix the path, or create the file; without it, remove the line:
+
+    procedure main() { }
+""",
+    "E0031": """
+Files that include each other, directly or through other files, form a cycle. Every file is
+included once, so a cycle is always a mistake: move what both need into a third file that
+both include.
+
+For example, `a.gpp` includes `b.gpp`, and `b.gpp` includes `a.gpp`:
+
+    // a.gpp
+    #include "b.gpp"
+    procedure main() { beep(); }
+    // b.gpp
+    #include "a.gpp"
+    action beep() { }
+
+Move the shared declarations into `common.gpp` and include it from both:
+
+    // common.gpp
+    action beep() { }
+    // a.gpp
+    #include "common.gpp"
+    #include "b.gpp"
+    procedure main() { beep(); twice(); }
+    // b.gpp
+    #include "common.gpp"
+    procedure twice() { beep(); beep(); }
+""",
+    "E0101": """
+A bare name in an expression is a variable (a parameter, a `pick` or quantifier variable) in
+scope, else a symbol of a domain. A name that is neither is an error; the help suggests
+similar names.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room r) { }
+    procedure main() {
+        go(kitchn);
+    }
+
+Fix the spelling:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room r) { }
+    procedure main() {
+        go(kitchen);
+    }
+""",
+    "E0102": """
+Fluents, functions and exogenous functions are always called with parentheses, even without
+parameters: `door_open()`, not `door_open`.
+
+For example:
+
+    bool fluent door_open() { initially: () = false; }
+    procedure main() {
+        test(door_open);
+    }
+
+Add the parentheses:
+
+    bool fluent door_open() { initially: () = false; }
+    procedure main() {
+        test(door_open());
+    }
+""",
+    "E0103": """
+A call names something that is not declared: an action or procedure as a statement, a fluent
+or function in an expression. The help suggests similar names.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go_to(Room r) { }
+    procedure main() {
+        go_too(kitchen);
+    }
+
+Fix the name, or declare what it calls:
+
+    symbol domain Room = {hall, kitchen}
+    action go_to(Room r) { }
+    procedure main() {
+        go_to(kitchen);
+    }
+""",
+    "E0104": """
+Each place takes one kind of thing: statements call actions and procedures, expressions call
+fluents and functions, `start`/`end`/`during`/... take an action call. Using something of
+another kind there is an error; to change a fluent, assign it; to wait for a condition, use
+`test(...)`.
+
+For example:
+
+    bool fluent door_open() { initially: () = false; }
+    procedure main() {
+        door_open();
+    }
+
+Wait for the fluent instead:
+
+    bool fluent door_open() { initially: () = false; }
+    procedure main() {
+        test(door_open());
+    }
+""",
+    "E0105": """
+Types are the built-in `bool`, `number`, `string` and `symbol`, the declared domains and
+compound types, and `list[T]` of those. Any other type name is unknown.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    Rom fluent robot_at() { initially: () = hall; }
+
+Fix the type name:
+
+    symbol domain Room = {hall, kitchen}
+    Room fluent robot_at() { initially: () = hall; }
+""",
+    "E0106": """
+A field access `e.f`, or a field in a compound literal, must name a field of the compound
+type; the note lists the fields it has.
+
+For example:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    number function height() = pose().z
+
+Use one of the fields:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    number function height() = pose().y
+""",
+    "E0107": """
+The platform model (`component` and `constraints` declarations) refers to components,
+their states and their clocks by name. These names must be declared in the component.
+
+For example:
+
+    component camera {
+    states:
+        off, on
+    transitions:
+        off => on,
+        on => standby
+    }
+
+Use a declared state, or declare it:
+
+    component camera {
+    states:
+        off, on, standby
+    transitions:
+        off => on,
+        on => standby
+    }
+""",
+    "E0201": """
+A call must give exactly one argument per parameter of what it calls; the note shows the
+signature.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room from, Room to) { }
+    procedure main() {
+        go(kitchen);
+    }
+
+Give every argument:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room from, Room to) { }
+    procedure main() {
+        go(hall, kitchen);
+    }
+""",
+    "E0202": """
+An expression has a type that the place it stands in does not accept: an argument of a
+parameter's type, a value assigned to a fluent of its type, a `bool` condition. Numbers are
+converted to strings only explicitly, with `to_string(...)`.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = "three";
+    }
+
+Give a value of the right type:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() {
+        count() = 3;
+    }
+""",
+    "E0203": """
+A literal stands where a domain type is expected, but it is not one of the domain's members.
+Computed values are checked when the program runs; literals are checked right away.
+
+For example:
+
+    number domain Level = {1, 2, 3}
+    Level fluent level() { initially: () = 4; }
+
+Use a member of the domain, or add the value to it:
+
+    number domain Level = {1, 2, 3}
+    Level fluent level() { initially: () = 3; }
+""",
+    "E0204": """
+An operator is applied to operands it does not work on: arithmetic needs numbers, `+` also
+joins two strings, `&`, `|`, `->` and `!` need bools, `<` and friends compare two numbers,
+strings or symbols, and nothing but `==`/`!=` applies to `null`.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    action say(string text) { }
+    procedure main() {
+        say("count: " + count());
+    }
+
+Convert the number to a string first:
+
+    number fluent count() { initially: () = 0; }
+    action say(string text) { }
+    procedure main() {
+        say("count: " + to_string(count()));
+    }
+""",
+    "E0205": """
+Comparisons do not chain: `a < b < c` does not mean "b lies between a and c". Compare each
+pair and join the comparisons with `&`.
+
+For example:
+
+    number fluent x() { initially: () = 5; }
+    bool function in_range() = 0 < x() < 10
+
+Write two comparisons:
+
+    number fluent x() { initially: () = 5; }
+    bool function in_range() = 0 < x() & x() < 10
+""",
+    "E0206": """
+`void` is the type of nothing: actions and procedures have it, but a fluent, function,
+parameter or variable cannot, since it could hold no value.
+
+For example:
+
+    void fluent ready() { initially: () = null; }
+
+Give it a type of data:
+
+    bool fluent ready() { initially: () = false; }
+""",
+    "E0207": """
+Only compound values have fields (`e.f`), and only lists can be indexed (`e[i]`).
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    number function first() = count()[0]
+
+Index a list, or use the value directly:
+
+    list[number] fluent counts() { initially: () = list[number] [0]; }
+    number function first() = counts()[0]
+""",
+    "E0208": """
+A compound literal gives every field of its type exactly once. A field without a value is
+written as `null` explicitly.
+
+For example:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0 }; }
+
+Give every field:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = null }; }
+""",
+    "E0209": """
+Compound and list values cannot be compared with `==` or `!=`. Compare their fields or
+elements instead.
+
+For example:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    Pose fluent goal() { initially: () = Pose { x = 1, y = 1 }; }
+    bool function arrived() = pose() == goal()
+
+Compare the fields:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    Pose fluent goal() { initially: () = Pose { x = 1, y = 1 }; }
+    bool function arrived() = pose().x == goal().x & pose().y == goal().y
+""",
+    "E0210": """
+`exists`, `forall` and a `pick` without `in {...}` try every value of the variable's type,
+so the type must be finite: a domain or `bool`. Over `number` or `string`, list the values
+with `pick (number n in {1, 2, 3})` or declare a domain.
+
+For example:
+
+    action wait(number seconds) { }
+    procedure main() {
+        solve(2, reward()) pick (number n) wait(n);
+    }
+    number function reward() = 0
+
+List the values to try:
+
+    action wait(number seconds) { }
+    procedure main() {
+        solve(2, reward()) pick (number n in {1, 5, 10}) wait(n);
+    }
+    number function reward() = 0
+""",
+    "E0211": """
+Both branches of a conditional expression `if (c) a else b` must have types that fit
+together, since the expression has one type.
+
+For example:
+
+    bool fluent urgent() { initially: () = false; }
+    number function priority() = if (urgent()) 1 else "low"
+
+Give both branches the same type:
+
+    bool fluent urgent() { initially: () = false; }
+    number function priority() = if (urgent()) 1 else 0
+""",
+    "E0212": """
+`solve(horizon, reward())` needs a number as horizon and, as reward, a call of a function
+that returns a number.
+
+For example:
+
+    number fluent score() { initially: () = 0; }
+    action work() { effect: score() = score() + 1; }
+    procedure main() {
+        solve(3, score()) choose { work(); { } }
+    }
+
+Wrap the value in a reward function:
+
+    number fluent score() { initially: () = 0; }
+    action work() { effect: score() = score() + 1; }
+    number function reward() = score()
+    procedure main() {
+        solve(3, reward()) choose { work(); { } }
+    }
+""",
+    "E0213": """
+Some places take only values written out (literals): initial values, the members of a
+domain, the values of `pick ... in {...}`, the arguments of constraint patterns.
+Computations belong in procedures.
+
+For example:
+
+    number fluent count() { initially: () = 1 + 1; }
+
+Write the value:
+
+    number fluent count() { initially: () = 2; }
+""",
+    "E0301": """
+A name can be defined only once: a second fluent, action, function, procedure, domain or
+compound type with the same name is an error. (A forward declaration without a body, followed
+by the definition, is fine.)
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    number fluent count() { initially: () = 1; }
+
+Remove one definition, or rename one:
+
+    number fluent count() { initially: () = 0; }
+    number fluent total() { initially: () = 1; }
+""",
+    "E0302": """
+One name cannot be two kinds of thing, such as a fluent and a procedure: calls would be
+ambiguous.
+
+For example:
+
+    bool fluent charge() { initially: () = false; }
+    procedure charge() { }
+
+Rename one of them:
+
+    bool fluent charging() { initially: () = false; }
+    procedure charge() { }
+""",
+    "E0303": """
+A forward declaration and the definition of the same thing must agree: the same type,
+the same number of parameters, and the same parameter types and names.
+
+For example:
+
+    number function double(number x);
+    number function double(number y) = 2 * y
+
+Use the same signature in both:
+
+    number function double(number x);
+    number function double(number x) = 2 * x
+""",
+    "E0304": """
+gpp predefines a few names (`context_time`, `step_context_time`, `switch_state`); a program
+cannot declare them again.
+
+For example:
+
+    number fluent context_time() { initially: () = 0; }
+
+Use the predefined one, or choose another name:
+
+    number fluent start_time() { initially: () = 0; }
+""",
+    "E0305": """
+In one list of parameters, fields, mapping arguments or component states and clocks, each
+name may appear only once.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room r, Room r) { }
+
+Give each one its own name:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room from, Room to) { }
+""",
+    "E0306": """
+Only fluents hold changing values: an assignment (and `push_back`, ...) changes a fluent
+instance, or a field or element of one. Parameters, variables, functions and other things
+cannot be assigned.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure bump(number n) {
+        n = n + 1;
+    }
+
+Assign a fluent instead:
+
+    number fluent count() { initially: () = 0; }
+    procedure bump(number n) {
+        count() = n + 1;
+    }
+""",
+    "E0307": """
+Each `initially:` entry gives one argument per parameter of the fluent. An argument is a
+literal, or the parameter's own name in its own position, which stands for every value.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    bool fluent lit(Room r) { initially: () = false; }
+
+Give one argument per parameter:
+
+    symbol domain Room = {hall, kitchen}
+    bool fluent lit(Room r) { initially: (r) = false; }
+""",
+    "E0308": """
+An exogenous action's mapping is read backwards: the platform's event fields set the
+parameters. So each mapping entry must be a bare parameter, and every parameter must appear.
+
+For example:
+
+    exog_action battery_report(number level) {
+    mapping:
+        "/battery" { percentage = level * 100 }
+    }
+
+Map each field to a parameter:
+
+    exog_action battery_report(number level) {
+    mapping:
+        "/battery" { percentage = level }
+    }
+""",
+    "E0309": """
+Exogenous actions are events the platform reports; they are never executed, so they cannot
+have the sections of an execution: `senses:` and `duration:`.
+
+For example:
+
+    exog_action door_opened() {
+    duration: [0, 1]
+    }
+
+Remove the section:
+
+    exog_action door_opened() {
+    mapping:
+        "/door" { }
+    }
+""",
+    "E0310": """
+A trailing anonymous block `{ ... }` at the end of a file is the legacy form of
+`procedure main()`. A program cannot have both.
+
+For example:
+
+    action beep() { }
+    procedure main() { beep(); }
+    { beep(); }
+
+Keep one of them:
+
+    action beep() { }
+    procedure main() { beep(); beep(); }
+""",
+    "E0311": """
+A domain is a set of literal values of one element type (symbols, numbers, strings or
+bools), possibly built from other domains with `|`, `&` and `\\`. It cannot be defined in
+terms of itself, nor mix domains of different element types.
+
+For example:
+
+    symbol domain Room = {hall} | Room
+
+List its members, or build it from other domains:
+
+    symbol domain Corridor = {hall}
+    symbol domain Room = {kitchen} | Corridor
+""",
+    "E0312": """
+`duration: [low, high]` gives the bounds of an action's duration in seconds: two
+non-negative number literals with `low <= high`. `silent:` takes `true`, `false` or `null`.
+
+For example:
+
+    action drive() {
+    duration: [60, 5]
+    }
+
+Write the smaller bound first:
+
+    action drive() {
+    duration: [5, 60]
+    }
+""",
+    "W0101": """
+A fluent, action, function or procedure that nothing refers to is dead code, or a sign that
+a call was forgotten. Calls from inside its own body do not count. `main`, `postcond`,
+exogenous actions and predefined names are never reported.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() { }
+
+Use it, or remove it:
+
+    number fluent count() { initially: () = 0; }
+    procedure main() { count() = 1; }
+""",
+    "W0102": """
+A parameter of a function, procedure or action, or a `pick` or quantifier variable, that is
+never used. Parameters of an action with an explicit `mapping:` count as used when the
+mapping passes them on; an action without `mapping:` passes all of them to the platform.
+
+For example:
+
+    action say(string text) { }
+    procedure greet(string name) { say("hello"); }
+    procedure main() { greet("Ada"); }
+
+Use the parameter, or remove it:
+
+    action say(string text) { }
+    procedure greet(string name) { say("hello " + name); }
+    procedure main() { greet("Ada"); }
+""",
+    "W0103": """
+Fluent instances not covered by any `initially:` entry start as `null`, and reading them
+in arithmetic or comparisons is a run-time error. gpp enumerates the instances of fluents
+over domains and `bool`; a parameter of type `number` or `string` needs an entry with the
+parameter's name in its position to cover all values. A fluent that is only forward-declared
+has no initial values at all. Writing `null` explicitly counts as an initial value.
+
+For example:
+
+    symbol domain Room = {hall, kitchen, office}
+    bool fluent lit(Room r) { initially: (hall) = true; }
+    procedure main() { test(lit(office)); }
+
+Add a default entry first (later entries override it):
+
+    symbol domain Room = {hall, kitchen, office}
+    bool fluent lit(Room r) { initially: (r) = false; (hall) = true; }
+    procedure main() { test(lit(office)); }
+""",
+    "W0104": """
+The effects of an action are evaluated in the state before it and applied together, so two
+unconditional effects on the same fluent instance conflict: if their values differ, the
+action fails when it runs. Effects with an `if (...)` condition are not reported.
+
+For example:
+
+    number fluent count() { initially: () = 0; }
+    action step() {
+    effect:
+        count() = count() + 1;
+        count() = 0;
+    }
+    procedure main() { step(); }
+
+Keep one assignment:
+
+    number fluent count() { initially: () = 0; }
+    action step() {
+    effect:
+        count() = count() + 1;
+    }
+    procedure main() { step(); }
+""",
+    "W0105": """
+Outside `solve` and `search`, `pick` and `choose` do not plan: they take the first value or
+alternative that can make a step now and never come back to try another, even if it leads
+to a dead end. A procedure that is only called from inside `solve`/`search` is not reported,
+nor a `choose` whose alternatives all start by waiting (`test(...)`, `finish(...)`,
+`fail(...)`, `end(...)`), which selects by what happens.
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room r) { }
+    procedure main() {
+        pick (Room r) go(r);
+    }
+
+Plan the choice with `search` (or `solve`), or write the value:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room r) { }
+    procedure main() {
+        search { pick (Room r) go(r); }
+    }
+""",
+    "W0106": """
+A `while (true)` loop whose body executes no action, hook, `during`, test, assignment, list
+statement or procedure call can never make progress: nothing in it waits for the world or
+changes it, so the program is stuck.
+
+For example:
+
+    bool fluent busy() { initially: () = false; }
+    procedure main() {
+        while (true) {
+            if (busy()) { }
+        }
+    }
+
+Wait for what should happen, or act in the loop:
+
+    bool fluent busy() { initially: () = false; }
+    procedure main() {
+        while (true) {
+            test(busy());
+        }
+    }
+""",
+    "W0107": """
+A condition of an `if`, `while`, `test`, precondition or conditional effect that does not
+depend on the state, such as `1 < 2` or `false`, is always true or always false: the code it
+guards always or never runs. `while (true)`, `test(true)` and `precondition: true` are
+idioms and are not reported.
+
+For example:
+
+    action beep() { }
+    procedure main() {
+        while (false) beep();
+    }
+
+Fix the condition, or remove the dead code:
+
+    action beep() { }
+    procedure main() {
+        beep();
+    }
+""",
+    "W0108": """
+An `if` whose condition is constant runs only one of its branches: with `if (true)` the
+`else` branch never runs, with `if (false)` the `if` branch never runs.
+
+For example:
+
+    action beep() { }
+    action wait() { }
+    procedure main() {
+        if (true) beep(); else wait();
+    }
+
+Keep the branch that runs:
+
+    action beep() { }
+    action wait() { }
+    procedure main() {
+        beep();
+    }
+""",
+    "W0109": """
+`solve(horizon, reward())` plans the choices of the `pick` and `choose` statements in its
+program (also in the procedures it calls). Without any, there is nothing to plan and `solve`
+only runs the program.
+
+For example:
+
+    action work() { }
+    number function reward() = 0
+    procedure main() {
+        solve(3, reward()) work();
+    }
+
+Give `solve` a choice to make:
+
+    action work() { }
+    action rest() { }
+    number function reward() = 0
+    procedure main() {
+        solve(3, reward()) choose { work(); rest(); }
+    }
+""",
+    "W0110": """
+The original golog++ builds operator chains with a faulty algorithm: when a tighter operator
+follows a looser one and the chain goes on, it groups differently from standard precedence,
+e.g. it reads `1 * 2 + 3 * 4` as `((1 * 2) + 3) * 4`. gpp uses standard precedence, so the
+same program computes different values in the two. Parentheses make the chain mean the same
+in both.
+
+For example:
+
+    number fluent x() { initially: () = 2; }
+    number function area() = x() * 2 + x() * 3
+
+Add parentheses:
+
+    number fluent x() { initially: () = 2; }
+    number function area() = (x() * 2) + (x() * 3)
+""",
+    "W0111": """
+A parameter or variable named like a domain symbol hides the symbol in its scope: there,
+the name means the parameter, which is easy to misread (and in `initially:` it stands for
+every value, not for the symbol).
+
+For example:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room hall) { }
+    procedure main() { go(kitchen); }
+
+Rename the parameter:
+
+    symbol domain Room = {hall, kitchen}
+    action go(Room target) { }
+    procedure main() { go(kitchen); }
+""",
+}
+
+_CODES = [replace(c, explanation=_EXPLANATIONS.get(c.code, "").strip()) for c in _CODES]
 CODES: dict[str, CodeInfo] = {c.code: c for c in _CODES}
 BY_NAME: dict[str, CodeInfo] = {c.name: c for c in _CODES}
 
@@ -95,3 +1050,13 @@ def lookup(code_or_name: str) -> CodeInfo | None:
 
 def lints() -> list[CodeInfo]:
     return [c for c in _CODES if c.is_lint]
+
+
+def close_matches(code_or_name: str, lints: bool = False) -> list[str]:
+    """Codes and names that look like `code_or_name` (for "did you mean ...?"); only lints
+    when `lints` is set."""
+    pool = [c for c in _CODES if c.is_lint or not lints]
+    key = code_or_name.strip()
+    by_code = difflib.get_close_matches(key.upper(), [c.code for c in pool], n=3, cutoff=0.6)
+    by_name = difflib.get_close_matches(key.lower(), [c.name for c in pool], n=3, cutoff=0.6)
+    return [*by_code, *by_name]

@@ -55,7 +55,8 @@ def with_deep_stack(fn: Callable[[], T]) -> T:
     try:
         threading.stack_size(_DEEP_STACK_BYTES)
         sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION_LIMIT))
-        worker = threading.Thread(target=run, name="gpp-deep-stack")
+        # A daemon: Ctrl-C (delivered to the main thread) ends the process without waiting.
+        worker = threading.Thread(target=run, name="gpp-deep-stack", daemon=True)
         worker.start()
     finally:
         threading.stack_size(old_size)

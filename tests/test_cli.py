@@ -201,3 +201,99 @@ def test_installed_console_script_runs(tmp_path: Path) -> None:
         pytest.skip("no gpp console script beside this interpreter")
     result = subprocess.run([str(script), "--version"], capture_output=True, text=True, timeout=60)
     assert (result.returncode, result.stdout) == (0, f"gpp {gpp.__version__}\n")
+
+
+# ---------------------------------------------------------------- lint options
+
+UNUSED_FLUENT = "number fluent spare() { initially: () = 0; }\nprocedure main() { }\n"
+
+
+@pytest.fixture
+def linted(project: Path) -> Path:
+    (project / "warn.gpp").write_text(UNUSED_FLUENT)
+    (project / "both.gpp").write_text(UNUSED_FLUENT + "procedure other() { nowhere(); }\n")
+    return project
+
+
+def test_warnings_alone_exit_0_and_are_counted(linted: Path) -> None:
+    result = run_gpp("check", "warn.gpp", cwd=linted)
+    assert result.returncode == 0
+    assert result.stdout.splitlines()[0] == "warning[W0101]: fluent `spare` is never used"
+    assert result.stdout.endswith("\nwarning: 1 warning\n")
+
+
+def test_summary_counts_errors_and_warnings(linted: Path) -> None:
+    result = run_gpp("check", "both.gpp", cwd=linted)
+    assert result.returncode == 1
+    assert result.stdout.endswith("\nerror: 1 error, 2 warnings\n")
+
+
+def test_deny_warnings_turns_warnings_into_a_failure(linted: Path) -> None:
+    assert run_gpp("check", "--deny-warnings", "warn.gpp", cwd=linted).returncode == 1
+    assert run_gpp("check", "--deny-warnings", "good.gpp", cwd=linted).returncode == 0
+    assert run_gpp("check", "--deny-warnings", "--allow", "unused", "warn.gpp", cwd=linted).returncode == 0
+
+
+def test_no_lint_reports_errors_only(linted: Path) -> None:
+    result = run_gpp("check", "--no-lint", "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout) == (0, "no problems found\n")
+    both = run_gpp("check", "--no-lint", "both.gpp", cwd=linted)
+    assert both.returncode == 1
+    assert both.stdout.endswith("\nerror: 1 error\n")
+
+
+@pytest.mark.parametrize("allowed", ["W0101", "unused", "UNUSED", "w0101"])
+def test_allow_suppresses_a_lint(linted: Path, allowed: str) -> None:
+    result = run_gpp("check", "--allow", allowed, "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout) == (0, "no problems found\n")
+
+
+def test_allow_can_be_repeated(linted: Path) -> None:
+    (linted / "two.gpp").write_text("number fluent f(number n) { initially: (1) = 0; }\nprocedure main() { }\n")
+    assert "W0103" in run_gpp("check", "--allow", "unused", "two.gpp", cwd=linted).stdout
+    result = run_gpp("check", "--allow", "unused", "--allow", "W0103", "two.gpp", cwd=linted)
+    assert result.stdout == "no problems found\n"
+
+
+def test_allow_json_output_counts_only_what_is_reported(linted: Path) -> None:
+    report = json.loads(run_gpp("check", "--format", "json", "--allow", "unused", "both.gpp", cwd=linted).stdout)
+    assert report["summary"] == {"errors": 1, "warnings": 0}
+
+
+@pytest.mark.parametrize(
+    ("allowed", "message"),
+    [
+        ("unsed", "error: unknown lint `unsed`; did you mean `unused`?\n"),
+        ("E0101", "error: `E0101` is an error, not a lint: only lints can be allowed\n"),
+    ],
+)
+def test_allow_needs_a_lint(linted: Path, allowed: str, message: str) -> None:
+    result = run_gpp("check", "--allow", allowed, "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout, result.stderr) == (2, "", message)
+
+
+def test_list_lints_needs_no_files(tmp_path: Path) -> None:
+    from gpp.codes import lints
+
+    result = run_gpp("check", "--list-lints", cwd=tmp_path)
+    assert result.returncode == 0
+    lines = result.stdout.splitlines()
+    assert lines[0].split() == ["code", "name", "summary"]
+    assert [line.split()[:2] for line in lines[1:]] == [[c.code, c.name] for c in lints()]
+    assert all(line.endswith(c.summary) for line, c in zip(lines[1:], lints(), strict=True))
+
+
+def test_check_without_files_explains_itself(tmp_path: Path) -> None:
+    result = run_gpp("check", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr == "error: no files to check (give one or more .gpp files, or --list-lints)\n"
+
+
+def test_sarif_output_and_explain_do_not_import_heavy_packages(project: Path) -> None:
+    heavy = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich"}
+    modules = imported_modules(["check", "--format", "sarif", "good.gpp"], project)
+    assert "gpp.sarif" in modules
+    assert {m for m in modules if m.split(".")[0] in heavy} == set()
+    explain = imported_modules(["explain", "W0101"], project)
+    assert "gpp.codes" in explain
+    assert {m for m in explain if m.split(".")[0] in heavy or m.startswith("gpp.syntax")} == set()

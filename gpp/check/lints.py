@@ -1,14 +1,878 @@
 """Lints: warnings about programs that are legal but probably not what was meant.
-(Placeholder until the lint pass lands: reports nothing.)"""
+
+Each lint is one small function registered under its code (gpp.codes holds its name and
+summary) that reads the code model and yields warnings. Only what is declared or written in the
+root files (the files asked for) is linted, never the library files they include; uses
+anywhere in the program count, though.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Collection
+import itertools
+import math
+from collections.abc import Callable, Collection, Iterator, Sequence
+from dataclasses import dataclass
+from functools import cache, cached_property
 from pathlib import Path
+from typing import TypeVar
 
+from gpp import codes
 from gpp import diagnostics as diag
 from gpp.model.model import Model
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.loader import ParsedFile
+from gpp.syntax.printer import format_expr
+from gpp.syntax.walk import children, walk
+
+Op = ast.BinaryOp
+N = TypeVar("N", bound=ast.Node)
+
+# `pick`/quantifier variables, parameters: everything W0102 and W0111 look at.
+_LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})
+# W0101 looks at these kinds of globals.
+_USABLE_KINDS = frozenset(
+    {SymbolKind.FLUENT, SymbolKind.ACTION, SymbolKind.FUNCTION, SymbolKind.EXOG_FUNCTION, SymbolKind.PROCEDURE}
+)
+# Called by the runtime, not by the program.
+_ENTRY_POINTS = frozenset({"main", "postcond"})
+# W0103 enumerates at most this many instances of a fluent (and skips larger fluents).
+MAX_INSTANCES = 10_000
+# W0110 analyses operator chains up to this many operators.
+MAX_CHAIN = 100
 
 
 def run_lints(model: Model, roots: Collection[Path], allow: Collection[str] = ()) -> list[diag.Diagnostic]:
-    return []
+    """All lint warnings about the declarations and code of the files in `roots`; `allow`
+    names lints to skip, by code (`W0101`) or name (`unused`)."""
+    skipped = {info.code for info in map(codes.lookup, allow) if info is not None}
+    program = _Program(model, roots)
+    found: list[diag.Diagnostic] = []
+    for code, lint in LINTS.items():
+        if code not in skipped:
+            found.extend(lint(program))
+    return found
+
+
+# ---------------------------------------------------------------- the program as lints see it
+
+
+@dataclass(frozen=True, slots=True)
+class _CallSite:
+    caller: Symbol | None  # the procedure whose body holds the call
+    callee: Symbol
+    planning: bool  # lexically inside `solve` or `search`
+
+
+class _Program:
+    """The model plus the facts several lints share, computed on first use."""
+
+    def __init__(self, model: Model, roots: Collection[Path]) -> None:
+        self.model = model
+        self.root_files = [f for f in model.files if f.path in roots]
+        self._root_sources = {id(f.source) for f in self.root_files}
+
+    def in_root(self, span: Span | None) -> bool:
+        return span is not None and id(span.source) in self._root_sources
+
+    def declarations(self) -> Iterator[ast.Decl]:
+        for f in self.root_files:
+            yield from f.program.declarations
+
+    @cached_property
+    def _nodes_by_type(self) -> dict[type[ast.Node], list[ast.Node]]:
+        by_type: dict[type[ast.Node], list[ast.Node]] = {}
+        for f in self.root_files:
+            for node in walk(f.program):
+                by_type.setdefault(type(node), []).append(node)
+        return by_type
+
+    def nodes(self, kind: type[N]) -> list[N]:
+        """The syntax nodes of one class in the root files, in source order per file."""
+        return self._nodes_by_type.get(kind, [])  # type: ignore[return-value]
+
+    def used(self, symbol: Symbol) -> bool:
+        """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
+        own = symbol.decl.span if symbol.kind in _USABLE_KINDS and symbol.decl is not None else None
+        for r in self.model.references_to(symbol, include_declaration=False):
+            if own is None or r.span.source is not own.source or not own.start <= r.span.start < own.end:
+                return True
+        return False
+
+    def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Stmt]]:
+        """The statement bodies of the procedures (and legacy main block) in `files`."""
+        for f in files:
+            for decl in f.program.declarations:
+                if isinstance(decl, ast.ProcedureDecl) and decl.body is not None:
+                    yield self.model.target(decl.name), decl.body
+                elif isinstance(decl, ast.MainBlock):
+                    main = self.model.main
+                    yield (main if main is not None and main.decl is decl else None), decl.body
+
+    @cached_property
+    def call_sites(self) -> list[_CallSite]:
+        """Every procedure call of the whole program (included files too)."""
+        sites: list[_CallSite] = []
+        for caller, body in self.bodies(self.model.files):
+            for s, planning in statements(body):
+                if isinstance(s, ast.CallStmt):
+                    callee = self.model.target(s.call)
+                    if callee is not None and callee.kind is SymbolKind.PROCEDURE:
+                        sites.append(_CallSite(caller, callee, planning))
+        return sites
+
+    @cached_property
+    def planning_only(self) -> set[int]:
+        """Procedures (by id) that run only while planning: every call is inside `solve` or
+        `search`, or in a procedure that itself runs only while planning."""
+        sites: dict[int, list[_CallSite]] = {}
+        for site in self.call_sites:
+            sites.setdefault(id(site.callee), []).append(site)
+        candidates = set(sites)
+        changed = True
+        while changed:
+            changed = False
+            for callee in list(candidates):
+                if any(not s.planning and (s.caller is None or id(s.caller) not in candidates) for s in sites[callee]):
+                    candidates.discard(callee)
+                    changed = True
+        return candidates
+
+    @cached_property
+    def choosing(self) -> set[int]:
+        """Procedures (by id) whose body, following calls, contains a `pick` or `choose`."""
+        found: set[int] = set()
+        for caller, body in self.bodies(self.model.files):
+            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements(body)):
+                found.add(id(caller))
+        changed = True
+        while changed:
+            changed = False
+            for site in self.call_sites:
+                if site.caller is not None and id(site.callee) in found and id(site.caller) not in found:
+                    found.add(id(site.caller))
+                    changed = True
+        return found
+
+
+def statements(body: ast.Stmt, planning: bool = False) -> Iterator[tuple[ast.Stmt, bool]]:
+    """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
+    stack = [(body, planning)]
+    while stack:
+        s, inside = stack.pop()
+        yield s, inside
+        inner = inside or isinstance(s, ast.Solve | ast.Search)
+        stack.extend((c, inner) for c in reversed(list(children(s))) if isinstance(c, ast.Stmt))
+
+
+def keyword_span(node: ast.Node, keyword: str) -> Span:
+    """The leading keyword of a statement (`pick`, `solve`, `while`...)."""
+    span = node.span
+    if span.text.startswith(keyword):
+        return Span(span.source, span.start, span.start + len(keyword))
+    return span
+
+
+# ---------------------------------------------------------------- the registry
+
+Lint = Callable[[_Program], Iterator[diag.Diagnostic]]
+LINTS: dict[str, Lint] = {}
+
+
+def _lint(code: str) -> Callable[[Lint], Lint]:
+    def register(f: Lint) -> Lint:
+        assert code in codes.CODES and codes.CODES[code].is_lint, code
+        LINTS[code] = f
+        return f
+
+    return register
+
+
+# ---------------------------------------------------------------- W0101 unused
+
+
+@_lint("W0101")
+def unused_declaration(program: _Program) -> Iterator[diag.Diagnostic]:
+    for symbol in program.model.globals.values():
+        if (
+            symbol.kind not in _USABLE_KINDS
+            or symbol.predefined
+            or symbol.name in _ENTRY_POINTS
+            or symbol is program.model.main
+            or not program.in_root(symbol.span)
+            or program.used(symbol)
+        ):
+            continue
+        assert symbol.span is not None
+        yield diag.warning("W0101", f"{symbol.kind.value} `{symbol.name}` is never used", symbol.span)
+
+
+# ---------------------------------------------------------------- W0102 unused parameter / variable
+
+
+@_lint("W0102")
+def unused_variable(program: _Program) -> Iterator[diag.Diagnostic]:
+    for symbol in _params_with_body(program):
+        if not program.used(symbol):
+            assert symbol.span is not None and symbol.owner is not None
+            owner = symbol.owner
+            yield diag.warning(
+                "W0102",
+                f"parameter `{symbol.name}` of {owner.kind.value} `{owner.name}` is never used",
+                symbol.span,
+            )
+    for symbol in _variables(program):
+        if not program.used(symbol):
+            assert symbol.span is not None
+            yield diag.warning("W0102", f"variable `{symbol.name}` is never used", symbol.span)
+
+
+def _params_with_body(program: _Program) -> Iterator[Symbol]:
+    """Parameters of the functions, procedures and actions defined in the root files whose
+    use can be judged: an action without `mapping:` passes every parameter to the platform,
+    and an exogenous action's parameters are set by its events."""
+    for symbol in program.model.globals.values():
+        decl = symbol.decl
+        if not program.in_root(symbol.span) or symbol.predefined or not symbol.is_defined:
+            continue
+        if isinstance(decl, ast.ActionDecl):
+            if decl.exogenous or decl.section(ast.MappingSection) is None:
+                continue
+        elif not isinstance(decl, ast.FunctionDecl | ast.ProcedureDecl):
+            continue
+        yield from symbol.params
+
+
+def _variables(program: _Program) -> Iterator[Symbol]:
+    """The `pick` and quantifier variables of the root files."""
+    nodes: list[ast.Pick | ast.Quantified] = [*program.nodes(ast.Pick), *program.nodes(ast.Quantified)]
+    for node in nodes:
+        symbol = program.model.target(node.var)
+        if symbol is not None and symbol.kind is SymbolKind.VARIABLE:
+            yield symbol
+
+
+# ---------------------------------------------------------------- W0103 uninitialised fluent instances
+
+
+@dataclass(frozen=True, slots=True)
+class _Wildcard:
+    """A parameter name in an `initially:` entry: every value in its position."""
+
+
+_ANY = _Wildcard()
+_Key = tuple[str, object]
+
+
+def _key(v: DomainValue) -> _Key:
+    """Values compared as domain members are (2 == 2.0, a symbol is never a string)."""
+    if isinstance(v, bool):
+        return ("bool", v)
+    if isinstance(v, int | float):
+        return ("number", float(v))
+    if isinstance(v, Sym):
+        return ("symbol", v.name)
+    return ("string", v)
+
+
+def _show_value(v: DomainValue) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    return str(v)
+
+
+def _finite_values(t: Type | None) -> tuple[DomainValue, ...] | None:
+    """The values of a finite parameter type, or None for an infinite one."""
+    if t is BOOL:
+        return (False, True)
+    if isinstance(t, DomainType):
+        return t.values
+    return None
+
+
+@_lint("W0103")
+def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for decl in program.declarations():
+        if not isinstance(decl, ast.FluentDecl):
+            continue
+        symbol = model.target(decl.name)
+        if symbol is None or symbol.decl is not decl or symbol.span is None:
+            continue
+        names = ", ".join(p.name for p in symbol.params)
+        if decl.initially is None:
+            yield diag.warning(
+                "W0103",
+                f"fluent `{symbol.name}` has no initial values",
+                symbol.span,
+                "declared, but never defined with `initially:`",
+                notes=["every instance of it starts as `null`"],
+                help=f"define it: `{symbol.type} fluent {symbol.name}(...) {{ initially: ({names}) = ...; }}`",
+            )
+            continue
+        missing = _missing_instances(program, symbol, decl.initially)
+        if missing is None or not missing[0]:
+            continue
+        patterns, count, open_params = missing
+        instances = [f"`{symbol.name}({', '.join(p)})`" for p in patterns]
+        if count > len(instances):
+            instances.append(f"{count - len(instances)} more instance{'s' * (count - len(instances) > 1)}")
+        shown = instances[0] if len(instances) == 1 else ", ".join(instances[:-1]) + " and " + instances[-1]
+        message = f"fluent `{symbol.name}` has no initial value for {shown}"
+        if open_params:
+            message += " with " + ", ".join(f"`{p}`" for p in open_params) + " not listed in `initially:`"
+        yield diag.warning(
+            "W0103",
+            message,
+            symbol.span,
+            "some instances start as `null`",
+            notes=["instances that no `initially:` entry covers start as `null`"],
+            help=f"add a default entry `({names}) = ...;` before the others (later entries override earlier ones)",
+        )
+
+
+def _missing_instances(
+    program: _Program, fluent: Symbol, entries: Sequence[ast.InitialValue]
+) -> tuple[list[list[str]], int, list[str]] | None:
+    """The instances no entry covers: up to a few of them as argument texts (an infinite
+    parameter shown by its name), how many there are, and the infinite parameters among
+    them; None when it cannot be told (errors, too many instances)."""
+    params = fluent.params
+    domains = [_finite_values(p.type) for p in params]
+    if any(p.type is None or p.type is ERROR for p in params):
+        return None
+    patterns: list[tuple[object, ...]] = []
+    for entry in entries:
+        if len(entry.args) != len(params):
+            return None
+        pattern: list[object] = []
+        for arg, param in zip(entry.args, params, strict=True):
+            if isinstance(arg, ast.Name) and program.model.target(arg) is param:
+                pattern.append(_ANY)
+                continue
+            value = _literal(program.model, arg)
+            if value is None:
+                return None
+            pattern.append(_key(value))
+        patterns.append(tuple(pattern))
+    infinite = [i for i, d in enumerate(domains) if d is None]
+    finite = [i for i, d in enumerate(domains) if d is not None]
+    # An infinite parameter has values no entry lists; an instance with such values is covered
+    # only by entries with a wildcard in every infinite position.
+    relevant = [p for p in patterns if all(p[i] is _ANY for i in infinite)]
+    exact = {tuple(p[i] for i in finite) for p in relevant if all(p[i] is not _ANY for i in finite)}
+    partial = [p for p in relevant if any(p[i] is _ANY for i in finite)]
+    size = math.prod(len(d) for d in domains if d is not None)
+    if size > MAX_INSTANCES or size * max(1, len(partial)) > 50 * MAX_INSTANCES:
+        return None
+    shown: list[list[str]] = []
+    count = 0
+    finite_domains = [domains[i] or () for i in finite]
+    for combo in itertools.product(*finite_domains):
+        keys = tuple(_key(v) for v in combo)
+        if keys in exact:
+            continue
+        at = dict(zip(finite, keys, strict=True))
+        if any(all(p[i] is _ANY or p[i] == at[i] for i in finite) for p in partial):
+            continue
+        count += 1
+        if len(shown) < 3:
+            values = dict(zip(finite, combo, strict=True))
+            shown.append([_show_value(values[i]) if i in values else params[i].name for i in range(len(params))])
+    return shown, count, [params[i].name for i in infinite] if count else []
+
+
+def _literal(model: Model, e: ast.Expr) -> DomainValue | None:
+    """The value of a literal number, string, bool or domain symbol."""
+    if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
+        return e.value
+    if isinstance(e, ast.Name):
+        target = model.target(e)
+        if target is not None and target.kind is SymbolKind.SYMBOL:
+            return Sym(e.name)
+    return None
+
+
+# ---------------------------------------------------------------- W0104 double effect
+
+
+@_lint("W0104")
+def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
+    for decl in program.declarations():
+        if not isinstance(decl, ast.ActionDecl):
+            continue
+        for section in decl.sections or ():
+            if not isinstance(section, ast.EffectSection):
+                continue
+            seen: list[ast.Effect] = []
+            for effect in section.effects:
+                if effect.condition is not None:
+                    continue
+                first = next((e for e in seen if e.target == effect.target), None)
+                if first is None:
+                    seen.append(effect)
+                    continue
+                target = format_expr(effect.target)
+                yield diag.warning(
+                    "W0104",
+                    f"action `{decl.name.name}` assigns `{target}` twice",
+                    effect.target.span,
+                    "assigned again here",
+                    secondary=[diag.Label(first.target.span, "first assigned here")],
+                    notes=["the effects of an action are applied together; two different values are a run-time error"],
+                    help="remove one of the assignments",
+                )
+
+
+# ---------------------------------------------------------------- W0105 pick/choose online
+
+
+@_lint("W0105")
+def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
+    for owner, body in program.bodies(program.root_files):
+        if owner is not None and id(owner) in program.planning_only:
+            continue
+        for s, planning in statements(body):
+            if planning:
+                continue
+            if isinstance(s, ast.Pick):
+                yield diag.warning(
+                    "W0105",
+                    "`pick` outside `solve` or `search` takes the first value that works now",
+                    keyword_span(s, "pick"),
+                    "chosen greedily, without looking ahead",
+                    notes=[
+                        "online, `pick` commits to the first value (in the order of its `in {...}` list or of "
+                        "the domain) that can make a step; it never comes back to try another"
+                    ],
+                    help="put it inside `search` or `solve(...)` to plan the choice, or write the value",
+                )
+            elif isinstance(s, ast.Choose) and not all(_guarded(a) for a in s.alternatives):
+                yield diag.warning(
+                    "W0105",
+                    "`choose` outside `solve` or `search` takes the first alternative that works now",
+                    keyword_span(s, "choose"),
+                    "chosen greedily, without looking ahead",
+                    notes=[
+                        "online, `choose` commits to the first alternative that can make a step; "
+                        "it never comes back to try another"
+                    ],
+                    help="put it inside `search` or `solve(...)` to plan the choice, or start every "
+                    "alternative with the `test(...)` or hook it waits for",
+                )
+
+
+# Statements that wait for the world: a `choose` whose alternatives all start with one selects
+# by what happens (`choose { {finish(a); ...} {fail(a); ...} }`) and is not a blind guess.
+_WAITING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL})
+
+
+def _guarded(s: ast.Stmt) -> bool:
+    while isinstance(s, ast.Block):
+        if not s.body:
+            return False
+        s = s.body[0]
+    return isinstance(s, ast.Test) or (isinstance(s, ast.HookStmt) and s.hook in _WAITING_HOOKS)
+
+
+# ---------------------------------------------------------------- W0106 busy loop
+
+
+# Statements that act, wait or change the state.
+_EFFECTFUL = (ast.CallStmt, ast.HookStmt, ast.During, ast.Test, ast.Assign, ast.ListStmt)
+
+
+@_lint("W0106")
+def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
+    for node in program.nodes(ast.While):
+        if not _is_true(node.condition):
+            continue
+        if any(isinstance(s, _EFFECTFUL) for s, _ in statements(node.body)):
+            continue
+        yield diag.warning(
+            "W0106",
+            "this `while (true)` loop never executes an action, a test or an assignment",
+            _while_head(node),
+            "loops forever without doing anything",
+            notes=["the program can never get past this loop, and nothing in it can change the world"],
+            help="call an action or wait with `test(...)` in the body, or give the loop a real condition",
+        )
+
+
+def _is_true(e: ast.Expr) -> bool:
+    return isinstance(e, ast.BoolLit) and e.value
+
+
+def _while_head(s: ast.While) -> Span:
+    """`while (cond)`, with the closing parenthesis when it is there."""
+    source = s.span.source
+    end = s.condition.span.end
+    rest = source.text[end : s.body.span.start]
+    close = rest.find(")")
+    return Span(source, s.span.start, end + close + 1 if close >= 0 else end)
+
+
+# ---------------------------------------------------------------- W0107 / W0108 constant conditions
+
+
+@dataclass(frozen=True, slots=True)
+class _Condition:
+    """A condition a lint looks at, with what its being always true / always false means."""
+
+    expr: ast.Expr
+    what: str
+    if_true: str
+    if_false: str
+    help_if_true: str | None = None
+
+
+def _conditions(program: _Program) -> Iterator[_Condition]:
+    """The conditions W0107 judges; `while (true)`, `test(true)` and `precondition: true` are
+    idioms, and an `if` with an `else` is W0108's."""
+    for s in program.nodes(ast.If):
+        if s.otherwise is None:
+            yield _Condition(s.condition, "`if` condition", "its body always runs", "its body never runs")
+    for w in program.nodes(ast.While):
+        if not _is_true(w.condition):
+            yield _Condition(
+                w.condition,
+                "`while` condition",
+                "the loop never ends by itself",
+                "the loop body never runs",
+                "write `while (true)` if an endless loop is meant",
+            )
+    for t in program.nodes(ast.Test):
+        if not _is_true(t.condition):
+            blocked = "the test never passes: the program blocks here"
+            yield _Condition(t.condition, "`test` condition", "the test always passes", blocked)
+    for p in program.nodes(ast.PreconditionSection):
+        if not _is_true(p.condition):
+            never = "the action can never be executed"
+            yield _Condition(p.condition, "precondition", "the action is always possible", never)
+    for e in program.nodes(ast.Effect):
+        if e.condition is not None:
+            yield _Condition(e.condition, "effect condition", "the effect always applies", "the effect never applies")
+
+
+@_lint("W0107")
+def constant_condition(program: _Program) -> Iterator[diag.Diagnostic]:
+    for c in _conditions(program):
+        value = _constant(program.model, c.expr)
+        if value is not None:
+            yield diag.warning(
+                "W0107",
+                f"{c.what} is always {'true' if value else 'false'}",
+                c.expr.span,
+                c.if_true if value else c.if_false,
+                help=c.help_if_true if value else None,
+            )
+
+
+@_lint("W0108")
+def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
+    for node in program.nodes(ast.If):
+        if node.otherwise is None:
+            continue
+        value = _constant(program.model, node.condition)
+        if value is True:
+            yield diag.warning(
+                "W0108",
+                "the `else` branch can never run",
+                _else_keyword(program, node),
+                "unreachable",
+                secondary=[diag.Label(node.condition.span, "this condition is always true")],
+                help="remove the `else` branch, or fix the condition",
+            )
+        elif value is False:
+            yield diag.warning(
+                "W0108",
+                "the `if` branch can never run, only the `else` branch",
+                node.condition.span,
+                "this condition is always false",
+                help="remove the `if` branch, or fix the condition",
+            )
+
+
+def _else_keyword(program: _Program, s: ast.If) -> Span:
+    assert s.otherwise is not None
+    pf = program.model.file_of(s.span.source)
+    for token in pf.tokens if pf is not None else ():
+        if s.then.span.end <= token.start < s.otherwise.span.start and token.type == "ELSE":
+            return Span(s.span.source, token.start, token.end)
+    return s.otherwise.span
+
+
+def _constant(model: Model, e: ast.Expr) -> bool | None:
+    """The value of a condition that does not depend on the state, or None."""
+    e = model.effective(e)
+    if isinstance(e, ast.BoolLit):
+        return e.value
+    if isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        v = _constant(model, e.operand)
+        return None if v is None else not v
+    if not isinstance(e, ast.Binary):
+        return None
+    if e.op in (Op.AND, Op.OR, Op.IMPLIES) or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
+        p, q = _constant(model, e.left), _constant(model, e.right)
+        if p is None or q is None:
+            return None
+        return {Op.AND: p and q, Op.OR: p or q, Op.IMPLIES: not p or q, Op.EQ: p == q, Op.NE: p != q}[e.op]
+    if e.op in ast.COMPARISON_OPS:
+        x, y = _literal(model, e.left), _literal(model, e.right)
+        if x is None or y is None:
+            return None
+        kx, ky = _key(x), _key(y)
+        if kx[0] != ky[0]:
+            return None
+        if e.op is Op.EQ:
+            return kx == ky
+        if e.op is Op.NE:
+            return kx != ky
+        a, b = kx[1], ky[1]
+        if isinstance(a, float) and isinstance(b, float):  # noqa: SIM114 (the arms compare different types)
+            order = (a > b) - (a < b)
+        elif isinstance(a, str) and isinstance(b, str):
+            order = (a > b) - (a < b)
+        else:
+            return None
+        return {Op.LT: order < 0, Op.LE: order <= 0, Op.GT: order > 0, Op.GE: order >= 0}[e.op]
+    return None
+
+
+def _is_bool(model: Model, *operands: ast.Expr) -> bool:
+    return all(base(model.type_of(x)) is BOOL for x in operands)
+
+
+# ---------------------------------------------------------------- W0109 solve without choice
+
+
+@_lint("W0109")
+def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
+    for node in program.nodes(ast.Solve):
+        if any(_chooses(program, s) for s, _ in statements(node.body)):
+            continue
+        yield diag.warning(
+            "W0109",
+            "`solve` has nothing to decide: its program has no `pick` or `choose`",
+            keyword_span(node, "solve"),
+            "no choice to plan",
+            notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
+            help="add the `pick` or `choose` that `solve` should decide, or remove `solve`",
+        )
+
+
+def _chooses(program: _Program, s: ast.Stmt) -> bool:
+    if isinstance(s, ast.Pick | ast.Choose):
+        return True
+    if isinstance(s, ast.CallStmt):
+        callee = program.model.target(s.call)
+        return callee is not None and id(callee) in program.choosing
+    return False
+
+
+# ---------------------------------------------------------------- W0110 mixed precedence
+
+# The precedences the original golog++ gives (LANGUAGE.md §2.6.2); within a family they are also
+# the standard levels, loosest first.
+_GOLOG_PRECEDENCE: dict[Op, int] = {
+    Op.IMPLIES: 0,
+    Op.EQ: 0,
+    Op.NE: 0,
+    Op.OR: 1,
+    Op.AND: 2,
+    Op.ADD: 1,
+    Op.SUB: 1,
+    Op.MUL: 2,
+    Op.DIV: 2,
+    Op.MOD: 2,
+    Op.POW: 3,
+}
+
+# A chain's tree: a leaf (operand index) or (operator, left, right).
+Shape = int | tuple[Op, "Shape", "Shape"]
+
+
+@_lint("W0110")
+def mixed_precedence(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    stack: list[ast.Expr] = [n for n in _top_expressions(program) if isinstance(n, ast.Expr)]
+    while stack:
+        e = model.effective(stack.pop())
+        family = _family(model, e)
+        if family is None:
+            stack.extend(_sub_expressions(e))
+            continue
+        operands, operators = _flatten(model, e, family)
+        stack.extend(operands)
+        if len(operators) < 2 or len(operators) > MAX_CHAIN:
+            continue
+        if len({_GOLOG_PRECEDENCE[op] for op in operators}) < 2:
+            continue
+        golog = golog_tree(operators)
+        ours = _shape(model, e, family, iter(range(len(operands))))
+        if golog != ours:
+            yield _precedence_warning(e, operands, golog, ours)
+
+
+def _precedence_warning(chain: ast.Expr, operands: list[ast.Expr], golog: Shape, ours: Shape) -> diag.Diagnostic:
+    texts = [format_expr(x) for x in operands]
+    insertions: dict[int, str] = {}
+    for start, end in _grouped(ours):
+        a, b = operands[start].span.start, operands[end].span.end
+        insertions[a] = insertions.get(a, "") + "("
+        insertions[b] = ")" + insertions.get(b, "")
+    source = chain.span.source
+    edits = tuple(diag.Edit(Span(source, at, at), text) for at, text in sorted(insertions.items()))
+    return diag.warning(
+        "W0110",
+        f"golog++ reads this as `{render_shape(golog, texts)}`",
+        chain.span,
+        "mixes operators of different precedence",
+        notes=[f"gpp uses standard precedence: `{render_shape(ours, texts)}`"],
+        fix=diag.Fix("add parentheses to make it unambiguous", edits),
+    )
+
+
+def _family(model: Model, e: ast.Expr) -> str | None:
+    """`arithmetic` or `boolean` when `e` is an operator of that chain family."""
+    if not isinstance(e, ast.Binary):
+        return None
+    if e.op in ast.ARITHMETIC_OPS:
+        return "arithmetic"
+    if e.op in ast.BOOLEAN_OPS or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
+        return "boolean"
+    return None
+
+
+def _in_chain(model: Model, e: ast.Expr, family: str) -> bool:
+    return not e.parenthesized and _family(model, e) == family
+
+
+def _flatten(model: Model, root: ast.Expr, family: str) -> tuple[list[ast.Expr], list[Op]]:
+    """The operands and operators of the maximal unparenthesised chain at `root`, in order."""
+    operands: list[ast.Expr] = []
+    operators: list[Op] = []
+    stack: list[ast.Expr | Op] = [root]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, Op):
+            operators.append(item)
+        elif isinstance(item, ast.Binary) and (item is root or _in_chain(model, item, family)):
+            stack.extend((item.right, item.op, item.left))
+        else:
+            operands.append(item)
+    return operands, operators
+
+
+def _shape(model: Model, e: ast.Expr, family: str, leaves: Iterator[int], root: bool = True) -> Shape:
+    """The tree gpp built for the chain at `e`, over operand indices."""
+    if isinstance(e, ast.Binary) and (root or _in_chain(model, e, family)):
+        left = _shape(model, e.left, family, leaves, False)
+        return (e.op, left, _shape(model, e.right, family, leaves, False))
+    return next(leaves)
+
+
+def golog_tree(operators: Sequence[Op]) -> Shape:
+    """The tree the original golog++ builds for a flat chain `e0 op0 e1 ... en` (LANGUAGE.md
+    §2.6.2): the tail is built first, and its root stays below `op0` only if it binds tighter;
+    otherwise the chain is split before the last operand."""
+    prec = [_GOLOG_PRECEDENCE[op] for op in operators]
+
+    @cache
+    def root(i: int, j: int) -> int:
+        """Index of the root operator of the tree of operands i..j."""
+        if j == i + 1:
+            return i
+        return i if prec[root(i + 1, j)] > prec[i] else j - 1
+
+    def build(i: int, j: int) -> Shape:
+        if i == j:
+            return i
+        if root(i, j) == i:
+            return (operators[i], i, build(i + 1, j))
+        return (operators[j - 1], build(i, j - 1), j)
+
+    return build(0, len(operators))
+
+
+def render_shape(shape: Shape, texts: Sequence[str]) -> str:
+    """A chain's tree as text, with parentheses wherever precedence changes."""
+
+    def show(s: Shape, parent: Op | None, right: bool) -> str:
+        if isinstance(s, int):
+            return texts[s]
+        op, left, rhs = s
+        text = f"{show(left, op, False)} {op.value} {show(rhs, op, True)}"
+        return f"({text})" if _needs_parentheses(op, parent, right) else text
+
+    return show(shape, None, False)
+
+
+def _needs_parentheses(op: Op, parent: Op | None, right: bool) -> bool:
+    return parent is not None and (right or _GOLOG_PRECEDENCE[op] != _GOLOG_PRECEDENCE[parent])
+
+
+def _grouped(shape: Shape) -> list[tuple[int, int]]:
+    """The operand ranges that `render_shape` puts in parentheses."""
+    out: list[tuple[int, int]] = []
+
+    def visit(s: Shape, parent: Op | None, right: bool) -> tuple[int, int]:
+        if isinstance(s, int):
+            return s, s
+        op, left, rhs = s
+        first, _ = visit(left, op, False)
+        _, last = visit(rhs, op, True)
+        if _needs_parentheses(op, parent, right):
+            out.append((first, last))
+        return first, last
+
+    visit(shape, None, False)
+    return out
+
+
+def _top_expressions(program: _Program) -> Iterator[ast.Node]:
+    """The outermost expressions of the root files."""
+    stack: list[ast.Node] = [f.program for f in program.root_files]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Expr):
+            yield node
+        else:
+            stack.extend(children(node))
+
+
+def _sub_expressions(e: ast.Node) -> Iterator[ast.Expr]:
+    for child in children(e):
+        if isinstance(child, ast.Expr):
+            yield child
+        else:
+            yield from _sub_expressions(child)
+
+
+# ---------------------------------------------------------------- W0111 shadowed symbol
+
+
+@_lint("W0111")
+def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
+    symbols = program.model.symbols
+    locals_: list[Symbol] = list(_variables(program))
+    for g in program.model.globals.values():
+        if program.in_root(g.span) and g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
+            locals_.extend(g.params)
+    for local in locals_:
+        shadowed = symbols.get(local.name)
+        if shadowed is None or local.span is None or local.kind not in _LOCAL_KINDS:
+            continue
+        what = "parameter" if local.kind is SymbolKind.PARAMETER else "variable"
+        yield diag.warning(
+            "W0111",
+            f"{what} `{local.name}` shadows the symbol `{local.name}`",
+            local.span,
+            f"in its scope, `{local.name}` means this {what}",
+            secondary=[diag.Label(shadowed.span, "the symbol is declared here")] if shadowed.span else [],
+            help=f"rename the {what}",
+        )

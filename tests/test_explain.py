@@ -1,0 +1,169 @@
+"""`gpp explain CODE` and the registry of codes: every code is explained with an example that
+does what it says, and the registry and the sources agree on which codes exist."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gpp.check import check_paths, merged_diagnostics
+from gpp.codes import CODES, close_matches, lookup
+
+REPO = Path(__file__).resolve().parent.parent
+CODE_PATTERN = re.compile(r"\b[EW]\d{4}\b")
+
+
+def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
+    return subprocess.run(
+        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=60
+    )
+
+
+def example_blocks(explanation: str) -> list[str]:
+    """The indented (4 spaces) blocks of an explanation, unindented."""
+    blocks: list[list[str]] = []
+    previous_indented = False
+    for line in explanation.splitlines():
+        indented = line.startswith("    ")
+        if indented:
+            if not previous_indented:
+                blocks.append([])
+            blocks[-1].append(line[4:])
+        previous_indented = indented
+    return ["\n".join(b) + "\n" for b in blocks]
+
+
+def program_files(block: str, folder: Path) -> list[Path]:
+    """Write an example to `folder`: one file, or several introduced by `// name.gpp` lines."""
+    files: dict[str, list[str]] = {}
+    name = "example.gpp"
+    for line in block.splitlines():
+        header = re.fullmatch(r"// (\w+\.gpp)", line)
+        if header:
+            name = header.group(1)
+            continue
+        files.setdefault(name, []).append(line)
+    folder.mkdir()
+    paths = []
+    for file_name, lines in files.items():
+        path = folder / file_name
+        path.write_text("\n".join(lines) + "\n")
+        paths.append(path)
+    return paths
+
+
+# ---------------------------------------------------------------- the registry
+
+
+@pytest.mark.parametrize("code", sorted(CODES))
+def test_every_code_is_explained_with_an_example(code: str) -> None:
+    info = CODES[code]
+    assert info.code == code
+    assert info.name and info.summary
+    assert info.explanation.strip(), f"{code} has no explanation"
+    blocks = example_blocks(info.explanation)
+    assert len(blocks) >= 2, f"{code}: the explanation needs an example of the problem and of its fix"
+    first_paragraph = info.explanation.split("\n\n")[0]
+    assert not first_paragraph.startswith("    ")
+
+
+@pytest.mark.parametrize("code", sorted(CODES))
+def test_the_example_shows_the_problem_and_the_fix(code: str, tmp_path: Path) -> None:
+    blocks = example_blocks(CODES[code].explanation)
+    problem = check_paths(program_files(blocks[0], tmp_path / "problem"))
+    reported = {d.code for d in merged_diagnostics(problem)}
+    assert code in reported, f"{code}: the first example reports {sorted(reported)}"
+    fixed = merged_diagnostics(check_paths(program_files(blocks[-1], tmp_path / "fixed")))
+    remaining = [f"{d.code} {d.message}" for d in fixed if d.code == code or d.is_error]
+    assert remaining == [], f"{code}: the fixed example still reports problems"
+
+
+def test_names_are_unique_and_look_like_names() -> None:
+    names = [c.name for c in CODES.values()]
+    assert len(names) == len(set(names))
+    assert all(re.fullmatch(r"[a-z]+(-[a-z]+)*", n) for n in names)
+
+
+def test_lookup_takes_codes_and_names_in_any_case() -> None:
+    assert lookup("e0011") is CODES["E0011"]
+    assert lookup(" Unused ") is CODES["W0101"]
+    assert lookup("W9999") is None
+
+
+def test_close_matches_suggest_codes_and_names() -> None:
+    assert "unused" in close_matches("unsued")
+    assert "E0312" in close_matches("E0112")
+    suggested = [lookup(m) for m in close_matches("E0101", lints=True)]
+    assert suggested and all(info is not None and info.is_lint for info in suggested)
+
+
+def source_codes() -> dict[str, set[str]]:
+    """Every code string in the sources (outside the registry), with the files it is in."""
+    found: dict[str, set[str]] = {}
+    for path in [*sorted((REPO / "gpp").rglob("*.py")), *sorted((REPO / "lsp").rglob("*.py"))]:
+        if path == REPO / "gpp" / "codes.py":
+            continue
+        for code in CODE_PATTERN.findall(path.read_text(encoding="utf-8")):
+            found.setdefault(code, set()).add(str(path.relative_to(REPO)))
+    return found
+
+
+def test_every_code_in_the_sources_is_registered() -> None:
+    unknown = {code: files for code, files in source_codes().items() if code not in CODES}
+    assert unknown == {}
+
+
+def test_every_registered_code_is_used_in_the_sources() -> None:
+    used = source_codes()
+    assert sorted(code for code in CODES if code not in used) == []
+
+
+# ---------------------------------------------------------------- gpp explain
+
+
+def test_explain_a_code(tmp_path: Path) -> None:
+    result = run_gpp("explain", "E0011", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    info = CODES["E0011"]
+    assert result.stdout.splitlines()[0] == f"E0011 (error `missing-semicolon`): {info.summary}"
+    assert info.explanation in result.stdout
+    assert result.stderr == ""
+
+
+def test_explain_a_lint_by_name_in_any_case(tmp_path: Path) -> None:
+    result = run_gpp("explain", "Unused", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith(f"W0101 (lint `unused`): {CODES['W0101'].summary}\n\n")
+    assert "    procedure main()" in result.stdout
+
+
+def test_explain_a_lowercase_code(tmp_path: Path) -> None:
+    result = run_gpp("explain", "w0110", cwd=tmp_path)
+    assert result.returncode == 0
+    assert result.stdout.startswith("W0110 (lint `mixed-precedence`)")
+
+
+def test_explain_an_unknown_code_is_a_usage_error(tmp_path: Path) -> None:
+    result = run_gpp("explain", "E0112", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stdout == ""
+    assert result.stderr.startswith("error: unknown code `E0112`; did you mean ")
+    assert "`E0312`" in result.stderr
+
+
+def test_explain_an_unknown_name_suggests_names(tmp_path: Path) -> None:
+    result = run_gpp("explain", "unsed", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr == "error: unknown code `unsed`; did you mean `unused`?\n"
+
+
+def test_explain_needs_a_code(tmp_path: Path) -> None:
+    result = run_gpp("explain", cwd=tmp_path)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr

@@ -1,0 +1,606 @@
+"""The lints (W0101-W0111): for each, a tiny program that triggers it, with the exact code,
+position and message, and a clean counterpart that does not; `allow` suppresses a lint by code
+or by name; declarations of included files are never linted."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from gpp.check import check_program
+from gpp.check.lints import LINTS
+from gpp.codes import CODES, lints
+from gpp.diagnostics import Diagnostic, Severity
+
+PATH = Path("lint_test.gpp")
+EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
+
+
+def lint(text: str, *allow: str) -> list[Diagnostic]:
+    """The warnings of a program that must have no errors."""
+    result = check_program(PATH, allow=allow, overrides={PATH: text})
+    errors = [f"{d.span.line}:{d.span.col} {d.code} {d.message}" for d in result.diagnostics if d.is_error]
+    assert errors == [], "the test program has errors"
+    assert all(d.severity is Severity.WARNING for d in result.diagnostics)
+    return result.diagnostics
+
+
+def found(text: str, code: str, *allow: str) -> list[str]:
+    """`line:col message` of every warning with `code`."""
+    return [f"{d.span.line}:{d.span.col} {d.message}" for d in lint(text, *allow) if d.code == code]
+
+
+def the(text: str, code: str) -> Diagnostic:
+    [d] = [d for d in lint(text) if d.code == code]
+    return d
+
+
+# ---------------------------------------------------------------- the registry
+
+
+def test_every_lint_code_has_a_lint() -> None:
+    assert sorted(LINTS) == [c.code for c in lints()]
+    assert all(CODES[code].is_lint for code in LINTS)
+
+
+# ---------------------------------------------------------------- W0101 unused
+
+UNUSED = """\
+number fluent count() { initially: () = 0; }
+action beep() { }
+number function fact(number n) = if (n <= 1) 1 else n * fact(n - 1)
+procedure main() { }
+bool function postcond() = true
+exog_action bell() { }
+"""
+
+
+def test_unused_declarations_are_reported() -> None:
+    assert found(UNUSED, "W0101") == [
+        "1:15 fluent `count` is never used",
+        "2:8 action `beep` is never used",
+        "3:17 function `fact` is never used",  # calls from its own body do not count
+    ]
+
+
+def test_used_declarations_and_entry_points_are_not_reported() -> None:
+    text = """\
+number fluent count() { initially: () = 0; }
+action beep() { effect: count() = count() + 1; }
+number function reward() = count()
+procedure twice() { beep(); beep(); }
+procedure main() { solve(2, reward()) choose { twice(); beep(); } }
+bool function postcond() = count() > 0
+exog_action bell() { }
+"""
+    assert found(text, "W0101") == []
+
+
+# ---------------------------------------------------------------- W0102 unused parameter / variable
+
+UNUSED_VARIABLES = """\
+symbol domain Room = {hall, kitchen}
+number function twice(number x, number y) = 2 * x
+action go(Room r, number speed) {
+mapping:
+    "go" { target = r }
+}
+action wait(number seconds) { }
+exog_action arrived(Room room) { }
+procedure main() {
+    go(hall, 1);
+    wait(twice(1, 2));
+    search pick (Room r) wait(1);
+    test(exists(Room q) true);
+}
+"""
+
+
+def test_unused_parameters_and_variables_are_reported() -> None:
+    assert found(UNUSED_VARIABLES, "W0102") == [
+        "2:40 parameter `y` of function `twice` is never used",
+        "3:26 parameter `speed` of action `go` is never used",
+        "12:23 variable `r` is never used",
+        "13:22 variable `q` is never used",
+    ]
+
+
+def test_used_parameters_are_not_reported() -> None:
+    text = """\
+symbol domain Room = {hall, kitchen}
+Room fluent at() { initially: () = hall; }
+action go(Room r, number speed) {
+precondition: at() != r
+mapping:
+    "go" { velocity = speed }
+}
+procedure main() {
+    search pick (Room r) go(r, 1);
+    test(exists(Room q) at() == q);
+}
+"""
+    assert found(text, "W0102") == []
+
+
+# ---------------------------------------------------------------- W0103 uninitialised fluent instances
+
+
+@pytest.mark.parametrize(
+    ("declaration", "message"),
+    [
+        (
+            "symbol domain Room = {hall, kitchen, office}\nbool fluent lit(Room r) { initially: (hall) = true; }",
+            "2:13 fluent `lit` has no initial value for `lit(kitchen)` and `lit(office)`",
+        ),
+        (
+            "symbol domain B = {a, b}\nbool fluent on(B x, B y) { initially: (a, y) = true; (b, b) = false; }",
+            "2:13 fluent `on` has no initial value for `on(b, a)`",
+        ),
+        (
+            "bool fluent f(bool p, bool q) { initially: (true, q) = true; }",
+            "1:13 fluent `f` has no initial value for `f(false, false)` and `f(false, true)`",
+        ),
+        (
+            "number domain D = {1, 2, 3, 4, 5}\nnumber fluent f(D d) { initially: (1) = 0; }",
+            "2:15 fluent `f` has no initial value for `f(2)`, `f(3)`, `f(4)` and 1 more instance",
+        ),
+        (
+            "number fluent count(number n) { initially: (1) = 0; }",
+            "1:15 fluent `count` has no initial value for `count(n)` with `n` not listed in `initially:`",
+        ),
+        (
+            'string domain Name = {"ann", "bob"}\nnumber fluent f(Name who, number n) { initially: ("ann", n) = 0; }',
+            '2:15 fluent `f` has no initial value for `f("bob", n)` with `n` not listed in `initially:`',
+        ),
+        ("number fluent f();", "1:15 fluent `f` has no initial values"),
+    ],
+)
+def test_uninitialized_fluent_instances_are_reported(declaration: str, message: str) -> None:
+    assert found(declaration + "\n", "W0103") == [message]
+
+
+@pytest.mark.parametrize(
+    "declaration",
+    [
+        "symbol domain Room = {hall, kitchen}\nbool fluent lit(Room r) { initially: (r) = false; (hall) = true; }",
+        "symbol domain Room = {hall, kitchen}\nbool fluent lit(Room r) { initially: (hall) = true; (kitchen) = null; }",
+        "bool fluent f(bool p) { initially: (true) = true; (false) = false; }",
+        "number domain D = {1, 2}\nnumber fluent f(D d) { initially: (1.0) = 0; (2) = 0; }",
+        "number fluent count(number n) { initially: (n) = 0; (1) = 5; }",
+        "symbol domain B = {a, b}\nnumber fluent f(B x, string s) { initially: (a, s) = 0; (x, s) = 1; }",
+        "number fluent f();\nnumber fluent f() { initially: () = 0; }",
+        "number fluent f() { initially: () = null; }",
+    ],
+)
+def test_fully_initialized_fluents_are_not_reported(declaration: str) -> None:
+    assert found(declaration + "\n", "W0103") == []
+
+
+def test_uninitialized_fluent_has_a_default_entry_help() -> None:
+    d = the("symbol domain B = {a, b}\nbool fluent on(B x, B y) { initially: (a, b) = true; }\n", "W0103")
+    assert d.label == "some instances start as `null`"
+    assert d.help == "add a default entry `(x, y) = ...;` before the others (later entries override earlier ones)"
+
+
+# ---------------------------------------------------------------- W0104 double effect
+
+DOUBLE_EFFECT = """\
+symbol domain Room = {hall, kitchen}
+number fluent count() { initially: () = 0; }
+bool fluent lit(Room r) { initially: (r) = false; }
+action step(Room r) {
+effect:
+    count() = count() + 1;
+    lit(r) = true;
+    lit(hall) = true;
+    count() = 0;
+    if (r == hall) lit(r) = false;
+}
+procedure main() { step(hall); }
+"""
+
+
+def test_double_effect_is_reported() -> None:
+    assert found(DOUBLE_EFFECT, "W0104") == ["9:5 action `step` assigns `count()` twice"]
+    d = the(DOUBLE_EFFECT, "W0104")
+    assert [(label.span.line, label.span.col, label.message) for label in d.secondary] == [
+        (6, 5, "first assigned here")
+    ]
+
+
+def test_different_and_guarded_effects_are_not_reported() -> None:
+    text = DOUBLE_EFFECT.replace("    count() = 0;\n", "")
+    assert found(text, "W0104") == []
+
+
+# ---------------------------------------------------------------- W0105 pick/choose online
+
+ONLINE = """\
+symbol domain Room = {hall, kitchen}
+action go(Room r) { }
+number function reward() = 0
+procedure anywhere() { pick (Room r) go(r); }
+procedure planned() { choose { go(hall); go(kitchen); } }
+procedure main() {
+    pick (Room r in {hall}) go(r);
+    anywhere();
+    solve(2, reward()) { planned(); anywhere(); }
+    search { pick (Room r) go(r); }
+    choose { go(hall); go(kitchen); }
+}
+"""
+
+
+def test_pick_and_choose_outside_planning_are_reported() -> None:
+    assert found(ONLINE, "W0105") == [
+        "4:24 `pick` outside `solve` or `search` takes the first value that works now",
+        "7:5 `pick` outside `solve` or `search` takes the first value that works now",
+        "11:5 `choose` outside `solve` or `search` takes the first alternative that works now",
+    ]
+
+
+def test_procedures_called_only_while_planning_are_not_reported() -> None:
+    text = """\
+symbol domain Room = {hall, kitchen}
+action go(Room r) { }
+number function reward() = 0
+procedure leaf() { pick (Room r) go(r); }
+procedure middle() { leaf(); middle(); }
+procedure main() { search middle(); }
+"""
+    assert found(text, "W0105") == []
+
+
+def test_a_choose_that_waits_in_every_alternative_is_not_reported() -> None:
+    text = """\
+action scan() { }
+action say(string text) { }
+bool fluent ready() { initially: () = false; }
+procedure main() {
+    start(scan());
+    choose {
+        { finish(scan()); say("done"); }
+        { fail(scan()); say("failed"); }
+        test(ready());
+    }
+}
+"""
+    assert found(text, "W0105") == []
+
+
+# ---------------------------------------------------------------- W0106 busy loop
+
+
+def test_busy_loop_is_reported() -> None:
+    text = """\
+bool fluent busy() { initially: () = false; }
+procedure main() {
+    while (true) {
+        if (busy()) { }
+    }
+}
+"""
+    d = the(text, "W0106")
+    assert (d.span.line, d.span.col, d.span.text) == (3, 5, "while (true)")
+    assert d.message == "this `while (true)` loop never executes an action, a test or an assignment"
+
+
+@pytest.mark.parametrize("body", ["beep();", "test(busy());", "busy() = false;", "{ if (busy()) step(); }"])
+def test_loops_that_act_are_not_reported(body: str) -> None:
+    text = f"""\
+bool fluent busy() {{ initially: () = false; }}
+action beep() {{ }}
+procedure step() {{ beep(); }}
+procedure main() {{ while (true) {body} }}
+"""
+    assert found(text, "W0106") == []
+
+
+# ---------------------------------------------------------------- W0107 constant condition
+
+CONSTANT = """\
+symbol domain Room = {hall, kitchen}
+number fluent count() { initially: () = 0; }
+action beep() {
+precondition: 1 > 2
+effect:
+    if (hall == hall) count() = 1;
+}
+procedure main() {
+    if (1 < 2) beep();
+    while (false) beep();
+    while ("a" != "a") beep();
+    test(!true);
+    while (hall != kitchen) beep();
+}
+"""
+
+
+def test_constant_conditions_are_reported() -> None:
+    assert found(CONSTANT, "W0107") == [
+        "4:15 precondition is always false",
+        "6:9 effect condition is always true",
+        "9:9 `if` condition is always true",
+        "10:12 `while` condition is always false",
+        "11:12 `while` condition is always false",
+        "12:10 `test` condition is always false",
+        "13:12 `while` condition is always true",
+    ]
+
+
+def test_idioms_and_state_dependent_conditions_are_not_reported() -> None:
+    text = """\
+symbol domain Room = {hall, kitchen}
+number fluent count() { initially: () = 0; }
+action beep() {
+precondition: true
+effect:
+    if (count() > 1) count() = 1;
+}
+procedure pace(Room hall) {
+    if (hall == kitchen) beep();
+}
+procedure main() {
+    while (true) beep();
+    test(true);
+    if (count() < 2) beep();
+    pace(kitchen);
+}
+"""
+    assert found(text, "W0107") == []
+
+
+# ---------------------------------------------------------------- W0108 unreachable else
+
+UNREACHABLE = """\
+action beep() { }
+action wait() { }
+procedure main() {
+    if (true) beep(); else wait();
+    if (1 > 2) beep();
+    else wait();
+}
+"""
+
+
+def test_unreachable_branches_are_reported() -> None:
+    assert found(UNREACHABLE, "W0108") == [
+        "4:23 the `else` branch can never run",
+        "5:9 the `if` branch can never run, only the `else` branch",
+    ]
+    first = next(d for d in lint(UNREACHABLE) if d.code == "W0108")
+    assert first.span.text == "else"
+    assert [(label.span.text, label.message) for label in first.secondary] == [
+        ("true", "this condition is always true")
+    ]
+
+
+def test_an_if_with_a_real_condition_is_not_reported() -> None:
+    text = "bool fluent p() { initially: () = true; }\naction beep() { }\n"
+    text += "procedure main() { if (p()) beep(); else { } }\n"
+    assert found(text, "W0108") == []
+
+
+# ---------------------------------------------------------------- W0109 solve without choice
+
+SOLVE = """\
+action work() { }
+action rest() { }
+number function reward() = 0
+procedure either() { choose { work(); rest(); } }
+procedure indirect() { either(); }
+procedure main() {
+    solve(3, reward()) work();
+    solve(3, reward()) indirect();
+    solve(3, reward()) while (true) pick (bool b) if (b) work();
+}
+"""
+
+
+def test_solve_without_choice_is_reported() -> None:
+    assert found(SOLVE, "W0109") == ["7:5 `solve` has nothing to decide: its program has no `pick` or `choose`"]
+    assert the(SOLVE, "W0109").span.text == "solve"
+
+
+# ---------------------------------------------------------------- W0110 mixed precedence
+
+FLUENTS = """\
+number fluent x() { initially: () = 1; }
+bool fluent p() { initially: () = true; }
+bool fluent q() { initially: () = true; }
+bool fluent r() { initially: () = true; }
+bool fluent s() { initially: () = true; }
+"""
+
+
+def precedence(expression: str, type_: str = "number") -> list[tuple[str, tuple[str, ...], str]]:
+    """(message, notes, the line after the fix) of the W0110 warnings about `expression`."""
+    use = "f() > 0" if type_ == "number" else "f()"
+    text = FLUENTS + f"{type_} function f() = {expression}\nprocedure main() {{ test({use}); }}\n"
+    out = []
+    for d in lint(text):
+        if d.code == "W0110":
+            assert d.fix is not None
+            fixed = text
+            for edit in sorted(d.fix.edits, key=lambda e: -e.span.start):
+                fixed = fixed[: edit.span.start] + edit.text + fixed[edit.span.end :]
+            out.append((d.message, d.notes, fixed.splitlines()[5]))
+    return out
+
+
+@pytest.mark.parametrize(
+    ("expression", "golog", "standard"),
+    [
+        # LANGUAGE.md §2.6.2
+        ("1 * 2 + 3 * 4", "((1 * 2) + 3) * 4", "(1 * 2) + (3 * 4)"),
+        ("1 + 2 * 3 ** 2 - 4 / 2 % 3", "1 + (((2 * (3 ** 2)) - 4) / 2 % 3)", "1 + (2 * (3 ** 2)) - (4 / 2 % 3)"),
+        ("5 - 3 + x() - 1 + 2 * -3 - -4", "((5 - 3 + x() - 1 + 2) * -3) - -4", "5 - 3 + x() - 1 + (2 * -3) - -4"),
+        ("(x() - 1) ** 2 + x() ** 2", "(((x() - 1) ** 2) + x()) ** 2", "((x() - 1) ** 2) + (x() ** 2)"),
+    ],
+)
+def test_arithmetic_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
+    [(message, notes, fixed)] = precedence(expression)
+    assert message == f"golog++ reads this as `{golog}`"
+    assert notes == (f"gpp uses standard precedence: `{standard}`",)
+    assert fixed == f"number function f() = {standard}"
+
+
+@pytest.mark.parametrize(
+    ("expression", "golog", "standard"),
+    [
+        ("p() & q() | r() & s()", "((p() & q()) | r()) & s()", "(p() & q()) | (r() & s())"),
+        ("p() & q() -> r() | s()", "((p() & q()) -> r()) | s()", "(p() & q()) -> (r() | s())"),
+        ("p() & x() > 1 | q() & !r()", "((p() & x() > 1) | q()) & !r()", "(p() & x() > 1) | (q() & !r())"),
+    ],
+)
+def test_boolean_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
+    [(message, notes, fixed)] = precedence(expression, "bool")
+    assert message == f"golog++ reads this as `{golog}`"
+    assert notes == (f"gpp uses standard precedence: `{standard}`",)
+    assert fixed == f"bool function f() = {standard}"
+
+
+@pytest.mark.parametrize(
+    "expression",
+    [
+        "1 + 2 * 3",
+        "1 * 2 + 3",
+        "1 - 2 - 3 + 4",
+        "2 ** 3 ** 2",
+        "8 / 2 / 2 * 3 % 5",
+        "(1 * 2) + (3 * 4)",
+        "1 * 2 + (3 * 4)",
+    ],
+)
+def test_arithmetic_chains_read_alike_are_not_reported(expression: str) -> None:
+    assert precedence(expression) == []
+
+
+@pytest.mark.parametrize(
+    "expression",
+    [
+        "p() | q() & r() | s()",
+        "p() -> q() -> r()",
+        "p() & q() & r() | s()",
+        "(p() & q()) | (r() & s())",
+        "p() & q() == r()",
+        "x() * 2 + 1 > x() + 2 * 3 & p()",
+    ],
+)
+def test_boolean_chains_read_alike_are_not_reported(expression: str) -> None:
+    assert precedence(expression, "bool") == []
+
+
+def test_boolean_equality_takes_part_in_the_chain() -> None:
+    # `==` between bools is iff, at the loosest level: gpp reads `(p & q) == (r | s)`.
+    [(message, notes, _)] = precedence("p() & q() == r() | s()", "bool")
+    assert message == "golog++ reads this as `((p() & q()) == r()) | s()`"
+    assert notes == ("gpp uses standard precedence: `(p() & q()) == (r() | s())`",)
+
+
+# ---------------------------------------------------------------- W0111 shadowed symbol
+
+SHADOWED = """\
+symbol domain Room = {hall, kitchen}
+action go(Room hall) { }
+procedure main() {
+    go(kitchen);
+    search pick (Room kitchen) go(kitchen);
+}
+"""
+
+
+def test_shadowed_symbols_are_reported() -> None:
+    assert found(SHADOWED, "W0111") == [
+        "2:16 parameter `hall` shadows the symbol `hall`",
+        "5:23 variable `kitchen` shadows the symbol `kitchen`",
+    ]
+    first = next(d for d in lint(SHADOWED) if d.code == "W0111")
+    assert [(label.span.line, label.span.col, label.message) for label in first.secondary] == [
+        (1, 23, "the symbol is declared here")
+    ]
+
+
+def test_names_unlike_symbols_are_not_reported() -> None:
+    assert found(SHADOWED.replace("Room hall", "Room to").replace("Room kitchen", "Room r"), "W0111") == []
+
+
+# ---------------------------------------------------------------- allow, no-lint, includes
+
+TRIGGERS = {
+    "W0101": UNUSED,
+    "W0102": UNUSED_VARIABLES,
+    "W0103": "number fluent f();\n",
+    "W0104": DOUBLE_EFFECT,
+    "W0105": ONLINE,
+    "W0106": "procedure main() { while (true) { } }\n",
+    "W0107": CONSTANT,
+    "W0108": UNREACHABLE,
+    "W0109": SOLVE,
+    "W0110": FLUENTS + "number function f() = x() * 2 + x() * 3\n",
+    "W0111": SHADOWED,
+}
+
+
+def test_every_lint_has_a_trigger_here() -> None:
+    assert sorted(TRIGGERS) == sorted(LINTS)
+
+
+@pytest.mark.parametrize("code", sorted(TRIGGERS))
+def test_allow_suppresses_a_lint_by_code_or_name(code: str) -> None:
+    text = TRIGGERS[code]
+    assert found(text, code) != []
+    assert found(text, code, code) == []
+    assert found(text, code, CODES[code].name.upper()) == []
+    assert found(text, code, code.lower()) == []
+
+
+def test_allow_leaves_the_other_lints_alone() -> None:
+    codes = {d.code for d in lint(ONLINE, "W0105")}
+    assert "W0105" not in codes
+    assert "W0111" not in codes
+    assert {d.code for d in lint(UNUSED, "W0105")} == {"W0101"}
+
+
+def test_no_lint_reports_no_warnings() -> None:
+    result = check_program(PATH, lint=False, overrides={PATH: UNUSED})
+    assert result.diagnostics == []
+
+
+def test_lints_do_not_report_included_files(tmp_path: Path) -> None:
+    (tmp_path / "lib.gpp").write_text(
+        "symbol domain Room = {hall, kitchen}\n"
+        "number fluent unused_in_lib(Room r) { initially: (hall) = 0; }\n"
+        "action go(Room hall) { }\n"
+        "procedure wander() { pick (Room r) go(r); }\n"
+    )
+    main = tmp_path / "main.gpp"
+    main.write_text('#include "lib.gpp"\nnumber fluent unused_here() { initially: () = 0; }\nprocedure main() { }\n')
+    result = check_program(main)
+    assert [(Path(d.span.source.path).name, d.code, d.message) for d in result.diagnostics] == [
+        ("main.gpp", "W0101", "fluent `unused_here` is never used")
+    ]
+    # Checked as a root file of its own, the library gets its warnings.
+    codes = sorted(d.code for d in check_program(tmp_path / "lib.gpp").diagnostics)
+    assert codes == ["W0101", "W0101", "W0103", "W0105", "W0111"]
+
+
+def test_lints_run_on_programs_with_model_errors() -> None:
+    result = check_program(PATH, overrides={PATH: "procedure main() { undefined(); }\nnumber fluent f();\n"})
+    assert [d.code for d in result.diagnostics] == ["E0103", "W0101", "W0103"]
+
+
+# Lint warnings the shipped examples are allowed to have (none: examples are written clean).
+KNOWN_EXAMPLE_WARNINGS: set[tuple[str, int, str]] = set()
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES_DIR.glob("*.gpp")), ids=lambda p: p.name)
+def test_examples_have_no_unexpected_lint_warnings(path: Path) -> None:
+    result = check_program(path)
+    unexpected = [
+        f"{d.span.line}:{d.span.col} {d.code} {d.message}"
+        for d in result.diagnostics
+        if (path.name, d.span.line, d.code) not in KNOWN_EXAMPLE_WARNINGS
+    ]
+    assert unexpected == []
