@@ -21,6 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program, nested_expression_program
 
+from gpp.check import check_text
 from gpp.source import Source
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse
@@ -32,6 +33,17 @@ def best_of(n: int, fn: Callable[[Source], object], source: Source) -> float:
         t0 = time.perf_counter()
         fn(source)
         best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def time_check(source: Source, runs: int, lint: bool) -> float:
+    """Best time of `gpp check` (parse, resolve, type check, and lints if asked) in-process."""
+    best = float("inf")
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        result = check_text(source.text, Path(source.path), lint=lint)
+        best = min(best, time.perf_counter() - t0)
+        assert not result.errors, result.diagnostics[:3]
     return best
 
 
@@ -75,6 +87,7 @@ def main() -> None:
         f"{'lines':>8} {'tokens':>9} {'seconds':>9} {'lines/s':>9} {'cost/line':>10} {'lark tree':>10} {'speed-up':>9}"
     )
     first_cost = None
+    checks: list[tuple[int, float, float]] = []
     for lines in sizes:
         text = generate_program(lines)
         source = Source(text, f"gen{lines}.gpp")
@@ -93,6 +106,20 @@ def main() -> None:
         print(
             f"{n_lines:>8,} {n_tokens:>9,} {seconds:>9.3f} {n_lines / seconds:>9,.0f} "
             f"{cost / first_cost:>10.2f} {lark_seconds:>9.3f}s {lark_seconds / seconds:>8.1f}x"
+        )
+        runs = 1 if lines > 10_000 else repeat
+        checks.append((n_lines, time_check(source, runs, lint=False), time_check(source, runs, lint=True)))
+
+    print()
+    print("parse + check (resolve names, types) and with lints, best of", repeat)
+    print(f"{'lines':>8} {'check s':>9} {'lines/s':>9} {'cost/line':>10} {'+lints s':>9} {'lines/s':>9}")
+    first_check = None
+    for n_lines, check_seconds, lint_seconds in checks:
+        per_line = check_seconds / n_lines
+        first_check = first_check or per_line
+        print(
+            f"{n_lines:>8,} {check_seconds:>9.3f} {n_lines / check_seconds:>9,.0f} {per_line / first_check:>10.2f} "
+            f"{lint_seconds:>9.3f} {n_lines / lint_seconds:>9,.0f}"
         )
 
     print()
