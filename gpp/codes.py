@@ -83,6 +83,22 @@ _CODES: list[CodeInfo] = [
     CodeInfo("W0109", "solve-without-choice", "a `solve` whose program has no `pick` or `choose`"),
     CodeInfo("W0110", "mixed-precedence", "an operator chain that the original golog++ reads differently"),
     CodeInfo("W0111", "shadowed-symbol", "a parameter or variable named like a domain symbol"),
+    # ---------------------------------------------------------------- run time
+    # Reported by `gpp run` and `gpp test` when the program runs. R0099 (an internal error) is
+    # not registered: it reports a bug in gpp, not a problem of the program.
+    CodeInfo("R0001", "bad-arithmetic", "an arithmetic operation without a result: division by zero and the like"),
+    CodeInfo("R0002", "null-value", "an operation on `null`, the value of a fluent instance without a value"),
+    CodeInfo("R0003", "bad-index", "a list index out of range or not a whole number"),
+    CodeInfo("R0004", "domain-violation", "a value outside its domain, stored or passed at run time"),
+    CodeInfo("R0005", "conflicting-effects", "effects of one action that give one fluent instance different values"),
+    CodeInfo("R0006", "pop-empty-list", "`pop_front` or `pop_back` on an empty list"),
+    CodeInfo("R0007", "platform-failure", "the platform cannot do what the program asks of it"),
+    CodeInfo("R0008", "missing-definition", "a procedure or function declared but never defined, or no `main`"),
+    CodeInfo("R0009", "started-twice", "an activity started again before the previous identical one was ended"),
+    CodeInfo("R0010", "planning-aborted", "`solve` or `search` that cannot plan: endless free steps, bad horizon"),
+    CodeInfo("R0011", "blocked", "the program cannot make a step and nothing can change that"),
+    CodeInfo("R0012", "recursion-too-deep", "procedure or function calls nested too deeply"),
+    CodeInfo("R0013", "timeout", "the run reached the time limit given by `--timeout`"),
 ]
 
 # `gpp explain CODE`: what the problem is, in plain words, and a small example with its fix
@@ -1035,6 +1051,347 @@ Rename the parameter:
     symbol domain Room = {hall, kitchen}
     action go(Room target) { }
     procedure main() { go(kitchen); }
+""",
+    # ---------------------------------------------------------------- run time
+    "R0001": """
+An arithmetic operation whose operands have no result stops the run at the expression:
+division or `%` by zero, `%` of numbers that are not whole, `0 ** -1` (a division by zero),
+a power that is not a real number, such as `(0 - 8) ** 0.5`, or a result too large to be a
+number. The checker cannot see these: they depend on values the program computes as it runs.
+
+For example, `seconds()` is 0 when the division runs:
+
+    number fluent distance() { initially: () = 12; }
+    number fluent seconds() { initially: () = 0; }
+    number fluent speed() { initially: () = 0; }
+    procedure main() {
+        speed() = distance() / seconds();
+    }
+
+Compute only when the operands allow it:
+
+    number fluent distance() { initially: () = 12; }
+    number fluent seconds() { initially: () = 0; }
+    number fluent speed() { initially: () = 0; }
+    procedure main() {
+        if (seconds() > 0)
+            speed() = distance() / seconds();
+    }
+""",
+    "R0002": """
+`null` is the value of a fluent instance that no `initially:` entry covers (or that was
+given `null`). It is no number, string, list or compound value: arithmetic, `+` of strings,
+`-`, ordering comparisons (`<`, `<=`, `>`, `>=`), `length`, fields, indexes, list operations
+and assignments into a field or element of `null` stop the run, as does a `solve` whose reward
+is `null`. `==` and `!=` may compare with `null`, and in a condition `null` counts as false.
+`gpp check` warns about fluent instances without an initial value (W0103).
+
+For example, `visits(kitchen)` has no initial value:
+
+    symbol domain Room = {hall, kitchen}
+    number fluent visits(Room r) { initially: (hall) = 0; }
+    procedure main() {
+        visits(kitchen) = visits(kitchen) + 1;
+    }
+
+Give every instance an initial value (the entry `(r) = 0` covers all rooms):
+
+    symbol domain Room = {hall, kitchen}
+    number fluent visits(Room r) { initially: (r) = 0; }
+    procedure main() {
+        visits(kitchen) = visits(kitchen) + 1;
+    }
+""",
+    "R0003": """
+The index of a list must be a whole number from 0 to `length(list) - 1`, both to read an
+element and to assign one. Assigning past the end does not grow the list: use `push_back` or
+`push_front` to add elements.
+
+For example, a list of three elements has no element 3:
+
+    list[number] fluent readings() { initially: () = list[number] [3, 4, 5]; }
+    number fluent last() { initially: () = 0; }
+    procedure main() {
+        last() = readings()[length(readings())];
+    }
+
+Indexes start at 0, so the last element is at `length(...) - 1`:
+
+    list[number] fluent readings() { initially: () = list[number] [3, 4, 5]; }
+    number fluent last() { initially: () = 0; }
+    procedure main() {
+        last() = readings()[length(readings()) - 1];
+    }
+""",
+    "R0004": """
+A value computed at run time is checked against its domain when it is stored in a fluent (by
+an assignment or an action's effect), passed as an argument of an action or procedure, or
+pushed into a list: a value outside the domain stops the run. The checker reports literals
+outside a domain (E0203); computed values can only be checked as the program runs.
+
+For example, raising the level from 3 gives 4, which `Level` does not have:
+
+    number domain Level = {1, 2, 3}
+    Level fluent level() { initially: () = 3; }
+    action raise() {
+    effect:
+        level() = level() + 1;
+    }
+    procedure main() {
+        raise();
+    }
+
+Make sure the value stays in the domain, here with a conditional effect:
+
+    number domain Level = {1, 2, 3}
+    Level fluent level() { initially: () = 3; }
+    action raise() {
+    effect:
+        if (level() < 3) level() = level() + 1;
+    }
+    procedure main() {
+        raise();
+    }
+""",
+    "R0005": """
+The effects of an action are evaluated in the state before it and applied together, so
+effects that give the same fluent instance (or the same field or element of it) different
+values contradict each other, and the action stops the run. Effects that give the same value
+are fine. `gpp check` warns about unconditional effects on one instance (W0104); effects with
+an `if (...)` condition can only conflict when their conditions hold together.
+
+For example, both conditions hold for `drive(60)`:
+
+    number fluent alarm() { initially: () = 0; }
+    action drive(number speed) {
+    effect:
+        if (speed > 30) alarm() = 1;
+        if (speed > 50) alarm() = 2;
+    }
+    procedure main() {
+        drive(60);
+    }
+
+Make the conditions exclude each other:
+
+    number fluent alarm() { initially: () = 0; }
+    action drive(number speed) {
+    effect:
+        if (speed > 30 & speed <= 50) alarm() = 1;
+        if (speed > 50) alarm() = 2;
+    }
+    procedure main() {
+        drive(60);
+    }
+""",
+    "R0006": """
+`pop_front` and `pop_back` remove an element of a list; on an empty list there is nothing to
+remove, and the run stops rather than going on as if something was removed.
+
+For example, the second `pop_front` finds the list empty:
+
+    list[string] fluent orders() { initially: () = list[string] ["tea"]; }
+    procedure main() {
+        pop_front(orders());
+        pop_front(orders());
+    }
+
+Check the length first:
+
+    list[string] fluent orders() { initially: () = list[string] ["tea"]; }
+    procedure main() {
+        while (length(orders()) > 0)
+            pop_front(orders());
+    }
+""",
+    "R0007": """
+The platform could not do what the program asked of it: answer an exogenous function, or
+start an action. The run also stops before its first step when the program does not fit
+the platform (on the dummy platform: when the scenario names actions, exogenous actions or
+exogenous functions the program does not have, or gives them arguments or values that do not
+fit). The message and its notes give the platform's reason.
+
+For example, the dummy platform answers exogenous functions only from its scenario, and
+without one it has no answer:
+
+    number exog_function temperature(string room);
+    number fluent reading() { initially: () = 0; }
+    procedure main() {
+        reading() = temperature("kitchen");
+    }
+
+Give the answer in a scenario file (`gpp run --scenario FILE`, or a `// scenario: FILE`
+comment at the top of the program):
+
+    // agent.gpp
+    // scenario: answers.toml
+    number exog_function temperature(string room);
+    number fluent reading() { initially: () = 0; }
+    procedure main() {
+        reading() = temperature("kitchen");
+    }
+    // answers.toml
+    [[exog_function]]
+    name = "temperature"
+    value = 21
+""",
+    "R0008": """
+A procedure or function may be declared before it is defined (`procedure tidy_up();`), but
+calling one that is never defined stops the run at the call. A program without a
+`procedure main()` (or legacy main block) has nothing to run at all.
+
+For example:
+
+    action sweep() { }
+    procedure tidy_up();
+    procedure main() {
+        tidy_up();
+    }
+
+Define it:
+
+    action sweep() { }
+    procedure tidy_up() { sweep(); }
+    procedure main() {
+        tidy_up();
+    }
+""",
+    "R0009": """
+`start(a)` starts an activity of a durative action. When the activity has ended, it stays
+until `end(a)`, `finish(a)` or `fail(a)` takes note of it. Starting the same action with the
+same arguments again before that stops the run, also when `start` first waited for the
+previous activity to end: the new activity could not be told apart from the old one.
+
+For example, `beep()` has ended while the robot drove, but nothing took note of it:
+
+    action beep() { duration: [1, 1] }
+    action drive() { duration: [5, 5] }
+    procedure main() {
+        start(beep());
+        drive();
+        start(beep());
+    }
+
+End each activity before starting the next:
+
+    action beep() { duration: [1, 1] }
+    action drive() { duration: [5, 5] }
+    procedure main() {
+        start(beep());
+        drive();
+        end(beep());
+        start(beep());
+        end(beep());
+    }
+""",
+    "R0010": """
+`solve` and `search` plan before they act, and planning must come to an end. It stops the
+run when it cannot: a loop or recursion in the planned program that can go round without a
+costed step (only actions, hooks and assignments use up the horizon of `solve`; tests do not),
+planning that nests too deeply, a `search` that takes more than its bound of 10000 steps
+without finding an end, or a horizon that is not a whole number >= 0.
+
+For example, choosing `test(true)` over and over never ends the loop and never uses up the
+horizon:
+
+    number fluent done() { initially: () = 0; }
+    action work() { effect: done() = done() + 1; }
+    number function reward() = done()
+    procedure main() {
+        solve(3, reward())
+            while (done() < 3) choose { test(true); work(); }
+    }
+
+Let every way around the loop make a costed step, here by resting with an action:
+
+    number fluent done() { initially: () = 0; }
+    action work() { effect: done() = done() + 1; }
+    action rest() { }
+    number function reward() = done()
+    procedure main() {
+        solve(3, reward())
+            while (done() < 3) choose { rest(); work(); }
+    }
+""",
+    "R0011": """
+The program cannot make its next step: an action's precondition is false, a `test` is
+false, it waits for an activity that will not end as it needs, or a `solve` or `search` finds
+no plan. While something can still change that (a running activity, an exogenous event to
+come), the program waits; when nothing can, the run stops "blocked". The notes show the false
+conditions and the fluent values they read.
+
+For example, there is no parcel to deliver, and nothing brings one:
+
+    number fluent parcels() { initially: () = 0; }
+    action deliver() {
+    precondition:
+        parcels() > 0
+    effect:
+        parcels() = parcels() - 1;
+    }
+    procedure main() {
+        deliver();
+    }
+
+Make the condition true before the step that needs it:
+
+    number fluent parcels() { initially: () = 0; }
+    action load() { effect: parcels() = parcels() + 1; }
+    action deliver() {
+    precondition:
+        parcels() > 0
+    effect:
+        parcels() = parcels() - 1;
+    }
+    procedure main() {
+        load();
+        deliver();
+    }
+""",
+    "R0012": """
+Procedure and function calls nested too deeply stop the run instead of crashing: almost always
+a recursion without a case that ends it.
+
+For example, `steps` calls itself for ever:
+
+    number function steps(number n) = steps(n - 1) + 1
+    number fluent total() { initially: () = 0; }
+    procedure main() {
+        total() = steps(5);
+    }
+
+Give the recursion an end:
+
+    number function steps(number n) = if (n <= 0) 0 else steps(n - 1) + 1
+    number fluent total() { initially: () = 0; }
+    procedure main() {
+        total() = steps(5);
+    }
+""",
+    "R0013": """
+`gpp run --timeout SECONDS` (and `gpp test`) stop a run when the platform's clock reaches the
+timeout: the program waits for an activity or an event too long, or runs for ever. The
+diagnostic shows where the program was and what it waited for. On the dummy platform the
+clock is virtual, so a long timeout costs no real time.
+
+For example, with a timeout of 60 s, a patrol that never stops:
+
+    action patrol() { duration: [10, 10] }
+    procedure main() {
+        while (true) patrol();
+    }
+
+Let the loop end:
+
+    number fluent rounds() { initially: () = 0; }
+    action patrol() {
+    duration: [10, 10]
+    effect:
+        rounds() = rounds() + 1;
+    }
+    procedure main() {
+        while (rounds() < 3) patrol();
+    }
 """,
 }
 

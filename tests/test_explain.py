@@ -12,10 +12,14 @@ from pathlib import Path
 import pytest
 
 from gpp.check import check_paths, merged_diagnostics
-from gpp.codes import CODES, close_matches, lookup
+from gpp.codes import CODES, close_matches, lints, lookup
+from gpp.runner import RunOptions, run_program
+from gpp.runtime.executor import RunStatus
 
 REPO = Path(__file__).resolve().parent.parent
-CODE_PATTERN = re.compile(r"\b[EW]\d{4}\b")
+CODE_PATTERN = re.compile(r"\b[EWR]\d{4}\b")
+# An internal error of the runtime: a bug in gpp, not a problem of the program, so not registered.
+INTERNAL_ERROR = "R0099"
 
 
 def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
@@ -40,11 +44,12 @@ def example_blocks(explanation: str) -> list[str]:
 
 
 def program_files(block: str, folder: Path) -> list[Path]:
-    """Write an example to `folder`: one file, or several introduced by `// name.gpp` lines."""
+    """Write an example to `folder`: one file, or several introduced by `// name.gpp` lines
+    (or `// name.toml` for a scenario of the dummy platform); returns the program files."""
     files: dict[str, list[str]] = {}
     name = "example.gpp"
     for line in block.splitlines():
-        header = re.fullmatch(r"// (\w+\.gpp)", line)
+        header = re.fullmatch(r"// (\w+\.(?:gpp|toml))", line)
         if header:
             name = header.group(1)
             continue
@@ -54,8 +59,17 @@ def program_files(block: str, folder: Path) -> list[Path]:
     for file_name, lines in files.items():
         path = folder / file_name
         path.write_text("\n".join(lines) + "\n")
-        paths.append(path)
+        if path.suffix == ".gpp":
+            paths.append(path)
     return paths
+
+
+def run_example(block: str, folder: Path) -> tuple[str, list[str]]:
+    """Run an example (its first program file) on the dummy platform, with a timeout: the
+    status of the run ("" when it did not start) and its errors, as "CODE message"."""
+    outcome = run_program(program_files(block, folder)[0], RunOptions(timeout=60.0))
+    status = outcome.result.status.value if outcome.result is not None else ""
+    return status, [f"{d.code} {d.message}" for d in outcome.diagnostics if d.is_error]
 
 
 # ---------------------------------------------------------------- the registry
@@ -73,7 +87,7 @@ def test_every_code_is_explained_with_an_example(code: str) -> None:
     assert not first_paragraph.startswith("    ")
 
 
-@pytest.mark.parametrize("code", sorted(CODES))
+@pytest.mark.parametrize("code", sorted(c for c in CODES if not c.startswith("R")))
 def test_the_example_shows_the_problem_and_the_fix(code: str, tmp_path: Path) -> None:
     blocks = example_blocks(CODES[code].explanation)
     problem = check_paths(program_files(blocks[0], tmp_path / "problem"))
@@ -82,6 +96,23 @@ def test_the_example_shows_the_problem_and_the_fix(code: str, tmp_path: Path) ->
     fixed = merged_diagnostics(check_paths(program_files(blocks[-1], tmp_path / "fixed")))
     remaining = [f"{d.code} {d.message}" for d in fixed if d.code == code or d.is_error]
     assert remaining == [], f"{code}: the fixed example still reports problems"
+
+
+@pytest.mark.parametrize("code", sorted(c for c in CODES if c.startswith("R")))
+def test_the_example_of_a_runtime_error_stops_the_run_and_the_fix_runs_to_its_end(code: str, tmp_path: Path) -> None:
+    blocks = example_blocks(CODES[code].explanation)
+    problem = program_files(blocks[0], tmp_path / "check")
+    assert not [d for d in merged_diagnostics(check_paths(problem)) if d.is_error], f"{code}: not a run-time error"
+    status, errors = run_example(blocks[0], tmp_path / "problem")
+    assert status != RunStatus.FINISHED.value, f"{code}: the first example runs to its end"
+    assert [e.split(" ")[0] for e in errors] == [code], f"{code}: the first example reports {errors}"
+    status, errors = run_example(blocks[-1], tmp_path / "fixed")
+    assert (status, errors) == (RunStatus.FINISHED.value, []), f"{code}: the fixed example does not run cleanly"
+
+
+def test_only_warnings_are_lints() -> None:
+    assert {c.code for c in lints()} == {code for code in CODES if code.startswith("W")}
+    assert all(not CODES[code].is_lint for code in CODES if code.startswith(("E", "R")))
 
 
 def test_names_are_unique_and_look_like_names() -> None:
@@ -94,6 +125,12 @@ def test_lookup_takes_codes_and_names_in_any_case() -> None:
     assert lookup("e0011") is CODES["E0011"]
     assert lookup(" Unused ") is CODES["W0101"]
     assert lookup("W9999") is None
+    assert lookup("r0001") is lookup("Bad-Arithmetic") is CODES["R0001"]
+    assert lookup("blocked") is CODES["R0011"]
+
+
+def test_internal_errors_are_not_registered() -> None:
+    assert lookup(INTERNAL_ERROR) is None
 
 
 def test_close_matches_suggest_codes_and_names() -> None:
@@ -115,8 +152,11 @@ def source_codes() -> dict[str, set[str]]:
 
 
 def test_every_code_in_the_sources_is_registered() -> None:
-    unknown = {code: files for code, files in source_codes().items() if code not in CODES}
+    found = source_codes()
+    unknown = {code: files for code, files in found.items() if code not in CODES and code != INTERNAL_ERROR}
     assert unknown == {}
+    assert {code[0] for code in found} == {"E", "W", "R"}
+    assert INTERNAL_ERROR in found
 
 
 def test_every_registered_code_is_used_in_the_sources() -> None:
@@ -161,6 +201,32 @@ def test_explain_an_unknown_name_suggests_names(tmp_path: Path) -> None:
     result = run_gpp("explain", "unsed", cwd=tmp_path)
     assert result.returncode == 2
     assert result.stderr == "error: unknown code `unsed`; did you mean `unused`?\n"
+
+
+def test_explain_a_runtime_error_by_code_and_by_name(tmp_path: Path) -> None:
+    info = CODES["R0001"]
+    by_code = run_gpp("explain", "R0001", cwd=tmp_path)
+    assert by_code.returncode == 0, by_code.stderr
+    assert by_code.stdout.splitlines()[0] == f"R0001 (error `bad-arithmetic`): {info.summary}"
+    assert info.explanation in by_code.stdout
+    by_name = run_gpp("explain", "bad-arithmetic", cwd=tmp_path)
+    assert by_name.returncode == 0, by_name.stderr
+    assert by_name.stdout == by_code.stdout
+    lowercase = run_gpp("explain", "r0013", cwd=tmp_path)
+    assert lowercase.stdout.startswith("R0013 (error `timeout`)")
+
+
+def test_explain_an_internal_error_code_is_a_usage_error(tmp_path: Path) -> None:
+    result = run_gpp("explain", INTERNAL_ERROR, cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.startswith(f"error: unknown code `{INTERNAL_ERROR}`")
+
+
+def test_runtime_errors_are_not_listed_as_lints(tmp_path: Path) -> None:
+    result = run_gpp("check", "--list-lints", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "W0101" in result.stdout
+    assert not re.search(r"\bR\d{4}\b", result.stdout)
 
 
 def test_explain_needs_a_code(tmp_path: Path) -> None:
