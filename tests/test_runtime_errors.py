@@ -198,7 +198,7 @@ def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None =
         ("n() = 10 ** 400 / 3;", "R0001", "the result of `/` is too large for a number", "10 ** 400 / 3"),
         ("n() = 2.0 ** 10000;", "R0001", "`2.0 ** 10000` is too large", "2.0 ** 10000"),
         ("n() = 10 ** 10000000;", "R0001", "`10 ** 10000000` is too large", "10 ** 10000000"),
-        ("n() = (0 - 8) ** 0.5;", "R0001", "`-8 ** 0.5` is not a real number", "(0 - 8) ** 0.5"),
+        ("n() = (0 - 8) ** 0.5;", "R0001", "`(-8) ** 0.5` is not a real number", "(0 - 8) ** 0.5"),
         ("solve(n() - 1, r()) a();", "R0010", "the horizon of `solve` must be a whole number >= 0", "n() - 1"),
     ],
 )

@@ -550,6 +550,8 @@ def _div(a: Value, b: Value, span: Span) -> Value:
 
 
 def _mod(a: Value, b: Value, span: Span) -> Value:
+    # Whole-valued floats (`16 / 2` is 8.0) count as whole numbers, as list indexes do.
+    a, b = _whole(a), _whole(b)
     if not isinstance(a, int) or not isinstance(b, int):
         raise GppRuntimeError("R0001", f"`%` needs whole numbers, got {show(a)} and {show(b)}", span)
     if b == 0:
@@ -557,23 +559,33 @@ def _mod(a: Value, b: Value, span: Span) -> Value:
     return a % b
 
 
+def _whole(v: Value) -> Value:
+    return int(v) if isinstance(v, float) and v.is_integer() else v
+
+
+def _operand(v: Value) -> str:
+    """A number as the left operand of `**` in a message: `(-8) ** 0.5`, not `-8 ** 0.5`."""
+    text = show(v)
+    return f"({text})" if text.startswith("-") else text
+
+
 def _pow(a: Value, b: Value, span: Span) -> Value:
     assert isinstance(a, int | float) and isinstance(b, int | float)
     if a == 0 and b < 0:
-        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` divides by zero", span)
+        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span)
     if isinstance(a, int) and isinstance(b, int) and b >= 0:
         if abs(a) > 1 and b * math.log2(abs(a)) > _MAX_POWER_BITS:
-            raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is too large", span)
+            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span)
         power: int = a**b
         return power
     try:
         return math.pow(a, b)
     except ZeroDivisionError:
-        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` divides by zero", span) from None
+        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span) from None
     except OverflowError:
-        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is too large", span) from None
+        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span) from None
     except ValueError:
-        raise GppRuntimeError("R0001", f"`{show(a)} ** {show(b)}` is not a real number", span) from None
+        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is not a real number", span) from None
 
 
 # Whole-number powers beyond this many bits would take the machine's memory, not give a value.

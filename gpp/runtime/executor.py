@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import os
 import sys
 import time
 from collections.abc import Iterator, Mapping
@@ -212,7 +213,19 @@ class Executor:
             result.status = RunStatus.INTERRUPTED
             self.trace.emit("error", self.platform.now(), message="interrupted")
         except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
-            self.fail(GppRuntimeError("R0099", f"internal error: {type(e).__name__}: {e}", self.entry_span()))
+            if os.environ.get("GPP_DEBUG") == "1":
+                raise
+            self.fail(
+                GppRuntimeError(
+                    "R0099",
+                    f"internal error: {type(e).__name__}: {e}",
+                    self.entry_span(),
+                    (
+                        "this is a bug in gpp (or in the platform); please report it with the program",
+                        "run again with GPP_DEBUG=1 to see the traceback",
+                    ),
+                )
+            )
         finally:
             self.stop_running_activities()
             result.state, result.activities = self.state, self.acts
