@@ -108,7 +108,9 @@ def run(
 
         from gpp.planner.profile import render_profile
 
-        render_profile(outcome.trace.records, Console(file=sys.stdout, highlight=False))
+        # Off a terminal rich would assume 80 columns; the table needs more.
+        width = None if sys.stdout.isatty() else 140
+        render_profile(outcome.trace.records, Console(file=sys.stdout, highlight=False, width=width))
     from gpp.runview import summary_lines
 
     print("\n".join(summary_lines(outcome)))

@@ -3,8 +3,15 @@
 A `solve`/`search` statement reached online becomes a `Planned` continuation holding a
 PlanHolder. The executor fills the holder by running the planner when it performs the
 PlanStep, and again on every ReplanStep. `planned_successors` offers the next planned step if
-it is still possible in the actual world (its preconditions and every condition assumed on
-the way are re-evaluated through the same `trans`), and a ReplanStep otherwise.
+it is still possible in the actual world, and a ReplanStep otherwise.
+
+"Still possible" is decided by the same `trans` the planner used: the planned step must be a
+transition, to the planned continuation, of the planned program point in the actual state.
+That re-evaluates the step's precondition and every condition assumed on the way (the
+conditions of `if`/`while`, tests, the alternative of a `choose`). A plan that ended because
+the program could end also assumed that: after its last step the program must still be final
+in the actual state (checked by one more, free, step), else the planner plans again from there
+with the horizon that is left.
 """
 
 from __future__ import annotations
@@ -26,6 +33,7 @@ from gpp.runtime.semantics import (
     Seq,
     StartStep,
     Successor,
+    TestStep,
 )
 from gpp.runtime.state import Activities, ActivityStatus, State
 from gpp.source import Span
@@ -42,6 +50,9 @@ class PlanHolder:
     policy: tuple[PolicyStep, ...] | None = None
     # The Planned index at which `policy[0]` applies (it moves on every re-plan).
     base: int = 0
+    # The policy ends where the program may end (not at the horizon): one more index checks
+    # that it still may (see `planned_successors`).
+    ends_program: bool = False
     plans: list[Plan] = field(default_factory=list)
     # The state of the last planning attempt that found no plan: only a changed world is
     # worth planning again.
@@ -66,8 +77,12 @@ class PlanHolder:
     def span(self) -> Span:
         return self.stmt.span
 
+    def _length(self) -> int:
+        assert self.policy is not None
+        return len(self.policy) + (1 if self.ends_program else 0)
+
     def exhausted(self, index: int) -> bool:
-        return self.policy is not None and index - self.base >= len(self.policy)
+        return self.policy is not None and index - self.base >= self._length()
 
     def step_at(self, index: int) -> PolicyStep | None:
         assert self.policy is not None
@@ -82,8 +97,11 @@ class PlanHolder:
         return self.policy[-1][2] if self.policy else self.body
 
     def used_horizon(self, index: int) -> int:
-        """Costed steps of the current policy executed before `index`."""
+        """Costed steps of the current policy executed before `index` (a `search` bound is
+        per search: re-searching starts with the whole bound again)."""
         assert self.policy is not None
+        if self.kind == "search":
+            return 0
         return sum(step.cost for _, step, _ in self.policy[: index - self.base])
 
     def make_plan(self, sem: Semantics, prog: Prog, state: State, acts: Activities) -> Plan:
@@ -91,25 +109,20 @@ class PlanHolder:
         stmt = self.stmt
         if isinstance(stmt, ast.Solve):
             from gpp.planner.dp import solve_plan
+            from gpp.planner.problem import make_reward
 
-            reward_expr = sem.program.expr(stmt.reward)
-            reward_span = stmt.reward.span
-            frame_vars = self.frame.vars
-
-            def reward(s: State) -> float:
-                v = reward_expr(planning.env(s, Frame(tuple(frame_vars.items()))))
-                if not isinstance(v, int | float) or isinstance(v, bool):
-                    raise GppRuntimeError("R0002", "the reward is not a number", reward_span)
-                return float(v)
-
-            return solve_plan(planning, prog, state, acts, self.horizon, reward)
+            reward = make_reward(planning, stmt, self.frame)
+            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span)
         from gpp.planner.search import search_plan
 
-        return search_plan(planning, prog, state, acts, self.horizon, self.stmt.span)
+        return search_plan(planning, prog, state, acts, self.horizon, stmt.span)
 
     def install(self, plan: Plan, index: int, state: State) -> None:
         self.plans.append(plan)
         self.policy = plan.steps if plan.feasible else None
+        # A `solve` policy that used less than its horizon stopped because the program may end
+        # there; a `search` plan always ends the program.
+        self.ends_program = plan.feasible and (self.kind == "search" or plan.cost < plan.horizon)
         self.failed_in = None if plan.feasible else state
         self.base = index
 
@@ -119,14 +132,20 @@ def planned_successors(sem: Semantics, p: Planned, state: State, acts: Activitie
     if holder.policy is None:
         # No feasible plan: blocked until the world changes, then planned again.
         return [] if holder.failed_in == state else [(p, ReplanStep(holder, p.index))]
+    planning = sem.with_mode(True)
     entry = holder.step_at(p.index)
     if entry is None:
-        return []
-    before, step, _ = entry
+        if holder.exhausted(p.index):
+            return []
+        # The end of a policy that ends the program: does it still end here?
+        point = holder.program_at(p.index)
+        if planning.final(point, state, acts):
+            return [(Planned(holder, p.index + 1), TestStep(holder.span))]
+        return [(p, ReplanStep(holder, p.index))]
+    before, step, after = entry
     if isinstance(step, EndStep) and acts.status(step.action) is ActivityStatus.RUNNING:
         return []  # the planned end waits for the platform, as `end` does
-    planning = sem.with_mode(True)
-    if any(candidate == step for _, candidate in planning.trans(before, state, acts)):
+    if (after, step) in planning.trans(before, state, acts):
         following = Planned(holder, p.index + 1)
         if isinstance(step, DoStep):
             return [(Seq(AwaitEnd(step.action, step.span), following), StartStep(step.action, step.span))]

@@ -12,29 +12,51 @@ PolicyStep = tuple[Prog, Step, Prog]
 
 @dataclass
 class PlanStats:
-    nodes: int = 0  # configurations expanded
+    nodes: int = 0  # configurations expanded (a memo hit is not an expansion)
     cache_hits: int = 0
-    pruned: int = 0
+    pruned: int = 0  # options skipped because they provably cannot win (see gpp.planner.dp)
     reward_evaluations: int = 0
     seconds: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
 class Branch:
-    """The best continuation from a configuration."""
+    """The best continuation from a configuration: feasible or not, the rewards of the states
+    after its costed steps summed, and its steps."""
 
     feasible: bool
     value: float
     steps: tuple[PolicyStep, ...]
 
 
+# Every infeasible branch is this one: what an infeasible branch did does not matter (the
+# `solve` fails if nothing better exists), and one canonical value keeps the two planners
+# comparable whatever they skip.
+INFEASIBLE = Branch(False, 0.0, ())
+# Stop here: the program may end (or the horizon is reached).
+STOP = Branch(True, 0.0, ())
+
+
+def better(a: Branch, b: Branch) -> bool:
+    """Is `a` strictly better than `b`? (Strictly, so the earlier option wins ties.)"""
+    if a.feasible != b.feasible:
+        return a.feasible
+    return a.value > b.value
+
+
 @dataclass
 class Plan:
     feasible: bool
-    value: float  # R(s0) + R(s1) + ... + R(sn) for solve; 0 for search
+    value: float  # R(s0) + R(s1) + ... + R(sn) for solve; 0 for search and for no plan
     steps: tuple[PolicyStep, ...]
-    horizon: int
+    horizon: int  # the horizon (solve) or the step bound (search) it was made for
     stats: PlanStats = field(default_factory=PlanStats)
 
     def actions(self) -> list[str]:
+        """The costed steps, as the trace shows them: `stack(a,table)`, `loc(a) = b`."""
         return [step.describe() for _, step, _ in self.steps if step.cost]
+
+    @property
+    def cost(self) -> int:
+        """The horizon the policy uses."""
+        return sum(step.cost for _, step, _ in self.steps)

@@ -1,0 +1,97 @@
+"""What the planners share besides the semantics: where a program point is in the source, the
+error for a loop without a costed step, and the guard against unbounded recursion."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.semantics import AwaitEnd, Code, Conc, DuringEnd, Planned, Prog, Rest, Seq, Step
+from gpp.source import Span
+from gpp.syntax import ast
+
+LOOP_CODE = "R0010"
+
+# The longest run of free steps (tests) planning follows: a longer one is taken for a recursion
+# that never makes a costed step (a loop that repeats a configuration is caught exactly).
+FREE_STEP_LIMIT = 1000
+
+# Planning recurses once per step of a branch. Python's default limit (1000 frames) would stop
+# a long horizon or a long run of tests with a RecursionError; this one is still far from the C
+# stack (CPython 3.11 runs Python-to-Python calls without C recursion).
+RECURSION_LIMIT = 20_000
+
+
+def program_point_span(p: Prog) -> Span | None:
+    """The span of the statement a continuation executes next."""
+    if isinstance(p, Seq):
+        return program_point_span(p.first)
+    if isinstance(p, Rest):
+        body = p.block.body
+        return body[p.index].span if p.index < len(body) else p.block.span
+    if isinstance(p, Code):
+        return p.stmt.span
+    if isinstance(p, AwaitEnd | DuringEnd):
+        return p.span
+    if isinstance(p, Conc):
+        return program_point_span(p.branches[0]) if p.branches else None
+    if isinstance(p, Planned):
+        return p.holder.span
+    return None
+
+
+def _running_loop(p: Prog) -> Span | None:
+    """The innermost `while` a continuation is in (the first one along its sequence)."""
+    if isinstance(p, Seq):
+        return _running_loop(p.first) or _running_loop(p.rest)
+    if isinstance(p, Code) and isinstance(p.stmt, ast.While):
+        return p.stmt.span
+    if isinstance(p, Rest) and p.index < len(p.block.body) and isinstance(p.block.body[p.index], ast.While):
+        return p.block.body[p.index].span
+    return None
+
+
+def free_loop_error(q: Prog, step: Step) -> GppRuntimeError:
+    """A step without cost led back to a configuration on the way to it: planning would never end.
+    The span is the loop that repeats, else the step that closed the circle."""
+    span = _running_loop(q)
+    if span is None:
+        candidate = getattr(step, "span", None)
+        span = candidate if isinstance(candidate, Span) else program_point_span(q)
+    return GppRuntimeError(
+        LOOP_CODE,
+        "this loop can run forever without a costed step",
+        span,
+        ("while planning, only actions, hooks and assignments use up the horizon; tests do not",),
+    )
+
+
+def free_run_error(span: Span | None) -> GppRuntimeError:
+    return GppRuntimeError(
+        LOOP_CODE,
+        f"planning followed more than {FREE_STEP_LIMIT} steps in a row without a costed step",
+        span,
+        ("a recursion or loop that never uses up the horizon: only actions, hooks and assignments do",),
+    )
+
+
+@contextmanager
+def deep_recursion(span: Span | None) -> Iterator[None]:
+    """Allow deep planning recursion; if even that is exceeded, fail with the `solve`/`search`
+    span instead of crashing (an unbounded recursion of free steps, e.g. a procedure that calls
+    itself after a test and before any action)."""
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(old, RECURSION_LIMIT))
+    try:
+        yield
+    except RecursionError:
+        raise GppRuntimeError(
+            LOOP_CODE,
+            "planning went too deep: a recursion that makes no costed step, or a horizon too large",
+            span,
+            (f"the planner gives up at {RECURSION_LIMIT} nested configurations",),
+        ) from None
+    finally:
+        sys.setrecursionlimit(old)

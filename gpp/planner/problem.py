@@ -1,0 +1,98 @@
+"""A `solve` statement as a planning problem of its own, planned offline without a platform:
+what tests, benchmarks and tools use to call the planners directly."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from gpp.model.model import Model
+from gpp.model.types import Type
+from gpp.planner.dp import solve_plan
+from gpp.planner.reference import Reward, reference_node_count, reference_plan
+from gpp.planner.result import Plan
+from gpp.planner.search import search_plan
+from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.semantics import EMPTY_FRAME, Code, Frame, Prog, Semantics
+from gpp.runtime.state import Activities, State
+from gpp.runtime.values import Value
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.walk import walk
+
+
+class OfflineContext:
+    """Planning without a platform: the clock stands still and nothing can be sensed."""
+
+    def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
+        raise GppRuntimeError("R0007", f"exogenous function `{name}` cannot be asked offline", span)
+
+    def now(self) -> float:
+        return 0.0
+
+
+def make_reward(planning: Semantics, stmt: ast.Solve, frame: Frame) -> Reward:
+    """The reward of `stmt` as a function of the state (a type error is a runtime error at the
+    reward's span)."""
+    evaluate = planning.program.expr(stmt.reward)
+    span = stmt.reward.span
+
+    def reward(s: State) -> float:
+        v = evaluate(planning.env(s, frame))
+        if not isinstance(v, int | float) or isinstance(v, bool):
+            raise GppRuntimeError("R0002", "the reward is not a number", span)
+        return float(v)
+
+    return reward
+
+
+@dataclass(frozen=True)
+class PlanningProblem:
+    """The body of a `solve` from a configuration, with its horizon and reward."""
+
+    sem: Semantics
+    prog: Prog
+    state: State
+    acts: Activities
+    horizon: int
+    reward: Reward
+    span: Span | None = None
+
+    def with_horizon(self, horizon: int) -> PlanningProblem:
+        return replace(self, horizon=horizon)
+
+    def production(self) -> Plan:
+        return solve_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span)
+
+    def reference(self, budget: int | None = None) -> Plan:
+        return reference_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, budget)
+
+    def reference_nodes(self) -> int:
+        return reference_node_count(self.sem, self.prog, self.state, self.acts, self.horizon)
+
+    def search(self, bound: int) -> Plan:
+        return search_plan(self.sem, self.prog, self.state, self.acts, bound, self.span)
+
+
+def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:
+    """The first `solve` in `procedure`, planned from the initial state with no variables
+    bound (so it must not use variables of an enclosing `pick`)."""
+    program = CompiledProgram(model)
+    sem = Semantics(program, OfflineContext(), planning=True)
+    body = program.procedure(procedure)[1]
+    solve = next((n for n in walk(body) if isinstance(n, ast.Solve)), None) if body is not None else None
+    if solve is None:
+        raise ValueError(f"procedure `{procedure}` has no `solve`")
+    state = State()
+    horizon = program.expr(solve.horizon)(sem.env(state, EMPTY_FRAME))
+    if not isinstance(horizon, int | float) or isinstance(horizon, bool) or horizon != int(horizon):
+        raise ValueError(f"the horizon of the `solve` is not a whole number: {horizon!r}")
+    reward = make_reward(sem, solve, EMPTY_FRAME)
+    return PlanningProblem(sem, Code(solve.body, EMPTY_FRAME), state, Activities(), int(horizon), reward, solve.span)
+
+
+def procedure_body(model: Model, procedure: str = "main") -> tuple[Semantics, Prog]:
+    """The planning semantics of a program and the body of `procedure` as a continuation."""
+    program = CompiledProgram(model)
+    sem = Semantics(program, OfflineContext(), planning=True)
+    return sem, sem.entry(procedure)
