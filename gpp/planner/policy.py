@@ -24,6 +24,7 @@ from gpp.runtime.semantics import (
     AwaitEnd,
     Code,
     DoStep,
+    EndKind,
     EndStep,
     Frame,
     Planned,
@@ -143,8 +144,18 @@ def planned_successors(sem: Semantics, p: Planned, state: State, acts: Activitie
             return [(Planned(holder, p.index + 1), TestStep(holder.span))]
         return [(p, ReplanStep(holder, p.index))]
     before, step, after = entry
-    if isinstance(step, EndStep) and acts.status(step.action) is ActivityStatus.RUNNING:
+    status = acts.status(step.action) if isinstance(step, EndStep) else None
+    if status is ActivityStatus.RUNNING:
         return []  # the planned end waits for the platform, as `end` does
+    failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
+    if isinstance(step, EndStep) and step.hook == EndKind.DURING and failed:
+        # The plan assumed success. The program reacts to the failure or cancellation (its
+        # `on_fail`/`on_cancel` handler), and is planned again from there.
+        for q, candidate in planning.trans(before, state, acts):
+            if candidate == step:
+                left = max(0, holder.horizon - holder.used_horizon(p.index) - step.cost)
+                rest = PlanHolder(holder.kind, q, left, holder.frame, holder.stmt)
+                return [(Planned(rest, 0), candidate)]
     if (after, step) in planning.trans(before, state, acts):
         following = Planned(holder, p.index + 1)
         if isinstance(step, DoStep):

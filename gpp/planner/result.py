@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from gpp.runtime.semantics import Prog, Step
+from gpp.runtime.semantics import EndKind, EndStep, Prog, Step
 
 # One step of a policy: the program before it, the step, the program after it.
 PolicyStep = tuple[Prog, Step, Prog]
@@ -53,10 +53,17 @@ class Plan:
     stats: PlanStats = field(default_factory=PlanStats)
 
     def actions(self) -> list[str]:
-        """The costed steps, as the trace shows them: `stack(a,table)`, `loc(a) = b`."""
-        return [step.describe() for _, step, _ in self.steps if step.cost]
+        """The costed steps, as the trace shows them: `stack(a,table)`, `loc(a) = b`; a planned
+        `during` shows as its action, like a plain call."""
+        return [_policy_text(step) for _, step, _ in self.steps if step.cost]
 
     @property
     def cost(self) -> int:
         """The horizon the policy uses."""
         return sum(step.cost for _, step, _ in self.steps)
+
+
+def _policy_text(step: Step) -> str:
+    if isinstance(step, EndStep) and step.hook == EndKind.DURING:
+        return step.action.text
+    return step.describe()

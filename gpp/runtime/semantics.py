@@ -185,6 +185,13 @@ class StartStep(Step):
 
     action: GroundAction
     span: Span = field(compare=False)
+    # The start of a `during`: the whole `during` counts once, at its end (where its effects
+    # apply, so that the reward after that step sees them, as after a plain call).
+    of_during: bool = field(compare=False, default=False)
+
+    @property
+    def cost(self) -> int:  # type: ignore[override]
+        return 0 if self.of_during else 1
 
     def describe(self) -> str:
         return f"start({self.action.text})"
@@ -202,8 +209,9 @@ class EndStep(Step):
 
     @property
     def cost(self) -> int:  # type: ignore[override]
-        # The end of a plain call or a `during` is part of the call, which already counted.
-        return 0 if self.hook in (EndKind.CALL, EndKind.DURING) else 1
+        # The end of a plain call is part of the call, which counted at its start; a `during`
+        # counts at its end (see StartStep.of_during).
+        return 0 if self.hook == EndKind.CALL else 1
 
     def describe(self) -> str:
         return f"{'end' if self.hook in (EndKind.CALL, EndKind.DURING) else self.hook}({self.action.text})"
@@ -479,7 +487,7 @@ class Semantics:
                 Code(s.on_cancel, frame) if s.on_cancel is not None else None,
                 s.span,
             )
-            return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span))]
+            return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span, of_during=True))]
         raise AssertionError(f"unhandled statement {type(s).__name__}")
 
     # ---------------------------------------------------------------- statements
