@@ -984,9 +984,7 @@ class ModelBuilder:
         if isinstance(reward, ast.Call) and not reward.parenthesized:
             symbol = self.model.globals.get(reward.name.name)
             if symbol is not None and symbol.kind is not SymbolKind.FUNCTION:
-                self.refer(reward.name.span, symbol, reward)
-                for a in reward.args:
-                    self.expr(a)
+                self.resolve_misused_call(reward, symbol)
                 self.error(
                     "E0212",
                     f"the reward of `solve` must be a function, but `{symbol.name}` is "
@@ -1011,9 +1009,7 @@ class ModelBuilder:
         if isinstance(root, ast.Call) and not root.parenthesized:
             symbol = self.model.globals.get(root.name.name)
             if symbol is not None and symbol.kind is not SymbolKind.FLUENT:
-                self.refer(root.name.span, symbol, root)
-                for a in root.args:
-                    self.expr(a)
+                self.resolve_misused_call(root, symbol)
                 self.error(
                     "E0306",
                     f"cannot assign to `{symbol.name}`: it is {symbol.kind.article} {symbol.kind.value}",
@@ -1339,11 +1335,10 @@ class ModelBuilder:
             for a in e.args:
                 self.expr(a)
             return ERROR
-        self.refer(e.name.span, symbol, e)
         if not self.call_kind_ok(e, symbol, context):
-            for a in e.args:
-                self.expr(a)
+            self.resolve_misused_call(e, symbol)
             return ERROR
+        self.refer(e.name.span, symbol, e)
         params = symbol.params
         if len(e.args) != len(params):
             self.arity_error(symbol, e.span, len(e.args))
@@ -1354,6 +1349,13 @@ class ModelBuilder:
             else:
                 self.expr(a)
         return symbol.type or ERROR
+
+    def resolve_misused_call(self, e: ast.Call, symbol: Symbol) -> None:
+        """A call of the wrong kind of declaration (reported by the caller): the name still
+        refers to it, and the arguments are checked on their own."""
+        self.refer(e.name.span, symbol, e)
+        for a in e.args:
+            self.expr(a)
 
     def call_kind_ok(self, e: ast.Call, symbol: Symbol, context: str) -> bool:
         kind = symbol.kind
