@@ -20,7 +20,7 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 
 # The blocksworld agent on the physics simulator; leaves an animation in run.gif.
 run: $(VENV)/.installed
-	$(BIN)/gpp run examples/blocksworld_sim.gpp --platform sim --record run.gif
+	$(BIN)/gpp run examples/blocksworld.gpp --platform sim --record run.gif
 
 lint: $(VENV)/.installed-dev
 	$(BIN)/ruff check gpp lsp tests bench

@@ -1,5 +1,5 @@
 """Scaling of the `solve` planners: reversing a tower of n blocks (3 to 7) in the blocks world
-of examples/blocksworld.gpp, for horizons up to 14.
+of examples/blocks_planning.gpp, for horizons up to 14.
 
 Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
 

@@ -21,7 +21,7 @@ from gpp.platform.sim.platform import run_action
 from gpp.runner import RunOptions, run_program
 
 ROOT = Path(__file__).resolve().parent.parent
-EXAMPLES = ["blocksworld_sim.gpp", "blocksworld_faults.gpp", "rescue.gpp"]
+EXAMPLES = ["blocksworld.gpp", "blocksworld_faults.gpp", "rescue.gpp"]
 
 
 def run_example(name: str, repeat: int) -> tuple[float, float, int, float, bool]:

@@ -124,7 +124,14 @@ def test_command(
         list[Path] | None,
         typer.Argument(metavar="[PATH]...", help="Programs or folders to run (default: tests/programs)."),
     ] = None,
-    platform: PlatformOption = "dummy",
+    platform: Annotated[
+        str | None,
+        typer.Option(
+            "--platform",
+            "-p",
+            help="Where to run (default: sim for programs with a `// world:` line, dummy for the others).",
+        ),
+    ] = None,
     scenario: ScenarioOption = None,
     seed: SeedOption = 1,
     random: RandomOption = False,
@@ -145,13 +152,15 @@ def test_command(
     files = discover(targets)
     if not files:
         _usage_error("no .gpp files found in " + ", ".join(f"'{p}'" for p in targets))
-    options = RunOptions(platform=platform, scenario=scenario, seed=seed, random=random, timeout=timeout, world=world)
-    cases = run_all(files, options)
+    options = RunOptions(
+        platform=platform or "dummy", scenario=scenario, seed=seed, random=random, timeout=timeout, world=world
+    )
+    cases = run_all(files, options, auto_platform=platform is None)
     from rich.console import Console
     from rich.table import Table
 
     console = Console(file=sys.stdout, highlight=False, no_color=not use_color(ColorMode.AUTO), width=120)
-    table = Table(title=f"gpp test ({platform})", title_justify="left")
+    table = Table(title=f"gpp test ({platform or 'dummy, or sim for programs with a world'})", title_justify="left")
     table.add_column("program")
     table.add_column("result")
     table.add_column("time", justify="right")

@@ -93,7 +93,7 @@ def started(outcome: RunOutcome) -> list[object]:
 
 
 def test_three_block_blocksworld_executes_the_unique_optimum_with_value_96() -> None:
-    outcome = run(EXAMPLES / "blocksworld.gpp")
+    outcome = run(EXAMPLES / "blocks_planning.gpp")
     assert outcome.ok
     [plan] = records(outcome, "plan")
     expected = ["stack(a,table)", "stack(c,table)", "stack(b,a)", "stack(c,b)"]
@@ -443,7 +443,7 @@ def test_profile_of_a_run_without_planning_says_so() -> None:
 
 
 def test_profile_of_a_real_run_shows_its_plan() -> None:
-    outcome = run(EXAMPLES / "blocksworld.gpp")
+    outcome = run(EXAMPLES / "blocks_planning.gpp")
     assert outcome.trace is not None
     text = render(outcome.trace.records)
     row = next(line for line in text.splitlines() if " plan " in line)

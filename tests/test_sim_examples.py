@@ -34,8 +34,8 @@ def events(outcome: RunOutcome, kind: str) -> list[dict[str, object]]:
     return outcome.trace.events(kind)
 
 
-def test_blocksworld_sim_senses_plans_and_builds_the_tower() -> None:
-    outcome = sim_run("blocksworld_sim.gpp")
+def test_blocksworld_senses_plans_and_builds_the_tower() -> None:
+    outcome = sim_run("blocksworld.gpp")
     plans = events(outcome, "plan")
     assert plans[0]["policy"] == ["stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)"]
     ends = [r for r in events(outcome, "update") if str(r["action"]).startswith("stack")]
@@ -81,7 +81,7 @@ def test_runs_are_reproducible() -> None:
 
 
 def test_mappings_are_checked_against_what_the_sim_serves() -> None:
-    outcome = run_program(EXAMPLES / "blocksworld.gpp", RunOptions(platform="sim"))
+    outcome = run_program(EXAMPLES / "blocks_planning.gpp", RunOptions(platform="sim"))
     assert outcome.result is None
     (error,) = [d for d in outcome.diagnostics if d.code == "R0007"]
     assert error.message == "the program does not fit platform `sim`"
@@ -176,7 +176,7 @@ def test_bad_world_files_say_what_is_wrong(text: str, message: str) -> None:
 
 def test_record_and_snapshot(tmp_path: Path) -> None:
     gif, png = tmp_path / "run.gif", tmp_path / "end.png"
-    sim_run("blocksworld_sim.gpp", record=gif, snapshot=png)
+    sim_run("blocksworld.gpp", record=gif, snapshot=png)
     with Image.open(gif) as animation:
         frames = getattr(animation, "n_frames", 1)
         size = animation.size
@@ -206,5 +206,5 @@ def test_create_picks_the_world_and_the_seed() -> None:
     assert sim.seed == 5  # --seed wins over the world's
     sim = SimPlatform.create(RunOptions(platform="sim", world="rescue"), faults)
     assert sim.world.name == "rescue" and sim.workbench is None
-    sim = SimPlatform.create(RunOptions(platform="sim"), EXAMPLES / "blocksworld.gpp")
+    sim = SimPlatform.create(RunOptions(platform="sim"), EXAMPLES / "blocks_planning.gpp")
     assert sim.world.name == "blocksworld"  # the default world
