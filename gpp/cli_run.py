@@ -21,7 +21,10 @@ PlatformOption = Annotated[
 ScenarioOption = Annotated[
     Path | None, typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events.")
 ]
-SeedOption = Annotated[int, typer.Option("--seed", help="Seed for random outcomes and simulated faults.")]
+SeedOption = Annotated[
+    int | None,
+    typer.Option("--seed", help="Seed for random outcomes and simulated faults (default: 1, or the world's)."),
+]
 RandomOption = Annotated[
     bool, typer.Option("--random", help="Dummy platform: random durations, exog events and answers (seeded).")
 ]
@@ -42,7 +45,7 @@ def run(
     file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
     platform: PlatformOption = "dummy",
     scenario: ScenarioOption = None,
-    seed: SeedOption = 1,
+    seed: SeedOption = None,
     random: RandomOption = False,
     trace: Annotated[Path | None, typer.Option("--trace", help="Write the run's trace (JSON lines) here.")] = None,
     timeout: TimeoutOption = None,
@@ -133,7 +136,7 @@ def test_command(
         ),
     ] = None,
     scenario: ScenarioOption = None,
-    seed: SeedOption = 1,
+    seed: SeedOption = None,
     random: RandomOption = False,
     timeout: TimeoutOption = None,
     world: WorldOption = None,

@@ -25,7 +25,8 @@ class RunSetupError(Exception):
 class RunOptions:
     platform: str = "dummy"
     scenario: Path | None = None
-    seed: int = 1
+    # None: not given (the dummy platform uses 1, the sim its world's `[faults] seed`).
+    seed: int | None = None
     random: bool = False
     timeout: float | None = None
     trace: Path | None = None
@@ -106,7 +107,7 @@ def make_platform(options: RunOptions, program: Path) -> Platform:
                 scenario = Scenario.load(scenario_path)
             except ScenarioError as e:
                 raise RunSetupError(str(e)) from None
-        return DummyPlatform(scenario, options.seed, options.random)
+        return DummyPlatform(scenario, options.seed if options.seed is not None else 1, options.random)
     return cls()
 
 

@@ -127,12 +127,16 @@ class LiveView:
         self.running: dict[str, float] = {}
         self.events: deque[str] = deque(maxlen=10)
         self.plan: TraceRecord | None = None
+        # Where the program is: the source location of the last action started or fluent set.
+        self.at: str | None = None
         self.counts = {"actions": 0, "failed": 0, "exog": 0}
         self._live: Live | None = None
 
     def __call__(self, record: TraceRecord) -> None:
         self.time = record["t"]
         event = record["event"]
+        if record.get("at") and event in ("start", "assign"):
+            self.at = f"{record['at']}  {record.get('action') or record.get('fluent')}"
         action = record.get("action", "")
         if event == "start":
             self.running[action] = record["t"]
@@ -167,7 +171,10 @@ class LiveView:
             running.add_row(_escape(action), f"{since:.2f} s")
         if not self.running:
             running.add_row("[dim](none)[/dim]", "")
-        parts: list[RenderableType] = [header, running]
+        parts: list[RenderableType] = [header]
+        if self.at is not None:
+            parts.append(f"[dim]at[/dim] {_escape(self.at)}")
+        parts.append(running)
         if self.plan is not None and self.plan.get("feasible", True):
             plan = self.plan
             policy = " → ".join(plan.get("policy", [])) or "(nothing to do)"

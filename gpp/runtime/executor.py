@@ -348,7 +348,9 @@ class Executor:
         elif isinstance(step, AssignStep):
             self.state = self.state.updated(dict(step.updates), self.program.initial)
             for slot, value in step.updates:
-                self.trace.emit("assign", now, fluent=self.program.instance_text(slot), value=to_json(value))
+                self.trace.emit(
+                    "assign", now, fluent=self.program.instance_text(slot), value=to_json(value), at=_where(step.span)
+                )
         elif isinstance(step, PlanStep):
             holder = step.holder
             plan = holder.make_plan(self.sem, holder.body, self.state, self.acts)
@@ -414,6 +416,7 @@ class Executor:
             id=activity.id,
             mapped=info.mapped_name,
             args={k: to_json(v) for k, v in args.items()},
+            at=_where(span),
             **self.quiet(g.name),
         )
         try:

@@ -118,14 +118,14 @@ class SimPlatform(Platform):
     def create(cls, options: RunOptions, program: Path) -> SimPlatform:
         """The platform for `gpp run --platform sim`: the world from `--world`, else from a
         `// world: NAME` line at the top of the program, else the blocksworld. The world's
-        `[faults] seed` is used unless `--seed` gives another than the default 1."""
+        `[faults] seed` is used unless `--seed` is given."""
         from gpp.runner import file_directives
 
         if options.world is not None:
             world = World.load(options.world)  # a name, or a path from the working directory
         else:
             world = World.load(file_directives(program).get("world"), program.parent)
-        seed = options.seed if options.seed != 1 or world.faults.seed is None else world.faults.seed
+        seed = options.seed if options.seed is not None else world.faults.seed
         return cls(world, seed, options.record, options.snapshot, options.realtime)
 
     # ---------------------------------------------------------------- contract
