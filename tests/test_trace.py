@@ -123,7 +123,13 @@ def test_trace_values_are_json_with_tagged_symbols_and_compounds(tmp_path: Path)
     trace_file = tmp_path / "trace.jsonl"
     run_program(PROGRAMS / "compounds.gpp", RunOptions(trace=trace_file))
     assigns = [r for r in _read(trace_file) if r["event"] == "assign"]
-    assert assigns[0] == {"t": 0.0, "event": "assign", "fluent": "before()", "value": _pose(0, 0)}
+    assert assigns[0] == {
+        "t": 0.0,
+        "event": "assign",
+        "fluent": "before()",
+        "value": _pose(0, 0),
+        "at": "tests/programs/compounds.gpp:42:5",
+    }
     sym = run_program(PROGRAMS / "choose_pick.gpp", RunOptions())
     assert sym.trace is not None
     assert {"symbol": "office"} in [r["value"] for r in sym.trace.events("assign")]
