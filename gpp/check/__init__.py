@@ -9,7 +9,7 @@ from pathlib import Path
 from gpp import diagnostics as diag
 from gpp.model.build import build_model
 from gpp.model.model import Model
-from gpp.perf import with_deep_stack
+from gpp.perf import paused_gc, with_deep_stack
 from gpp.source import Source
 from gpp.syntax.loader import LoadResult, load
 
@@ -34,8 +34,10 @@ class CheckResult:
 
 
 def check_loaded(loaded: LoadResult, lint: bool = True, allow: Collection[str] = ()) -> CheckResult:
-    # The checker recurses over the tree; thousands of nested terms need a deep stack.
-    return with_deep_stack(lambda: _check_loaded(loaded, lint, allow))
+    # The checker recurses over the tree; thousands of nested terms need a deep stack. Like
+    # parsing, checking allocates many long-lived objects: the cyclic collector waits.
+    with paused_gc():
+        return with_deep_stack(lambda: _check_loaded(loaded, lint, allow))
 
 
 def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> CheckResult:
