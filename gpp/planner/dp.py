@@ -178,5 +178,6 @@ def solve_plan(
     with deep_recursion(span):
         result = best(prog, state, acts, horizon, 0).branch
     value = value_of(state) + result.value if result.feasible else 0.0
+    stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started
     return Plan(result.feasible, value, result.steps, horizon, stats)

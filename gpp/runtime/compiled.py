@@ -81,6 +81,34 @@ class Effect:
 
 
 @dataclass(frozen=True, slots=True)
+class PickGuard:
+    """Precondition conjuncts decidable once an outer `pick` variable is bound (see
+    CompiledProgram.pick_guard)."""
+
+    # (action parameter id, the argument's evaluator, the parameter's type) for the
+    # parameters the conjuncts read.
+    args: tuple[tuple[int, Evaluator, Type | None], ...]
+    conjuncts: tuple[Evaluator, ...]
+
+    def rejects(self, state: State, variables: dict[int, Value], ctx: Context) -> bool:
+        """True when a conjunct is false for these bindings, so no inner value can make the
+        action possible. Anything unusual (an error, a value outside its parameter's domain)
+        is left to the normal evaluation, which reports it as it always does."""
+        env = Env(state, variables, ctx)
+        bindings: dict[int, Value] = {}
+        try:
+            for param, argument, param_type in self.args:
+                value = argument(env)
+                if isinstance(param_type, DomainType) and not any(same(value, v) for v in param_type.values):
+                    return False
+                bindings[param] = value
+            inner = Env(state, bindings, ctx)
+            return not all(check(inner) is True for check in self.conjuncts)
+        except GppRuntimeError:
+            return False
+
+
+@dataclass(frozen=True, slots=True)
 class ActionInfo:
     symbol: Symbol
     exogenous: bool
@@ -121,6 +149,7 @@ class CompiledProgram:
         self._functions: dict[str, tuple[tuple[int, ...], Evaluator | None]] = {}
         self._actions: dict[str, ActionInfo] = {}
         self.fluents: dict[str, FluentInfo] = {}
+        self._pick_guards: dict[int, PickGuard | None] = {}
         self._empty_state = State()
         for symbol in model.globals.values():
             if symbol.kind is SymbolKind.FLUENT:
@@ -421,6 +450,68 @@ class CompiledProgram:
             return not exists
 
         return quantify
+
+    # ---------------------------------------------------------------- pruning `pick`
+
+    def pick_guard(self, pick: ast.Pick) -> PickGuard | None:
+        """For `pick (x) pick (y) ... a(args);`: the precondition conjuncts of `a` that read no
+        variable of the inner picks, so that a value of `x` they reject is skipped before any
+        inner value is tried. None when there is nothing to decide early."""
+        key = id(pick)
+        if key not in self._pick_guards:
+            self._pick_guards[key] = self._make_pick_guard(pick)
+        return self._pick_guards[key]
+
+    def _make_pick_guard(self, pick: ast.Pick) -> PickGuard | None:
+        from gpp.syntax.walk import walk
+
+        inner: set[int] = set()
+        body = pick.body
+        while isinstance(body, ast.Pick):
+            variable = self.model.target(body.var)
+            if variable is None:
+                return None
+            inner.add(id(variable))
+            body = body.body
+        if not inner or not isinstance(body, ast.CallStmt) or not isinstance(body.call, ast.Call):
+            return None
+        symbol = self.model.target(body.call)
+        if symbol is None or symbol.kind is not SymbolKind.ACTION:
+            return None
+        action = self.action(symbol.name)
+
+        def variables(e: ast.Expr, kinds: tuple[SymbolKind, ...]) -> set[int]:
+            found: set[int] = set()
+            for node in walk(e):
+                if isinstance(node, ast.Name):
+                    target = self.model.target(node)
+                    if target is not None and target.kind in kinds:
+                        found.add(id(target))
+            return found
+
+        late = {
+            id(p)
+            for p, arg in zip(symbol.params, body.call.args, strict=True)
+            if variables(arg, (SymbolKind.VARIABLE, SymbolKind.PARAMETER)) & inner
+        }
+        # A conjunction is false when any conjunct is, whatever the order; only which error a
+        # faulty conjunct raises could depend on it, and a conjunct that raises here is left to
+        # the normal evaluation (see PickGuard.rejects).
+        conjuncts: list[Evaluator] = []
+        read: set[int] = set()
+        for check, expr in action.precondition:
+            reads = variables(expr, (SymbolKind.PARAMETER,))
+            if not reads & late:
+                conjuncts.append(check)
+                read |= reads
+        if not conjuncts:
+            return None
+        args = tuple(
+            (id(p), self.expr(arg), p.type)
+            for p, arg in zip(symbol.params, body.call.args, strict=True)
+            if id(p) in read
+        )
+        return PickGuard(args, tuple(conjuncts))
 
     # ---------------------------------------------------------------- assignment targets
 

@@ -289,6 +289,8 @@ class Semantics:
         self.planning = planning
         self.model = program.model
         self._final_memo: dict[tuple[int, Frame, State, Activities], bool] = {}
+        # `pick` values skipped because a precondition conjunct already rules them out.
+        self.pruned_bindings = 0
 
     def with_mode(self, planning: bool) -> Semantics:
         return Semantics(self.program, self.ctx, planning)
@@ -457,7 +459,11 @@ class Semantics:
             return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts, first)
         if isinstance(s, ast.Pick):
             out = []
+            guard = self.program.pick_guard(s)
             for f in self.pick_frames(s, frame):
+                if guard is not None and guard.rejects(state, f.vars, self.ctx):
+                    self.pruned_bindings += 1
+                    continue
                 out.extend(self._trans_code(s.body, f, state, acts, first))
                 if first and out:
                     break
