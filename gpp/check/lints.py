@@ -20,7 +20,7 @@ from gpp import codes
 from gpp import diagnostics as diag
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base
+from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base, show_value
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
@@ -277,14 +277,6 @@ def _key(v: DomainValue) -> _Key:
     return ("string", v)
 
 
-def _show_value(v: DomainValue) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    return str(v)
-
-
 def _finite_values(t: Type | None) -> tuple[DomainValue, ...] | None:
     """The values of a finite parameter type, or None for an infinite one."""
     if t is BOOL:
@@ -382,7 +374,7 @@ def _missing_instances(
         count += 1
         if len(shown) < 3:
             values = dict(zip(finite, combo, strict=True))
-            shown.append([_show_value(values[i]) if i in values else params[i].name for i in range(len(params))])
+            shown.append([show_value(values[i]) if i in values else params[i].name for i in range(len(params))])
     return shown, count, [params[i].name for i in infinite] if count else []
 
 

@@ -50,6 +50,8 @@ from gpp.model.types import (
     equatable,
     is_finite,
     ordered,
+    same_value,
+    show_value,
 )
 from gpp.perf import paused_gc
 from gpp.source import Span
@@ -490,17 +492,17 @@ class ModelBuilder:
             out: list[DomainValue] = []
             for e in d.elements:
                 v = self.domain_literal(e, dtype)
-                if v is not None and not any(_identical(v, x) for x in out):
+                if v is not None and not any(same_value(v, x) for x in out):
                     out.append(v)
             return tuple(out)
         if isinstance(d, ast.DomainBinary):
             left = self.domain_values(d.left, dtype)
             right = self.domain_values(d.right, dtype)
             if d.op is ast.DomainOp.UNION:
-                return left + tuple(v for v in right if not any(_identical(v, x) for x in left))
+                return left + tuple(v for v in right if not any(same_value(v, x) for x in left))
             if d.op is ast.DomainOp.DIFFERENCE:
-                return tuple(v for v in left if not any(_identical(v, x) for x in right))
-            return tuple(v for v in left if any(_identical(v, x) for x in right))
+                return tuple(v for v in left if not any(same_value(v, x) for x in right))
+            return tuple(v for v in left if any(same_value(v, x) for x in right))
         return ()
 
     def domain_literal(self, e: ast.Expr, dtype: DomainType) -> DomainValue | None:
@@ -1069,10 +1071,12 @@ class ModelBuilder:
         if isinstance(target, DomainType) and target.defined:
             value = self.literal_value(e)
             if value is not None and not target.contains(value):
-                shown = ", ".join(_show(v) for v in target.values[:10]) + (", ..." if len(target.values) > 10 else "")
+                shown = ", ".join(show_value(v) for v in target.values[:10]) + (
+                    ", ..." if len(target.values) > 10 else ""
+                )
                 self.error(
                     "E0203",
-                    f"`{_show(value)}` is not in domain `{target}`",
+                    f"`{show_value(value)}` is not in domain `{target}`",
                     e.span,
                     f"not a member of `{target}`",
                     secondary=secondary,
@@ -1628,19 +1632,3 @@ def _literal_value(e: ast.Expr) -> DomainValue | None:
     if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
         return e.value
     return None
-
-
-def _identical(a: DomainValue, b: DomainValue) -> bool:
-    """Same domain member: numbers by value (2 == 2.0), everything else by type and value."""
-    numbers = (int, float)
-    if type(a) in numbers and type(b) in numbers:
-        return a == b
-    return type(a) is type(b) and a == b
-
-
-def _show(v: DomainValue) -> str:
-    if isinstance(v, str):
-        return f'"{v}"'
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    return str(v)

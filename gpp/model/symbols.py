@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import Enum
 
-from gpp.model.types import Type
+from gpp.model.types import Type, show_value
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -110,7 +110,7 @@ class Symbol:
 
             t = self.type
             if isinstance(t, DomainType):
-                shown = ", ".join(_show_value(v) for v in t.values[:12])
+                shown = ", ".join(show_value(v) for v in t.values[:12])
                 more = ", ..." if len(t.values) > 12 else ""
                 return f"{t.element} domain {self.name} = {{{shown}{more}}}"
             return f"domain {self.name}"
@@ -124,14 +124,6 @@ class Symbol:
         if k in (SymbolKind.PARAMETER, SymbolKind.VARIABLE, SymbolKind.FIELD):
             return f"{self.type} {self.name}"
         return f"{k.value} {self.name}"
-
-
-def _show_value(v: object) -> str:
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    return str(v)
 
 
 @dataclass(frozen=True, slots=True)

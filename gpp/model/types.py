@@ -65,15 +65,42 @@ class DomainType(Type):
         return self.name
 
     def contains(self, value: DomainValue) -> bool:
-        return any(_same_value(value, v) for v in self.values)
+        return any(same_value(value, v) for v in self.values)
 
 
-def _same_value(a: DomainValue, b: DomainValue) -> bool:
-    if isinstance(a, Sym) or isinstance(b, Sym):
-        return a == b
+def same_value(a: object, b: object) -> bool:
+    """golog++ `==` on values: numbers by value (2 == 2.0), everything else by type and value
+    (a symbol is never a string, `true` never 1). Used for domain members and at run time."""
     if isinstance(a, bool) or isinstance(b, bool):
-        return a is b
-    return a == b
+        return type(a) is type(b) and a == b
+    if isinstance(a, int | float) and isinstance(b, int | float):
+        return a == b
+    return type(a) is type(b) and a == b
+
+
+def format_number(v: int | float) -> str:
+    """Numbers as `to_string` writes them: `1`, `2.0`, `0.3`, `1e+20`."""
+    if isinstance(v, bool):
+        raise TypeError("a bool is not a number")
+    if isinstance(v, int):
+        return str(v)
+    text = f"{v:.15g}"
+    if "." not in text and "e" not in text and "n" not in text:
+        text += ".0"
+    return text
+
+
+def show_value(v: DomainValue | None) -> str:
+    """A scalar value as golog++ source writes it: strings quoted (and escaped), symbols bare."""
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int | float):
+        return format_number(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    return v.name
 
 
 @dataclass(eq=False, slots=True)

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Union
 
-from gpp.model.types import Sym
+from gpp.model.types import Sym, same_value, show_value
 
 Value = Union[None, bool, int, float, str, Sym, tuple["Value", ...], "CompoundValue"]
 
@@ -31,18 +31,6 @@ class CompoundValue:
         return CompoundValue(self.type_name, tuple((n, value if n == name else v) for n, v in self.fields))
 
 
-def format_number(v: int | float) -> str:
-    """Numbers as `to_string` writes them: `1`, `2.0`, `0.3`, `1e+20`."""
-    if isinstance(v, bool):
-        raise TypeError("a bool is not a number")
-    if isinstance(v, int):
-        return str(v)
-    text = f"{v:.15g}"
-    if "." not in text and "e" not in text and "n" not in text:
-        text += ".0"
-    return text
-
-
 def to_string(v: Value) -> str:
     """`to_string(v)` (SEMANTICS §3): a string unchanged, anything else as `show` writes it."""
     return v if isinstance(v, str) else show(v)
@@ -51,19 +39,11 @@ def to_string(v: Value) -> str:
 def show(v: Value) -> str:
     """A value as golog++ source would write it (traces, messages): strings quoted, symbols
     bare, lists and compounds in literal form without the type prefix."""
-    if v is None:
-        return "null"
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int | float):
-        return format_number(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, Sym):
-        return v.name
     if isinstance(v, tuple):
         return "[" + ",".join(show(x) for x in v) + "]"
-    return v.type_name + "{" + ",".join(f"{n}={show(x)}" for n, x in v.fields) + "}"
+    if isinstance(v, CompoundValue):
+        return v.type_name + "{" + ",".join(f"{n}={show(x)}" for n, x in v.fields) + "}"
+    return show_value(v)
 
 
 def to_json(v: Value) -> object:
@@ -78,9 +58,5 @@ def to_json(v: Value) -> object:
 
 
 def same(a: Value, b: Value) -> bool:
-    """golog++ `==`: numbers by value (2 == 2.0), everything else by type and value."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    if isinstance(a, int | float) and isinstance(b, int | float):
-        return a == b
-    return type(a) is type(b) and a == b
+    """golog++ `==` (gpp.model.types.same_value, on runtime values)."""
+    return same_value(a, b)
