@@ -120,6 +120,11 @@ class ActionInfo:
     senses: Effect | None
     mapped_name: str
     mapped_args: tuple[tuple[str, Evaluator], ...]
+    # Mapped argument name -> the parameter it is (`""` when it is another expression): how an
+    # exogenous event's fields feed its parameters.
+    mapped_params: tuple[tuple[str, str], ...]
+    # `duration: [min, max]` in seconds, if given.
+    duration: tuple[float, float] | None
     decl: ast.ActionDecl | None
 
 
@@ -219,6 +224,8 @@ class CompiledProgram:
         senses: Effect | None = None
         mapped_name = symbol.name
         mapped: list[tuple[str, Evaluator]] | None = None
+        mapped_params: list[tuple[str, str]] = [(p.name, p.name) for p in symbol.params]
+        duration: tuple[float, float] | None = None
         for section in (decl.sections or ()) if decl else ():
             if isinstance(section, ast.PreconditionSection):
                 for conjunct in _conjuncts(self.model.effective(section.condition)):
@@ -235,6 +242,13 @@ class CompiledProgram:
             elif isinstance(section, ast.MappingSection):
                 mapped_name = section.mapping.name.value
                 mapped = [(a.name.name, self.expr(a.value)) for a in section.mapping.args]
+                mapped_params = [
+                    (a.name.name, a.value.name if isinstance(a.value, ast.Name) else "") for a in section.mapping.args
+                ]
+            elif isinstance(section, ast.DurationSection):
+                low, high = section.low, section.high
+                if isinstance(low, ast.NumberLit) and isinstance(high, ast.NumberLit):
+                    duration = (float(low.value), float(high.value))
         if mapped is None:
             mapped = [(p.name, _variable(id(p))) for p in symbol.params]
         return ActionInfo(
@@ -247,6 +261,8 @@ class CompiledProgram:
             senses=senses,
             mapped_name=mapped_name,
             mapped_args=tuple(mapped),
+            mapped_params=tuple(mapped_params),
+            duration=duration,
             decl=decl,
         )
 

@@ -146,9 +146,7 @@ class Executor:
                     sensing[symbol.name] = info.senses.target.value_type
             elif kind == "EXOG_ACTION" and not symbol.predefined:
                 info = self.program.action(symbol.name)
-                fields = {n: _param_name(e) for n, e in _mapping_fields(info.decl)}
-                if info.decl is None or info.decl.section(ast.MappingSection) is None:
-                    fields = {p: p for p in info.param_names}
+                fields = dict(info.mapped_params)
                 types = tuple(p.type for p in symbol.params if p.type is not None)
                 exogs[symbol.name] = ExogSignature(symbol.name, info.param_names, types, info.mapped_name, fields)
             elif kind == "EXOG_FUNCTION":
@@ -401,7 +399,7 @@ class Executor:
         info = self.program.action(g.name)
         env = Env(self.state, dict(zip(info.param_ids, g.args, strict=True)), self.ctx)
         args = {name: evaluate(env) for name, evaluate in info.mapped_args}
-        duration = _duration(info.decl)
+        duration = info.duration
         activity = Activity(self.next_id, g, info.mapped_name, args, duration)
         self.next_id += 1
         self.records[g] = activity
@@ -684,30 +682,6 @@ def _text(e: ast.Expr) -> str:
 
 def _where(span: Span | None) -> str | None:
     return str(span) if span is not None else None
-
-
-def _duration(decl: ast.ActionDecl | None) -> tuple[float, float] | None:
-    if decl is None:
-        return None
-    section = decl.section(ast.DurationSection)
-    if isinstance(section, ast.DurationSection):
-        low, high = section.low, section.high
-        if isinstance(low, ast.NumberLit) and isinstance(high, ast.NumberLit):
-            return float(low.value), float(high.value)
-    return None
-
-
-def _mapping_fields(decl: ast.ActionDecl | None) -> list[tuple[str, ast.Expr]]:
-    if decl is None:
-        return []
-    section = decl.section(ast.MappingSection)
-    if isinstance(section, ast.MappingSection):
-        return [(a.name.name, a.value) for a in section.mapping.args]
-    return []
-
-
-def _param_name(e: ast.Expr) -> str:
-    return e.name if isinstance(e, ast.Name) else ""
 
 
 __all__ = ["Executor", "Mapping", "RunResult", "RunStatus"]
