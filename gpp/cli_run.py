@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from gpp.runview import RunView
 
 PlatformOption = Annotated[
-    str, typer.Option("--platform", "-p", help="Where to run: dummy (virtual time), sim (physics), ros2.")
+    str, typer.Option("--platform", "-p", help="Where to run: dummy (virtual time) or sim (physics).")
 ]
 ScenarioOption = Annotated[
     Path | None, typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events.")

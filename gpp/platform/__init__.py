@@ -12,7 +12,6 @@ from gpp.platform.base import Platform, PlatformError
 _BUILTIN: dict[str, str] = {
     "dummy": "gpp.platform.dummy:DummyPlatform",
     "sim": "gpp.platform.sim:SimPlatform",
-    "ros2": "gpp.platform.ros2:Ros2Platform",
 }
 
 
