@@ -222,9 +222,9 @@ def targets(depth: int = 2) -> st.SearchStrategy[ast.Expr]:
 # ---------------------------------------------------------------- strategies: statements
 
 
-def right_spine(s: ast.Stmt) -> Iterator[ast.Stmt]:
+def right_spine(s: ast.Statement) -> Iterator[ast.Statement]:
     """The statements that end where `s` ends, outermost first."""
-    current: ast.Stmt | None = s
+    current: ast.Statement | None = s
     while current is not None:
         yield current
         match current:
@@ -238,26 +238,28 @@ def right_spine(s: ast.Stmt) -> Iterator[ast.Stmt]:
                 current = None
 
 
-def takes_else(s: ast.Stmt) -> bool:
+def takes_else(s: ast.Statement) -> bool:
     return any(isinstance(x, ast.If) and x.otherwise is None for x in right_spine(s))
 
 
-def takes_handler(s: ast.Stmt) -> bool:
+def takes_handler(s: ast.Statement) -> bool:
     return any(isinstance(x, ast.During) for x in right_spine(s))
 
 
-def block(*body: ast.Stmt) -> ast.Block:
+def block(*body: ast.Statement) -> ast.Block:
     return ast.Block(span=SPAN, body=body)
 
 
-def make_if(condition: ast.Expr, then: ast.Stmt, otherwise: ast.Stmt | None) -> ast.If:
+def make_if(condition: ast.Expr, then: ast.Statement, otherwise: ast.Statement | None) -> ast.If:
     # With an else branch, a then-branch that ends in an else-less `if` needs braces.
     if otherwise is not None and takes_else(then):
         then = block(then)
     return ast.If(span=SPAN, condition=condition, then=then, otherwise=otherwise)
 
 
-def make_during(action: ast.Expr, body: ast.Stmt, on_fail: ast.Stmt | None, on_cancel: ast.Stmt | None) -> ast.During:
+def make_during(
+    action: ast.Expr, body: ast.Statement, on_fail: ast.Statement | None, on_cancel: ast.Statement | None
+) -> ast.During:
     # Handlers bind to the nearest `during`: what precedes a handler must not end in one.
     if (on_fail is not None or on_cancel is not None) and takes_handler(body):
         body = block(body)
@@ -271,7 +273,7 @@ def _list_stmt(op: ast.ListOp, target: ast.Expr, value: ast.Expr) -> ast.ListStm
     return ast.ListStmt(span=SPAN, op=op, target=target, value=value if push else None)
 
 
-def _simple_stmts() -> st.SearchStrategy[ast.Stmt]:
+def _simple_stmts() -> st.SearchStrategy[ast.Statement]:
     e = exprs(2)
     return st.one_of(
         st.builds(ast.Test, span=st.just(SPAN), condition=e),
@@ -283,13 +285,13 @@ def _simple_stmts() -> st.SearchStrategy[ast.Stmt]:
 
 
 @cache
-def stmts(depth: int = STMT_DEPTH) -> st.SearchStrategy[ast.Stmt]:
+def stmts(depth: int = STMT_DEPTH) -> st.SearchStrategy[ast.Statement]:
     if depth == 0:
         return _simple_stmts()
     sub = stmts(depth - 1)
     e = exprs(2)
     optional = st.none() | sub
-    composite: st.SearchStrategy[ast.Stmt] = st.one_of(
+    composite: st.SearchStrategy[ast.Statement] = st.one_of(
         st.lists(sub, max_size=3).map(lambda b: ast.Block(span=SPAN, body=tuple(b))),
         st.lists(sub, min_size=1, max_size=3).map(lambda b: ast.Choose(span=SPAN, alternatives=tuple(b))),
         st.lists(sub, min_size=1, max_size=3).map(lambda b: ast.Concurrent(span=SPAN, branches=tuple(b))),
@@ -600,7 +602,7 @@ def parse_expr(text: str) -> ast.Expr:
     return decl.body
 
 
-def parse_stmt(text: str) -> ast.Stmt:
+def parse_stmt(text: str) -> ast.Statement:
     decl = reparse(f"procedure p() {text}").declarations[0]
     assert isinstance(decl, ast.ProcedureDecl) and decl.body is not None
     return decl.body
@@ -837,7 +839,7 @@ def test_statement_indentation_level() -> None:
 def test_dangling_trees_get_braces() -> None:
     # Trees the parser cannot produce: printed with the braces that keep the meaning.
     inner_if = ast.If(span=SPAN, condition=name("d"), then=stmt("a"), otherwise=None)
-    tree: ast.Stmt = ast.If(span=SPAN, condition=name("c"), then=inner_if, otherwise=stmt("b"))
+    tree: ast.Statement = ast.If(span=SPAN, condition=name("c"), then=inner_if, otherwise=stmt("b"))
     text = format_stmt(tree)
     assert text == "if (c) {\n    if (d)\n        a();\n} else\n    b();"
     assert parse_stmt(text) == make_if(name("c"), inner_if, stmt("b"))

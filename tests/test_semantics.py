@@ -97,7 +97,7 @@ class World:
     online: Semantics
     planning: Semantics
     program: CompiledProgram
-    body: tuple[ast.Stmt, ...]
+    body: tuple[ast.Statement, ...]
 
     def code(self, i: int = 0) -> Code:
         """The i-th statement of `main` as a program continuation."""

@@ -43,7 +43,7 @@ def function_body(text: str) -> ast.Expr:
     return decl.body
 
 
-def main_body(text: str) -> tuple[ast.Stmt, ...]:
+def main_body(text: str) -> tuple[ast.Statement, ...]:
     """The statements of the block of the last procedure in `text`."""
     decl = last_decl(text)
     assert isinstance(decl, ast.ProcedureDecl)
@@ -51,7 +51,7 @@ def main_body(text: str) -> tuple[ast.Stmt, ...]:
     return decl.body.body
 
 
-def main_body_of(result: ParseResult) -> tuple[ast.Stmt, ...]:
+def main_body_of(result: ParseResult) -> tuple[ast.Statement, ...]:
     """The statements of the last procedure of a parse that may have reported errors."""
     decl = result.program.declarations[-1]
     assert isinstance(decl, ast.ProcedureDecl)
@@ -59,7 +59,7 @@ def main_body_of(result: ParseResult) -> tuple[ast.Stmt, ...]:
     return decl.body.body
 
 
-def only_statement(text: str) -> ast.Stmt:
+def only_statement(text: str) -> ast.Statement:
     body = main_body(text)
     assert len(body) == 1
     return body[0]
@@ -107,7 +107,7 @@ def sx(e: ast.Expr) -> str:
     raise AssertionError(f"sx: unexpected node {e!r}")
 
 
-def ssx(s: ast.Stmt) -> str:
+def ssx(s: ast.Statement) -> str:
     """A rendering of a statement tree that shows which statement owns which part."""
     match s:
         case ast.Block(body=body):

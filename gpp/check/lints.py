@@ -101,7 +101,7 @@ class _Program:
                 return True
         return False
 
-    def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Stmt]]:
+    def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
         """The statement bodies of the procedures (and legacy main block) in `files`."""
         for f in files:
             for decl in f.program.declarations:
@@ -157,14 +157,14 @@ class _Program:
         return found
 
 
-def statements(body: ast.Stmt, planning: bool = False) -> Iterator[tuple[ast.Stmt, bool]]:
+def statements(body: ast.Statement, planning: bool = False) -> Iterator[tuple[ast.Statement, bool]]:
     """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
     stack = [(body, planning)]
     while stack:
         s, inside = stack.pop()
         yield s, inside
         inner = inside or isinstance(s, ast.Solve | ast.Search)
-        stack.extend((c, inner) for c in reversed(list(children(s))) if isinstance(c, ast.Stmt))
+        stack.extend((c, inner) for c in reversed(list(children(s))) if isinstance(c, ast.Statement))
 
 
 def keyword_span(node: ast.Node, keyword: str) -> Span:
@@ -463,7 +463,7 @@ def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
 _WAITING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL})
 
 
-def _guarded(s: ast.Stmt) -> bool:
+def _guarded(s: ast.Statement) -> bool:
     while isinstance(s, ast.Block):
         if not s.body:
             return False
@@ -657,7 +657,7 @@ def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
         )
 
 
-def _chooses(program: _Program, s: ast.Stmt) -> bool:
+def _chooses(program: _Program, s: ast.Statement) -> bool:
     if isinstance(s, ast.Pick | ast.Choose):
         return True
     if isinstance(s, ast.CallStmt):

@@ -891,7 +891,7 @@ class ModelBuilder:
 
     # ---------------------------------------------------------------- statements
 
-    def stmt(self, s: ast.Stmt) -> None:
+    def stmt(self, s: ast.Statement) -> None:
         if isinstance(s, ast.Block):
             for x in s.body:
                 self.stmt(x)

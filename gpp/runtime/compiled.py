@@ -266,7 +266,7 @@ class CompiledProgram:
             decl=decl,
         )
 
-    def procedure(self, name: str) -> tuple[tuple[int, ...], ast.Stmt | None]:
+    def procedure(self, name: str) -> tuple[tuple[int, ...], ast.Statement | None]:
         symbol = self.model.globals[name]
         decl = symbol.decl
         body = decl.body if isinstance(decl, ast.ProcedureDecl | ast.MainBlock) else None

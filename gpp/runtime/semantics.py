@@ -93,7 +93,7 @@ class Code(Prog):
     """A statement not yet started, with the bindings it sees. Compared by the statement's
     identity (not its text) and the bindings."""
 
-    stmt: ast.Stmt
+    stmt: ast.Statement
     frame: Frame
 
     def __eq__(self, other: object) -> bool:
@@ -324,7 +324,7 @@ class Semantics:
         assert isinstance(p, Code)
         return self._final_code(p.stmt, p.frame, state, acts)
 
-    def _final_code(self, s: ast.Stmt, frame: Frame, state: State, acts: Activities) -> bool:
+    def _final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
         if isinstance(s, ast.Block):
             return all(self._final_code(x, frame, state, acts) for x in s.body)
         if isinstance(s, ast.If):
@@ -431,7 +431,7 @@ class Semantics:
         return DONE if all(isinstance(b, Done) for b in new) else Conc(new)
 
     def _trans_code(
-        self, s: ast.Stmt, frame: Frame, state: State, acts: Activities, first: bool = False
+        self, s: ast.Statement, frame: Frame, state: State, acts: Activities, first: bool = False
     ) -> list[Successor]:
         if isinstance(s, ast.Block):
             if not s.body:
@@ -533,7 +533,7 @@ class Semantics:
         assert symbol is not None
         return symbol
 
-    def procedure_body(self, s: ast.CallStmt, name: str, state: State, frame: Frame) -> tuple[ast.Stmt, Frame]:
+    def procedure_body(self, s: ast.CallStmt, name: str, state: State, frame: Frame) -> tuple[ast.Statement, Frame]:
         params, body = self.program.procedure(name)
         if body is None:
             raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", s.span)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeAlias
 
 from gpp.source import Span
 
@@ -217,93 +217,130 @@ class ListOp(Enum):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Stmt(Node):
-    pass
+class StmtNode(Node):
+    """The base class of the statement classes below. Annotate with `Statement`, the closed
+    union, so that a `match` over a statement ending in `assert_never` is checked by mypy."""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Block(Stmt):
-    body: tuple[Stmt, ...]
+class Block(StmtNode):
+    body: tuple[Statement, ...]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class If(Stmt):
+class If(StmtNode):
     condition: Expr
-    then: Stmt
-    otherwise: Stmt | None
+    then: Statement
+    otherwise: Statement | None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class While(Stmt):
+class While(StmtNode):
     condition: Expr
-    body: Stmt
+    body: Statement
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Test(Stmt):
+class Test(StmtNode):
     condition: Expr
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Choose(Stmt):
-    alternatives: tuple[Stmt, ...]
+class Choose(StmtNode):
+    alternatives: tuple[Statement, ...]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Concurrent(Stmt):
-    branches: tuple[Stmt, ...]
+class Concurrent(StmtNode):
+    branches: tuple[Statement, ...]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Pick(Stmt):
+class Pick(StmtNode):
     var_type: TypeExpr
     var: Ident
     values: tuple[Expr, ...] | None
-    body: Stmt
+    body: Statement
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Solve(Stmt):
+class Solve(StmtNode):
     horizon: Expr
     reward: Expr
-    body: Stmt
+    body: Statement
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Search(Stmt):
-    body: Stmt
+class Search(StmtNode):
+    body: Statement
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class During(Stmt):
+class During(StmtNode):
     action: Expr
-    body: Stmt
-    on_fail: Stmt | None
-    on_cancel: Stmt | None
+    body: Statement
+    on_fail: Statement | None
+    on_cancel: Statement | None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class HookStmt(Stmt):
+class HookStmt(StmtNode):
     hook: Hook
     action: Expr
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class Assign(Stmt):
+class Assign(StmtNode):
     target: Expr
     value: Expr
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class ListStmt(Stmt):
+class ListStmt(StmtNode):
     op: ListOp
     target: Expr
     value: Expr | None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class CallStmt(Stmt):
+class CallStmt(StmtNode):
     call: Expr
+
+
+# Every statement kind. Adding one here makes mypy name every `match` over statements that
+# must handle it (they end in `assert_never`); see docs/design.md, "Adding a statement kind".
+Statement: TypeAlias = (
+    Block
+    | If
+    | While
+    | Test
+    | Choose
+    | Concurrent
+    | Pick
+    | Solve
+    | Search
+    | During
+    | HookStmt
+    | Assign
+    | ListStmt
+    | CallStmt
+)
+STATEMENT_KINDS: tuple[type[StmtNode], ...] = (
+    Block,
+    If,
+    While,
+    Test,
+    Choose,
+    Concurrent,
+    Pick,
+    Solve,
+    Search,
+    During,
+    HookStmt,
+    Assign,
+    ListStmt,
+    CallStmt,
+)
 
 
 # ---------------------------------------------------------------- declarations
@@ -491,7 +528,7 @@ class ExogFunctionDecl(Decl):
 class ProcedureDecl(Decl):
     name: Ident
     params: tuple[Param, ...]
-    body: Stmt | None
+    body: Statement | None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

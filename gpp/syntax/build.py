@@ -33,6 +33,10 @@ def _nodes(children: Sequence[Child], kind: type[N]) -> tuple[N, ...]:
     return tuple(c for c in children if isinstance(c, kind))
 
 
+def _statements(children: Sequence[Child]) -> tuple[ast.Statement, ...]:
+    return tuple(c for c in children if isinstance(c, ast.Statement))
+
+
 def _first(children: Sequence[Child], kind: type[N]) -> N:
     for c in children:
         if isinstance(c, kind):
@@ -226,18 +230,18 @@ class AstBuilder:
 
     def main_block(self, c: list[Child]) -> ast.MainBlock:
         span = self.span(c)
-        return ast.MainBlock(span=span, body=ast.Block(span=span, body=_nodes(c, ast.Stmt)))
+        return ast.MainBlock(span=span, body=ast.Block(span=span, body=_statements(c)))
 
     # ---------------------------------------------------------------- statements
 
     def block(self, c: list[Child]) -> ast.Block:
-        return ast.Block(span=self.span(c), body=_nodes(c, ast.Stmt))
+        return ast.Block(span=self.span(c), body=_statements(c))
 
     def choose(self, c: list[Child]) -> ast.Choose:
-        return ast.Choose(span=self.span(c), alternatives=_nodes(c, ast.Stmt))
+        return ast.Choose(span=self.span(c), alternatives=_statements(c))
 
     def concurrent(self, c: list[Child]) -> ast.Concurrent:
-        return ast.Concurrent(span=self.span(c), branches=_nodes(c, ast.Stmt))
+        return ast.Concurrent(span=self.span(c), branches=_statements(c))
 
     def if_stmt(self, c: list[Child]) -> ast.If:
         otherwise = c[6] if len(c) == 7 else None
@@ -256,11 +260,11 @@ class AstBuilder:
     def search(self, c: list[Child]) -> ast.Search:
         return ast.Search(span=self.span(c), body=c[1])
 
-    def handler(self, c: list[Child]) -> tuple[Token, ast.Stmt]:
+    def handler(self, c: list[Child]) -> tuple[Token, ast.Statement]:
         return (c[0], c[1])
 
     def during(self, c: list[Child]) -> ast.During:
-        handlers: dict[str, tuple[Token, ast.Stmt]] = {}
+        handlers: dict[str, tuple[Token, ast.Statement]] = {}
         for h in c[5:]:
             keyword = h[0]
             first = handlers.get(keyword.type)

@@ -238,7 +238,7 @@ class _Trailer(Enum):
     HANDLER = "on_fail/on_cancel"
 
 
-def _captures(s: ast.Stmt, trailer: _Trailer) -> bool:
+def _captures(s: ast.Statement, trailer: _Trailer) -> bool:
     """Whether `s`, printed without braces and followed by `trailer`, would take the trailer as
     its own: the parser binds a dangling `else` or handler to the nearest statement."""
     match s:
@@ -257,17 +257,17 @@ def _captures(s: ast.Stmt, trailer: _Trailer) -> bool:
     return False
 
 
-def _guard(s: ast.Stmt, trailer: _Trailer) -> ast.Stmt:
+def _guard(s: ast.Statement, trailer: _Trailer) -> ast.Statement:
     """`s`, in braces if a following `trailer` would otherwise bind inside it."""
     return ast.Block(span=s.span, body=(s,)) if _captures(s, trailer) else s
 
 
-def format_stmt(s: ast.Stmt, level: int = 0) -> str:
+def format_stmt(s: ast.Statement, level: int = 0) -> str:
     """A statement as source lines, indented by `level` steps (no final newline)."""
     return "\n".join(_stmt(s, level))
 
 
-def _stmt(s: ast.Stmt, level: int) -> list[str]:
+def _stmt(s: ast.Statement, level: int) -> list[str]:
     ind = INDENT * level
     match s:
         case ast.Block():
@@ -320,7 +320,7 @@ def _during(s: ast.During, level: int) -> list[str]:
     return lines
 
 
-def _braced(head: str, body: tuple[ast.Stmt, ...], level: int) -> list[str]:
+def _braced(head: str, body: tuple[ast.Statement, ...], level: int) -> list[str]:
     """`head {`, the statements one level deeper, `}`; `head {}` when empty."""
     opening = f"{head} {{" if head.strip() else f"{head}{{"
     if not body:
@@ -332,7 +332,7 @@ def _braced(head: str, body: tuple[ast.Stmt, ...], level: int) -> list[str]:
     return lines
 
 
-def _attach(head: str, body: ast.Stmt, level: int) -> list[str]:
+def _attach(head: str, body: ast.Statement, level: int) -> list[str]:
     """A statement header followed by its body: a block opens on the header line, any other
     statement goes on the next lines, one level deeper."""
     if type(body) is ast.Block:
@@ -340,7 +340,7 @@ def _attach(head: str, body: ast.Stmt, level: int) -> list[str]:
     return [head, *_stmt(body, level + 1)]
 
 
-def _continue(lines: list[str], after_block: bool, keyword: str, body: ast.Stmt, level: int) -> list[str]:
+def _continue(lines: list[str], after_block: bool, keyword: str, body: ast.Statement, level: int) -> list[str]:
     """`lines` continued by `keyword body` (`else`, `on_fail`, `on_cancel`): after a block on
     the closing brace's line (`} else {`), else on a new line; `else if` stays on one line."""
     ind = INDENT * level
