@@ -16,10 +16,26 @@ if TYPE_CHECKING:
     from gpp.runview import RunView
 
 PlatformOption = Annotated[
-    str, typer.Option("--platform", "-p", help="Where to run: dummy (virtual time) or sim (physics).")
+    str | None,
+    typer.Option(
+        "--platform",
+        "-p",
+        help="Where to run: dummy (virtual time), sim (physics), or a plugin "
+        "(default: sim for programs with a `// world:` line, else dummy).",
+    ),
+]
+PlatformOptOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--platform-opt",
+        "-o",
+        metavar="KEY=VALUE",
+        help="An option of the platform (repeatable); an unknown key is an error that lists the platform's options.",
+    ),
 ]
 ScenarioOption = Annotated[
-    Path | None, typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events.")
+    Path | None,
+    typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events (-o scenario=F)."),
 ]
 SeedOption = Annotated[
     int | None,
@@ -32,8 +48,33 @@ TimeoutOption = Annotated[
     float | None, typer.Option("--timeout", help="Stop a run after this much platform time (seconds).")
 ]
 WorldOption = Annotated[
-    str | None, typer.Option("--world", help="Sim platform: a world name from stdlib/worlds or a TOML file.")
+    str | None,
+    typer.Option("--world", help="Sim platform: a world name from stdlib/worlds or a TOML file (-o world=W)."),
 ]
+
+
+def platform_options(pairs: list[str] | None, **shorthand: object) -> dict[str, str | int | float | bool | Path]:
+    """The platform options from `--platform-opt KEY=VALUE` pairs and the shorthand flags (those
+    given: not None, not False). A malformed pair, or a key given twice, is a usage error."""
+    from gpp.cli import _usage_error
+
+    options: dict[str, str | int | float | bool | Path] = {}
+    for pair in pairs or []:
+        key, sep, value = pair.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            _usage_error(f"--platform-opt takes KEY=VALUE, not {pair!r}")
+        if key in options:
+            _usage_error(f"platform option `{key}` is given twice")
+        options[key] = value.strip()
+    for name, given in shorthand.items():
+        if given is None or given is False:
+            continue
+        if name in options:
+            _usage_error(f"platform option `{name}` is given twice (--{name} and --platform-opt {name}=...)")
+        assert isinstance(given, str | int | float | bool | Path)
+        options[name] = given
+    return options
 
 
 def register(app: typer.Typer) -> None:
@@ -43,7 +84,8 @@ def register(app: typer.Typer) -> None:
 
 def run(
     file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
-    platform: PlatformOption = "dummy",
+    platform: PlatformOption = None,
+    platform_opt: PlatformOptOption = None,
     scenario: ScenarioOption = None,
     seed: SeedOption = None,
     random: RandomOption = False,
@@ -66,7 +108,6 @@ def run(
     from gpp.cli import (
         EXIT_OK,
         EXIT_PROBLEMS,
-        EXIT_USAGE,
         ColorMode,
         OutputFormat,
         _emit_diagnostics,
@@ -85,19 +126,28 @@ def run(
         _emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
+    chosen = platform
+    if chosen is None:
+        from gpp.platform import choose_platform
+        from gpp.runner import program_directives
+
+        chosen = choose_platform(program_directives(checked, file))
     options = RunOptions(
-        platform=platform,
-        scenario=scenario,
-        seed=seed,
-        random=random,
+        platform=chosen,
+        platform_options=platform_options(
+            platform_opt,
+            scenario=scenario,
+            seed=seed,
+            random=random,
+            world=world,
+            record=record,
+            snapshot=snapshot,
+            realtime=realtime,
+        ),
         timeout=timeout,
         trace=trace,
-        world=world,
-        record=record,
-        snapshot=snapshot,
-        realtime=realtime,
     )
-    view = _view(file, platform, quiet, use_color(ColorMode.AUTO))
+    view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     try:
         with view:
             outcome = run_program(file, options, [view] if view.shows else None, checked=checked)
@@ -119,7 +169,7 @@ def run(
     print("\n".join(summary_lines(outcome)))
     if outcome.result is not None and outcome.result.status.value == "interrupted":
         raise typer.Exit(130)
-    raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS if outcome.result is not None else EXIT_USAGE)
+    raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
 
 
 def test_command(
@@ -127,14 +177,8 @@ def test_command(
         list[Path] | None,
         typer.Argument(metavar="[PATH]...", help="Programs or folders to run (default: tests/programs)."),
     ] = None,
-    platform: Annotated[
-        str | None,
-        typer.Option(
-            "--platform",
-            "-p",
-            help="Where to run (default: sim for programs with a `// world:` line, dummy for the others).",
-        ),
-    ] = None,
+    platform: PlatformOption = None,
+    platform_opt: PlatformOptOption = None,
     scenario: ScenarioOption = None,
     seed: SeedOption = None,
     random: RandomOption = False,
@@ -156,9 +200,11 @@ def test_command(
     if not files:
         _usage_error("no .gpp files found in " + ", ".join(f"'{p}'" for p in targets))
     options = RunOptions(
-        platform=platform or "dummy", scenario=scenario, seed=seed, random=random, timeout=timeout, world=world
+        platform=platform,
+        platform_options=platform_options(platform_opt, scenario=scenario, seed=seed, random=random, world=world),
+        timeout=timeout,
     )
-    cases = run_all(files, options, auto_platform=platform is None)
+    cases = run_all(files, options)
     from rich.console import Console
     from rich.table import Table
 

@@ -3,37 +3,34 @@ evaluate `postcond()`. `gpp run` and `gpp test` are both thin layers over `run_p
 
 from __future__ import annotations
 
-import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_program
-from gpp.platform import platform_class
-from gpp.platform.base import Platform, PlatformError
+from gpp.platform import choose_platform, platform_class
+from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
+from gpp.runtime.contract import program_interface
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace, TraceRecord
+from gpp.source import Span
+from gpp.syntax.directives import directives
 
 
 class RunSetupError(Exception):
-    """The run cannot start: unknown platform, bad scenario or world file (a usage error)."""
+    """The run cannot start: unknown platform, a bad option, scenario or world file (a usage error)."""
 
 
 @dataclass
 class RunOptions:
-    platform: str = "dummy"
-    scenario: Path | None = None
-    # None: not given (the dummy platform uses 1, the sim its world's `[faults] seed`).
-    seed: int | None = None
-    random: bool = False
+    # The platform's name; None: chosen by the program's directives (`// world:` selects the sim).
+    platform: str | None = None
+    # The platform's options (`--platform-opt key=value`), validated by the platform.
+    platform_options: Mapping[str, OptionValue] = field(default_factory=dict)
     timeout: float | None = None
     trace: Path | None = None
-    world: str | None = None
-    record: Path | None = None
-    snapshot: Path | None = None
-    realtime: bool = False
     entry: str = "main"
 
 
@@ -44,6 +41,7 @@ class RunOutcome:
     result: RunResult | None = None
     trace: Trace | None = None
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    platform: str = ""
 
     @property
     def postcond(self) -> bool | None:
@@ -61,54 +59,21 @@ class RunOutcome:
         return 0 if self.ok else 1
 
 
-_DIRECTIVE = re.compile(r"^\s*//\s*(scenario|world)\s*:\s*(\S+)\s*$")
+def program_directives(check: CheckResult, path: Path) -> dict[str, str]:
+    """The `// key: value` directives of the checked program (from the text that was checked)."""
+    root = check.loaded.file(path.resolve()) or (check.loaded.files[-1] if check.loaded.files else None)
+    return directives(root.source.text) if root is not None else {}
 
 
-def file_directives(path: Path) -> dict[str, str]:
-    """`// scenario: FILE` and `// world: NAME` comments at the top of a program."""
-    found: dict[str, str] = {}
+def make_platform(options: RunOptions, program: Path, found: Mapping[str, str]) -> Platform:
+    """The platform for a run of `program` with directives `found`; RunSetupError when it cannot
+    be created (unknown platform or option, unusable scenario or world file)."""
+    name = options.platform if options.platform is not None else choose_platform(found)
     try:
-        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError:
-        return found
-    for line in lines[:40]:
-        stripped = line.strip()
-        if stripped and not stripped.startswith("//"):
-            break
-        m = _DIRECTIVE.match(line)
-        if m:
-            found.setdefault(m.group(1), m.group(2))
-    return found
-
-
-def make_platform(options: RunOptions, program: Path) -> Platform:
-    try:
-        cls = platform_class(options.platform)
+        cls = platform_class(name)
+        return cls.create(PlatformConfig(program, found, options.platform_options))
     except PlatformError as e:
         raise RunSetupError(str(e)) from None
-    create = getattr(cls, "create", None)
-    if create is not None:
-        try:
-            platform: Platform = create(options, program)
-        except (PlatformError, ValueError) as e:
-            raise RunSetupError(str(e)) from None
-        return platform
-    if options.platform == "dummy":
-        from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError
-
-        scenario = None
-        scenario_path = options.scenario
-        if scenario_path is None:
-            named = file_directives(program).get("scenario")
-            if named is not None:
-                scenario_path = program.parent / named
-        if scenario_path is not None:
-            try:
-                scenario = Scenario.load(scenario_path)
-            except ScenarioError as e:
-                raise RunSetupError(str(e)) from None
-        return DummyPlatform(scenario, options.seed if options.seed is not None else 1, options.random)
-    return cls()
 
 
 def run_program(
@@ -129,20 +94,22 @@ def run_program(
             diag.error("R0008", "the program has no `procedure main()` to run", check.loaded.files[-1].program.span)
         )
         return outcome
-    platform = make_platform(options, path)
+    platform = make_platform(options, path, program_directives(check, path))
+    outcome.platform = platform.name
     trace = Trace(options.trace, listeners)
     outcome.trace = trace
     try:
         from gpp.runtime.compiled import CompiledProgram
 
-        executor = Executor(CompiledProgram(check.model), platform, trace, options.timeout, options.entry)
-        problems = platform.attach(executor.interface())
+        program = CompiledProgram(check.model)
+        executor = Executor(program, platform, trace, options.timeout, options.entry)
+        problems = platform.attach(program_interface(program))
         if problems:
-            main = check.model.main
-            span = main.span if main.span is not None else check.loaded.files[-1].program.span
-            problem = diag.error("R0007", f"the program does not fit platform `{platform.name}`", span, notes=problems)
-            outcome.diagnostics.append(problem)
-            trace.emit("error", platform.now(), code=problem.code, message="; ".join(problems), at=str(span))
+            fallback = check.model.main.span or check.loaded.files[-1].program.span
+            unfit = [_unfit(p, platform.name, fallback) for p in problems]
+            outcome.diagnostics.extend(unfit)
+            for problem in unfit:
+                trace.emit("error", platform.now(), code=problem.code, message=problem.message, at=str(problem.span))
             trace.emit("finish", platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
             return outcome
         result = executor.run()
@@ -161,3 +128,16 @@ def run_program(
     finally:
         platform.close()
         trace.close()
+
+
+def _unfit(problem: Problem, platform: str, fallback: Span) -> diag.Diagnostic:
+    """A problem found when the platform attached, as an error at the mapping (or data file
+    entry) it is about."""
+    return diag.error(
+        "R0007",
+        problem.message,
+        problem.span or fallback,
+        problem.label,
+        notes=(*problem.notes, f"the program does not fit platform `{platform}`"),
+        help=problem.help,
+    )

@@ -207,8 +207,10 @@ def summary_lines(outcome: RunOutcome) -> list[str]:
     """The run summary: how it ended, what was executed, time, and postcond."""
     result = outcome.result
     if result is None:
+        if outcome.platform and not outcome.check.errors:
+            return [f"not run: the program does not fit platform `{outcome.platform}`"]
         return ["not run: the program has errors"]
-    lines = [f"{outcome.path}: {result.status.value}"]
+    lines = [f"{outcome.path} on {outcome.platform}: {result.status.value}"]
     failures = f"{result.failures} failed"
     if result.unhandled_failures:
         failures += f" ({result.unhandled_failures} not handled by the program)"

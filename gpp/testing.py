@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
 
-from gpp.runner import RunOptions, RunOutcome, RunSetupError, file_directives, run_program
+from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.executor import RunStatus
 
 
@@ -39,12 +39,8 @@ def discover(paths: Sequence[Path]) -> list[Path]:
     return found
 
 
-def run_case(path: Path, options: RunOptions, auto_platform: bool = False) -> TestCase:
-    """Run one program; with `auto_platform`, a program with a `// world:` line runs on the sim
-    platform and any other on the dummy platform."""
-    if auto_platform:
-        platform = "sim" if "world" in file_directives(path) else "dummy"
-        options = replace(options, platform=platform)
+def run_case(path: Path, options: RunOptions) -> TestCase:
+    """Run one program (on the platform its directives choose when `options.platform` is None)."""
     started = time.perf_counter()
     try:
         outcome = run_program(path, options)
@@ -70,5 +66,5 @@ def run_case(path: Path, options: RunOptions, auto_platform: bool = False) -> Te
     return TestCase(path, Verdict.PASS, seconds, detail, outcome)
 
 
-def run_all(paths: Iterable[Path], options: RunOptions, auto_platform: bool = False) -> list[TestCase]:
-    return [run_case(p, options, auto_platform) for p in paths]
+def run_all(paths: Iterable[Path], options: RunOptions) -> list[TestCase]:
+    return [run_case(p, options) for p in paths]

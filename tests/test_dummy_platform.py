@@ -13,12 +13,15 @@ import pytest
 from gpp.check import check_text
 from gpp.model.types import NUMBER, STRING, Sym
 from gpp.platform.base import Activity, ActivityUpdate, ExogEvent, PlatformError
-from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError, random_value, to_value
-from gpp.runner import RunOptions, RunSetupError, file_directives, run_program
+from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError, random_value
+from gpp.platform.values import ConversionError, to_value
+from gpp.runner import RunOptions, RunSetupError, run_program
 from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.trace import Trace, TraceRecord
+from gpp.syntax.directives import file_directives
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -60,8 +63,9 @@ def run(main: str, scn: Scenario | None = None, *, seed: int = 1, random_mode: b
     assert not check.errors, [d.message for d in check.diagnostics if d.is_error]
     platform = DummyPlatform(scn, seed, random_mode)
     trace = Trace()
-    executor = Executor(CompiledProgram(check.model), platform, trace, timeout=1000)
-    problems = platform.attach(executor.interface())
+    program = CompiledProgram(check.model)
+    executor = Executor(program, platform, trace, timeout=1000)
+    problems = platform.attach(program_interface(program))
     assert problems == []
     return executor.run(), trace
 
@@ -69,8 +73,7 @@ def run(main: str, scn: Scenario | None = None, *, seed: int = 1, random_mode: b
 def attach_problems(scn: Scenario) -> list[str]:
     check = check_text(PROGRAM + '\nprocedure main() { say("hi"); }\n', lint=False)
     platform = DummyPlatform(scn)
-    executor = Executor(CompiledProgram(check.model), platform, Trace())
-    return platform.attach(executor.interface())
+    return [p.message for p in platform.attach(program_interface(CompiledProgram(check.model)))]
 
 
 def events(trace: Trace, *kinds: str) -> list[tuple[float, str, str]]:
@@ -198,7 +201,10 @@ def test_scenario_that_does_not_fit_stops_run_program_with_a_diagnostic(tmp_path
     outcome = run_program(program, RunOptions())
     assert outcome.result is None and not outcome.ok
     [d] = [d for d in outcome.diagnostics if d.is_error]
-    assert d.code == "R0007" and "no exogenous action `pong`" in d.notes[0]
+    assert d.code == "R0007" and d.message == "scenario: no exogenous action `pong` in the program"
+    # At the scenario's entry, with a did-you-mean from the program's exogenous actions.
+    assert (d.span.source.path, d.span.text, d.span.start) == (str(tmp_path / "s.toml"), "[[exog]]", 0)
+    assert d.help == "did you mean `ping`?"
     assert outcome.trace is not None and outcome.trace.records[-1]["event"] == "finish"
 
 
@@ -310,7 +316,7 @@ def test_exog_event_waits_until_the_program_reaches_its_time() -> None:
 def _attached(scn: Scenario) -> DummyPlatform:
     check = check_text(PROGRAM + '\nprocedure main() { say("hi"); }\n', lint=False)
     platform = DummyPlatform(scn)
-    assert platform.attach(Executor(CompiledProgram(check.model), platform, Trace()).interface()) == []
+    assert platform.attach(program_interface(CompiledProgram(check.model))) == []
     return platform
 
 
@@ -370,7 +376,7 @@ def test_exog_function_used_by_the_program_is_asked_each_time() -> None:
 def test_to_value_converts_toml_values_to_golog_values() -> None:
     assert to_value("kitchen", None) == "kitchen"
     assert to_value({"null": True}, NUMBER) is None
-    with pytest.raises(ScenarioError, match="expected a number, got True"):
+    with pytest.raises(ConversionError, match="expected a number, got True"):
         to_value(True, NUMBER)
 
 
@@ -468,7 +474,7 @@ EXAMPLES = sorted(p for p in (ROOT / "examples").glob("*.gpp") if "world" not in
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_random_mode_runs_the_examples_to_completion(path: Path) -> None:
-    outcome = run_program(path, RunOptions(random=True, seed=1, timeout=3600))
+    outcome = run_program(path, RunOptions(timeout=3600, platform_options={"random": True, "seed": 1}))
     assert outcome.result is not None
     assert outcome.result.status is RunStatus.FINISHED, [d.message for d in outcome.diagnostics if d.is_error]
 

@@ -15,7 +15,7 @@ FIRST_PLAN = ["stack(a,table)", "stack(c,table)", "stack(b,a)", "stack(c,b)"]
 
 
 def run(program: Path, scenario: str) -> RunOutcome:
-    return run_program(program, RunOptions(scenario=SCENARIOS / scenario))
+    return run_program(program, RunOptions(platform_options={"scenario": SCENARIOS / scenario}))
 
 
 def events(outcome: RunOutcome, *kinds: str) -> list[dict[str, object]]:

@@ -11,17 +11,20 @@ from pathlib import Path
 import pytest
 from PIL import Image
 
+from gpp.platform.base import PlatformConfig
 from gpp.platform.sim import SimPlatform, World, WorldError
 from gpp.platform.sim.platform import run_action
 from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.executor import RunStatus
+from gpp.syntax.directives import file_directives
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 
 
 def sim_run(name: str, record: Path | None = None, snapshot: Path | None = None) -> RunOutcome:
-    outcome = run_program(EXAMPLES / name, RunOptions(platform="sim", record=record, snapshot=snapshot))
+    files = {k: v for k, v in {"record": record, "snapshot": snapshot}.items() if v is not None}
+    outcome = run_program(EXAMPLES / name, RunOptions(platform="sim", platform_options=files))
     messages = [d.message + " " + " ".join(d.notes) for d in outcome.diagnostics]
     assert outcome.result is not None, messages
     assert outcome.result.status is RunStatus.FINISHED, messages
@@ -65,10 +68,12 @@ def test_rescue_finds_the_victims_and_returns_home() -> None:
 
 
 def test_the_world_option_overrides_the_directive() -> None:
-    outcome = run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", world="blocksworld"))
+    outcome = run_program(
+        EXAMPLES / "rescue.gpp", RunOptions(platform="sim", platform_options={"world": "blocksworld"})
+    )
     assert outcome.result is None  # did not start
-    notes = [n for d in outcome.diagnostics for n in d.notes]
-    assert any('"/victim_detected", which world `blocksworld` does not produce' in n for n in notes)
+    messages = [d.message for d in outcome.diagnostics]
+    assert any('"/victim_detected", which world `blocksworld` does not produce' in m for m in messages)
 
 
 def test_runs_are_reproducible() -> None:
@@ -84,13 +89,14 @@ def test_mappings_are_checked_against_what_the_sim_serves() -> None:
     outcome = run_program(EXAMPLES / "blocks_planning.gpp", RunOptions(platform="sim"))
     assert outcome.result is None
     (error,) = [d for d in outcome.diagnostics if d.code == "R0007"]
-    assert error.message == "the program does not fit platform `sim`"
-    assert error.notes[0] == (
-        'action `stack` is mapped to "stack_block", which the sim does not serve; did you mean `/stack`?'
-    )
-    assert error.notes[-1] == (
+    # At the mapping, not at `main()`.
+    assert error.message == 'action `stack` is mapped to "stack_block", which the sim does not serve'
+    assert error.span.text == '"stack_block"'
+    assert error.help == "did you mean `/stack`?"
+    assert error.notes == (
         'the sim serves "/get_block_pose" {block}, "/gripper_home" {}, "/navigate_to_frame" {frame}, '
-        '"/stack" {block, location}'
+        '"/stack" {block, location}',
+        "the program does not fit platform `sim`",
     )
 
 
@@ -113,11 +119,23 @@ procedure main() { put(a, t3); }
         encoding="utf-8",
     )
     outcome = run_program(program, RunOptions(platform="sim"))
-    notes = [n for d in outcome.diagnostics for n in d.notes]
-    assert notes == [
-        'action `put`: "/stack" has no argument `blok`; did you mean `block`? (its arguments: `block`, `location`)',
-        'action `put`: the mapping to "/stack" must give `block`',
-        'exogenous action `low`: "/battery" has no field `levl`; did you mean `level`? (its fields: `level`)',
+    # Every problem at once, each where the mapping says it, before anything runs.
+    assert outcome.result is None
+    found = [(d.code, d.span.text, d.message, d.help) for d in outcome.diagnostics]
+    assert found == [
+        (
+            "R0007",
+            "blok = x",
+            'action `put`: "/stack" has no argument `blok` (its arguments: `block`, `location`)',
+            "did you mean `block`?",
+        ),
+        ("R0007", '"/stack"', 'action `put`: the mapping to "/stack" must give `block`', None),
+        (
+            "R0007",
+            "levl = l",
+            'exogenous action `low`: "/battery" has no field `levl` (its fields: `level`)',
+            "did you mean `level`?",
+        ),
     ]
 
 
@@ -141,9 +159,9 @@ procedure main() { get_block_pose(a); }
         + '[[map.region]]\nname = "v2"\ncircle = [2, 2, 1]\nevent = "/victim_detected"\nfields = { id = "v2" }\n',
         encoding="utf-8",
     )
-    outcome = run_program(program, RunOptions(platform="sim", world=str(world)))
-    notes = [n for d in outcome.diagnostics for n in d.notes]
-    assert notes == [
+    outcome = run_program(program, RunOptions(platform="sim", platform_options={"world": str(world)}))
+    messages = [d.message for d in outcome.diagnostics]
+    assert messages == [
         'action `get_block_pose` senses into type `location`, which lacks `c`: "/get_block_pose" can report these '
         "in world `blocksworld`",
         "exogenous action `victim_detected`: region `v2` sends id: v2 is not in domain `victim`",
@@ -152,7 +170,7 @@ procedure main() { get_block_pose(a); }
 
 def test_unknown_worlds_are_setup_errors() -> None:
     with pytest.raises(RunSetupError, match=r"no world `rescu` \(available: .*rescue.*; did you mean `rescue`\?"):
-        run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", world="rescu"))
+        run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", platform_options={"world": "rescu"}))
 
 
 @pytest.mark.parametrize(
@@ -200,11 +218,15 @@ def test_realtime_paces_sim_time_to_wall_time() -> None:
 
 def test_create_picks_the_world_and_the_seed() -> None:
     faults = EXAMPLES / "blocksworld_faults.gpp"
-    sim = SimPlatform.create(RunOptions(platform="sim"), faults)
+
+    def create(program: Path, **options: str | int) -> SimPlatform:
+        return SimPlatform.create(PlatformConfig(program, file_directives(program), options))
+
+    sim = create(faults)
     assert (sim.world.name, sim.seed) == ("blocksworld_faults", 3)  # the directive, the world's seed
-    sim = SimPlatform.create(RunOptions(platform="sim", seed=5), faults)
+    sim = create(faults, seed=5)
     assert sim.seed == 5  # --seed wins over the world's
-    sim = SimPlatform.create(RunOptions(platform="sim", world="rescue"), faults)
+    sim = create(faults, world="rescue")
     assert sim.world.name == "rescue" and sim.workbench is None
-    sim = SimPlatform.create(RunOptions(platform="sim"), EXAMPLES / "blocks_planning.gpp")
+    sim = create(EXAMPLES / "blocks_planning.gpp")
     assert sim.world.name == "blocksworld"  # the default world

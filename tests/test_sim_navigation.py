@@ -7,10 +7,13 @@ import tomllib
 
 import pymunk
 
-from gpp.model.types import NUMBER, SYMBOL, Sym
-from gpp.platform.base import ActivityUpdate, ExogEvent, ExogSignature, ProgramInterface
+from gpp.check import check_text
+from gpp.model.types import Sym
+from gpp.platform.base import ActivityUpdate, ExogEvent
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity, run_action
+from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.contract import program_interface
 from gpp.runtime.state import ActivityStatus
 
 CORRIDOR = """
@@ -43,17 +46,18 @@ def corridor(extra: str = "", battery: int = 100) -> SimPlatform:
     return SimPlatform(World.from_data(tomllib.loads(text + extra)))
 
 
+LISTENER = """
+exog_action battery_report(number level) { mapping: "/battery" { level = level } }
+exog_action victim_detected(symbol id) { mapping: "/victim_detected" { id = id } }
+procedure main() { }
+"""
+
+
 def listen(sim: SimPlatform) -> None:
     """Attach a program that maps the world's events (as the stdlib does)."""
-    interface = ProgramInterface(
-        actions={},
-        exog_actions={
-            "battery_report": ExogSignature("battery_report", ("level",), (NUMBER,), "/battery", {"level": "level"}),
-            "victim_detected": ExogSignature("victim_detected", ("id",), (SYMBOL,), "/victim_detected", {"id": "id"}),
-        },
-        exog_functions={},
-    )
-    sim.attach(interface)
+    check = check_text(LISTENER, lint=False)
+    assert not check.errors, [d.message for d in check.diagnostics]
+    sim.attach(program_interface(CompiledProgram(check.model)))  # some test worlds lack an event: fine here
     sim.queue.drain()  # the battery report at the start
 
 

@@ -176,8 +176,14 @@ def test_interrupted_run_leaves_a_complete_trace(stop_at: str, tmp_path: Path) -
         _check_record(record)
     [stop] = [i for i, r in enumerate(records) if r["event"] == "error"]
     assert records[stop]["message"] == "interrupted"
-    # After the interruption: running activities are cancelled, then the run finishes.
-    assert {r["event"] for r in records[stop + 1 : -1]} <= {"cancel"}
+    # After the interruption: running activities are cancelled and the platform acknowledges the
+    # cancellations (an activity interrupted while being started never reached the platform, so
+    # nothing acknowledges it), then the run finishes.
+    after = records[stop + 1 : -1]
+    cancelled = [r["id"] for r in after if r["event"] == "cancel"]
+    acknowledged = [r["id"] for r in after if r["event"] == "update" and r["status"] == "cancelled"]
+    assert {r["event"] for r in after} <= {"cancel", "update"}
+    assert acknowledged == (cancelled if stop_at == "assign" else [])
     assert records[-1]["event"] == "finish" and records[-1]["status"] == "interrupted"
 
 
@@ -185,14 +191,31 @@ def test_interrupt_while_an_activity_runs_cancels_it(tmp_path: Path) -> None:
     trace_file = tmp_path / "trace.jsonl"
 
     def ctrl_c(record: TraceRecord) -> None:
-        if record["event"] == "start" and record["action"] == "drive(kitchen)":
+        # The step after `drive(kitchen)` started: the platform is running it.
+        if record["event"] == "assign" and record["fluent"] == "said()":
             raise KeyboardInterrupt
 
     run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
     records = _read(trace_file)
     cancel = [r for r in records if r["event"] == "cancel"]
     assert [(r["action"], r["reason"]) for r in cancel] == [("drive(kitchen)", "the program ended")]
+    # The platform's acknowledgement is recorded before the run finishes.
+    assert [(r["event"], r["action"], r["status"], r["reason"]) for r in records[-2:-1]] == [
+        ("update", "drive(kitchen)", "cancelled", "preempted")
+    ]
     assert records[-1]["event"] == "finish"
+
+
+def test_interrupt_before_the_platform_took_an_activity_cancels_it_without_waiting(tmp_path: Path) -> None:
+    trace_file = tmp_path / "trace.jsonl"
+
+    def ctrl_c(record: TraceRecord) -> None:
+        if record["event"] == "start" and record["action"] == "drive(kitchen)":
+            raise KeyboardInterrupt  # while the executor starts it: the platform never got it
+
+    run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
+    records = _read(trace_file)
+    assert [r["event"] for r in records] == ["start", "error", "cancel", "finish"]
 
 
 def test_failure_shows_in_the_trace_and_on_fail_runs() -> None:

@@ -1,131 +1,120 @@
-"""The platform interface: one contract between the executor and the world (a simulator, a
-robot, a dummy).
+"""The platform base class: a plugin that the runner creates from a configuration, attaches to
+a program, runs the program on, and closes.
 
-The executor asks a platform to start and preempt activities and to evaluate exogenous
-functions, and reads its clock. The platform reports back through one thread-safe EventQueue:
-activity updates (final / failed / cancelled, with an optional sensing result) and exogenous
-events. The executor drains the queue between program steps. When the program is blocked the
-executor calls `wait(deadline)`: a virtual-time platform advances its clock to its next
-scheduled happening; a real-time platform waits for the queue.
+A platform is one self-contained module: it declares its options as a dataclass (`Options`),
+the `// key:` directive that makes `gpp test` choose it (`selected_by`), and builds itself in
+`create(config)`. Neither the runner nor the CLI knows any platform's options: the CLI passes
+`--platform-opt key=value` pairs (and its shorthand flags such as `--world`) through, and
+`parse_options` validates them against the platform's `Options`, with a did-you-mean.
+
+What the executor asks of a platform while the program runs (start, preempt, exogenous
+functions, the clock, the event queue) is the contract in gpp.runtime.contract; it is
+re-exported here for platform authors.
 """
 
 from __future__ import annotations
 
-import threading
-from collections import deque
+import dataclasses
+import types
+import typing
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar, TypeVar, Union
 
 from gpp.model.types import Type
-from gpp.runtime.state import ActivityStatus, GroundAction
+from gpp.runtime.contract import (
+    ActionBinding,
+    Activity,
+    ActivityUpdate,
+    Event,
+    EventQueue,
+    ExogActionBinding,
+    ExogEvent,
+    ExogFunctionSignature,
+    MappedArgument,
+    Parameter,
+    PlatformError,
+    Problem,
+    ProgramInterface,
+)
 from gpp.runtime.values import Value
+from gpp.suggest import did_you_mean
+
+__all__ = [
+    "ActionBinding",
+    "Activity",
+    "ActivityUpdate",
+    "Event",
+    "EventQueue",
+    "ExogActionBinding",
+    "ExogEvent",
+    "ExogFunctionSignature",
+    "MappedArgument",
+    "NoOptions",
+    "OptionValue",
+    "Parameter",
+    "Platform",
+    "PlatformConfig",
+    "PlatformError",
+    "Problem",
+    "ProgramInterface",
+    "option_help",
+    "parse_options",
+]
+
+# A platform option as given: text from the command line, or a value from code.
+OptionValue = str | int | float | bool | Path
 
 
-class PlatformError(Exception):
-    """A platform cannot do what it was asked (unknown mapped name, no connection, ...)."""
+@dataclass(frozen=True)
+class PlatformConfig:
+    """Everything a platform is created from."""
+
+    # The program to run (relative paths in its directives are relative to its folder).
+    program: Path
+    # The program's `// key: value` directives (from the comment lines at its top).
+    directives: Mapping[str, str] = field(default_factory=dict)
+    # Platform options: `--platform-opt key=value` and the CLI's shorthand flags.
+    options: Mapping[str, OptionValue] = field(default_factory=dict)
+
+    def directive_path(self, key: str) -> Path | None:
+        """A directive naming a file, resolved against the program's folder."""
+        value = self.directives.get(key)
+        return self.program.parent / value if value is not None else None
 
 
-@dataclass(frozen=True, slots=True)
-class Activity:
-    """A started action as the platform sees it."""
-
-    id: int
-    action: GroundAction
-    mapped_name: str
-    # Mapped arguments, evaluated when the activity starts (LANGUAGE.md §7.2).
-    args: Mapping[str, Value]
-    # `duration: [min, max]` of the action, if given.
-    duration: tuple[float, float] | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class ActivityUpdate:
-    activity_id: int
-    status: ActivityStatus  # FINAL, FAILED or CANCELLED
-    # The sensing result (for a `senses:` section), when the platform produced one.
-    result: Value = None
-    has_result: bool = False
-    reason: str = ""
-
-
-@dataclass(frozen=True, slots=True)
-class ExogEvent:
-    """An exogenous action happened: its golog++ name and argument values in parameter order."""
-
-    action: str
-    args: tuple[Value, ...]
-
-
-Event = ActivityUpdate | ExogEvent
-
-
-class EventQueue:
-    """Thread-safe FIFO of events; platforms put, the executor drains."""
-
-    def __init__(self) -> None:
-        self._items: deque[tuple[float, Event]] = deque()
-        self._ready = threading.Condition()
-
-    def put(self, event: Event, time: float) -> None:
-        with self._ready:
-            self._items.append((time, event))
-            self._ready.notify_all()
-
-    def drain(self) -> list[tuple[float, Event]]:
-        with self._ready:
-            items = list(self._items)
-            self._items.clear()
-        return items
-
-    def wait(self, timeout: float | None) -> bool:
-        """Wait until an event is queued (or `timeout` seconds pass); True if one is."""
-        with self._ready:
-            if self._items:
-                return True
-            self._ready.wait(timeout)
-            return bool(self._items)
-
-    def __len__(self) -> int:
-        with self._ready:
-            return len(self._items)
-
-
-@dataclass(frozen=True, slots=True)
-class ExogSignature:
-    """What a platform needs to know about an exogenous action to report it."""
-
-    name: str
-    params: tuple[str, ...]
-    param_types: tuple[Type, ...]
-    mapped_name: str
-    # backend field name -> parameter name
-    fields: Mapping[str, str] = field(default_factory=dict)
-
-
-@dataclass(frozen=True, slots=True)
-class ProgramInterface:
-    """The program's side of the contract, handed to the platform before the run."""
-
-    actions: Mapping[str, tuple[str, tuple[str, ...]]]  # action -> (mapped name, mapped argument names)
-    exog_actions: Mapping[str, ExogSignature]
-    exog_functions: Mapping[str, tuple[tuple[str, ...], Type]]  # name -> (parameter names, return type)
-    # Actions with a `senses:` section -> the type of the sensed value.
-    sensing: Mapping[str, Type] = field(default_factory=dict)
+@dataclass(frozen=True)
+class NoOptions:
+    """The options of a platform that takes none."""
 
 
 class Platform:
-    """Base class of platforms. Subclasses override what they serve."""
+    """Base class of platforms. Subclasses override what they serve (see the module docstring and
+    gpp.runtime.contract.PlatformPort for what each method must do)."""
 
-    name = "platform"
+    name: ClassVar[str] = "platform"
     # True when time is simulated (the run goes as fast as the CPU allows).
-    virtual_time = True
+    virtual_time: ClassVar[bool] = True
+    # The `// key:` directive that makes `gpp test` run a program on this platform.
+    selected_by: ClassVar[str | None] = None
+    # The options `create` accepts: a frozen dataclass whose fields have defaults and a
+    # `metadata={"help": ...}`.
+    Options: ClassVar[type[Any]] = NoOptions
 
     def __init__(self) -> None:
         self.queue = EventQueue()
 
-    def attach(self, interface: ProgramInterface) -> list[str]:
-        """Called once before the run. Returns problems with the program's mappings (unknown
-        mapped names or arguments), each a message; an empty list means the program fits."""
+    @classmethod
+    def create(cls, config: PlatformConfig) -> Platform:
+        """The platform for a run (`gpp run --platform NAME`). Raises PlatformError for options
+        it does not take, and for files it cannot use."""
+        parse_options(cls.Options, config.options, cls.name)
+        return cls()
+
+    def attach(self, interface: ProgramInterface) -> list[Problem]:
+        """Called once before the run. Returns every problem with the program's mappings (unknown
+        mapped names, arguments, fields, values that cannot be served); empty when it fits."""
         return []
 
     def start(self, activity: Activity) -> None:
@@ -156,3 +145,80 @@ class Platform:
 
     def close(self) -> None:
         """Stop threads and release resources. Called once, also after errors."""
+
+
+# ---------------------------------------------------------------- options
+
+OptionsT = TypeVar("OptionsT")
+
+
+def parse_options(options_type: type[OptionsT], given: Mapping[str, OptionValue], platform: str) -> OptionsT:
+    """A platform's options (a dataclass) from the given pairs: text is converted to the field's
+    type, values from code are checked against it. Raises PlatformError for an unknown option
+    (with a did-you-mean and the list of options) or a value that does not fit."""
+    hints = typing.get_type_hints(options_type)
+    known = {f.name: f for f in dataclasses.fields(options_type)}  # type: ignore[arg-type]
+    values: dict[str, object] = {}
+    for key, raw in given.items():
+        if key not in known:
+            hint = did_you_mean(key, known)
+            listing = f"its options: {', '.join(sorted(known))}" if known else f"platform `{platform}` takes no options"
+            raise PlatformError(
+                f"platform `{platform}` has no option `{key}`" + (f"; {hint}" if hint else "") + f" ({listing})"
+            )
+        values[key] = _convert(raw, hints[key], f"option `{key}` of platform `{platform}`")
+    return options_type(**values)
+
+
+def option_help(platform: type[Platform]) -> list[tuple[str, str]]:
+    """(name, help) of every option of a platform, for listings."""
+    return [(f.name, str(f.metadata.get("help", ""))) for f in dataclasses.fields(platform.Options)]
+
+
+_TRUE = {"true", "yes", "on", "1"}
+_FALSE = {"false", "no", "off", "0"}
+
+
+def _convert(raw: OptionValue, target: object, what: str) -> object:
+    """`raw` as a value of `target` (str, int, float, bool, Path, or one of those | None)."""
+    kinds: tuple[object, ...] = (target,)
+    if typing.get_origin(target) in (Union, types.UnionType):
+        kinds = tuple(a for a in typing.get_args(target) if a is not type(None))
+    kind = kinds[0]
+    if kind is bool:
+        if isinstance(raw, bool):
+            return raw
+        if isinstance(raw, str) and raw.lower() in _TRUE | _FALSE:
+            return raw.lower() in _TRUE
+        raise PlatformError(f"{what} must be true or false, not {raw!r}")
+    if kind is int:
+        if isinstance(raw, int) and not isinstance(raw, bool):
+            return raw
+        if isinstance(raw, str):
+            try:
+                return int(raw)
+            except ValueError:
+                pass
+        raise PlatformError(f"{what} must be a whole number, not {raw!r}")
+    if kind is float:
+        if isinstance(raw, int | float) and not isinstance(raw, bool):
+            return float(raw)
+        if isinstance(raw, str):
+            try:
+                return float(raw)
+            except ValueError:
+                pass
+        raise PlatformError(f"{what} must be a number, not {raw!r}")
+    if kind is Path:
+        if isinstance(raw, Path):
+            return raw
+        if isinstance(raw, str) and raw:
+            return Path(raw)
+        raise PlatformError(f"{what} must be a file path, not {raw!r}")
+    if kind is str:
+        if isinstance(raw, str):
+            return raw
+        if isinstance(raw, Path):
+            return str(raw)
+        raise PlatformError(f"{what} must be text, not {raw!r}")
+    raise TypeError(f"{what}: options of type {kind!r} are not supported")

@@ -19,7 +19,7 @@ import math
 import random
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,11 +31,17 @@ from gpp.platform.base import (
     Event,
     ExogEvent,
     Platform,
+    PlatformConfig,
     PlatformError,
+    Problem,
     ProgramInterface,
+    parse_options,
 )
+from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import CompoundValue, Value, show
+from gpp.source import Source, Span
+from gpp.suggest import did_you_mean
 
 
 class ScenarioError(Exception):
@@ -64,6 +70,7 @@ class ActionRule:
     has_result: bool = False
     times: int | None = None  # applies to the first `times` matching activities
     used: int = 0
+    span: Span | None = None  # the entry in the scenario file
 
     def matches(self, g: GroundAction) -> bool:
         if g.name != self.name or (self.times is not None and self.used >= self.times):
@@ -80,6 +87,7 @@ class ExogRule:
     at: float
     action: str
     args: list[Any]
+    span: Span | None = None
 
 
 @dataclass
@@ -88,6 +96,7 @@ class FunctionRule:
     args: dict[str, Any] | None
     values: list[Any]
     used: int = 0
+    span: Span | None = None
 
     def matches(self, name: str, args: Mapping[str, Value]) -> bool:
         if name != self.name:
@@ -112,10 +121,15 @@ class Scenario:
             raise ScenarioError(f"scenario '{path}' is not UTF-8 text") from None
         except tomllib.TOMLDecodeError as e:
             raise ScenarioError(f"scenario '{path}' is not valid TOML: {e}") from None
-        return cls.from_data(data, str(path))
+        return cls.from_data(data, str(path), _entry_spans(Source.from_file(path)))
 
     @classmethod
-    def from_data(cls, data: Mapping[str, Any], where: str = "scenario") -> Scenario:
+    def from_data(
+        cls, data: Mapping[str, Any], where: str = "scenario", spans: Mapping[tuple[str, int], Span] | None = None
+    ) -> Scenario:
+        """A scenario from TOML data; `spans` locates its `[[section]]` entries, by section name
+        and index, in the file (for problems found when the program attaches)."""
+        spans = spans or {}
         unknown = set(data) - set(_KEYS)
         if unknown:
             raise ScenarioError(
@@ -138,7 +152,7 @@ class Scenario:
             word = entry.get("outcome", "final")
             if not isinstance(word, str) or word not in _OUTCOMES:
                 raise ScenarioError(f"{at}: outcome must be final, fail or cancel, not {word!r}")
-            rule = ActionRule(pattern, name, args, _OUTCOMES[word])
+            rule = ActionRule(pattern, name, args, _OUTCOMES[word], span=spans.get(("action", i)))
             if "duration" in entry:
                 rule.duration = _seconds(entry["duration"], f"{at} duration")
             if "result" in entry:
@@ -159,7 +173,9 @@ class Scenario:
             args = entry.get("args", [])
             if not isinstance(args, list):
                 raise ScenarioError(f"{at}: args must be a list of values, not {args!r}")
-            scenario.exogs.append(ExogRule(_seconds(entry["at"], f"{at} at"), entry["action"], list(args)))
+            scenario.exogs.append(
+                ExogRule(_seconds(entry["at"], f"{at} at"), entry["action"], list(args), spans.get(("exog", i)))
+            )
         for i, entry in enumerate(_entries(data, "exog_function", where)):
             at = f"{where}: [[exog_function]] #{i + 1}"
             _check_keys(entry, "exog_function", at)
@@ -173,8 +189,25 @@ class Scenario:
             if fargs is not None and not isinstance(fargs, dict):
                 raise ScenarioError(f'{at}: args must be a table such as `{{ room = "kitchen" }}`')
             values = list(entry["values"]) if "values" in entry else [entry["value"]]
-            scenario.functions.append(FunctionRule(str(entry["name"]), fargs, values))
+            scenario.functions.append(
+                FunctionRule(str(entry["name"]), fargs, values, span=spans.get(("exog_function", i)))
+            )
         return scenario
+
+
+_HEADER = re.compile(r"^[ \t]*\[\[[ \t]*([A-Za-z_]+)[ \t]*\]\]", re.MULTILINE)
+
+
+def _entry_spans(source: Source) -> dict[tuple[str, int], Span]:
+    """Where each `[[section]]` entry of a scenario file begins: its header line."""
+    spans: dict[tuple[str, int], Span] = {}
+    counts: dict[str, int] = {}
+    for m in _HEADER.finditer(source.text):
+        section = m.group(1)
+        index = counts.get(section, 0)
+        counts[section] = index + 1
+        spans[(section, index)] = Span(source, m.start(0) + len(m.group(0)) - len(m.group(0).lstrip()), m.end(0))
+    return spans
 
 
 def _entries(data: Mapping[str, Any], section: str, where: str) -> list[dict[str, Any]]:
@@ -191,9 +224,19 @@ def _check_keys(entry: Mapping[str, Any], section: str, at: str) -> None:
         raise ScenarioError(f"{at}: unknown key(s) {', '.join(sorted(unknown))} (known: {known})")
 
 
+@dataclass(frozen=True)
+class DummyOptions:
+    scenario: Path | None = field(
+        default=None, metadata={"help": "a TOML file scripting outcomes and events (default: the `// scenario:` line)"}
+    )
+    seed: int | None = field(default=None, metadata={"help": "seed for --random (default: 1)"})
+    random: bool = field(default=False, metadata={"help": "random durations, exogenous events and answers"})
+
+
 class DummyPlatform(Platform):
     name = "dummy"
     virtual_time = True
+    Options = DummyOptions
 
     def __init__(self, scenario: Scenario | None = None, seed: int = 1, random_mode: bool = False) -> None:
         super().__init__()
@@ -210,53 +253,80 @@ class DummyPlatform(Platform):
         self.interface: ProgramInterface | None = None
         self._next_random_exog = 0.0
 
+    @classmethod
+    def create(cls, config: PlatformConfig) -> DummyPlatform:
+        """The platform for `gpp run`: the scenario from the `scenario` option, else from a
+        `// scenario: FILE` line at the top of the program (relative to it), else none."""
+        options = parse_options(DummyOptions, config.options, cls.name)
+        path = options.scenario if options.scenario is not None else config.directive_path("scenario")
+        try:
+            scenario = Scenario.load(path) if path is not None else None
+        except ScenarioError as e:
+            raise PlatformError(str(e)) from None
+        return cls(scenario, options.seed if options.seed is not None else 1, options.random)
+
     # ---------------------------------------------------------------- contract
 
-    def attach(self, interface: ProgramInterface) -> list[str]:
+    def attach(self, interface: ProgramInterface) -> list[Problem]:
         self.interface = interface
-        problems: list[str] = []
+        problems: list[Problem] = []
+
+        def problem(message: str, span: Span | None, known: Iterable[str] = (), name: str = "") -> None:
+            hint = did_you_mean(name, known) if name else None
+            problems.append(Problem("scenario: " + message, span, help=hint))
+
         for rule in self.scenario.actions:
-            if rule.name not in interface.actions:
-                problems.append(f"scenario: no action `{rule.name}` in the program (pattern `{rule.pattern}`)")
+            binding = interface.actions.get(rule.name)
+            if binding is None:
+                problem(
+                    f"no action `{rule.name}` in the program (pattern `{rule.pattern}`)",
+                    rule.span,
+                    interface.actions,
+                    rule.name,
+                )
             elif rule.has_result:
-                sensed = interface.sensing.get(rule.name)
-                if sensed is None:
-                    problems.append(f"scenario: `{rule.pattern}` gives a result, but `{rule.name}` senses nothing")
+                if binding.sensing is None:
+                    problem(f"`{rule.pattern}` gives a result, but `{rule.name}` senses nothing", rule.span)
                     continue
                 try:
-                    to_value(rule.result, sensed)
-                except ScenarioError as e:
-                    problems.append(f"scenario: the result for `{rule.pattern}`: {e}")
+                    to_value(rule.result, binding.sensing)
+                except ConversionError as e:
+                    problem(f"the result for `{rule.pattern}`: {e}", rule.span)
         for exog in self.scenario.exogs:
             signature = interface.exog_actions.get(exog.action)
             if signature is None:
-                problems.append(f"scenario: no exogenous action `{exog.action}` in the program")
+                problem(
+                    f"no exogenous action `{exog.action}` in the program",
+                    exog.span,
+                    interface.exog_actions,
+                    exog.action,
+                )
                 continue
             if len(exog.args) != len(signature.params):
                 n, given = len(signature.params), len(exog.args)
-                problems.append(f"scenario: `{exog.action}` takes {n} argument(s), the scenario gives {given}")
+                problem(f"`{exog.action}` takes {n} argument(s), the scenario gives {given}", exog.span)
                 continue
             try:
                 args = tuple(to_value(a, t) for a, t in zip(exog.args, signature.param_types, strict=True))
-            except ScenarioError as e:
-                problems.append(f"scenario: `{exog.action}` at {exog.at:g} s: {e}")
+            except ConversionError as e:
+                problem(f"`{exog.action}` at {exog.at:g} s: {e}", exog.span)
                 continue
             self._schedule(exog.at, ExogEvent(exog.action, args))
         for f in self.scenario.functions:
             function = interface.exog_functions.get(f.name)
             if function is None:
-                problems.append(f"scenario: no exogenous function `{f.name}` in the program")
+                problem(f"no exogenous function `{f.name}` in the program", f.span, interface.exog_functions, f.name)
                 continue
-            params, return_type = function
+            params = function.param_names
             for key in f.args or {}:
                 if key not in params:
                     shown = ", ".join(params) if params else "none"
-                    problems.append(f"scenario: `{f.name}` has no parameter `{key}` (parameters: {shown})")
+                    problem(f"`{f.name}` has no parameter `{key}` (parameters: {shown})", f.span, params, key)
             for value in f.values:
                 try:
-                    to_value(value, return_type)
-                except ScenarioError as e:
-                    problems.append(f"scenario: an answer of `{f.name}`: {e}")
+                    to_value(value, function.return_type)
+                except ConversionError as e:
+                    problem(f"an answer of `{f.name}`: {e}", f.span)
         if self.random_mode and interface.exog_actions:
             self._next_random_exog = self.rng.uniform(0.0, 2.0)
         return problems
@@ -276,10 +346,10 @@ class DummyPlatform(Platform):
         duration = self._duration(activity, rule)
         outcome = rule.outcome if rule is not None else ActivityStatus.FINAL
         if rule is not None and rule.has_result:
-            sensed = self.interface.sensing.get(g.name) if self.interface else None
+            sensed = self.interface.sensing(g.name) if self.interface else None
             try:
                 self._results[activity.id] = (True, to_value(rule.result, sensed))
-            except ScenarioError as e:
+            except ConversionError as e:
                 raise PlatformError(f"scenario result for `{rule.pattern}`: {e}") from None
         update = ActivityUpdate(activity.id, outcome, reason="scenario" if rule else "")
         self._pending[activity.id] = self._schedule(self.clock + duration, update)
@@ -301,7 +371,7 @@ class DummyPlatform(Platform):
             rule.used += 1
             try:
                 return to_value(value, return_type)
-            except ScenarioError as e:
+            except ConversionError as e:
                 raise PlatformError(f"the scenario's answer for `{name}`: {e}") from None
         if self.random_mode:
             return random_value(self.rng, return_type)
@@ -470,43 +540,6 @@ def _value_matches(wanted: Any, value: Value) -> bool:
         names = {n for n, _ in value.fields}
         return set(wanted) <= names and all(_value_matches(w, value.get(k)) for k, w in wanted.items())
     return False
-
-
-def to_value(v: Any, t: Type | None) -> Value:
-    """A TOML value as a golog++ value of type `t` (strings become symbols where a symbol is
-    expected; `{ null = true }` is null)."""
-    if isinstance(v, dict) and v.get("null") is True:
-        return None
-    element = t.element if isinstance(t, DomainType) else t
-    if element is SYMBOL:
-        if not isinstance(v, str):
-            raise ScenarioError(f"expected a symbol name, got {v!r}")
-        value: Value = Sym(v)
-    elif element is NUMBER:
-        if isinstance(v, bool) or not isinstance(v, int | float):
-            raise ScenarioError(f"expected a number, got {v!r}")
-        value = v
-    elif element is STRING:
-        if not isinstance(v, str):
-            raise ScenarioError(f"expected a string, got {v!r}")
-        value = v
-    elif element is BOOL:
-        if not isinstance(v, bool):
-            raise ScenarioError(f"expected true or false, got {v!r}")
-        value = v
-    elif isinstance(t, ListType):
-        if not isinstance(v, list):
-            raise ScenarioError(f"expected a list, got {v!r}")
-        value = tuple(to_value(x, t.element) for x in v)
-    elif isinstance(t, CompoundType):
-        if not isinstance(v, dict):
-            raise ScenarioError(f"expected a table for `{t.name}`, got {v!r}")
-        value = CompoundValue(t.name, tuple((n, to_value(v.get(n, {"null": True}), ft)) for n, ft in t.fields.items()))
-    else:
-        value = v if isinstance(v, bool | int | float | str) else None
-    if isinstance(t, DomainType) and value is not None and value not in t.values:
-        raise ScenarioError(f"{show(value)} is not in domain `{t.name}`")
-    return value
 
 
 def random_value(rng: random.Random, t: Type) -> Value:

@@ -21,16 +21,14 @@ from enum import Enum
 
 from gpp import diagnostics as diag
 from gpp.model.types import Type
-from gpp.platform.base import (
+from gpp.runtime.compiled import CompiledProgram, Env
+from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
     ExogEvent,
-    ExogSignature,
-    Platform,
     PlatformError,
-    ProgramInterface,
+    PlatformPort,
 )
-from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
     AssignStep,
@@ -58,6 +56,10 @@ from gpp.runtime.trace import Trace
 from gpp.runtime.values import Value, show, to_json
 from gpp.source import Span
 from gpp.syntax import ast
+
+# Wall-clock seconds the executor waits, when a run ends, for the platform to acknowledge the
+# cancellation of the activities still running.
+CANCEL_GRACE = 2.0
 
 
 class RunStatus(Enum):
@@ -87,7 +89,7 @@ class RunResult:
 class _ExecContext:
     """Evaluation context online: exog functions go to the platform, the clock is its clock."""
 
-    def __init__(self, platform: Platform) -> None:
+    def __init__(self, platform: PlatformPort) -> None:
         self.platform = platform
         self.activity: Activity | None = None
         # While a `senses:` section is evaluated: the activity's result, if it has one.
@@ -109,7 +111,7 @@ class Executor:
     def __init__(
         self,
         program: CompiledProgram,
-        platform: Platform,
+        platform: PlatformPort,
         trace: Trace,
         timeout: float | None = None,
         entry: str = "main",
@@ -127,32 +129,11 @@ class Executor:
         self.by_id: dict[int, GroundAction] = {}
         self.results: dict[GroundAction, tuple[bool, Value]] = {}
         self.next_id = 1
+        # Activities the platform took (its `start` returned): only these can be acknowledged.
+        self.accepted: set[int] = set()
+        self.cancel_grace = CANCEL_GRACE
         self.result = RunResult(RunStatus.FINISHED)
         self._silent: dict[str, bool] = {}
-
-    # ---------------------------------------------------------------- set-up
-
-    def interface(self) -> ProgramInterface:
-        actions: dict[str, tuple[str, tuple[str, ...]]] = {}
-        exogs: dict[str, ExogSignature] = {}
-        functions: dict[str, tuple[tuple[str, ...], Type]] = {}
-        sensing: dict[str, Type] = {}
-        for symbol in self.program.model.globals.values():
-            kind = symbol.kind.name
-            if kind == "ACTION" and not symbol.predefined:
-                info = self.program.action(symbol.name)
-                actions[symbol.name] = (info.mapped_name, tuple(n for n, _ in info.mapped_args))
-                if info.senses is not None:
-                    sensing[symbol.name] = info.senses.target.value_type
-            elif kind == "EXOG_ACTION" and not symbol.predefined:
-                info = self.program.action(symbol.name)
-                fields = dict(info.mapped_params)
-                types = tuple(p.type for p in symbol.params if p.type is not None)
-                exogs[symbol.name] = ExogSignature(symbol.name, info.param_names, types, info.mapped_name, fields)
-            elif kind == "EXOG_FUNCTION":
-                assert symbol.type is not None
-                functions[symbol.name] = (tuple(p.name for p in symbol.params), symbol.type)
-        return ProgramInterface(actions, exogs, functions, sensing)
 
     # ---------------------------------------------------------------- the loop
 
@@ -421,6 +402,7 @@ class Executor:
             self.platform.start(activity)
         except PlatformError as e:
             raise GppRuntimeError("R0007", f"the platform cannot start `{g.text}`: {e}", span) from None
+        self.accepted.add(activity.id)
 
     def end(self, step: EndStep) -> None:
         g = step.action
@@ -469,14 +451,36 @@ class Executor:
         )
 
     def stop_running_activities(self) -> None:
+        """Preempt every activity still running, then wait (at most `cancel_grace` seconds of wall time)
+        for the platform to acknowledge each, so that the trace records how each ended."""
+        stopping: list[GroundAction] = []
         for g in self.acts.running():
             record = self.records.get(g)
             if record is None:
                 continue
             self.trace.emit("cancel", self.platform.now(), action=g.text, id=record.id, reason="the program ended")
+            if record.id in self.accepted:
+                stopping.append(g)
             # Stopping must go on whatever the platform does.
             with contextlib.suppress(Exception):
                 self.platform.preempt(record)
+        grace = self.cancel_grace
+        deadline = time.monotonic() + grace
+        while True:
+            with contextlib.suppress(Exception):
+                self.drain()
+            open_ = [g for g in stopping if self.acts.status(g) is ActivityStatus.RUNNING]
+            left = deadline - time.monotonic()
+            if not open_ or left <= 0:
+                break
+            self.platform.queue.wait(min(left, 0.05))
+        for g in open_:
+            self.trace.emit(
+                "error",
+                self.platform.now(),
+                message=f"platform `{self.platform.name}` did not acknowledge the cancellation of `{g.text}` "
+                f"within {grace:g} s",
+            )
 
     # ---------------------------------------------------------------- diagnostics
 

@@ -17,7 +17,7 @@ import itertools
 import random
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
@@ -25,23 +25,25 @@ from gpp.model.types import STRING, DomainType, Sym, Type
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,
+    ExogActionBinding,
     ExogEvent,
-    ExogSignature,
     Platform,
+    PlatformConfig,
     PlatformError,
+    Problem,
     ProgramInterface,
+    parse_options,
 )
 from gpp.platform.sim.navigation import Happening, MapScene
 from gpp.platform.sim.services import SERVICES, check_interface, event_args
 from gpp.platform.sim.task import Outcome, Task, fail
 from gpp.platform.sim.workbench import Workbench
-from gpp.platform.sim.world import World
+from gpp.platform.sim.world import World, WorldError
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
     from gpp.platform.sim.render import Recorder
-    from gpp.runner import RunOptions
 
 FRAME_INTERVAL = 0.25  # s of sim time between two recorded frames
 
@@ -71,11 +73,25 @@ class SimStats:
         return self.sim_time / self.wall_time if self.wall_time > 0 else 0.0
 
 
+@dataclass(frozen=True)
+class SimOptions:
+    world: str | None = field(
+        default=None,
+        metadata={"help": "a world name from stdlib/worlds or a TOML file (default: the `// world:` line)"},
+    )
+    seed: int | None = field(default=None, metadata={"help": "seed for simulated faults (default: the world's)"})
+    record: Path | None = field(default=None, metadata={"help": "write an animated GIF of the run here"})
+    snapshot: Path | None = field(default=None, metadata={"help": "write the last frame (PNG) here"})
+    realtime: bool = field(default=False, metadata={"help": "pace sim time to wall time"})
+
+
 class SimPlatform(Platform):
     """A world of pymunk scenes on virtual time; see the module docstring."""
 
     name = "sim"
     virtual_time = True
+    selected_by = "world"
+    Options = SimOptions
     # The statistics of the last closed run (for bench/sim.py).
     last_run: ClassVar[SimStats | None] = None
 
@@ -103,7 +119,7 @@ class SimPlatform(Platform):
         self.results: dict[int, Value] = {}
         self.obstacles = sorted(self.world.faults.obstacles, key=lambda o: o.at)
         self.interface: ProgramInterface | None = None
-        self.routes: dict[str, list[ExogSignature]] = {}
+        self.routes: dict[str, list[ExogActionBinding]] = {}
         self.realtime = realtime
         self.last_outcome = ""
         self._wall_start = time.perf_counter()
@@ -115,22 +131,24 @@ class SimPlatform(Platform):
             self.recorder = Recorder(self.world, record, snapshot, frame_interval)
 
     @classmethod
-    def create(cls, options: RunOptions, program: Path) -> SimPlatform:
-        """The platform for `gpp run --platform sim`: the world from `--world`, else from a
-        `// world: NAME` line at the top of the program, else the blocksworld. The world's
-        `[faults] seed` is used unless `--seed` is given."""
-        from gpp.runner import file_directives
-
-        if options.world is not None:
-            world = World.load(options.world)  # a name, or a path from the working directory
-        else:
-            world = World.load(file_directives(program).get("world"), program.parent)
+    def create(cls, config: PlatformConfig) -> SimPlatform:
+        """The platform for `gpp run --platform sim`: the world from the `world` option, else
+        from a `// world: NAME` line at the top of the program, else the blocksworld. The world's
+        `[faults] seed` is used unless the `seed` option is given."""
+        options = parse_options(SimOptions, config.options, cls.name)
+        try:
+            if options.world is not None:
+                world = World.load(options.world)  # a name, or a path from the working directory
+            else:
+                world = World.load(config.directives.get("world"), config.program.parent)
+        except WorldError as e:
+            raise PlatformError(str(e)) from None
         seed = options.seed if options.seed is not None else world.faults.seed
         return cls(world, seed, options.record, options.snapshot, options.realtime)
 
     # ---------------------------------------------------------------- contract
 
-    def attach(self, interface: ProgramInterface) -> list[str]:
+    def attach(self, interface: ProgramInterface) -> list[Problem]:
         self.interface = interface
         problems = check_interface(interface, self.world)
         self.routes = {}
@@ -309,7 +327,7 @@ class SimPlatform(Platform):
         )
 
     def _sensed(self, activity: Activity, value: object) -> Value:
-        t = self.interface.sensing.get(activity.action.name) if self.interface is not None else None
+        t = self.interface.sensing(activity.action.name) if self.interface is not None else None
         element = t.element if isinstance(t, DomainType) else t
         if isinstance(value, str):
             return value if element is STRING else Sym(value)

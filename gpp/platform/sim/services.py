@@ -8,10 +8,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from gpp.model.types import DomainType, Type
-from gpp.platform.base import ExogSignature, ProgramInterface
-from gpp.platform.sim.task import closest
+from gpp.platform.base import ActionBinding, ExogActionBinding, Problem, ProgramInterface
 from gpp.platform.sim.world import World
+from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.values import Value
+from gpp.suggest import did_you_mean
 
 
 @dataclass(frozen=True)
@@ -49,67 +50,91 @@ def produced_events(world: World) -> dict[str, tuple[str, ...]]:
     return dict(sorted(events.items()))
 
 
-def did_you_mean(name: str, known: list[str]) -> str:
-    hint = closest(name, known)
-    return f"; did you mean `{hint}`?" if hint else ""
-
-
 def _names(names: list[str] | tuple[str, ...]) -> str:
     return ", ".join(f"`{n}`" for n in names) if names else "none"
 
 
-def check_interface(interface: ProgramInterface, world: World) -> list[str]:
-    """Problems with the program's mappings in this world; empty when everything fits."""
-    problems: list[str] = []
-    served = sorted(SERVICES)
-    unknown_action = unknown_event = False
-    for action, (mapped, args) in sorted(interface.actions.items()):
-        service = SERVICES.get(mapped)
-        if service is None:
-            problems.append(
-                f'action `{action}` is mapped to "{mapped}", which the sim does not serve{did_you_mean(mapped, served)}'
-            )
-            unknown_action = True
-            continue
-        scene = world.workbench if service.scene == "workbench" else world.map
-        if scene is None:
-            problems.append(f'action `{action}`: "{mapped}" needs a {service.scene}, and world `{world.name}` has none')
-        for arg in args:
-            if arg not in service.args:
-                problems.append(
-                    f'action `{action}`: "{mapped}" has no argument `{arg}`{did_you_mean(arg, list(service.args))}'
-                    f" (its arguments: {_names(service.args)})"
-                )
-        missing = [a for a in service.args if a not in args]
-        if missing:
-            problems.append(f'action `{action}`: the mapping to "{mapped}" must give {_names(missing)}')
-        if action in interface.sensing:
-            if not service.senses:
-                problems.append(f'action `{action}` senses a value, but "{mapped}" returns no result')
-            elif mapped == "/get_block_pose" and world.workbench is not None:
-                problems.extend(_sensed_type(action, interface.sensing[action], world))
+def check_interface(interface: ProgramInterface, world: World) -> list[Problem]:
+    """Problems with the program's mappings in this world, each at the mapping it is about;
+    empty when everything fits."""
+    problems: list[Problem] = []
+    served_note = "the sim serves " + _signatures({n: s.args for n, s in SERVICES.items()})
+    for name, binding in sorted(interface.actions.items()):
+        problems.extend(_check_action(name, binding, world, served_note))
     events = produced_events(world)
+    produced_note = f"world `{world.name}` produces " + _signatures(events)
     for name, signature in sorted(interface.exog_actions.items()):
         fields = events.get(signature.mapped_name)
         if fields is None:
-            known = list(events)
             problems.append(
-                f'exogenous action `{name}` is mapped to "{signature.mapped_name}", which world `{world.name}` '
-                f"does not produce{did_you_mean(signature.mapped_name, known)}"
+                Problem(
+                    f'exogenous action `{name}` is mapped to "{signature.mapped_name}", which world `{world.name}` '
+                    "does not produce",
+                    signature.span,
+                    "not produced by the sim",
+                    notes=(produced_note,),
+                    help=did_you_mean(signature.mapped_name, events),
+                )
             )
-            unknown_event = True
             continue
         for backend_field in signature.fields:
             if backend_field not in fields:
                 problems.append(
-                    f'exogenous action `{name}`: "{signature.mapped_name}" has no field `{backend_field}`'
-                    f"{did_you_mean(backend_field, list(fields))} (its fields: {_names(fields)})"
+                    Problem(
+                        f'exogenous action `{name}`: "{signature.mapped_name}" has no field `{backend_field}` '
+                        f"(its fields: {_names(fields)})",
+                        signature.field_spans.get(backend_field, signature.span),
+                        "no such field",
+                        help=did_you_mean(backend_field, fields),
+                    )
                 )
         problems.extend(_event_values(name, signature, world))
-    if unknown_action:
-        problems.append("the sim serves " + _signatures({n: s.args for n, s in SERVICES.items()}))
-    if unknown_event:
-        problems.append(f"world `{world.name}` produces " + _signatures(events))
+    return problems
+
+
+def _check_action(name: str, binding: ActionBinding, world: World, served_note: str) -> list[Problem]:
+    mapped = binding.mapped_name
+    service = SERVICES.get(mapped)
+    if service is None:
+        return [
+            Problem(
+                f'action `{name}` is mapped to "{mapped}", which the sim does not serve',
+                binding.span,
+                "not served by the sim",
+                notes=(served_note,),
+                help=did_you_mean(mapped, SERVICES),
+            )
+        ]
+    problems: list[Problem] = []
+    scene = world.workbench if service.scene == "workbench" else world.map
+    if scene is None:
+        problems.append(
+            Problem(
+                f'action `{name}`: "{mapped}" needs a {service.scene}, and world `{world.name}` has none',
+                binding.span,
+            )
+        )
+    for arg in binding.args:
+        if arg.name not in service.args:
+            problems.append(
+                Problem(
+                    f'action `{name}`: "{mapped}" has no argument `{arg.name}` (its arguments: {_names(service.args)})',
+                    arg.span,
+                    "no such argument",
+                    help=did_you_mean(arg.name, service.args),
+                )
+            )
+    given = {a.name for a in binding.args}
+    missing = [a for a in service.args if a not in given]
+    if missing:
+        problems.append(
+            Problem(f'action `{name}`: the mapping to "{mapped}" must give {_names(missing)}', binding.span)
+        )
+    if binding.sensing is not None:
+        if not service.senses:
+            problems.append(Problem(f'action `{name}` senses a value, but "{mapped}" returns no result', binding.span))
+        elif mapped == "/get_block_pose" and world.workbench is not None:
+            problems.extend(_sensed_type(binding, binding.sensing, world))
     return problems
 
 
@@ -119,7 +144,7 @@ def _signatures(items: Mapping[str, tuple[str, ...]]) -> str:
     return ", ".join(f'"{name}" {{{", ".join(args)}}}' for name, args in sorted(items.items()))
 
 
-def _sensed_type(action: str, t: Type, world: World) -> list[str]:
+def _sensed_type(binding: ActionBinding, t: Type, world: World) -> list[Problem]:
     if not isinstance(t, DomainType):
         return []
     assert world.workbench is not None
@@ -130,19 +155,20 @@ def _sensed_type(action: str, t: Type, world: World) -> list[str]:
     if not missing:
         return []
     return [
-        f'action `{action}` senses into type `{t.name}`, which lacks {_names(missing)}: "/get_block_pose" can report '
-        f"these in world `{world.name}`"
+        Problem(
+            f'action `{binding.name}` senses into type `{t.name}`, which lacks {_names(missing)}: "/get_block_pose" '
+            f"can report these in world `{world.name}`",
+            binding.span,
+        )
     ]
 
 
-def _event_values(name: str, signature: ExogSignature, world: World) -> list[str]:
+def _event_values(name: str, signature: ExogActionBinding, world: World) -> list[Problem]:
     """Every value a region of the world sends for this event must fit the parameter types."""
-    from gpp.platform.dummy import ScenarioError, to_value
-
-    problems: list[str] = []
+    problems: list[Problem] = []
     if world.map is None:
         return problems
-    types = dict(zip(signature.params, signature.param_types, strict=True))
+    types = {p.name: p.type for p in signature.params}
     for region in world.map.regions:
         if region.event != signature.mapped_name:
             continue
@@ -151,23 +177,26 @@ def _event_values(name: str, signature: ExogSignature, world: World) -> list[str
                 continue
             try:
                 to_value(region.fields[backend_field], types[param])
-            except ScenarioError as e:
-                problems.append(f"exogenous action `{name}`: region `{region.name}` sends {backend_field}: {e}")
+            except ConversionError as e:
+                problems.append(
+                    Problem(
+                        f"exogenous action `{name}`: region `{region.name}` sends {backend_field}: {e}",
+                        signature.field_spans.get(backend_field, signature.span),
+                    )
+                )
     return problems
 
 
-def event_args(signature: ExogSignature, fields: Mapping[str, object]) -> tuple[Value, ...] | None:
+def event_args(signature: ExogActionBinding, fields: Mapping[str, object]) -> tuple[Value, ...] | None:
     """The argument values of an exogenous action, in parameter order, from event fields."""
-    from gpp.platform.dummy import ScenarioError, to_value
-
     by_param = {param: backend for backend, param in signature.fields.items()}
     args: list[Value] = []
-    for param, t in zip(signature.params, signature.param_types, strict=True):
-        backend = by_param.get(param, param)
+    for param in signature.params:
+        backend = by_param.get(param.name, param.name)
         if backend not in fields:
             return None
         try:
-            args.append(to_value(fields[backend], t))
-        except ScenarioError:
+            args.append(to_value(fields[backend], param.type))
+        except ConversionError:
             return None
     return tuple(args)

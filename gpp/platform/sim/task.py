@@ -3,11 +3,11 @@ step, and return an Outcome when they are done (see platform.py for the stepping
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Generator, Iterable
 from dataclasses import dataclass
 
 from gpp.runtime.state import ActivityStatus
+from gpp.suggest import closest
 
 
 @dataclass(frozen=True)
@@ -29,12 +29,6 @@ def final(result: object = None, has_result: bool = False, reason: str = "") -> 
 
 def fail(reason: str) -> Outcome:
     return Outcome(ActivityStatus.FAILED, reason=reason)
-
-
-def closest(name: str, known: Iterable[str]) -> str | None:
-    """The known name most like `name` (a did-you-mean), if one is close enough."""
-    matches = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
-    return matches[0] if matches else None
 
 
 def unknown(what: str, name: str, known: Iterable[str]) -> str:

@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from gpp.platform.sim.task import closest
 from gpp.resources import stdlib_dir
+from gpp.suggest import closest
 
 DEFAULT_WORLD = "blocksworld"
 

@@ -1,0 +1,59 @@
+"""Values from outside the program (scenario and world files, messages from a robot) as golog++
+values of a declared type, shared by every platform.
+
+Data arrives as plain Python values (what TOML, JSON or a message gives: bool, int, float, str,
+lists, tables). `to_value` turns one into a golog++ value of the type the program declares:
+strings become symbols where a symbol is expected, tables become compound values, lists become
+list values, `{ null = true }` is null; domain membership is checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.runtime.values import CompoundValue, Value, show
+
+
+class ConversionError(ValueError):
+    """A value that does not fit the declared type; the message says what was expected."""
+
+
+def to_value(v: Any, t: Type | None) -> Value:
+    """`v` as a golog++ value of type `t` (None: any plain value as it is)."""
+    if isinstance(v, Mapping) and v.get("null") is True:
+        return None
+    element = t.element if isinstance(t, DomainType) else t
+    if element is SYMBOL:
+        if isinstance(v, Sym):
+            value: Value = v
+        elif isinstance(v, str):
+            value = Sym(v)
+        else:
+            raise ConversionError(f"expected a symbol name, got {v!r}")
+    elif element is NUMBER:
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            raise ConversionError(f"expected a number, got {v!r}")
+        value = v
+    elif element is STRING:
+        if not isinstance(v, str):
+            raise ConversionError(f"expected a string, got {v!r}")
+        value = v
+    elif element is BOOL:
+        if not isinstance(v, bool):
+            raise ConversionError(f"expected true or false, got {v!r}")
+        value = v
+    elif isinstance(t, ListType):
+        if not isinstance(v, list | tuple):
+            raise ConversionError(f"expected a list, got {v!r}")
+        value = tuple(to_value(x, t.element) for x in v)
+    elif isinstance(t, CompoundType):
+        if not isinstance(v, Mapping):
+            raise ConversionError(f"expected a table for `{t.name}`, got {v!r}")
+        value = CompoundValue(t.name, tuple((n, to_value(v.get(n, {"null": True}), ft)) for n, ft in t.fields.items()))
+    else:
+        value = v if isinstance(v, bool | int | float | str) else None
+    if isinstance(t, DomainType) and value is not None and value not in t.values:
+        raise ConversionError(f"{show(value)} is not in domain `{t.name}`")
+    return value

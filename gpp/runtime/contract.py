@@ -1,0 +1,309 @@
+"""The platform contract as the executor sees it: what the executor asks of a platform (the
+`PlatformPort`), the activities and events that cross it, and the program's side of it (the
+`ProgramInterface`, with types and source spans for every mapping).
+
+It lives in the runtime layer because the executor needs it; platforms (gpp.platform, a layer
+above) implement it. The platform base class with its life cycle (create from a configuration,
+attach, close) is `gpp.platform.base.Platform`.
+
+The executor asks a platform to start and preempt activities and to evaluate exogenous
+functions, and reads its clock. The platform reports back through one thread-safe EventQueue:
+activity updates (final / failed / cancelled, with an optional sensing result) and exogenous
+events. The executor drains the queue between program steps. When the program is blocked the
+executor calls `wait(deadline)`: a virtual-time platform advances its clock to its next
+scheduled happening; a real-time platform waits for the queue.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import Type
+from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.state import ActivityStatus, GroundAction
+from gpp.runtime.values import Value
+from gpp.source import Span
+from gpp.syntax import ast
+
+
+class PlatformError(Exception):
+    """A platform cannot do what it was asked (unknown mapped name, no connection, bad option...)."""
+
+
+# ---------------------------------------------------------------- what crosses the contract
+
+
+@dataclass(frozen=True, slots=True)
+class Activity:
+    """A started action as the platform sees it."""
+
+    id: int
+    action: GroundAction
+    mapped_name: str
+    # Mapped arguments, evaluated when the activity starts (LANGUAGE.md §7.2).
+    args: Mapping[str, Value]
+    # `duration: [min, max]` of the action, if given.
+    duration: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class ActivityUpdate:
+    activity_id: int
+    status: ActivityStatus  # FINAL, FAILED or CANCELLED
+    # The sensing result (for a `senses:` section), when the platform produced one.
+    result: Value = None
+    has_result: bool = False
+    reason: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ExogEvent:
+    """An exogenous action happened: its golog++ name and argument values in parameter order."""
+
+    action: str
+    args: tuple[Value, ...]
+
+
+Event = ActivityUpdate | ExogEvent
+
+
+class EventQueue:
+    """Thread-safe FIFO of events; platforms put, the executor drains."""
+
+    def __init__(self) -> None:
+        self._items: deque[tuple[float, Event]] = deque()
+        self._ready = threading.Condition()
+
+    def put(self, event: Event, time: float) -> None:
+        with self._ready:
+            self._items.append((time, event))
+            self._ready.notify_all()
+
+    def drain(self) -> list[tuple[float, Event]]:
+        with self._ready:
+            items = list(self._items)
+            self._items.clear()
+        return items
+
+    def wait(self, timeout: float | None) -> bool:
+        """Wait until an event is queued (or `timeout` seconds pass); True if one is."""
+        with self._ready:
+            if self._items:
+                return True
+            self._ready.wait(timeout)
+            return bool(self._items)
+
+    def __len__(self) -> int:
+        with self._ready:
+            return len(self._items)
+
+
+class PlatformPort(Protocol):
+    """What the executor needs of a platform while it runs a program."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def queue(self) -> EventQueue: ...
+
+    def start(self, activity: Activity) -> None:
+        """Begin an activity; its end comes later as an ActivityUpdate on the queue. Raises
+        PlatformError when the platform cannot even begin it."""
+
+    def preempt(self, activity: Activity) -> None:
+        """Ask a running activity to stop; a CANCELLED update acknowledges it (or the activity
+        ends otherwise first). Does nothing for an activity that already ended."""
+
+    def exog_function(
+        self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
+    ) -> Value:
+        """Evaluate an exogenous function; `activity` is set while a `senses:` section of that
+        activity is evaluated."""
+
+    def now(self) -> float:
+        """The platform's clock, in seconds since the run began."""
+
+    def wait(self, deadline: float | None) -> bool:
+        """The program is blocked: make time pass until something is queued or `deadline`
+        (platform time) is reached. Returns False when nothing can ever arrive."""
+
+    def live(self) -> bool:
+        """Can an event still arrive (running activities, scheduled or live exogenous sources)?"""
+
+
+# ---------------------------------------------------------------- the program's side
+
+
+@dataclass(frozen=True, slots=True)
+class Parameter:
+    name: str
+    type: Type
+
+
+@dataclass(frozen=True, slots=True)
+class MappedArgument:
+    """One `name = expression` entry of a mapping: the backend's name for the value, the type of
+    the expression, and where the entry is."""
+
+    name: str
+    type: Type
+    span: Span
+    # The action parameter the expression is, or "" when it is another expression.
+    parameter: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ActionBinding:
+    """How the program maps an action onto the platform."""
+
+    name: str
+    params: tuple[Parameter, ...]
+    mapped_name: str
+    args: tuple[MappedArgument, ...]
+    # The type of the value a `senses:` section assigns, for an action that senses.
+    sensing: Type | None
+    # The mapped name in the `mapping:` section, or the action's name when it has no mapping.
+    span: Span
+    # False when the action has no `mapping:` (it is mapped to its own name and parameters).
+    explicit: bool = True
+
+    def argument(self, name: str) -> MappedArgument | None:
+        return next((a for a in self.args if a.name == name), None)
+
+
+@dataclass(frozen=True, slots=True)
+class ExogActionBinding:
+    """What a platform needs to know about an exogenous action to report it."""
+
+    name: str
+    params: tuple[Parameter, ...]
+    mapped_name: str
+    # Backend field name -> the parameter it fills.
+    fields: Mapping[str, str]
+    span: Span
+    # Backend field name -> where the program names it.
+    field_spans: Mapping[str, Span] = field(default_factory=dict)
+    explicit: bool = True
+
+    @property
+    def param_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.params)
+
+    @property
+    def param_types(self) -> tuple[Type, ...]:
+        return tuple(p.type for p in self.params)
+
+
+@dataclass(frozen=True, slots=True)
+class ExogFunctionSignature:
+    name: str
+    params: tuple[Parameter, ...]
+    return_type: Type
+    span: Span
+
+    @property
+    def param_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.params)
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramInterface:
+    """The program's side of the contract, handed to the platform before the run."""
+
+    actions: Mapping[str, ActionBinding]
+    exog_actions: Mapping[str, ExogActionBinding]
+    exog_functions: Mapping[str, ExogFunctionSignature]
+
+    def sensing(self, action: str) -> Type | None:
+        binding = self.actions.get(action)
+        return binding.sensing if binding is not None else None
+
+
+@dataclass(frozen=True, slots=True)
+class Problem:
+    """Something about the program that the platform cannot serve, found when it attaches: the
+    runner reports each as an error at `span` (a mapping in the program, or an entry of a data
+    file such as a scenario), or at the program's entry when `span` is None."""
+
+    message: str
+    span: Span | None = None
+    label: str = ""
+    notes: tuple[str, ...] = ()
+    help: str | None = None
+
+
+def program_interface(program: CompiledProgram) -> ProgramInterface:
+    """The mapped actions, exogenous actions and exogenous functions of a program."""
+    model = program.model
+    actions: dict[str, ActionBinding] = {}
+    exogs: dict[str, ExogActionBinding] = {}
+    functions: dict[str, ExogFunctionSignature] = {}
+    for symbol in model.globals.values():
+        if symbol.predefined or symbol.span is None:
+            continue
+        if symbol.kind is SymbolKind.ACTION or symbol.kind is SymbolKind.EXOG_ACTION:
+            info = program.action(symbol.name)
+            mapping = _mapping(info.decl)
+            params = _parameters(symbol)
+            span = mapping.name.span if mapping is not None else symbol.span
+            if symbol.kind is SymbolKind.ACTION:
+                args = _mapped_arguments(model.type_of, mapping, params, symbol.span)
+                sensing = info.senses.target.value_type if info.senses is not None else None
+                actions[symbol.name] = ActionBinding(
+                    symbol.name, params, info.mapped_name, args, sensing, span, mapping is not None
+                )
+            else:
+                spans = {a.name.name: a.span for a in mapping.args} if mapping is not None else {}
+                exogs[symbol.name] = ExogActionBinding(
+                    symbol.name,
+                    params,
+                    info.mapped_name,
+                    {backend: param for backend, param in info.mapped_params},
+                    span,
+                    spans,
+                    mapping is not None,
+                )
+        elif symbol.kind is SymbolKind.EXOG_FUNCTION:
+            assert symbol.type is not None
+            functions[symbol.name] = ExogFunctionSignature(symbol.name, _parameters(symbol), symbol.type, symbol.span)
+    return ProgramInterface(actions, exogs, functions)
+
+
+def _mapping(decl: ast.ActionDecl | None) -> ast.Mapping | None:
+    section = decl.section(ast.MappingSection) if decl is not None else None
+    return section.mapping if isinstance(section, ast.MappingSection) else None
+
+
+def _parameters(symbol: Symbol) -> tuple[Parameter, ...]:
+    out: list[Parameter] = []
+    for p in symbol.params:
+        assert p.type is not None
+        out.append(Parameter(p.name, p.type))
+    return tuple(out)
+
+
+def _mapped_arguments(
+    type_of: _TypeOf, mapping: ast.Mapping | None, params: tuple[Parameter, ...], fallback: Span
+) -> tuple[MappedArgument, ...]:
+    if mapping is None:
+        # Without a mapping, the action's parameters are passed by their own names.
+        return tuple(MappedArgument(p.name, p.type, fallback, p.name) for p in params)
+    return tuple(
+        MappedArgument(
+            a.name.name,
+            type_of(a.value),
+            a.span,
+            a.value.name if isinstance(a.value, ast.Name) and any(p.name == a.value.name for p in params) else "",
+        )
+        for a in mapping.args
+    )
+
+
+class _TypeOf(Protocol):
+    def __call__(self, expr: ast.Expr, /) -> Type: ...
