@@ -13,8 +13,9 @@ from gpp.check import CheckResult, check_program
 from gpp.platform import platform_class
 from gpp.platform.base import Platform, PlatformError
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.events import ErrorEvent, FinishEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
-from gpp.runtime.trace import Trace, TraceRecord
+from gpp.runtime.trace import Trace
 
 
 class RunSetupError(Exception):
@@ -114,7 +115,7 @@ def make_platform(options: RunOptions, program: Path) -> Platform:
 def run_program(
     path: Path,
     options: RunOptions,
-    listeners: list[Callable[[TraceRecord], None]] | None = None,
+    listeners: list[Callable[[TraceEvent], None]] | None = None,
     checked: CheckResult | None = None,
 ) -> RunOutcome:
     """Check and run one program (`checked`: the result of checking it already). Raises OSError
@@ -142,8 +143,10 @@ def run_program(
             span = main.span if main.span is not None else check.loaded.files[-1].program.span
             problem = diag.error("R0007", f"the program does not fit platform `{platform.name}`", span, notes=problems)
             outcome.diagnostics.append(problem)
-            trace.emit("error", platform.now(), code=problem.code, message="; ".join(problems), at=str(span))
-            trace.emit("finish", platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
+            trace.emit(ErrorEvent(t=platform.now(), code=problem.code, message="; ".join(problems), at=str(span)))
+            trace.emit(
+                FinishEvent(t=platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
+            )
             return outcome
         result = executor.run()
         outcome.result = result
