@@ -13,8 +13,9 @@ from gpp.platform import choose_platform, platform_class
 from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
 from gpp.runtime.contract import program_interface
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.events import ErrorEvent, FinishEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
-from gpp.runtime.trace import Trace, TraceRecord
+from gpp.runtime.trace import Trace
 from gpp.source import Span
 from gpp.syntax.directives import directives
 
@@ -79,7 +80,7 @@ def make_platform(options: RunOptions, program: Path, found: Mapping[str, str]) 
 def run_program(
     path: Path,
     options: RunOptions,
-    listeners: list[Callable[[TraceRecord], None]] | None = None,
+    listeners: list[Callable[[TraceEvent], None]] | None = None,
     checked: CheckResult | None = None,
 ) -> RunOutcome:
     """Check and run one program (`checked`: the result of checking it already). Raises OSError
@@ -109,8 +110,12 @@ def run_program(
             unfit = [_unfit(p, platform.name, fallback) for p in problems]
             outcome.diagnostics.extend(unfit)
             for problem in unfit:
-                trace.emit("error", platform.now(), code=problem.code, message=problem.message, at=str(problem.span))
-            trace.emit("finish", platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
+                trace.emit(
+                    ErrorEvent(t=platform.now(), code=problem.code, message=problem.message, at=str(problem.span))
+                )
+            trace.emit(
+                FinishEvent(t=platform.now(), status=RunStatus.ERROR.value, actions=0, failures=0, exog_events=0)
+            )
             return outcome
         result = executor.run()
         outcome.result = result

@@ -1,4 +1,4 @@
-"""What `gpp run` shows while a program runs, fed only by trace records (the run view is not
+"""What `gpp run` shows while a program runs, fed only by trace events (the run view is not
 tangled into the interpreter). On a terminal: a live panel with the platform clock, the
 running activities, the current plan and the latest events. Elsewhere: one plain line per
 event, so logs and CI output stay readable."""
@@ -6,9 +6,25 @@ event, so logs and CI output stay readable."""
 from __future__ import annotations
 
 from collections import deque
-from typing import TYPE_CHECKING, Any, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, Protocol, TextIO, assert_never
 
-from gpp.runtime.trace import TraceRecord
+from gpp.runtime.events import (
+    AssignEvent,
+    BlockedEvent,
+    CancelEvent,
+    EndEvent,
+    ErrorEvent,
+    ExogEvent,
+    FinishEvent,
+    HeaderEvent,
+    PlanEvent,
+    ReplanEvent,
+    SenseEvent,
+    StartEvent,
+    TraceEvent,
+    UpdateEvent,
+    WaitingEvent,
+)
 
 if TYPE_CHECKING:
     from rich.console import Console, RenderableType
@@ -17,42 +33,43 @@ if TYPE_CHECKING:
     from gpp.runner import RunOutcome
 
 
-def describe(record: TraceRecord) -> str | None:
-    """One line for a trace record (None for records not worth a line of their own)."""
-    event = record["event"]
-    action = record.get("action", "")
-    if event == "start":
-        return f"start  {action}"
-    if event == "end":
-        status = record.get("status")
-        mark = "" if status == "final" else f"  [{status}]"
-        return f"end    {action}{mark}"
-    if event == "update":
-        if record.get("status") == "final":
+def describe(event: TraceEvent) -> str | None:
+    """One line for a trace event (None for events not worth a line of their own)."""
+    match event:
+        case StartEvent():
+            return f"start  {event.action}"
+        case EndEvent():
+            mark = "" if event.status == "final" else f"  [{event.status}]"
+            return f"end    {event.action}{mark}"
+        case UpdateEvent():
+            if event.status == "final":
+                return None
+            return f"update {event.action} {event.status}" + (f" ({event.reason})" if event.reason else "")
+        case ExogEvent():
+            suffix = " (its precondition was false)" if event.precondition is False else ""
+            return f"exog   {event.action}{suffix}"
+        case SenseEvent():
+            return f"sense  {event.fluent} = {_show(event.value)} (by {event.action})"
+        case AssignEvent():
+            return f"assign {event.fluent} = {_show(event.value)}"
+        case CancelEvent():
+            return f"cancel {event.action}" + (f" ({event.reason})" if event.reason else "")
+        case PlanEvent() | ReplanEvent():
+            if not event.feasible:
+                return f"{event.EVENT:<6} no feasible plan ({event.nodes} nodes)"
+            policy = "; ".join(event.policy) or "(nothing to do)"
+            return (
+                f"{event.EVENT:<6} value {event.value:g}, horizon {event.horizon}: {policy}"
+                f"  [{event.nodes} nodes, {event.seconds:.3f} s]"
+            )
+        case BlockedEvent() | ErrorEvent():
+            return f"{event.EVENT:<6} {event.message}"
+        case FinishEvent():
+            return f"finish {event.status}"
+        case HeaderEvent() | WaitingEvent():
             return None
-        return f"update {action} {record.get('status')}" + (f" ({record['reason']})" if record.get("reason") else "")
-    if event == "exog":
-        suffix = " (its precondition was false)" if record.get("precondition") is False else ""
-        return f"exog   {action}{suffix}"
-    if event == "sense":
-        return f"sense  {record.get('fluent')} = {_show(record.get('value'))} (by {action})"
-    if event == "assign":
-        return f"assign {record.get('fluent')} = {_show(record.get('value'))}"
-    if event == "cancel":
-        return f"cancel {action}" + (f" ({record['reason']})" if record.get("reason") else "")
-    if event in ("plan", "replan"):
-        if not record.get("feasible", True):
-            return f"{event:<6} no feasible plan ({record.get('nodes')} nodes)"
-        policy = "; ".join(record.get("policy", [])) or "(nothing to do)"
-        return (
-            f"{event:<6} value {record.get('value'):g}, horizon {record.get('horizon')}: {policy}"
-            f"  [{record.get('nodes')} nodes, {record.get('seconds', 0):.3f} s]"
-        )
-    if event in ("blocked", "error"):
-        return f"{event:<6} {record.get('message')}"
-    if event == "finish":
-        return f"finish {record.get('status')}"
-    return None
+        case _:
+            assert_never(event)
 
 
 def _show(value: Any) -> str:
@@ -72,7 +89,7 @@ class RunView(Protocol):
 
     shows: bool
 
-    def __call__(self, record: TraceRecord) -> None: ...
+    def __call__(self, event: TraceEvent) -> None: ...
 
     def __enter__(self) -> RunView: ...
 
@@ -84,7 +101,7 @@ class NoView:
 
     shows = False
 
-    def __call__(self, record: TraceRecord) -> None:
+    def __call__(self, event: TraceEvent) -> None:
         pass
 
     def __enter__(self) -> NoView:
@@ -102,10 +119,10 @@ class PlainView:
     def __init__(self, out: TextIO) -> None:
         self.out = out
 
-    def __call__(self, record: TraceRecord) -> None:
-        line = describe(record)
+    def __call__(self, event: TraceEvent) -> None:
+        line = describe(event)
         if line is not None:
-            self.out.write(f"[{record['t']:>9.3f} s] {line}\n")
+            self.out.write(f"[{event.t:>9.3f} s] {line}\n")
             self.out.flush()
 
     def __enter__(self) -> PlainView:
@@ -126,32 +143,36 @@ class LiveView:
         self.time = 0.0
         self.running: dict[str, float] = {}
         self.events: deque[str] = deque(maxlen=10)
-        self.plan: TraceRecord | None = None
+        self.plan: PlanEvent | ReplanEvent | None = None
         # Where the program is: the source location of the last action started or fluent set.
         self.at: str | None = None
         self.counts = {"actions": 0, "failed": 0, "exog": 0}
         self._live: Live | None = None
 
-    def __call__(self, record: TraceRecord) -> None:
-        self.time = record["t"]
-        event = record["event"]
-        if record.get("at") and event in ("start", "assign"):
-            self.at = f"{record['at']}  {record.get('action') or record.get('fluent')}"
-        action = record.get("action", "")
-        if event == "start":
-            self.running[action] = record["t"]
-            self.counts["actions"] += 1
-        elif event in ("end", "cancel"):
-            self.running.pop(action, None)
-        elif event == "update" and record.get("status") == "failed":
-            self.counts["failed"] += 1
-        elif event == "exog":
-            self.counts["exog"] += 1
-        elif event in ("plan", "replan"):
-            self.plan = record
-        line = describe(record)
+    def __call__(self, event: TraceEvent) -> None:
+        self.time = event.t
+        match event:
+            case StartEvent():
+                if event.at:
+                    self.at = f"{event.at}  {event.action}"
+                self.running[event.action] = event.t
+                self.counts["actions"] += 1
+            case AssignEvent():
+                if event.at:
+                    self.at = f"{event.at}  {event.fluent}"
+            case EndEvent() | CancelEvent():
+                self.running.pop(event.action, None)
+            case UpdateEvent(status="failed"):
+                self.counts["failed"] += 1
+            case ExogEvent():
+                self.counts["exog"] += 1
+            case PlanEvent() | ReplanEvent():
+                self.plan = event
+            case _:
+                pass
+        line = describe(event)
         if line is not None:
-            self.events.append(f"[dim]{record['t']:>8.2f}s[/dim] {_escape(line)}")
+            self.events.append(f"[dim]{event.t:>8.2f}s[/dim] {_escape(line)}")
         if self._live is not None:
             self._live.update(self.render())
 
@@ -175,10 +196,10 @@ class LiveView:
         if self.at is not None:
             parts.append(f"[dim]at[/dim] {_escape(self.at)}")
         parts.append(running)
-        if self.plan is not None and self.plan.get("feasible", True):
+        if self.plan is not None and self.plan.feasible:
             plan = self.plan
-            policy = " → ".join(plan.get("policy", [])) or "(nothing to do)"
-            title = f"{plan['event']} (value {plan.get('value'):g}, horizon {plan.get('horizon')})"
+            policy = " → ".join(plan.policy) or "(nothing to do)"
+            title = f"{plan.EVENT} (value {plan.value:g}, horizon {plan.horizon})"
             parts.append(Panel(_escape(policy), title=title, title_align="left"))
         parts.append(Panel("\n".join(self.events) or "[dim](no events yet)[/dim]", title="events", title_align="left"))
         return Group(*parts)

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -13,6 +12,7 @@ import pytest
 from gpp.check import check_program
 from gpp.render import render_text
 from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.runtime.events import encode
 from gpp.runtime.executor import RunStatus
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -24,7 +24,7 @@ def _explain(outcome: RunOutcome) -> str:
     """Diagnostics as the terminal shows them, and the end of the trace."""
     lines = [render_text(outcome.diagnostics)] if outcome.diagnostics else []
     records = outcome.trace.records[-15:] if outcome.trace is not None else []
-    lines.extend(json.dumps(r) for r in records)
+    lines.extend(encode(r) for r in records)
     return "\n".join(lines)
 
 

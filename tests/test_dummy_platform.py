@@ -10,6 +10,7 @@ from typing import Any
 
 import pytest
 
+import gpp.runtime.events as ev
 from gpp.check import check_text
 from gpp.model.types import NUMBER, STRING, Sym
 from gpp.platform.base import Activity, ActivityUpdate, ExogEvent, PlatformError
@@ -20,7 +21,7 @@ from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.state import ActivityStatus, GroundAction
-from gpp.runtime.trace import Trace, TraceRecord
+from gpp.runtime.trace import Trace
 from gpp.syntax.directives import file_directives
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -76,8 +77,8 @@ def attach_problems(scn: Scenario) -> list[str]:
     return [p.message for p in platform.attach(program_interface(CompiledProgram(check.model)))]
 
 
-def events(trace: Trace, *kinds: str) -> list[tuple[float, str, str]]:
-    return [(r["t"], r["event"], r.get("action", "")) for r in trace.records if r["event"] in kinds]
+def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, str]]:
+    return [(r.t, r.EVENT, getattr(r, "action", "")) for r in trace.records if isinstance(r, kinds)]
 
 
 # ---------------------------------------------------------------- parsing
@@ -205,7 +206,7 @@ def test_scenario_that_does_not_fit_stops_run_program_with_a_diagnostic(tmp_path
     # At the scenario's entry, with a did-you-mean from the program's exogenous actions.
     assert (d.span.source.path, d.span.text, d.span.start) == (str(tmp_path / "s.toml"), "[[exog]]", 0)
     assert d.help == "did you mean `ping`?"
-    assert outcome.trace is not None and outcome.trace.records[-1]["event"] == "finish"
+    assert outcome.trace is not None and isinstance(outcome.trace.records[-1], ev.FinishEvent)
 
 
 def test_bad_scenario_file_is_a_setup_error(tmp_path: Path) -> None:
@@ -230,7 +231,7 @@ def test_pattern_with_the_wrong_number_of_arguments_stops_the_run_at_the_action(
 
 def test_activity_ends_final_after_its_minimum_duration_by_default() -> None:
     result, trace = run('go(kitchen); say("x");')
-    assert events(trace, "update") == [(3.0, "update", "go(kitchen)"), (4.0, "update", 'say("x")')]
+    assert events(trace, ev.UpdateEvent) == [(3.0, "update", "go(kitchen)"), (4.0, "update", 'say("x")')]
     assert result.platform_time == 4.0
 
 
@@ -248,7 +249,7 @@ def test_scripted_outcomes_durations_and_times() -> None:
         ]
     )
     result, trace = run('say("a"); say("b"); say("c"); say("bye"); go(kitchen);', scn)
-    statuses = [(r["action"], r["status"], r["t"]) for r in trace.events("update")]
+    statuses = [(r.action, r.status, r.t) for r in trace.of(ev.UpdateEvent)]
     assert statuses == [
         ('say("a")', "failed", 2.0),
         ('say("b")', "failed", 4.0),
@@ -262,7 +263,7 @@ def test_scripted_outcomes_durations_and_times() -> None:
 def test_first_matching_rule_wins() -> None:
     scn = scenario(action=[{"match": "go(kitchen)", "outcome": "fail"}, {"match": "go(*)", "duration": 1}])
     _, trace = run("go(kitchen); go(hall);", scn)
-    assert [(r["action"], r["status"]) for r in trace.events("update")] == [
+    assert [(r.action, r.status) for r in trace.of(ev.UpdateEvent)] == [
         ("go(kitchen)", "failed"),
         ("go(hall)", "final"),
     ]
@@ -273,9 +274,9 @@ def test_sensing_result_only_on_success() -> None:
         action=[{"match": "measure()", "result": 21.5, "times": 1}, {"match": "measure()", "outcome": "fail"}]
     )
     result, trace = run("measure(); measure();", scn)
-    [sense] = trace.events("sense")
-    assert sense["value"] == 21.5 and sense["fluent"] == "temperature()"
-    assert [r.get("result") for r in trace.events("update")] == [21.5, None]
+    [sense] = trace.of(ev.SenseEvent)
+    assert sense.value == 21.5 and sense.fluent == "temperature()"
+    assert [r.result for r in trace.of(ev.UpdateEvent)] == [21.5, ev.ABSENT]
     assert result.status is RunStatus.FINISHED
 
 
@@ -293,7 +294,7 @@ def test_exog_events_arrive_at_their_times_in_order_with_activity_updates() -> N
         action=[{"match": "say(*)", "duration": 5}],
     )
     result, trace = run('say("hello"); test(bells() == 3);', scn)
-    assert events(trace, "exog", "update") == [
+    assert events(trace, ev.ExogEvent, ev.UpdateEvent) == [
         (1.0, "exog", 'bell("ann")'),
         (3.0, "exog", "visit(kitchen,2)"),
         (3.0, "exog", 'bell("bob")'),
@@ -307,7 +308,7 @@ def test_exog_event_waits_until_the_program_reaches_its_time() -> None:
     scn = scenario(exog=[{"at": 50, "action": "visit", "args": ["hall", 3]}])
     result, trace = run("test(visits() > 0);", scn)
     assert result.status is RunStatus.FINISHED and result.platform_time == 50.0
-    assert trace.events("exog")[0]["t"] == 50.0
+    assert trace.of(ev.ExogEvent)[0].t == 50.0
 
 
 # ---------------------------------------------------------------- exogenous functions
@@ -369,7 +370,7 @@ def test_exog_function_without_an_answer_is_a_platform_error() -> None:
 def test_exog_function_used_by_the_program_is_asked_each_time() -> None:
     scn = scenario(exog_function=[{"name": "ticket", "values": [5, 6]}])
     result, trace = run("visits() = ticket(); visits() = visits() + ticket();", scn)
-    assert [r["value"] for r in trace.events("assign")] == [5, 11]
+    assert [r.value for r in trace.of(ev.AssignEvent)] == [5, 11]
     assert result.status is RunStatus.FINISHED
 
 
@@ -421,8 +422,8 @@ def test_preempt_cancels_a_scheduled_activity_at_once() -> None:
 
 def test_cancel_in_a_program_preempts_the_activity() -> None:
     result, trace = run("start(go(kitchen)); cancel(go(kitchen)); end(go(kitchen));")
-    [update] = trace.events("update")
-    assert update["status"] == "cancelled" and update["reason"] == "preempted" and update["t"] == 0.0
+    [update] = trace.of(ev.UpdateEvent)
+    assert update.status == "cancelled" and update.reason == "preempted" and update.t == 0.0
     assert result.platform_time == 0.0
 
 
@@ -436,8 +437,8 @@ def test_scenario_rules_count_their_uses_per_platform() -> None:
 # ---------------------------------------------------------------- random mode
 
 
-def _comparable(records: list[TraceRecord]) -> list[TraceRecord]:
-    return [{k: v for k, v in r.items() if k != "seconds"} for r in records]
+def _comparable(records: list[ev.TraceEvent]) -> list[dict[str, object]]:
+    return [{k: v for k, v in ev.to_json_dict(r).items() if k != "seconds"} for r in records]
 
 
 def test_random_mode_is_reproducible_for_a_seed() -> None:
@@ -464,9 +465,9 @@ def test_random_values_have_the_requested_types() -> None:
 
 def test_random_mode_durations_stay_within_the_action_duration() -> None:
     _, trace = run("go(kitchen); go(hall); go(kitchen);", random_mode=True, seed=4)
-    starts = {r["id"]: r["t"] for r in trace.events("start")}
-    for update in trace.events("update"):
-        assert 3 <= update["t"] - starts[update["id"]] <= 8
+    starts = {r.id: r.t for r in trace.of(ev.StartEvent)}
+    for update in trace.of(ev.UpdateEvent):
+        assert 3 <= update.t - starts[update.id] <= 8
 
 
 EXAMPLES = sorted(p for p in (ROOT / "examples").glob("*.gpp") if "world" not in file_directives(p))
@@ -483,7 +484,7 @@ def test_random_exog_events_keep_coming_while_the_program_waits() -> None:
     result, trace = run("test(visits() > 5000);", random_mode=True, seed=2)
     # Random `visit` events add up to 1000 visits each; events come every 0-2 s.
     assert result.status is RunStatus.FINISHED
-    times = [r["t"] for r in trace.events("exog")]
+    times = [r.t for r in trace.of(ev.ExogEvent)]
     assert times == sorted(times) and all(b - a <= 2.0 for a, b in itertools.pairwise(times))
 
 

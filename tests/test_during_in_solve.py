@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from gpp.runner import RunOptions, run_program
+from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.runtime.events import PlanEvent, ReplanEvent
 from gpp.runtime.executor import RunStatus
 
 EFFECT_AT_END = """
@@ -31,7 +32,7 @@ bool function postcond() = n() >= 2 & repairs() == 1
 """
 
 
-def run(tmp_path: Path, text: str, scenario: str | None = None) -> object:
+def run(tmp_path: Path, text: str, scenario: str | None = None) -> RunOutcome:
     program = tmp_path / "agent.gpp"
     program.write_text(text)
     if scenario is not None:
@@ -42,9 +43,10 @@ def run(tmp_path: Path, text: str, scenario: str | None = None) -> object:
 def test_the_reward_after_a_during_sees_its_effects(tmp_path: Path) -> None:
     outcome = run(tmp_path, EFFECT_AT_END)
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
-    [plan] = [r for r in outcome.trace.records if r["event"] == "plan"]  # type: ignore[attr-defined]
+    assert outcome.trace is not None
+    [plan] = outcome.trace.of(PlanEvent)
     # R(s0) = 0, and R after the `during` (its one costed step, at its end) = 100.
-    assert (plan["value"], plan["policy"]) == (100.0, ["act()"])
+    assert (plan.value, plan.policy) == (100.0, ("act()",))
     assert outcome.postcond is True
 
 
@@ -52,9 +54,10 @@ def test_a_failed_during_in_a_plan_runs_on_fail_and_replans(tmp_path: Path) -> N
     scenario = '[[action]]\nmatch = "act(a)"\noutcome = "fail"\ntimes = 1\n'
     outcome = run(tmp_path, FAIL_THEN_REPAIR, scenario)
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
-    events = [(r["event"], r.get("action")) for r in outcome.trace.records]  # type: ignore[attr-defined]
+    assert outcome.trace is not None
+    events = [(r.EVENT, getattr(r, "action", None)) for r in outcome.trace.records]
     # act(a) fails, the handler repair() runs, then the planner plans the rest again.
     failed_at = events.index(("update", "act(a)"))
     assert ("start", "repair()") in events[failed_at:]
-    assert any(e == "replan" for e, _ in events[failed_at:])
+    assert any(isinstance(r, ReplanEvent) for r in outcome.trace.records[failed_at:])
     assert outcome.postcond is True

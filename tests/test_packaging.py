@@ -33,6 +33,7 @@ def test_wheel_contains_grammar_and_stdlib(wheel: Path) -> None:
     names = set(zipfile.ZipFile(wheel).namelist())
     assert "gpp/_data/grammar/gpp.lark" in names
     assert "gpp/cli.py" in names
+    assert "gpp/trace.schema.json" in names  # gpp.runtime.events.load_schema()
     assert any(n.startswith("gpp/_data/stdlib/") for n in names), sorted(n for n in names if "_data" in n)
     assert not any(n.startswith("tests/") for n in names)
 
@@ -49,6 +50,7 @@ def test_installed_package_checks_a_program_outside_the_source_tree(wheel: Path,
         "import gpp.resources as r, sys; "
         "assert '_data' in str(r.grammar_path()), r.grammar_path(); "
         "assert '_data' in str(r.stdlib_dir()), r.stdlib_dir(); "
+        "import gpp.runtime.events as ev; assert ev.load_schema()['$id'].endswith(ev.TRACE_SCHEMA_VERSION); "
         "from gpp.cli import main; main(['check', sys.argv[1]])"
     )
     result = subprocess.run(

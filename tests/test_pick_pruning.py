@@ -9,16 +9,17 @@ import pytest
 
 from gpp.runner import RunOptions, run_program
 from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.events import PlanEvent
 from gpp.runtime.executor import RunStatus
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
-def plan_of(path: Path) -> tuple[float, list[str], int]:
+def plan_of(path: Path) -> tuple[float, tuple[str, ...], int]:
     outcome = run_program(path, RunOptions())
     assert outcome.trace is not None
-    [plan] = [r for r in outcome.trace.records if r["event"] == "plan"]
-    return plan["value"], plan["policy"], plan["pruned"]
+    [plan] = outcome.trace.of(PlanEvent)
+    return plan.value, plan.policy, plan.pruned
 
 
 @pytest.mark.parametrize("name", ["blocks_planning.gpp", "tower5.gpp"])

@@ -21,6 +21,7 @@ from gpp.planner.result import Plan
 from gpp.planner.search import search_plan
 from gpp.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.events import PlanEvent, StartEvent, TraceEvent, from_json_dict
 from gpp.runtime.executor import RunStatus
 from gpp.runtime.state import Activities, State
 
@@ -80,13 +81,14 @@ def run(path: Path) -> RunOutcome:
     return run_program(path, RunOptions())
 
 
-def records(outcome: RunOutcome, event: str) -> list[dict[str, object]]:
+def plans(outcome: RunOutcome) -> list[PlanEvent]:
     assert outcome.trace is not None
-    return outcome.trace.events(event)
+    return outcome.trace.of(PlanEvent)
 
 
-def started(outcome: RunOutcome) -> list[object]:
-    return [r["action"] for r in records(outcome, "start")]
+def started(outcome: RunOutcome) -> list[str]:
+    assert outcome.trace is not None
+    return [r.action for r in outcome.trace.of(StartEvent)]
 
 
 # ---------------------------------------------------------------- the targets
@@ -95,10 +97,10 @@ def started(outcome: RunOutcome) -> list[object]:
 def test_three_block_blocksworld_executes_the_unique_optimum_with_value_96() -> None:
     outcome = run(EXAMPLES / "blocks_planning.gpp")
     assert outcome.ok
-    [plan] = records(outcome, "plan")
+    [plan] = plans(outcome)
     expected = ["stack(a,table)", "stack(c,table)", "stack(b,a)", "stack(c,b)"]
-    assert plan["value"] == 96
-    assert plan["policy"] == expected
+    assert plan.value == 96
+    assert list(plan.policy) == expected
     assert started(outcome) == expected
 
 
@@ -111,10 +113,10 @@ def test_three_block_blocksworld_reference_and_production_agree() -> None:
 def test_five_block_tower_is_reversed_by_the_optimal_five_moves() -> None:
     outcome = run(EXAMPLES / "tower5.gpp")
     assert outcome.ok
-    [plan] = records(outcome, "plan")
+    [plan] = plans(outcome)
     expected = ["stack(a,table)", "stack(b,a)", "stack(c,b)", "stack(d,c)", "stack(e,d)"]
-    assert plan["policy"] == expected
-    assert plan["value"] == 95  # R(s0) and four more steps at -1, then the goal at 100
+    assert list(plan.policy) == expected
+    assert plan.value == 95  # R(s0) and four more steps at -1, then the goal at 100
     assert started(outcome) == expected
 
 
@@ -329,8 +331,8 @@ def test_solve_without_a_feasible_plan_blocks_with_a_diagnostic(tmp_path: Path) 
     assert outcome.result is not None
     assert outcome.result.status is RunStatus.BLOCKED
     assert "found no plan" in outcome.diagnostics[-1].message
-    [plan] = records(outcome, "plan")
-    assert plan["feasible"] is False
+    [plan] = plans(outcome)
+    assert plan.feasible is False
 
 
 # ---------------------------------------------------------------- search
@@ -372,15 +374,15 @@ def test_search_step_bound_is_an_error_at_the_program_point_reached() -> None:
 # ---------------------------------------------------------------- profile
 
 
-def render(trace_records: list[dict[str, object]]) -> str:
+def render(events: list[TraceEvent]) -> str:
     out = io.StringIO()
-    render_profile(trace_records, Console(file=out, width=140, color_system=None))
+    render_profile(events, Console(file=out, width=140, color_system=None))
     return out.getvalue()
 
 
 def test_profile_has_a_row_per_plan_and_replan_with_the_planner_figures() -> None:
     trace_records: list[dict[str, object]] = [
-        {"t": 0.0, "event": "start", "action": "a()"},
+        {"t": 0.0, "event": "start", "action": "a()", "id": 1, "mapped": "a", "args": {}, "at": None},
         {
             "t": 0.0,
             "event": "plan",
@@ -410,7 +412,7 @@ def test_profile_has_a_row_per_plan_and_replan_with_the_planner_figures() -> Non
             "seconds": 1.5,
         },
     ]
-    text = render(trace_records)
+    text = render([from_json_dict(r) for r in trace_records])
     lines = text.splitlines()
     assert lines[0].strip() == "planner profile"
     header = next(line for line in lines if "horizon" in line)
@@ -439,7 +441,8 @@ def test_profile_has_a_row_per_plan_and_replan_with_the_planner_figures() -> Non
 
 
 def test_profile_of_a_run_without_planning_says_so() -> None:
-    assert "did not plan" in render([{"t": 0.0, "event": "start", "action": "a()"}])
+    start = StartEvent(t=0.0, action="a()", id=1, mapped="a", args={}, at=None)
+    assert "did not plan" in render([start])
 
 
 def test_profile_of_a_real_run_shows_its_plan() -> None:

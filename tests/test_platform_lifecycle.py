@@ -193,7 +193,7 @@ def test_a_cancellation_that_is_never_acknowledged_is_recorded_after_a_bounded_w
     result = executor.run()
     assert time.perf_counter() - started < 5
     assert result.status is RunStatus.TIMEOUT
-    events = [(r["event"], r.get("message", "")) for r in trace.records]
+    events = [(r.EVENT, getattr(r, "message", "")) for r in trace.records]
     assert events[-3:] == [
         ("cancel", ""),
         ("error", "platform `dummy` did not acknowledge the cancellation of `drive()` within 0.2 s"),

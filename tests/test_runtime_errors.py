@@ -12,7 +12,6 @@ The programs in tests/runtime_errors/ state what they expect in their leading co
 
 from __future__ import annotations
 
-import json
 import re
 import subprocess
 import sys
@@ -27,6 +26,16 @@ from gpp.platform.dummy import DummyPlatform, Scenario
 from gpp.render import render_text
 from gpp.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.events import (
+    AssignEvent,
+    BlockedEvent,
+    CancelEvent,
+    EndEvent,
+    ErrorEvent,
+    FinishEvent,
+    decode,
+    encode,
+)
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace
 
@@ -75,7 +84,7 @@ def _errors(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
 
 def _explain(outcome: RunOutcome) -> str:
     records = outcome.trace.records[-10:] if outcome.trace is not None else []
-    return render_text(outcome.diagnostics) + "\n" + "\n".join(json.dumps(r) for r in records)
+    return render_text(outcome.diagnostics) + "\n" + "\n".join(encode(r) for r in records)
 
 
 def test_there_is_a_program_for_every_runtime_error_code() -> None:
@@ -104,16 +113,17 @@ def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path
     if expected.label is not None:
         assert d.label == expected.label
 
-    records = [json.loads(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
-    stops = [r for r in records if r["event"] in ("error", "blocked")]
+    records = [decode(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
+    stops = [r for r in records if isinstance(r, ErrorEvent | BlockedEvent)]
     assert len(stops) == 1
     [stop] = stops
-    assert stop["message"] == expected.message
-    where, line, col = stop["at"].rsplit(":", 2)
+    assert stop.message == expected.message
+    assert isinstance(stop.at, str)
+    where, line, col = stop.at.rsplit(":", 2)
     assert (Path(where).resolve(), int(line), int(col)) == (path, expected.line, expected.col)
-    if stop["event"] == "error":
-        assert stop["code"] == expected.code
-    assert records[-1]["event"] == "finish" and records[-1]["status"] == expected.status
+    if isinstance(stop, ErrorEvent):
+        assert stop.code == expected.code
+    assert isinstance(records[-1], FinishEvent) and records[-1].status == expected.status
 
 
 def test_no_runtime_error_prints_a_traceback() -> None:
@@ -211,15 +221,15 @@ def test_expression_error_has_its_code_message_and_span(
     assert d.code == code
     assert message in d.message
     assert d.span.text == span_text
-    [error] = trace.events("error")
-    assert error["code"] == code and error["at"].endswith(f":{d.span.line}:{d.span.col}")
-    assert trace.records[-1]["event"] == "finish"
+    [error] = trace.of(ErrorEvent)
+    assert error.code == code and isinstance(error.at, str) and error.at.endswith(f":{d.span.line}:{d.span.col}")
+    assert isinstance(trace.records[-1], FinishEvent)
 
 
 def test_error_stops_the_run_before_the_next_statement(tmp_path: Path) -> None:
     result, trace = run_text("n() = 1; n() = n() / 0; n() = 3;", tmp_path)
     assert result.status is RunStatus.ERROR
-    assert [r["value"] for r in trace.events("assign")] == [1]
+    assert [r.value for r in trace.of(AssignEvent)] == [1]
 
 
 def test_error_in_a_planned_program_is_reported_at_its_source(tmp_path: Path) -> None:
@@ -235,10 +245,11 @@ def test_unhandled_failure_continues_and_is_counted(tmp_path: Path) -> None:
     result = Executor(CompiledProgram(check.model), platform, trace).run()
     assert result.status is RunStatus.FINISHED
     assert result.failures == 1 and result.unhandled_failures == 1
-    [end] = trace.events("end")
-    assert end["status"] == "failed" and end["unhandled"] is True
-    assert trace.records[-1]["unhandled_failures"] == 1
-    assert trace.events("assign")[0]["value"] == 1
+    [end] = trace.of(EndEvent)
+    assert end.status == "failed" and end.unhandled is True
+    [finish] = trace.of(FinishEvent)
+    assert finish.unhandled_failures == 1
+    assert trace.of(AssignEvent)[0].value == 1
 
 
 # ---------------------------------------------------------------- deadlocks and timeouts
@@ -263,8 +274,8 @@ def test_blocked_precondition_names_every_false_conjunct_with_its_fluent_values(
     assert "battery() = 5" in notes
     assert "false: `(r == kitchen | n() > 0)` (with r = hall)" in notes
     assert "n() = 0" in notes
-    [blocked] = trace.events("blocked")
-    assert blocked["message"] == d.message
+    [blocked] = trace.of(BlockedEvent)
+    assert blocked.message == d.message
 
 
 def test_blocked_inside_a_procedure_points_into_the_procedure(tmp_path: Path) -> None:
@@ -292,8 +303,8 @@ def test_timeout_stops_a_run_that_waits_for_a_long_activity(tmp_path: Path) -> N
     assert "it waits here: it waits for `long()` to end" in d.notes
     assert result.platform_time == 10
     # The still running activity is cancelled when the run stops.
-    [cancel] = trace.events("cancel")
-    assert cancel["action"] == "long()" and cancel["reason"] == "the program ended"
+    [cancel] = trace.of(CancelEvent)
+    assert cancel.action == "long()" and cancel.reason == "the program ended"
 
 
 def test_timeout_does_not_stop_a_run_that_ends_in_time(tmp_path: Path) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import time
 import tomllib
 from pathlib import Path
+from typing import TypeVar
 
 import pytest
 from PIL import Image
@@ -15,8 +16,11 @@ from gpp.platform.base import PlatformConfig
 from gpp.platform.sim import SimPlatform, World, WorldError
 from gpp.platform.sim.platform import run_action
 from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
+from gpp.runtime.events import EventBase, ExogEvent, PlanEvent, SenseEvent, UpdateEvent
 from gpp.runtime.executor import RunStatus
 from gpp.syntax.directives import file_directives
+
+E = TypeVar("E", bound=EventBase)
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -32,18 +36,18 @@ def sim_run(name: str, record: Path | None = None, snapshot: Path | None = None)
     return outcome
 
 
-def events(outcome: RunOutcome, kind: str) -> list[dict[str, object]]:
+def events(outcome: RunOutcome, kind: type[E]) -> list[E]:
     assert outcome.trace is not None
-    return outcome.trace.events(kind)
+    return outcome.trace.of(kind)
 
 
 def test_blocksworld_senses_plans_and_builds_the_tower() -> None:
     outcome = sim_run("blocksworld.gpp")
-    plans = events(outcome, "plan")
-    assert plans[0]["policy"] == ["stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)"]
-    ends = [r for r in events(outcome, "update") if str(r["action"]).startswith("stack")]
-    assert [r["status"] for r in ends] == ["final"] * 4
-    senses = {r["fluent"]: r["value"] for r in events(outcome, "sense")}  # the last reading wins
+    plans = events(outcome, PlanEvent)
+    assert plans[0].policy == ("stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)")
+    ends = [r for r in events(outcome, UpdateEvent) if r.action.startswith("stack")]
+    assert [r.status for r in ends] == ["final"] * 4
+    senses = {r.fluent: r.value for r in events(outcome, SenseEvent)}  # the last reading wins
     assert senses == {"loc(a)": {"symbol": "b"}, "loc(b)": {"symbol": "c"}, "loc(c)": {"symbol": "t3"}}
     assert outcome.result is not None
     assert 20 < outcome.result.platform_time < 60
@@ -51,19 +55,19 @@ def test_blocksworld_senses_plans_and_builds_the_tower() -> None:
 
 def test_blocksworld_faults_recovers_from_slips() -> None:
     outcome = sim_run("blocksworld_faults.gpp")
-    failed = [r for r in events(outcome, "update") if r["status"] == "failed"]
-    assert failed and all("the grasp slipped" in str(r["reason"]) for r in failed)
-    assert len(events(outcome, "plan")) >= 2  # planned again from what it saw
+    failed = [r for r in events(outcome, UpdateEvent) if r.status == "failed"]
+    assert failed and all("the grasp slipped" in (r.reason or "") for r in failed)
+    assert len(events(outcome, PlanEvent)) >= 2  # planned again from what it saw
 
 
 def test_rescue_finds_the_victims_and_returns_home() -> None:
     outcome = sim_run("rescue.gpp")
-    exogs = [str(r["action"]) for r in events(outcome, "exog")]
+    exogs = [r.action for r in events(outcome, ExogEvent)]
     assert "victim_detected(v1)" in exogs and "victim_detected(v2)" in exogs
     # It reacted to the second victim by giving up its drive and heading home.
-    cancelled = [r for r in events(outcome, "update") if r["status"] == "cancelled"]
-    assert [r["action"] for r in cancelled] == ["navigate_to_frame(room3)"]
-    batteries = [str(a) for a in exogs if a.startswith("battery_report")]
+    cancelled = [r for r in events(outcome, UpdateEvent) if r.status == "cancelled"]
+    assert [r.action for r in cancelled] == ["navigate_to_frame(room3)"]
+    batteries = [a for a in exogs if a.startswith("battery_report")]
     assert batteries[0] == "battery_report(100)" and len(batteries) > 5
 
 
@@ -80,7 +84,7 @@ def test_runs_are_reproducible() -> None:
     def trace() -> list[tuple[object, ...]]:
         outcome = run_program(EXAMPLES / "blocksworld_faults.gpp", RunOptions(platform="sim"))
         assert outcome.trace is not None
-        return [(r["t"], r["event"], r.get("action"), r.get("reason")) for r in outcome.trace.records]
+        return [(r.t, r.EVENT, getattr(r, "action", None), getattr(r, "reason", None)) for r in outcome.trace.records]
 
     assert trace() == trace()
 

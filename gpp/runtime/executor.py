@@ -19,6 +19,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 
+import gpp.runtime.events as ev
 from gpp import diagnostics as diag
 from gpp.model.types import Type
 from gpp.runtime.compiled import CompiledProgram, Env
@@ -53,7 +54,7 @@ from gpp.runtime.semantics import (
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace
-from gpp.runtime.values import Value, show, to_json
+from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -174,7 +175,7 @@ class Executor:
                 result.status = RunStatus.BLOCKED
                 d = self.blocked_diagnostic(prog)
                 result.diagnostics.append(d)
-                self.trace.emit("blocked", self.platform.now(), message=d.message, at=_where(d.span))
+                self.trace.emit(ev.BlockedEvent(t=self.platform.now(), message=d.message, at=_where(d.span)))
                 break
         except GppRuntimeError as e:
             self.fail(e)
@@ -190,7 +191,7 @@ class Executor:
             )
         except KeyboardInterrupt:
             result.status = RunStatus.INTERRUPTED
-            self.trace.emit("error", self.platform.now(), message="interrupted")
+            self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message="interrupted"))
         except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
             if os.environ.get("GPP_DEBUG") == "1":
                 raise
@@ -211,13 +212,14 @@ class Executor:
             result.platform_time = self.platform.now()
             result.wall_time = time.perf_counter() - started
             self.trace.emit(
-                "finish",
-                self.platform.now(),
-                status=result.status.value,
-                actions=result.actions,
-                failures=result.failures,
-                unhandled_failures=result.unhandled_failures,
-                exog_events=result.exog_events,
+                ev.FinishEvent(
+                    t=self.platform.now(),
+                    status=result.status.value,
+                    actions=result.actions,
+                    failures=result.failures,
+                    unhandled_failures=result.unhandled_failures,
+                    exog_events=result.exog_events,
+                )
             )
         return result
 
@@ -233,7 +235,7 @@ class Executor:
         self.result.status = RunStatus.TIMEOUT
         d = self.timeout_diagnostic(prog)
         self.result.diagnostics.append(d)
-        self.trace.emit("error", self.platform.now(), code=d.code, message=d.message, at=_where(d.span))
+        self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=d.code, message=d.message, at=_where(d.span)))
 
     def fail(self, e: GppRuntimeError) -> None:
         """Stop the run on a runtime error: one diagnostic and an `error` trace record."""
@@ -242,7 +244,7 @@ class Executor:
         if error is not None:
             self.result.diagnostics.append(error)
         at = _where(error.span if error is not None else None)
-        self.trace.emit("error", self.platform.now(), code=e.code, message=e.message, at=at)
+        self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=e.code, message=e.message, at=at))
 
     def entry_span(self) -> Span | None:
         symbol = self.program.model.globals.get(self.entry)
@@ -280,12 +282,17 @@ class Executor:
         self.acts = self.acts.with_status(g, update.status)
         if update.has_result:
             self.results[g] = (True, update.result)
-        fields: dict[str, object] = {"action": g.text, "status": update.status.value, "id": update.activity_id}
-        if update.reason:
-            fields["reason"] = update.reason
-        if update.has_result:
-            fields["result"] = to_json(update.result)
-        self.trace.emit("update", t, **fields, **self.quiet(g.name))
+        self.trace.emit(
+            ev.UpdateEvent(
+                t=t,
+                action=g.text,
+                status=update.status.value,
+                id=update.activity_id,
+                reason=update.reason or None,
+                result=ev.json_value(update.result) if update.has_result else ev.ABSENT,
+                silent=self.quiet(g.name),
+            )
+        )
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
 
@@ -295,13 +302,10 @@ class Executor:
         holds = self.sem.precondition_holds(info, g, self.state)
         self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
         self.result.exog_events += 1
-        fields: dict[str, object] = {"action": g.text}
-        if not holds:
-            fields["precondition"] = False
-        self.trace.emit("exog", t, **fields, **self.quiet(event.action))
+        self.trace.emit(ev.ExogEvent(t=t, action=g.text, precondition=holds, silent=self.quiet(event.action)))
 
-    def quiet(self, action: str) -> dict[str, bool]:
-        """`{"silent": True}` for the records of an action declared `silent: true`: the trace
+    def quiet(self, action: str) -> bool:
+        """Is the action declared `silent: true`? Its records are marked `silent`: the trace
         keeps them (it is the complete record), a console view leaves them out."""
         silent = self._silent.get(action)
         if silent is None:
@@ -310,7 +314,7 @@ class Executor:
             value = section.value if isinstance(section, ast.SilentSection) else None
             silent = isinstance(value, ast.BoolLit) and value.value
             self._silent[action] = silent
-        return {"silent": True} if silent else {}
+        return silent
 
     # ---------------------------------------------------------------- steps
 
@@ -322,13 +326,15 @@ class Executor:
             self.end(step)
         elif isinstance(step, CancelStep):
             record = self.records[step.action]
-            self.trace.emit("cancel", now, action=step.action.text, id=record.id)
+            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id))
             self.platform.preempt(record)
         elif isinstance(step, AssignStep):
             self.state = self.state.updated(dict(step.updates), self.program.initial)
             for slot, value in step.updates:
                 self.trace.emit(
-                    "assign", now, fluent=self.program.instance_text(slot), value=to_json(value), at=_where(step.span)
+                    ev.AssignEvent(
+                        t=now, fluent=self.program.instance_text(slot), value=ev.json_value(value), at=_where(step.span)
+                    )
                 )
         elif isinstance(step, PlanStep):
             holder = step.holder
@@ -353,19 +359,21 @@ class Executor:
         from gpp.planner.result import Plan
 
         assert isinstance(plan, Plan)
+        cls = ev.PlanEvent if event == "plan" else ev.ReplanEvent
         self.trace.emit(
-            event,
-            self.platform.now(),
-            kind=kind,
-            feasible=plan.feasible,
-            value=plan.value,
-            horizon=plan.horizon,
-            policy=plan.actions(),
-            nodes=plan.stats.nodes,
-            cache_hits=plan.stats.cache_hits,
-            pruned=plan.stats.pruned,
-            reward_evaluations=plan.stats.reward_evaluations,
-            seconds=round(plan.stats.seconds, 6),
+            cls(
+                t=self.platform.now(),
+                kind=kind,
+                feasible=plan.feasible,
+                value=plan.value,
+                horizon=plan.horizon,
+                policy=tuple(plan.actions()),
+                nodes=plan.stats.nodes,
+                cache_hits=plan.stats.cache_hits,
+                pruned=plan.stats.pruned,
+                reward_evaluations=plan.stats.reward_evaluations,
+                seconds=round(plan.stats.seconds, 6),
+            )
         )
 
     def start(self, g: GroundAction, span: Span) -> None:
@@ -389,14 +397,15 @@ class Executor:
         self.acts = self.acts.with_status(g, ActivityStatus.RUNNING)
         self.result.actions += 1
         self.trace.emit(
-            "start",
-            self.platform.now(),
-            action=g.text,
-            id=activity.id,
-            mapped=info.mapped_name,
-            args={k: to_json(v) for k, v in args.items()},
-            at=_where(span),
-            **self.quiet(g.name),
+            ev.StartEvent(
+                t=self.platform.now(),
+                action=g.text,
+                id=activity.id,
+                mapped=info.mapped_name,
+                args={k: ev.json_value(v) for k, v in args.items()},
+                at=_where(span),
+                silent=self.quiet(g.name),
+            )
         )
         try:
             self.platform.start(activity)
@@ -415,12 +424,20 @@ class Executor:
             if info.senses is not None and record is not None:
                 self.sense(g, record, info.senses)
             self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
-        fields: dict[str, object] = {}
-        if status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure:
+        unhandled = status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure
+        if unhandled:
             # Nothing in the program reacts to this failure: it goes on, but it is reported.
             self.result.unhandled_failures += 1
-            fields["unhandled"] = True
-        self.trace.emit("end", now, action=g.text, status=status.value, hook=step.hook, **fields, **self.quiet(g.name))
+        self.trace.emit(
+            ev.EndEvent(
+                t=now,
+                action=g.text,
+                status=status.value,
+                hook=step.hook,
+                unhandled=unhandled,
+                silent=self.quiet(g.name),
+            )
+        )
         self.acts = self.acts.with_status(g, None)
         self.records.pop(g, None)
         self.results.pop(g, None)
@@ -442,12 +459,13 @@ class Executor:
         slot = self.program.assignment(senses.target, value, env, pending, senses.value_span)
         self.state = self.state.updated(pending, self.program.initial)
         self.trace.emit(
-            "sense",
-            self.platform.now(),
-            action=g.text,
-            fluent=self.program.instance_text(slot),
-            value=to_json(value),
-            **self.quiet(g.name),
+            ev.SenseEvent(
+                t=self.platform.now(),
+                action=g.text,
+                fluent=self.program.instance_text(slot),
+                value=ev.json_value(value),
+                silent=self.quiet(g.name),
+            )
         )
 
     def stop_running_activities(self) -> None:
@@ -458,7 +476,9 @@ class Executor:
             record = self.records.get(g)
             if record is None:
                 continue
-            self.trace.emit("cancel", self.platform.now(), action=g.text, id=record.id, reason="the program ended")
+            self.trace.emit(
+                ev.CancelEvent(t=self.platform.now(), action=g.text, id=record.id, reason="the program ended")
+            )
             if record.id in self.accepted:
                 stopping.append(g)
             # Stopping must go on whatever the platform does.
@@ -476,10 +496,11 @@ class Executor:
             self.platform.queue.wait(min(left, 0.05))
         for g in open_:
             self.trace.emit(
-                "error",
-                self.platform.now(),
-                message=f"platform `{self.platform.name}` did not acknowledge the cancellation of `{g.text}` "
-                f"within {grace:g} s",
+                ev.ErrorEvent(
+                    t=self.platform.now(),
+                    message=f"platform `{self.platform.name}` did not acknowledge the cancellation of `{g.text}` "
+                    f"within {grace:g} s",
+                )
             )
 
     # ---------------------------------------------------------------- diagnostics
