@@ -133,9 +133,12 @@ def run_program(
     trace = Trace(options.trace, listeners)
     outcome.trace = trace
     try:
+        from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
 
-        executor = Executor(CompiledProgram(check.model), platform, trace, options.timeout, options.entry)
+        executor = Executor(
+            CompiledProgram(check.model), platform, trace, options.timeout, options.entry, planner=PolicyPlanner()
+        )
         problems = platform.attach(executor.interface())
         if problems:
             main = check.model.main
