@@ -100,10 +100,11 @@ def run_program(
     trace = Trace(options.trace, listeners)
     outcome.trace = trace
     try:
+        from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
 
         program = CompiledProgram(check.model)
-        executor = Executor(program, platform, trace, options.timeout, options.entry)
+        executor = Executor(program, platform, trace, options.timeout, options.entry, planner=PolicyPlanner())
         problems = platform.attach(program_interface(program))
         if problems:
             fallback = check.model.main.span or check.loaded.files[-1].program.span

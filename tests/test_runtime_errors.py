@@ -22,6 +22,7 @@ import pytest
 
 from gpp.check import check_text
 from gpp.diagnostics import Diagnostic
+from gpp.planner.policy import PolicyPlanner
 from gpp.platform.dummy import DummyPlatform, Scenario
 from gpp.render import render_text
 from gpp.runner import RunOptions, RunOutcome, run_program
@@ -33,6 +34,7 @@ from gpp.runtime.events import (
     EndEvent,
     ErrorEvent,
     FinishEvent,
+    PlanEvent,
     decode,
     encode,
 )
@@ -189,7 +191,7 @@ def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None =
     check = check_text(PRELUDE + extra + "\nprocedure main() {\n" + body + "\n}\n", tmp_path / "t.gpp", lint=False)
     assert not check.errors, render_text(check.diagnostics)
     trace = Trace()
-    executor = Executor(CompiledProgram(check.model), DummyPlatform(), trace, timeout)
+    executor = Executor(CompiledProgram(check.model), DummyPlatform(), trace, timeout, planner=PolicyPlanner())
     return executor.run(), trace
 
 
@@ -236,6 +238,21 @@ def test_error_in_a_planned_program_is_reported_at_its_source(tmp_path: Path) ->
     result, _ = run_text("solve(2, r()) n() = 1 / nothing();", tmp_path)
     [d] = _errors(result.diagnostics)
     assert d.code == "R0002" and d.span.text == "1 / nothing()"
+
+
+@pytest.mark.parametrize("statement", ["solve(2, r()) a();", "search a();"])
+def test_solve_without_a_planner_is_an_error_at_the_statement(statement: str, tmp_path: Path) -> None:
+    check = check_text(PRELUDE + "procedure main() { n() = 1; " + statement + " }\n", tmp_path / "t.gpp", lint=False)
+    assert not check.errors, render_text(check.diagnostics)
+    trace = Trace()
+    result = Executor(CompiledProgram(check.model), DummyPlatform(), trace).run()
+    assert result.status is RunStatus.ERROR
+    [d] = _errors(result.diagnostics)
+    kind = statement.split("(")[0].split(" ")[0]
+    assert d.code == "R0010" and d.message == f"`{kind}` cannot plan: this run has no planner"
+    assert d.span.text == statement
+    assert [r.value for r in trace.of(AssignEvent)] == [1]
+    assert trace.of(PlanEvent) == [] and isinstance(trace.records[-1], FinishEvent)
 
 
 def test_unhandled_failure_continues_and_is_counted(tmp_path: Path) -> None:

@@ -3,7 +3,9 @@ each statement kind, online and while planning, and `apply` / `effects` on the s
 
 from __future__ import annotations
 
+import ast as pyast
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import pytest
 
@@ -632,3 +634,26 @@ def test_first_successor_only_does_not_evaluate_later_alternatives() -> None:
 def test_first_successor_only_stops_at_the_first_pick_value_that_steps() -> None:
     w = world("pick (number d in {2, 0}) seen(d) = 10 / d;")
     assert describe(w.online.trans(w.code(), State(), NO_ACTS, first=True)) == ["seen(2) = 5.0"]
+
+
+def test_solve_online_without_a_planner_is_an_error() -> None:
+    w = world("solve(2, r()) a();", "number function r() = 1")
+    with pytest.raises(GppRuntimeError) as e:
+        w.online.trans(w.code(), State(), NO_ACTS)
+    assert e.value.code == "R0010" and e.value.message == "`solve` cannot plan: this run has no planner"
+    # While planning, `solve` is transparent and needs no planner.
+    assert describe(w.planning.trans(w.code(), State(), NO_ACTS)) == ["a()"]
+
+
+def test_the_runtime_never_imports_the_planner() -> None:
+    """The planner is reached only through the port of gpp.runtime.planning: no module of
+    gpp/runtime imports gpp.planner, not even for type checking or inside a function."""
+    runtime = Path(semantics.__file__).parent
+    offending = []
+    for path in sorted(runtime.glob("*.py")):
+        for node in pyast.walk(pyast.parse(path.read_text(encoding="utf-8"))):
+            names = [a.name for a in node.names] if isinstance(node, pyast.Import) else []
+            if isinstance(node, pyast.ImportFrom) and node.module is not None:
+                names = [node.module]
+            offending += [f"{path.name}: {n}" for n in names if n == "gpp.planner" or n.startswith("gpp.planner.")]
+    assert offending == []

@@ -6,9 +6,10 @@ from __future__ import annotations
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import assert_never
 
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.semantics import AwaitEnd, Code, Conc, DuringEnd, Planned, Prog, Rest, Seq, Step
+from gpp.runtime.semantics import AwaitEnd, Code, Conc, Done, DuringEnd, Planned, Prog, Rest, Seq, Step
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -26,31 +27,39 @@ RECURSION_LIMIT = 20_000
 
 def program_point_span(p: Prog) -> Span | None:
     """The span of the statement a continuation executes next."""
-    if isinstance(p, Seq):
-        return program_point_span(p.first)
-    if isinstance(p, Rest):
-        body = p.block.body
-        return body[p.index].span if p.index < len(body) else p.block.span
-    if isinstance(p, Code):
-        return p.stmt.span
-    if isinstance(p, AwaitEnd | DuringEnd):
-        return p.span
-    if isinstance(p, Conc):
-        return program_point_span(p.branches[0]) if p.branches else None
-    if isinstance(p, Planned):
-        return p.holder.span
-    return None
+    match p:
+        case Seq():
+            return program_point_span(p.first)
+        case Rest():
+            body = p.block.body
+            return body[p.index].span if p.index < len(body) else p.block.span
+        case Code():
+            return p.stmt.span
+        case AwaitEnd() | DuringEnd():
+            return p.span
+        case Conc():
+            return program_point_span(p.branches[0]) if p.branches else None
+        case Planned():
+            return p.session.stmt.span
+        case Done():
+            return None
+        case _:
+            assert_never(p)
 
 
 def _running_loop(p: Prog) -> Span | None:
     """The innermost `while` a continuation is in (the first one along its sequence)."""
-    if isinstance(p, Seq):
-        return _running_loop(p.first) or _running_loop(p.rest)
-    if isinstance(p, Code) and isinstance(p.stmt, ast.While):
-        return p.stmt.span
-    if isinstance(p, Rest) and p.index < len(p.block.body) and isinstance(p.block.body[p.index], ast.While):
-        return p.block.body[p.index].span
-    return None
+    match p:
+        case Seq():
+            return _running_loop(p.first) or _running_loop(p.rest)
+        case Code(stmt=ast.While() as loop):
+            return loop.span
+        case Rest() if p.index < len(p.block.body) and isinstance(p.block.body[p.index], ast.While):
+            return p.block.body[p.index].span
+        case Code() | Rest() | Done() | AwaitEnd() | DuringEnd() | Conc() | Planned():
+            return None
+        case _:
+            assert_never(p)
 
 
 def free_loop_error(q: Prog, step: Step) -> GppRuntimeError:

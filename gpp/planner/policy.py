@@ -1,9 +1,11 @@
 """Executing a plan online, with re-planning when the world deviates (SEMANTICS §5, §6).
 
+This module implements the online-planning port of gpp.runtime.planning: `PolicyPlanner`
+is the OnlinePlanner that gpp.runner gives the executor, and `PlanHolder` the PlanSession.
 A `solve`/`search` statement reached online becomes a `Planned` continuation holding a
-PlanHolder. The executor fills the holder by running the planner when it performs the
-PlanStep, and again on every ReplanStep. `planned_successors` offers the next planned step if
-it is still possible in the actual world, and a ReplanStep otherwise.
+PlanHolder. The executor has the holder plan when it performs the PlanStep, and plan again on
+every ReplanStep. `PlanHolder.successors` offers the next planned step if it is still possible
+in the actual world, and a ReplanStep otherwise.
 
 "Still possible" is decided by the same `trans` the planner used: the planned step must be a
 transition, to the planned continuation, of the planned program point in the actual state.
@@ -20,6 +22,7 @@ from dataclasses import dataclass, field
 
 from gpp.planner.result import Plan, PolicyStep
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AwaitEnd,
     Code,
@@ -41,8 +44,18 @@ from gpp.source import Span
 from gpp.syntax import ast
 
 
+class PolicyPlanner:
+    """The planner online (an OnlinePlanner): plans a policy for each `solve`/`search` reached
+    and executes it, re-planning when the world deviates."""
+
+    def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
+        return PlanHolder.for_statement(sem, stmt, frame, state)
+
+
 @dataclass(eq=False)
 class PlanHolder:
+    """The plan of one `solve`/`search` being executed online (a PlanSession)."""
+
     kind: str  # "solve" or "search"
     body: Prog
     horizon: int  # remaining horizon (solve) or step bound (search)
@@ -52,7 +65,7 @@ class PlanHolder:
     # The Planned index at which `policy[0]` applies (it moves on every re-plan).
     base: int = 0
     # The policy ends where the program may end (not at the horizon): one more index checks
-    # that it still may (see `planned_successors`).
+    # that it still may (see `successors`).
     ends_program: bool = False
     plans: list[Plan] = field(default_factory=list)
     # The state of the last planning attempt that found no plan: only a changed world is
@@ -118,6 +131,59 @@ class PlanHolder:
 
         return search_plan(planning, prog, state, acts, self.horizon, stmt.span)
 
+    def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:
+        """The PlanStep: plan the body from the actual state."""
+        plan = self.make_plan(sem, self.body, state, acts)
+        self.install(plan, 0, state)
+        return plan.report(self.kind)
+
+    def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
+        """A ReplanStep at `index`: plan again from the planned program point there, with the
+        horizon the executed steps left (or from the body, if there was no plan)."""
+        point = self.program_at(index) if self.policy is not None else self.body
+        if self.policy is not None:
+            self.horizon -= self.used_horizon(index)
+            self.body = point
+        plan = self.make_plan(sem, point, state, acts)
+        self.install(plan, index, state)
+        return plan.report(self.kind)
+
+    def successors(self, sem: Semantics, p: Planned, state: State, acts: Activities) -> list[Successor]:
+        """`trans` of `p`, a Planned of this holder: the planned step if it is still a
+        transition of the planned program point in the actual world, else a ReplanStep."""
+        if self.policy is None:
+            # No feasible plan: blocked until the world changes, then planned again.
+            return [] if self.failed_in == state else [(p, ReplanStep(self, p.index))]
+        planning = sem.with_mode(True)
+        entry = self.step_at(p.index)
+        if entry is None:
+            if self.exhausted(p.index):
+                return []
+            # The end of a policy that ends the program: does it still end here?
+            point = self.program_at(p.index)
+            if planning.final(point, state, acts):
+                return [(Planned(self, p.index + 1), TestStep(self.span))]
+            return [(p, ReplanStep(self, p.index))]
+        before, step, after = entry
+        status = acts.status(step.action) if isinstance(step, EndStep) else None
+        if status is ActivityStatus.RUNNING:
+            return []  # the planned end waits for the platform, as `end` does
+        failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
+        if isinstance(step, EndStep) and step.hook == EndKind.DURING and failed:
+            # The plan assumed success. The program reacts to the failure or cancellation (its
+            # `on_fail`/`on_cancel` handler), and is planned again from there.
+            for q, candidate in planning.trans(before, state, acts):
+                if candidate == step:
+                    left = max(0, self.horizon - self.used_horizon(p.index) - step.cost)
+                    rest = PlanHolder(self.kind, q, left, self.frame, self.stmt)
+                    return [(Planned(rest, 0), candidate)]
+        if (after, step) in planning.trans(before, state, acts):
+            following = Planned(self, p.index + 1)
+            if isinstance(step, DoStep):
+                return [(Seq(AwaitEnd(step.action, step.span), following), StartStep(step.action, step.span))]
+            return [(following, step)]
+        return [(p, ReplanStep(self, p.index))]
+
     def install(self, plan: Plan, index: int, state: State) -> None:
         self.plans.append(plan)
         self.policy = plan.steps if plan.feasible else None
@@ -126,39 +192,3 @@ class PlanHolder:
         self.ends_program = plan.feasible and (self.kind == "search" or plan.cost < plan.horizon)
         self.failed_in = None if plan.feasible else state
         self.base = index
-
-
-def planned_successors(sem: Semantics, p: Planned, state: State, acts: Activities) -> list[Successor]:
-    holder = p.holder
-    if holder.policy is None:
-        # No feasible plan: blocked until the world changes, then planned again.
-        return [] if holder.failed_in == state else [(p, ReplanStep(holder, p.index))]
-    planning = sem.with_mode(True)
-    entry = holder.step_at(p.index)
-    if entry is None:
-        if holder.exhausted(p.index):
-            return []
-        # The end of a policy that ends the program: does it still end here?
-        point = holder.program_at(p.index)
-        if planning.final(point, state, acts):
-            return [(Planned(holder, p.index + 1), TestStep(holder.span))]
-        return [(p, ReplanStep(holder, p.index))]
-    before, step, after = entry
-    status = acts.status(step.action) if isinstance(step, EndStep) else None
-    if status is ActivityStatus.RUNNING:
-        return []  # the planned end waits for the platform, as `end` does
-    failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
-    if isinstance(step, EndStep) and step.hook == EndKind.DURING and failed:
-        # The plan assumed success. The program reacts to the failure or cancellation (its
-        # `on_fail`/`on_cancel` handler), and is planned again from there.
-        for q, candidate in planning.trans(before, state, acts):
-            if candidate == step:
-                left = max(0, holder.horizon - holder.used_horizon(p.index) - step.cost)
-                rest = PlanHolder(holder.kind, q, left, holder.frame, holder.stmt)
-                return [(Planned(rest, 0), candidate)]
-    if (after, step) in planning.trans(before, state, acts):
-        following = Planned(holder, p.index + 1)
-        if isinstance(step, DoStep):
-            return [(Seq(AwaitEnd(step.action, step.span), following), StartStep(step.action, step.span))]
-        return [(following, step)]
-    return [(p, ReplanStep(holder, p.index))]

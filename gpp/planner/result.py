@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import EndKind, EndStep, Prog, Step
 
 # One step of a policy: the program before it, the step, the program after it.
@@ -61,6 +62,22 @@ class Plan:
     def cost(self) -> int:
         """The horizon the policy uses."""
         return sum(step.cost for _, step, _ in self.steps)
+
+    def report(self, kind: str) -> PlanReport:
+        """What the trace shows of this plan, made for a `solve` or `search` (`kind`)."""
+        stats = self.stats
+        return PlanReport(
+            kind=kind,
+            feasible=self.feasible,
+            value=self.value,
+            horizon=self.horizon,
+            policy=tuple(self.actions()),
+            nodes=stats.nodes,
+            cache_hits=stats.cache_hits,
+            pruned=stats.pruned,
+            reward_evaluations=stats.reward_evaluations,
+            seconds=stats.seconds,
+        )
 
 
 def _policy_text(step: Step) -> str:

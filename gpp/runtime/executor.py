@@ -18,10 +18,12 @@ import time
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import assert_never
 
 import gpp.runtime.events as ev
 from gpp import diagnostics as diag
 from gpp.model.types import Type
+from gpp.runtime.blocked import BLOCKED, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -31,16 +33,17 @@ from gpp.runtime.contract import (
     PlatformPort,
 )
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.planning import OnlinePlanner, PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
     AwaitEnd,
     CancelStep,
     Code,
     Conc,
+    Done,
     DoStep,
     DuringEnd,
     EndStep,
-    Frame,
     Planned,
     PlanStep,
     Prog,
@@ -54,7 +57,7 @@ from gpp.runtime.semantics import (
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace
-from gpp.runtime.values import Value, show
+from gpp.runtime.values import Value
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -116,14 +119,17 @@ class Executor:
         trace: Trace,
         timeout: float | None = None,
         entry: str = "main",
+        planner: OnlinePlanner | None = None,
     ) -> None:
+        """`planner` runs `solve`/`search` (gpp.runner gives gpp.planner's); without one, a
+        program that reaches them stops with an error (R0010)."""
         self.program = program
         self.platform = platform
         self.trace = trace
         self.timeout = timeout
         self.entry = entry
         self.ctx = _ExecContext(platform)
-        self.sem = Semantics(program, self.ctx, planning=False)
+        self.sem = Semantics(program, self.ctx, planning=False, planner=planner)
         self.state = State()
         self.acts = Activities()
         self.records: dict[GroundAction, Activity] = {}
@@ -337,42 +343,29 @@ class Executor:
                     )
                 )
         elif isinstance(step, PlanStep):
-            holder = step.holder
-            plan = holder.make_plan(self.sem, holder.body, self.state, self.acts)
-            holder.install(plan, 0, self.state)
-            self.trace_plan("plan", holder.kind, plan)
+            self.trace_plan("plan", step.session.plan(self.sem, self.state, self.acts))
         elif isinstance(step, ReplanStep):
-            holder = step.holder
-            point = holder.program_at(step.index) if holder.policy is not None else holder.body
-            if holder.policy is not None:
-                holder.horizon -= holder.used_horizon(step.index)
-                holder.body = point
-            plan = holder.make_plan(self.sem, point, self.state, self.acts)
-            holder.install(plan, step.index, self.state)
-            self.trace_plan("replan", holder.kind, plan)
+            self.trace_plan("replan", step.session.replan(self.sem, step.index, self.state, self.acts))
         elif isinstance(step, TestStep | DoStep):
             pass
         else:
-            raise AssertionError(f"unknown step {step!r}")
+            assert_never(step)
 
-    def trace_plan(self, event: str, kind: str, plan: object) -> None:
-        from gpp.planner.result import Plan
-
-        assert isinstance(plan, Plan)
+    def trace_plan(self, event: str, plan: PlanReport) -> None:
         cls = ev.PlanEvent if event == "plan" else ev.ReplanEvent
         self.trace.emit(
             cls(
                 t=self.platform.now(),
-                kind=kind,
+                kind=plan.kind,
                 feasible=plan.feasible,
                 value=plan.value,
                 horizon=plan.horizon,
-                policy=tuple(plan.actions()),
-                nodes=plan.stats.nodes,
-                cache_hits=plan.stats.cache_hits,
-                pruned=plan.stats.pruned,
-                reward_evaluations=plan.stats.reward_evaluations,
-                seconds=round(plan.stats.seconds, 6),
+                policy=plan.policy,
+                nodes=plan.nodes,
+                cache_hits=plan.cache_hits,
+                pruned=plan.pruned,
+                reward_evaluations=plan.reward_evaluations,
+                seconds=round(plan.seconds, 6),
             )
         )
 
@@ -506,7 +499,7 @@ class Executor:
     # ---------------------------------------------------------------- diagnostics
 
     def blocked_diagnostic(self, prog: Prog) -> diag.Diagnostic:
-        why = self.why_blocked(prog)
+        why = why_blocked(self.sem, prog, self.state, self.acts)
         final_note = f"nothing can change this: platform `{self.platform.name}` has no more events to report"
         if why is None:
             span = self.entry_span()
@@ -515,140 +508,13 @@ class Executor:
         return dataclasses.replace(why, notes=(*why.notes, final_note))
 
     def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
-        waiting = self.why_blocked(prog)
+        waiting = why_blocked(self.sem, prog, self.state, self.acts)
         span = waiting.span if waiting is not None else self.entry_span()
         assert span is not None
         notes = [f"it waits here: {waiting.message.removeprefix(BLOCKED)}", *waiting.notes] if waiting else []
         return diag.error(
             "R0013", f"the run reached its timeout of {self.timeout:g} s", span, "waiting here", notes=notes
         )
-
-    def why_blocked(self, p: Prog) -> diag.Diagnostic | None:
-        state, acts = self.state, self.acts
-        if isinstance(p, Seq):
-            if self.sem.final(p.first, state, acts):
-                return self.why_blocked(p.first) or self.why_blocked(p.rest)
-            return self.why_blocked(p.first)
-        if isinstance(p, Rest):
-            for s in p.block.body[p.index :]:
-                why = self.why_blocked(Code(s, p.frame))
-                if why is not None or not self.sem.final(Code(s, p.frame), state, acts):
-                    return why
-            return None
-        if isinstance(p, Conc):
-            for b in p.branches:
-                why = self.why_blocked(b)
-                if why is not None:
-                    return why
-            return None
-        if isinstance(p, AwaitEnd | DuringEnd):
-            return self.waiting(p.action, p.span, "to end")
-        if isinstance(p, Planned):
-            stmt = p.holder.stmt
-            return diag.error(
-                "R0011",
-                BLOCKED + f"`{stmt.__class__.__name__.lower()}` found no plan",
-                stmt.span,
-                "no feasible plan from the current state",
-                notes=[
-                    "every branch within the horizon has an impossible action or a false test"
-                    if isinstance(stmt, ast.Solve)
-                    else "every way to execute it meets an impossible action or a false test"
-                ],
-            )
-        if not isinstance(p, Code):
-            return None
-        s, frame = p.stmt, p.frame
-        if isinstance(s, ast.Block):
-            return self.why_blocked(Rest(s, 0, frame)) if s.body else None
-        if isinstance(s, ast.Test):
-            return diag.error(
-                "R0011",
-                BLOCKED + "this test is false",
-                s.span,
-                "waits for this condition",
-                notes=self.fluent_notes(s.condition, state, frame),
-            )
-        if isinstance(s, ast.If):
-            branch = s.then if self.sem.condition(s.condition, state, frame) else s.otherwise
-            return self.why_blocked(Code(branch, frame)) if branch is not None else None
-        if isinstance(s, ast.While):
-            return self.why_blocked(Code(s.body, frame))
-        if isinstance(s, ast.Choose):
-            return self.why_blocked(Code(s.alternatives[0], frame)) if s.alternatives else None
-        if isinstance(s, ast.Pick):
-            frames = self.sem.pick_frames(s, frame)
-            return self.why_blocked(Code(s.body, frames[0])) if frames else None
-        if isinstance(s, ast.Concurrent):
-            return self.why_blocked(Conc(tuple(Code(b, frame) for b in s.branches)))
-        if isinstance(s, ast.CallStmt):
-            callee = self.sem.callee(s)
-            if callee.kind.name == "PROCEDURE":
-                body, inner = self.sem.procedure_body(s, callee.name, state, frame)
-                return self.why_blocked(Code(body, inner))
-            _, g = self.sem.ground_call(s.call, frame, state)
-            return self.cannot_start(g, s.span, frame)
-        if isinstance(s, ast.During):
-            _, g = self.sem.ground_call(s.action, frame, state)
-            return self.cannot_start(g, s.span, frame)
-        if isinstance(s, ast.HookStmt):
-            _, g = self.sem.ground_call(s.action, frame, state)
-            if s.hook is ast.Hook.START:
-                return self.cannot_start(g, s.span, frame)
-            wanted = {"end": "to end", "finish": "to finish", "fail": "to fail", "cancel": "to be running"}
-            return self.waiting(g, s.span, wanted[s.hook.value])
-        return None
-
-    def waiting(self, g: GroundAction, span: Span, what: str) -> diag.Diagnostic:
-        status = self.acts.status(g)
-        shown = status.value if status is not None else "not started"
-        return diag.error(
-            "R0011",
-            BLOCKED + f"it waits for `{g.text}` {what}",
-            span,
-            f"`{g.text}` is {shown}",
-        )
-
-    def cannot_start(self, g: GroundAction, span: Span, frame: Frame) -> diag.Diagnostic:
-        if self.acts.status(g) is ActivityStatus.RUNNING:
-            return self.waiting(g, span, "(already running) to end before it can start again")
-        info = self.program.action(g.name)
-        env_vars = dict(zip(info.param_ids, g.args, strict=True))
-        false = self.sem.false_conjuncts(g, self.state)
-        notes: list[str] = []
-        for conjunct in false:
-            used = _variables(conjunct)
-            bound = ", ".join(f"{n} = {show(v)}" for n, v in zip(info.param_names, g.args, strict=True) if n in used)
-            notes.append(f"false: `{_text(conjunct)}`" + (f" (with {bound})" if bound else ""))
-            notes.extend(self.fluent_notes(conjunct, self.state, Frame(tuple(env_vars.items())), indent="  "))
-        return diag.error(
-            "R0011",
-            BLOCKED + f"the precondition of `{g.text}` is false",
-            span,
-            "cannot start",
-            notes=notes,
-        )
-
-    def fluent_notes(self, e: ast.Expr, state: State, frame: Frame, indent: str = "") -> list[str]:
-        """`loc(a) = table` for every fluent instance the expression reads."""
-        from gpp.syntax.walk import walk
-
-        notes: list[str] = []
-        env = Env(state, frame.vars, self.ctx)
-        for node in walk(e):
-            if isinstance(node, ast.Call) and not isinstance(node, ast.Quantified):
-                symbol = self.program.model.target(node)
-                if symbol is None or symbol.kind.name != "FLUENT":
-                    continue
-                try:
-                    args = tuple(self.program.expr(a)(env) for a in node.args)
-                except (GppRuntimeError, KeyError):
-                    continue  # reads a quantified variable: not one instance
-                value = self.program.read(state, symbol.name, args)
-                text = f"{indent}{symbol.name}({','.join(show(a) for a in args)}) = {show(value)}"
-                if text not in notes:
-                    notes.append(text)
-        return notes
 
 
 # Python frames a run may use: golog++ recursion (procedures, functions) nests a few frames
@@ -666,43 +532,31 @@ def deep_recursion() -> Iterator[None]:
         sys.setrecursionlimit(old)
 
 
-BLOCKED = "the program is blocked: "
-
-
 def _head_span(p: Prog) -> Span | None:
     """The span of the statement a continuation executes next."""
     for _ in range(10_000):
-        if isinstance(p, Seq):
-            p = p.first
-        elif isinstance(p, Rest):
-            return p.block.body[p.index].span if p.index < len(p.block.body) else p.block.span
-        elif isinstance(p, Conc):
-            if not p.branches:
-                return None
-            p = p.branches[0]
-        elif isinstance(p, Code):
-            if isinstance(p.stmt, ast.Block) and p.stmt.body:
-                p = Rest(p.stmt, 0, p.frame)
-            else:
+        match p:
+            case Seq():
+                p = p.first
+            case Rest():
+                return p.block.body[p.index].span if p.index < len(p.block.body) else p.block.span
+            case Conc():
+                if not p.branches:
+                    return None
+                p = p.branches[0]
+            case Code(stmt=ast.Block() as block) if block.body:
+                p = Rest(block, 0, p.frame)
+            case Code():
                 return p.stmt.span
-        elif isinstance(p, AwaitEnd | DuringEnd):
-            return p.span
-        elif isinstance(p, Planned):
-            return p.holder.stmt.span
-        else:
-            return None
+            case AwaitEnd() | DuringEnd():
+                return p.span
+            case Planned():
+                return p.session.stmt.span
+            case Done():
+                return None
+            case _:
+                assert_never(p)
     return None
-
-
-def _variables(e: ast.Expr) -> set[str]:
-    """The names of the variables (and symbols) an expression mentions."""
-    from gpp.syntax.walk import walk
-
-    return {node.name for node in walk(e) if isinstance(node, ast.Name)}
-
-
-def _text(e: ast.Expr) -> str:
-    return e.span.text
 
 
 def _where(span: Span | None) -> str | None:

@@ -10,13 +10,18 @@ step hypothetically (planning); the executor performs it for real (platform, clo
 Two modes differ only where SEMANTICS says so: while planning (`planning=True`) an action
 call `a(args);` is a single step whose activity ends instantly in `final`, `fail(...)` and
 `cancel(...)` are impossible, and `solve`/`search` inside a plan are transparent; online, a
-call starts an activity and waits for the platform, and `solve`/`search` ask the planner.
+call starts an activity and waits for the platform, and `solve`/`search` ask the planner
+given to the semantics, through the port of gpp.runtime.planning (this module never imports
+a planner).
+
+Continuations (`Prog`) and steps (`Step`) are closed unions, so that a `match` over them can
+end in `assert_never`, as a match over `ast.Statement` does.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypeAlias, assert_never
 
 from gpp import diagnostics as diag
 from gpp.model.symbols import SymbolKind
@@ -32,13 +37,14 @@ from gpp.runtime.compiled import (
     ground,
 )
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.planning import OnlinePlanner, PlanSession
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show
 from gpp.source import Span
 from gpp.syntax import ast
 
 if TYPE_CHECKING:
-    from gpp.planner.policy import PlanHolder
+    from gpp.model.symbols import Symbol
 
 # ---------------------------------------------------------------- bindings
 
@@ -68,14 +74,14 @@ EMPTY_FRAME = Frame()
 # ---------------------------------------------------------------- continuations
 
 
-class Prog:
-    """A program continuation: what remains to be executed."""
+class ProgNode:
+    """The base of the continuation classes; a continuation is a `Prog` (defined below)."""
 
     __slots__ = ()
 
 
 @dataclass(frozen=True, slots=True)
-class Done(Prog):
+class Done(ProgNode):
     pass
 
 
@@ -83,13 +89,13 @@ DONE = Done()
 
 
 @dataclass(frozen=True, slots=True)
-class Seq(Prog):
+class Seq(ProgNode):
     first: Prog
     rest: Prog
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class Code(Prog):
+class Code(ProgNode):
     """A statement not yet started, with the bindings it sees. Compared by the statement's
     identity (not its text) and the bindings."""
 
@@ -104,7 +110,7 @@ class Code(Prog):
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class Rest(Prog):
+class Rest(ProgNode):
     """The statements of a block from `index` on."""
 
     block: ast.Block
@@ -126,7 +132,7 @@ class EndKind:
 
 
 @dataclass(frozen=True, slots=True)
-class AwaitEnd(Prog):
+class AwaitEnd(ProgNode):
     """`a(args);` after its start: waits for the activity to end, then ends it."""
 
     action: GroundAction
@@ -134,7 +140,7 @@ class AwaitEnd(Prog):
 
 
 @dataclass(frozen=True, slots=True)
-class DuringEnd(Prog):
+class DuringEnd(ProgNode):
     """The end of `during (a) body ...`: waits for `a`, then runs the matching handler."""
 
     action: GroundAction
@@ -144,24 +150,30 @@ class DuringEnd(Prog):
 
 
 @dataclass(frozen=True, slots=True)
-class Conc(Prog):
+class Conc(ProgNode):
     branches: tuple[Prog, ...]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class Planned(Prog):
-    """Online only: a `solve`/`search` whose plan is being executed; `holder` is filled by the
-    executor when it performs the PlanStep/ReplanStep (see gpp.planner.policy)."""
+class Planned(ProgNode):
+    """Online only: a `solve`/`search` whose plan is being executed, from its `index`-th
+    planned step on; the session's plan is made when the executor performs the PlanStep or
+    ReplanStep (see gpp.runtime.planning)."""
 
-    holder: PlanHolder
+    session: PlanSession
     index: int
+
+
+# A program continuation: what remains to be executed.
+Prog: TypeAlias = Done | Seq | Code | Rest | AwaitEnd | DuringEnd | Conc | Planned
 
 
 # ---------------------------------------------------------------- steps
 
 
-class Step:
-    """What one transition does to the world. `cost` counts against a `solve` horizon."""
+class StepNode:
+    """The base of the step classes; a step is a `Step` (defined below). `cost` counts
+    against a `solve` horizon."""
 
     __slots__ = ()
     cost = 1
@@ -171,7 +183,7 @@ class Step:
 
 
 @dataclass(frozen=True, slots=True)
-class TestStep(Step):
+class TestStep(StepNode):
     span: Span = field(compare=False)
     cost = 0
 
@@ -180,7 +192,7 @@ class TestStep(Step):
 
 
 @dataclass(frozen=True, slots=True)
-class StartStep(Step):
+class StartStep(StepNode):
     """Start an activity: `start(a)`, or the start of `a(args);` / `during (a)` online."""
 
     action: GroundAction
@@ -198,7 +210,7 @@ class StartStep(Step):
 
 
 @dataclass(frozen=True, slots=True)
-class EndStep(Step):
+class EndStep(StepNode):
     """Consume a terminated activity; its effects apply only if it ended `final`."""
 
     action: GroundAction
@@ -218,7 +230,7 @@ class EndStep(Step):
 
 
 @dataclass(frozen=True, slots=True)
-class CancelStep(Step):
+class CancelStep(StepNode):
     action: GroundAction
     span: Span = field(compare=False)
 
@@ -227,7 +239,7 @@ class CancelStep(Step):
 
 
 @dataclass(frozen=True, slots=True)
-class DoStep(Step):
+class DoStep(StepNode):
     """Planning only: `a(args);` as one step (start, instant success, end)."""
 
     action: GroundAction
@@ -238,7 +250,7 @@ class DoStep(Step):
 
 
 @dataclass(frozen=True, slots=True)
-class AssignStep(Step):
+class AssignStep(StepNode):
     """Assignments to fluent instances (a fluent, a field or element, push/pop)."""
 
     updates: tuple[tuple[int, Value], ...]
@@ -250,10 +262,10 @@ class AssignStep(Step):
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class PlanStep(Step):
-    """Online only: run the planner for a `solve`/`search` (filled into `holder`)."""
+class PlanStep(StepNode):
+    """Online only: plan a `solve`/`search` (the session's `plan`)."""
 
-    holder: PlanHolder
+    session: PlanSession
     cost = 0
 
     def describe(self) -> str:
@@ -261,16 +273,20 @@ class PlanStep(Step):
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class ReplanStep(Step):
-    """Online only: the world deviated from the plan; plan again from `index`."""
+class ReplanStep(StepNode):
+    """Online only: the world deviated from the plan; plan again from `index` (the session's
+    `replan`)."""
 
-    holder: PlanHolder
+    session: PlanSession
     index: int
     cost = 0
 
     def describe(self) -> str:
         return "replan"
 
+
+# What one transition does to the world.
+Step: TypeAlias = TestStep | StartStep | EndStep | CancelStep | DoStep | AssignStep | PlanStep | ReplanStep
 
 Successor = tuple[Prog, Step]
 
@@ -281,19 +297,23 @@ _FINAL_MEMO_SIZE = 100_000
 
 
 class Semantics:
-    """`final`, `trans` and hypothetical `apply` over a compiled program."""
+    """`final`, `trans` and hypothetical `apply` over a compiled program. Online, `planner`
+    runs `solve`/`search`; without one, reaching them online is an error (R0010)."""
 
-    def __init__(self, program: CompiledProgram, ctx: Context, planning: bool) -> None:
+    def __init__(
+        self, program: CompiledProgram, ctx: Context, planning: bool, planner: OnlinePlanner | None = None
+    ) -> None:
         self.program = program
         self.ctx = ctx
         self.planning = planning
+        self.planner = planner
         self.model = program.model
         self._final_memo: dict[tuple[int, Frame, State, Activities], bool] = {}
         # `pick` values skipped because a precondition conjunct already rules them out.
         self.pruned_bindings = 0
 
     def with_mode(self, planning: bool) -> Semantics:
-        return Semantics(self.program, self.ctx, planning)
+        return Semantics(self.program, self.ctx, planning, self.planner)
 
     def env(self, state: State, frame: Frame) -> Env:
         return Env(state, frame.vars, self.ctx)
@@ -308,42 +328,47 @@ class Semantics:
     # ---------------------------------------------------------------- final
 
     def final(self, p: Prog, state: State, acts: Activities) -> bool:
-        if p is DONE or isinstance(p, Done):
-            return True
-        if isinstance(p, Seq):
-            return self.final(p.first, state, acts) and self.final(p.rest, state, acts)
-        if isinstance(p, Rest):
-            body = p.block.body
-            return all(self.final(Code(s, p.frame), state, acts) for s in body[p.index :])
-        if isinstance(p, Conc):
-            return all(self.final(b, state, acts) for b in p.branches)
-        if isinstance(p, Planned):
-            return p.holder.exhausted(p.index)
-        if isinstance(p, AwaitEnd | DuringEnd):
-            return False
-        assert isinstance(p, Code)
-        return self._final_code(p.stmt, p.frame, state, acts)
+        match p:
+            case Done():
+                return True
+            case Seq():
+                return self.final(p.first, state, acts) and self.final(p.rest, state, acts)
+            case Rest():
+                body = p.block.body
+                return all(self.final(Code(s, p.frame), state, acts) for s in body[p.index :])
+            case Conc():
+                return all(self.final(b, state, acts) for b in p.branches)
+            case Planned():
+                return p.session.exhausted(p.index)
+            case AwaitEnd() | DuringEnd():
+                return False
+            case Code():
+                return self._final_code(p.stmt, p.frame, state, acts)
+            case _:
+                assert_never(p)
 
     def _final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
-        if isinstance(s, ast.Block):
-            return all(self._final_code(x, frame, state, acts) for x in s.body)
-        if isinstance(s, ast.If):
-            if self.condition(s.condition, state, frame):
-                return self._final_code(s.then, frame, state, acts)
-            return s.otherwise is None or self._final_code(s.otherwise, frame, state, acts)
-        if isinstance(s, ast.While):
-            return not self.condition(s.condition, state, frame) or self._final_code(s.body, frame, state, acts)
-        if isinstance(s, ast.Choose):
-            return any(self._final_code(x, frame, state, acts) for x in s.alternatives)
-        if isinstance(s, ast.Concurrent):
-            return all(self._final_code(x, frame, state, acts) for x in s.branches)
-        if isinstance(s, ast.Pick):
-            return any(self._final_code(s.body, f, state, acts) for f in self.pick_frames(s, frame))
-        if isinstance(s, ast.Solve | ast.Search):
-            return self.planning and self._final_code(s.body, frame, state, acts)
-        if isinstance(s, ast.CallStmt):
-            callee = self.callee(s)
-            if callee.kind is SymbolKind.PROCEDURE:
+        match s:
+            case ast.Block():
+                return all(self._final_code(x, frame, state, acts) for x in s.body)
+            case ast.If():
+                if self.condition(s.condition, state, frame):
+                    return self._final_code(s.then, frame, state, acts)
+                return s.otherwise is None or self._final_code(s.otherwise, frame, state, acts)
+            case ast.While():
+                return not self.condition(s.condition, state, frame) or self._final_code(s.body, frame, state, acts)
+            case ast.Choose():
+                return any(self._final_code(x, frame, state, acts) for x in s.alternatives)
+            case ast.Concurrent():
+                return all(self._final_code(x, frame, state, acts) for x in s.branches)
+            case ast.Pick():
+                return any(self._final_code(s.body, f, state, acts) for f in self.pick_frames(s, frame))
+            case ast.Solve() | ast.Search():
+                return self.planning and self._final_code(s.body, frame, state, acts)
+            case ast.CallStmt():
+                callee = self.callee(s)
+                if callee.kind is not SymbolKind.PROCEDURE:
+                    return False
                 # Remembered: `trans` asks again at every level of a recursion, which would
                 # make each step quadratic in the depth of the recursion.
                 key = (id(s), frame, state, acts)
@@ -355,7 +380,10 @@ class Semantics:
                         self._final_memo.clear()
                     self._final_memo[key] = known
                 return known
-        return False
+            case ast.Test() | ast.Assign() | ast.ListStmt() | ast.HookStmt() | ast.During():
+                return False
+            case _:
+                assert_never(s)
 
     # ---------------------------------------------------------------- trans
 
@@ -363,47 +391,48 @@ class Semantics:
         """The successors of `p`, in textual order. With `first`, only as many as it takes to
         find the first one (online execution takes the first: later alternatives are not
         evaluated, so they can neither fail nor ask the platform)."""
-        if isinstance(p, Done):
-            return []
-        if isinstance(p, Seq):
-            out = [(self.seq(q, p.rest), step) for q, step in self.trans(p.first, state, acts, first)]
-            if not (first and out) and self.final(p.first, state, acts):
-                out.extend(self.trans(p.rest, state, acts, first))
-            return out
-        if isinstance(p, Rest):
-            body = p.block.body
-            if p.index >= len(body):
+        match p:
+            case Done():
                 return []
-            head = Code(body[p.index], p.frame)
-            tail: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(body) else DONE
-            return self.trans(Seq(head, tail), state, acts, first)
-        if isinstance(p, Conc):
-            # Prioritised interleaving: the first branch that can step does.
-            for i, branch in enumerate(p.branches):
-                succ = self.trans(branch, state, acts, first)
-                if succ:
-                    return [(self.conc(p.branches, i, q), step) for q, step in succ]
-            return []
-        if isinstance(p, AwaitEnd):
-            status = acts.status(p.action)
-            if status is not None and status.terminal:
-                return [(DONE, EndStep(p.action, EndKind.CALL, p.span))]
-            return []
-        if isinstance(p, DuringEnd):
-            status = acts.status(p.action)
-            if status is None or not status.terminal:
+            case Seq():
+                out = [(self.seq(q, p.rest), step) for q, step in self.trans(p.first, state, acts, first)]
+                if not (first and out) and self.final(p.first, state, acts):
+                    out.extend(self.trans(p.rest, state, acts, first))
+                return out
+            case Rest():
+                body = p.block.body
+                if p.index >= len(body):
+                    return []
+                head = Code(body[p.index], p.frame)
+                tail: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(body) else DONE
+                return self.trans(Seq(head, tail), state, acts, first)
+            case Conc():
+                # Prioritised interleaving: the first branch that can step does.
+                for i, branch in enumerate(p.branches):
+                    succ = self.trans(branch, state, acts, first)
+                    if succ:
+                        return [(self.conc(p.branches, i, q), step) for q, step in succ]
                 return []
-            handler = p.on_fail if status is ActivityStatus.FAILED else None
-            if status is ActivityStatus.CANCELLED:
-                handler = p.on_cancel
-            step = EndStep(p.action, EndKind.DURING, p.span, handles_failure=p.on_fail is not None)
-            return [(handler or DONE, step)]
-        if isinstance(p, Planned):
-            from gpp.planner.policy import planned_successors
-
-            return planned_successors(self, p, state, acts)
-        assert isinstance(p, Code)
-        return self._trans_code(p.stmt, p.frame, state, acts, first)
+            case AwaitEnd():
+                status = acts.status(p.action)
+                if status is not None and status.terminal:
+                    return [(DONE, EndStep(p.action, EndKind.CALL, p.span))]
+                return []
+            case DuringEnd():
+                status = acts.status(p.action)
+                if status is None or not status.terminal:
+                    return []
+                handler = p.on_fail if status is ActivityStatus.FAILED else None
+                if status is ActivityStatus.CANCELLED:
+                    handler = p.on_cancel
+                end = EndStep(p.action, EndKind.DURING, p.span, handles_failure=p.on_fail is not None)
+                return [(handler or DONE, end)]
+            case Planned():
+                return p.session.successors(self, p, state, acts)
+            case Code():
+                return self._trans_code(p.stmt, p.frame, state, acts, first)
+            case _:
+                assert_never(p)
 
     @staticmethod
     def seq(first: Prog, rest: Prog) -> Prog:
@@ -433,68 +462,80 @@ class Semantics:
     def _trans_code(
         self, s: ast.Statement, frame: Frame, state: State, acts: Activities, first: bool = False
     ) -> list[Successor]:
-        if isinstance(s, ast.Block):
-            if not s.body:
-                return []
-            return self.trans(Rest(s, 0, frame), state, acts, first)
-        if isinstance(s, ast.If):
-            if self.condition(s.condition, state, frame):
-                return self._trans_code(s.then, frame, state, acts, first)
-            return self._trans_code(s.otherwise, frame, state, acts, first) if s.otherwise is not None else []
-        if isinstance(s, ast.While):
-            if not self.condition(s.condition, state, frame):
-                return []
-            loop = Code(s, frame)
-            return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts, first)]
-        if isinstance(s, ast.Test):
-            return [(DONE, TestStep(s.span))] if self.condition(s.condition, state, frame) else []
-        if isinstance(s, ast.Choose):
-            out: list[Successor] = []
-            for alternative in s.alternatives:
-                out.extend(self._trans_code(alternative, frame, state, acts, first))
-                if first and out:
-                    break
-            return out
-        if isinstance(s, ast.Concurrent):
-            return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts, first)
-        if isinstance(s, ast.Pick):
-            out = []
-            guard = self.program.pick_guard(s)
-            for f in self.pick_frames(s, frame):
-                if guard is not None and guard.rejects(state, f.vars, self.ctx):
-                    self.pruned_bindings += 1
-                    continue
-                out.extend(self._trans_code(s.body, f, state, acts, first))
-                if first and out:
-                    break
-            return out
-        if isinstance(s, ast.Solve | ast.Search):
-            if self.planning:
-                return self._trans_code(s.body, frame, state, acts, first)
-            from gpp.planner.policy import PlanHolder
+        match s:
+            case ast.Block():
+                if not s.body:
+                    return []
+                return self.trans(Rest(s, 0, frame), state, acts, first)
+            case ast.If():
+                if self.condition(s.condition, state, frame):
+                    return self._trans_code(s.then, frame, state, acts, first)
+                return self._trans_code(s.otherwise, frame, state, acts, first) if s.otherwise is not None else []
+            case ast.While():
+                if not self.condition(s.condition, state, frame):
+                    return []
+                loop = Code(s, frame)
+                return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts, first)]
+            case ast.Test():
+                return [(DONE, TestStep(s.span))] if self.condition(s.condition, state, frame) else []
+            case ast.Choose():
+                out: list[Successor] = []
+                for alternative in s.alternatives:
+                    out.extend(self._trans_code(alternative, frame, state, acts, first))
+                    if first and out:
+                        break
+                return out
+            case ast.Concurrent():
+                return self.trans(Conc(tuple(Code(b, frame) for b in s.branches)), state, acts, first)
+            case ast.Pick():
+                out = []
+                guard = self.program.pick_guard(s)
+                for f in self.pick_frames(s, frame):
+                    if guard is not None and guard.rejects(state, f.vars, self.ctx):
+                        self.pruned_bindings += 1
+                        continue
+                    out.extend(self._trans_code(s.body, f, state, acts, first))
+                    if first and out:
+                        break
+                return out
+            case ast.Solve() | ast.Search():
+                if self.planning:
+                    return self._trans_code(s.body, frame, state, acts, first)
+                session = self.plan_session(s, frame, state)
+                return [(Planned(session, 0), PlanStep(session))]
+            case ast.CallStmt():
+                return self.call(s, frame, state, acts, first)
+            case ast.Assign():
+                return [(DONE, self.assign_step(s, frame, state))]
+            case ast.ListStmt():
+                return [(DONE, self.list_step(s, frame, state))]
+            case ast.HookStmt():
+                return self.hook(s, frame, state, acts)
+            case ast.During():
+                action, g = self.ground_call(s.action, frame, state)
+                if not self.startable(action, g, state, acts):
+                    return []
+                end = DuringEnd(
+                    g,
+                    Code(s.on_fail, frame) if s.on_fail is not None else None,
+                    Code(s.on_cancel, frame) if s.on_cancel is not None else None,
+                    s.span,
+                )
+                return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span, of_during=True))]
+            case _:
+                assert_never(s)
 
-            holder = PlanHolder.for_statement(self, s, frame, state)
-            return [(Planned(holder, 0), PlanStep(holder))]
-        if isinstance(s, ast.CallStmt):
-            return self.call(s, frame, state, acts, first)
-        if isinstance(s, ast.Assign):
-            return [(DONE, self.assign_step(s, frame, state))]
-        if isinstance(s, ast.ListStmt):
-            return [(DONE, self.list_step(s, frame, state))]
-        if isinstance(s, ast.HookStmt):
-            return self.hook(s, frame, state, acts)
-        if isinstance(s, ast.During):
-            action, g = self.ground_call(s.action, frame, state)
-            if not self.startable(action, g, state, acts):
-                return []
-            end = DuringEnd(
-                g,
-                Code(s.on_fail, frame) if s.on_fail is not None else None,
-                Code(s.on_cancel, frame) if s.on_cancel is not None else None,
+    def plan_session(self, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession:
+        """A session of the planner for `s`, reached online."""
+        if self.planner is None:
+            kind = "solve" if isinstance(s, ast.Solve) else "search"
+            raise GppRuntimeError(
+                "R0010",
+                f"`{kind}` cannot plan: this run has no planner",
                 s.span,
+                ("the executor runs `solve` and `search` with the planner it is given (`gpp run` gives it one)",),
             )
-            return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span, of_during=True))]
-        raise AssertionError(f"unhandled statement {type(s).__name__}")
+        return self.planner.session(self, s, frame, state)
 
     # ---------------------------------------------------------------- statements
 
@@ -528,7 +569,7 @@ class Semantics:
             return [(DONE, CancelStep(g, s.span))] if status is ActivityStatus.RUNNING else []
         return [(DONE, EndStep(g, hook.value, s.span))] if ok else []
 
-    def callee(self, s: ast.CallStmt) -> Any:
+    def callee(self, s: ast.CallStmt) -> Symbol:
         symbol = self.model.target(s.call)
         assert symbol is not None
         return symbol
@@ -656,18 +697,22 @@ class Semantics:
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
         """Perform a step hypothetically (planning): activities end instantly in `final`."""
         program = self.program
-        if isinstance(step, DoStep):
-            return state.updated(self.effects(step.action, state), program.initial), acts
-        if isinstance(step, AssignStep):
-            return state.updated(dict(step.updates), program.initial), acts
-        if isinstance(step, StartStep):
-            return state, acts.with_status(step.action, ActivityStatus.FINAL)
-        if isinstance(step, EndStep):
-            status = acts.status(step.action)
-            if status is ActivityStatus.FINAL:
-                state = state.updated(self.effects(step.action, state), program.initial)
-            return state, acts.with_status(step.action, None)
-        return state, acts
+        match step:
+            case DoStep():
+                return state.updated(self.effects(step.action, state), program.initial), acts
+            case AssignStep():
+                return state.updated(dict(step.updates), program.initial), acts
+            case StartStep():
+                return state, acts.with_status(step.action, ActivityStatus.FINAL)
+            case EndStep():
+                status = acts.status(step.action)
+                if status is ActivityStatus.FINAL:
+                    state = state.updated(self.effects(step.action, state), program.initial)
+                return state, acts.with_status(step.action, None)
+            case TestStep() | CancelStep() | PlanStep() | ReplanStep():
+                return state, acts
+            case _:
+                assert_never(step)
 
 
 def concrete_path(path: tuple[PathStep, ...], env: Env) -> tuple[str | int, ...]:
