@@ -66,7 +66,11 @@ def describe(event: TraceEvent) -> str | None:
             return f"{event.EVENT:<6} {event.message}"
         case FinishEvent():
             return f"finish {event.status}"
-        case HeaderEvent() | WaitingEvent():
+        case WaitingEvent():
+            if event.resumed:
+                return None
+            return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
+        case HeaderEvent():
             return None
         case _:
             assert_never(event)
@@ -147,6 +151,8 @@ class LiveView:
         # Where the program is: the source location of the last action started or fluent set.
         self.at: str | None = None
         self.counts = {"actions": 0, "failed": 0, "exog": 0}
+        # What the program waits for, while it waits.
+        self.waiting: WaitingEvent | None = None
         self._live: Live | None = None
 
     def __call__(self, event: TraceEvent) -> None:
@@ -168,6 +174,8 @@ class LiveView:
                 self.counts["exog"] += 1
             case PlanEvent() | ReplanEvent():
                 self.plan = event
+            case WaitingEvent():
+                self.waiting = None if event.resumed else event
             case _:
                 pass
         line = describe(event)
@@ -195,6 +203,13 @@ class LiveView:
         parts: list[RenderableType] = [header]
         if self.at is not None:
             parts.append(f"[dim]at[/dim] {_escape(self.at)}")
+        if self.waiting is not None:
+            w = self.waiting
+            where = f" [dim]at {_escape(w.at)}[/dim]" if w.at else ""
+            parts.append(
+                f"[yellow]waiting[/yellow] since {w.t:.2f} s: {_escape(w.condition)}\n"
+                f"        {_escape(w.statement)}{where}"
+            )
         parts.append(running)
         if self.plan is not None and self.plan.feasible:
             plan = self.plan

@@ -396,9 +396,11 @@ def test_wait_jumps_to_the_next_happening_and_not_past_the_deadline() -> None:
     assert platform.wait(None) is True and platform.now() == 4.0
     [(t, update)] = platform.queue.drain()
     assert t == 4.0 and isinstance(update, ActivityUpdate) and update.status is ActivityStatus.FINAL
-    # Nothing is scheduled any more: waiting does not move the clock.
-    assert platform.wait(100) is False and platform.now() == 4.0
+    # Nothing is scheduled any more: nothing can arrive, and waiting without a deadline does not
+    # move the clock; waiting until a deadline (a program waiting for the clock) lets time pass.
+    assert platform.wait(None) is False and platform.now() == 4.0
     assert not platform.live()
+    assert platform.wait(100) is False and platform.now() == 100.0
 
 
 def test_preempt_cancels_a_scheduled_activity_at_once() -> None:

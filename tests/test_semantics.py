@@ -93,6 +93,9 @@ class FakeContext:
     def now(self) -> float:
         return 0.0
 
+    def wake_at(self, t: float) -> None:
+        pass
+
 
 @dataclass
 class World:

@@ -42,7 +42,21 @@ from gpp.runtime.values import CompoundValue
 ROOT = Path(__file__).resolve().parent.parent
 PROGRAMS = ROOT / "tests" / "programs"
 
-EVENTS = {"start", "end", "update", "exog", "sense", "assign", "plan", "replan", "blocked", "error", "finish", "cancel"}
+EVENTS = {
+    "start",
+    "end",
+    "update",
+    "exog",
+    "sense",
+    "assign",
+    "plan",
+    "replan",
+    "blocked",
+    "error",
+    "finish",
+    "cancel",
+    "waiting",
+}
 ACTION_EVENTS = {"start", "end", "update", "exog", "sense", "cancel"}
 # name(arg,arg): no spaces outside string literals.
 GROUND = re.compile(r'^[A-Za-z][A-Za-z0-9_]*\((?:[^" ]|"(?:[^"\\]|\\.)*")*\)$')

@@ -30,6 +30,9 @@ class OfflineContext:
     def now(self) -> float:
         return 0.0
 
+    def wake_at(self, t: float) -> None:
+        pass  # the clock stands still
+
 
 def make_reward(planning: Semantics, stmt: ast.Solve, frame: Frame) -> Reward:
     """The reward of `stmt` as a function of the state (a type error is a runtime error at the

@@ -23,12 +23,18 @@ from gpp.runtime.semantics import (
     Seq,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
-from gpp.runtime.values import show
+from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 
 BLOCKED = "the program is blocked: "
+_AWAITS_ACTIVITY = BLOCKED + "it waits for `"
+
+
+def awaits_activity(d: diag.Diagnostic) -> bool:
+    """Does the explanation say the program waits for an activity (to end, finish, fail...)?"""
+    return d.message.startswith(_AWAITS_ACTIVITY)
 
 
 def why_blocked(sem: Semantics, p: Prog, state: State, acts: Activities) -> diag.Diagnostic | None:
@@ -135,7 +141,7 @@ class _Explanation:
         shown = status.value if status is not None else "not started"
         return diag.error(
             "R0011",
-            BLOCKED + f"it waits for `{g.text}` {what}",
+            _AWAITS_ACTIVITY + f"{g.text}` {what}",
             span,
             f"`{g.text}` is {shown}",
         )
@@ -173,7 +179,10 @@ class _Explanation:
                     args = tuple(self.program.expr(a)(env) for a in node.args)
                 except (GppRuntimeError, KeyError):
                     continue  # reads a quantified variable: not one instance
-                value = self.program.read(self.state, symbol.name, args)
+                if symbol.predefined and symbol.name == "context_time":
+                    value: Value = self.sem.ctx.now()  # the clock, not a stored instance
+                else:
+                    value = self.program.read(self.state, symbol.name, args)
                 text = f"{indent}{symbol.name}({','.join(show(a) for a in args)}) = {show(value)}"
                 if text not in notes:
                     notes.append(text)

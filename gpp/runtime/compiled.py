@@ -22,6 +22,7 @@ from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show, to_string
 from gpp.source import Span
 from gpp.syntax import ast
+from gpp.syntax.walk import walk
 
 Op = ast.BinaryOp
 
@@ -32,6 +33,10 @@ class Context(Protocol):
     def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value: ...
 
     def now(self) -> float: ...
+
+    def wake_at(self, t: float) -> None:
+        """A comparison with the clock that was just evaluated changes its truth value at time
+        `t` (in the future): the executor wakes a blocked program then (SEMANTICS, "Time")."""
 
 
 class Env:
@@ -420,9 +425,9 @@ class CompiledProgram:
         if op is Op.IMPLIES:
             return lambda env: (not _truth(left(env))) or _truth(right(env))
         if op is Op.EQ:
-            return lambda env: same(left(env), right(env))
+            return self._clocked(e, lambda env: same(left(env), right(env)))
         if op is Op.NE:
-            return lambda env: not same(left(env), right(env))
+            return self._clocked(e, lambda env: not same(left(env), right(env)))
         if op in (Op.LT, Op.LE, Op.GT, Op.GE):
             compare = _ORDER[op]
 
@@ -434,7 +439,7 @@ class CompiledProgram:
                     return compare(a.name, b.name)  # type: ignore[union-attr]
                 return compare(a, b)
 
-            return order
+            return self._clocked(e, order)
         arithmetic = _ARITHMETIC[op]
 
         def calculate(env: Env) -> Value:
@@ -447,6 +452,69 @@ class CompiledProgram:
                 raise GppRuntimeError("R0001", f"the result of `{op.value}` is too large for a number", span) from None
 
         return calculate
+
+    # ---------------------------------------------------------------- comparisons with the clock
+
+    def _clocked(self, e: ast.Binary, compare: Evaluator) -> Evaluator:
+        """`compare` for a comparison of the clock with a value (`context_time() >= t0 + 5`):
+        besides comparing, it tells the context when the comparison's truth value changes next,
+        so that a program blocked on it wakes up then. One side must be `context_time()` plus or
+        minus amounts that do not read the clock, the other must not read the clock; any other
+        comparison is evaluated as it is."""
+        left_clock, right_clock = self._reads_clock(e.left), self._reads_clock(e.right)
+        if left_clock == right_clock:
+            return compare
+        linear = self._clock_linear(e.left if left_clock else e.right)
+        if linear is None:
+            return compare
+        sign, offset = linear
+        other = self.expr(e.right if left_clock else e.left)
+
+        def clocked(env: Env) -> Value:
+            result = compare(env)
+            value = other(env)
+            shift = offset(env)
+            if isinstance(value, int | float) and isinstance(shift, int | float) and not isinstance(value, bool):
+                # sign * now + shift == value at now = sign * (value - shift); strict comparisons
+                # change just after that moment.
+                crossing = float(sign * (value - shift))
+                now = env.ctx.now()
+                for t in (crossing, math.nextafter(crossing, math.inf)):
+                    if t > now:
+                        env.ctx.wake_at(t)
+            return result
+
+        return clocked
+
+    def _reads_clock(self, e: ast.Expr) -> bool:
+        return any(isinstance(n, ast.Call) and self._is_clock(n) for n in walk(e))
+
+    def _is_clock(self, e: ast.Expr) -> bool:
+        if not isinstance(e, ast.Call):
+            return False
+        symbol = self.model.target(e)
+        return symbol is not None and symbol.predefined and symbol.name == "context_time"
+
+    def _clock_linear(self, e: ast.Expr) -> tuple[int, Evaluator] | None:
+        """`e` as `sign * context_time() + offset` when it has that form (the clock with amounts
+        added or subtracted), else None."""
+        if self._is_clock(e):
+            return 1, _zero
+        if not isinstance(e, ast.Binary) or e.op not in (Op.ADD, Op.SUB):
+            return None
+        left_clock = self._reads_clock(e.left)
+        if left_clock == self._reads_clock(e.right):
+            return None
+        inner = self._clock_linear(e.left if left_clock else e.right)
+        if inner is None:
+            return None
+        sign, offset = inner
+        other = self.expr(e.right if left_clock else e.left)
+        if e.op is Op.ADD:
+            return sign, lambda env: _number(offset(env)) + _number(other(env))
+        if left_clock:  # (clock + offset) - other
+            return sign, lambda env: _number(offset(env)) - _number(other(env))
+        return -sign, lambda env: _number(other(env)) - _number(offset(env))  # other - (clock + offset)
 
     def _quantifier(self, e: ast.Quantified) -> Evaluator:
         variable = self.model.target(e.var)
@@ -715,6 +783,15 @@ _ORDER: dict[Op, Callable[[object, object], bool]] = {
 }
 
 
+def _zero(env: Env) -> Value:
+    return 0
+
+
+def _number(v: Value) -> float:
+    """A number for the clock arithmetic of `_clocked` (anything else makes it compare nothing)."""
+    return float(v) if isinstance(v, int | float) and not isinstance(v, bool) else math.nan
+
+
 def _internal(span: Span, message: str) -> GppRuntimeError:
     return GppRuntimeError("R0099", f"internal: {message} (the program should not have passed the checker)", span)
 
@@ -727,6 +804,9 @@ class _NoContext:
 
     def now(self) -> float:
         return 0.0
+
+    def wake_at(self, t: float) -> None:
+        pass
 
 
 _NO_CONTEXT = _NoContext()

@@ -23,7 +23,7 @@ from typing import assert_never
 import gpp.runtime.events as ev
 from gpp import diagnostics as diag
 from gpp.model.types import Type
-from gpp.runtime.blocked import BLOCKED, why_blocked
+from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -98,10 +98,17 @@ class _ExecContext:
         self.activity: Activity | None = None
         # While a `senses:` section is evaluated: the activity's result, if it has one.
         self.result: tuple[bool, Value] = (False, None)
+        # The earliest future time at which a comparison with the clock evaluated since the
+        # last reset changes its truth value.
+        self.wake: float | None = None
+        # While the executor explains a wait: the platform is not asked (an answer could change).
+        self.explaining = False
 
     def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
         if self.result[0]:
             return self.result[1]
+        if self.explaining:
+            raise GppRuntimeError("R0007", "not asked while explaining a wait", span)
         try:
             return self.platform.exog_function(name, args, return_type, self.activity)
         except PlatformError as e:
@@ -109,6 +116,10 @@ class _ExecContext:
 
     def now(self) -> float:
         return self.platform.now()
+
+    def wake_at(self, t: float) -> None:
+        if self.wake is None or t < self.wake:
+            self.wake = t
 
 
 class Executor:
@@ -139,6 +150,10 @@ class Executor:
         # Activities the platform took (its `start` returned): only these can be acknowledged.
         self.accepted: set[int] = set()
         self.cancel_grace = CANCEL_GRACE
+        # The `waiting` record of the wait the program is in, if it is waiting.
+        self.waiting_at: ev.WaitingEvent | None = None
+        # The program waited for clock times that kept moving with the clock.
+        self.chasing = False
         self.result = RunResult(RunStatus.FINISHED)
         self._silent: dict[str, bool] = {}
 
@@ -154,30 +169,58 @@ class Executor:
         prog: Prog | None = None
         try:
             prog = self.sem.entry(self.entry)
+            # Wake-ups in a row at which the program still could not step.
+            chased = 0
             while True:
                 self.drain()
+                # Comparisons with the clock evaluated from here on say when to wake up.
+                self.ctx.wake = None
                 if self.sem.final(prog, self.state, self.acts):
                     result.status = RunStatus.FINISHED
                     break
                 if self.timed_out(strictly=True):
                     self.stop_at_timeout(prog)
                     break
+                if self.wall_timed_out(started):
+                    self.stop_at_wall_timeout(prog, started)
+                    break
                 successors = self.sem.trans(prog, self.state, self.acts, first=True)
                 if successors:
+                    chased = 0
                     next_prog, step = successors[0]
+                    if self.waiting_at is not None:
+                        self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
+                        self.waiting_at = None
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
                     continue
-                # Blocked: let the platform's time pass until something arrives.
+                # Blocked: let the platform's time pass until something arrives, or until the
+                # clock reaches a time at which a condition the program waits on changes.
+                wake = self.ctx.wake
                 if self.timed_out():
                     self.stop_at_timeout(prog)
                     break
-                if self.platform.wait(self.timeout) or len(self.platform.queue) > 0:
-                    continue
-                if self.timed_out():
-                    self.stop_at_timeout(prog)
-                    break
+                if wake is not None or self.platform.live():
+                    self.note_waiting(prog)
+                    deadline = (
+                        wake if self.timeout is None or (wake is not None and wake < self.timeout) else self.timeout
+                    )
+                    if self.platform.wait(deadline) or len(self.platform.queue) > 0:
+                        continue
+                    if wake is not None and self.platform.now() >= wake:
+                        chased += 1
+                        if chased < CHASE_LIMIT:
+                            continue
+                        self.chasing = True  # the blocked diagnostic says why
+                    if self.timed_out():
+                        self.stop_at_timeout(prog)
+                        break
+                    if self.wall_timed_out(started):
+                        self.stop_at_wall_timeout(prog, started)
+                        break
+                    if self.platform.live():
+                        continue
                 result.status = RunStatus.BLOCKED
                 d = self.blocked_diagnostic(prog)
                 result.diagnostics.append(d)
@@ -236,6 +279,61 @@ class Executor:
             return False
         now = self.platform.now()
         return now > self.timeout if strictly else now >= self.timeout
+
+    def wall_timed_out(self, started: float) -> bool:
+        """Has the run taken longer than the timeout in wall-clock time? (On a virtual-time
+        platform a loop that takes no time never moves the clock: this still ends it.)"""
+        return self.timeout is not None and time.perf_counter() - started > self.timeout
+
+    def stop_at_wall_timeout(self, prog: Prog, started: float) -> None:
+        self.result.status = RunStatus.TIMEOUT
+        span = _head_span(prog) or self.entry_span()
+        assert span is not None
+        d = diag.error(
+            "R0013",
+            f"the run reached its timeout of {self.timeout:g} s of wall-clock time "
+            f"(platform time: {self.platform.now():g} s)",
+            span,
+            "running here",
+            notes=[
+                f"it ran for {time.perf_counter() - started:.1f} s of wall-clock time",
+                "a loop whose steps take no platform time never lets the clock reach the timeout",
+            ],
+        )
+        self.result.diagnostics.append(d)
+        self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=d.code, message=d.message, at=_where(d.span)))
+
+    def note_waiting(self, prog: Prog) -> None:
+        """Record, once per wait, what the blocked program waits for (a `waiting` trace record).
+        A wait for a running activity is not recorded: its start and end records tell it."""
+        self.ctx.explaining = True
+        try:
+            why = why_blocked(self.sem, prog, self.state, self.acts)
+        except GppRuntimeError:
+            why = None  # explaining would have asked the platform: say only where it waits
+        finally:
+            self.ctx.explaining = False
+        if why is not None and awaits_activity(why):
+            return
+        span = why.span if why is not None else _head_span(prog)
+        condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
+        if why is not None and why.notes:
+            condition += " (" + "; ".join(n.strip() for n in why.notes) + ")"
+        text = span.text.strip().splitlines()[0] if span is not None and span.text.strip() else ""
+        waiting = ev.WaitingEvent(
+            t=self.platform.now(),
+            statement=text if len(text) <= 80 else text[:77] + "...",
+            at=_where(span),
+            condition=condition,
+        )
+        previous = self.waiting_at
+        if previous is None or (previous.statement, previous.at, previous.condition) != (
+            waiting.statement,
+            waiting.at,
+            waiting.condition,
+        ):
+            self.waiting_at = waiting
+            self.trace.emit(waiting)
 
     def stop_at_timeout(self, prog: Prog) -> None:
         self.result.status = RunStatus.TIMEOUT
@@ -501,6 +599,11 @@ class Executor:
     def blocked_diagnostic(self, prog: Prog) -> diag.Diagnostic:
         why = why_blocked(self.sem, prog, self.state, self.acts)
         final_note = f"nothing can change this: platform `{self.platform.name}` has no more events to report"
+        if self.chasing:
+            final_note = (
+                "the time it waits for moves with the clock: it is computed from `context_time()` whenever the "
+                "condition is evaluated (take the time once, in an assignment, and compare with that)"
+            )
         if why is None:
             span = self.entry_span()
             assert span is not None
@@ -516,6 +619,11 @@ class Executor:
             "R0013", f"the run reached its timeout of {self.timeout:g} s", span, "waiting here", notes=notes
         )
 
+
+# A program that wakes up this many times in a row at the time its condition named, and still
+# cannot step, waits for a time that moves with the clock (`test(context_time() >=
+# context_time() + 1)`): it is blocked.
+CHASE_LIMIT = 1000
 
 # Python frames a run may use: golog++ recursion (procedures, functions) nests a few frames
 # per level; the default limit of 1000 would stop a recursion about 100 levels deep.

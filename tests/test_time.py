@@ -1,0 +1,146 @@
+"""Time wakes programs: a program blocked on a condition that compares the clock with a value
+steps as soon as the platform's clock gets there, on the dummy and on the sim; waits are in the
+trace; `--timeout` also bounds wall-clock time."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.runtime.events import AssignEvent, CancelEvent, StartEvent, WaitingEvent
+from gpp.runtime.executor import RunStatus
+
+TIMEOUT = """
+#include "time.gpp"
+
+action listen() { duration: [30, 30] }
+bool fluent listening() { initially: () = false; }
+number fluent gave_up_at() { initially: () = -1; }
+number fluent waited_until() { initially: () = -1; }
+
+procedure listen_until(number deadline) {
+    listening() = true;
+    start(listen());
+    concurrent {
+        { end(listen()); listening() = false; }
+        { test(!listening() | passed(deadline)); if (listening()) { gave_up_at() = context_time(); cancel(listen()); } }
+    }
+}
+
+procedure main() {
+    wait_for(2.5);
+    waited_until() = context_time();
+    listen_until(context_time() + 5);
+}
+
+bool function postcond() = waited_until() == 2.5 & gave_up_at() == 7.5 & !listening()
+"""
+
+
+def run(tmp_path: Path, text: str, name: str = "p.gpp", **options: object) -> RunOutcome:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return run_program(path, RunOptions(**options))  # type: ignore[arg-type]
+
+
+def test_the_timeout_pattern_works_on_the_dummy(tmp_path: Path) -> None:
+    outcome = run(tmp_path, TIMEOUT)
+    assert outcome.ok, [d.message for d in outcome.diagnostics]
+    assert outcome.result is not None and outcome.result.platform_time == 7.5  # not 30 + 2.5
+    trace = outcome.trace
+    assert trace is not None
+    [cancel] = trace.of(CancelEvent)
+    assert (cancel.t, cancel.action) == (7.5, "listen()")
+
+
+def test_the_timeout_pattern_works_on_the_sim(tmp_path: Path) -> None:
+    # The sim's clock steps its physics; a program with nothing running waits for the clock.
+    program = """// world: blocksworld
+#include "sim/blocksworld.gpp"
+#include "time.gpp"
+symbol domain block = {a, b, c}
+symbol domain slot = {t1, t2, t3}
+number fluent woke_at() { initially: () = -1; }
+procedure main() {
+    wait_for(1.5);
+    woke_at() = context_time();
+    get_block_pose(a);
+    wait_until(context_time() + 0);
+}
+bool function postcond() = woke_at() == 1.5
+"""
+    outcome = run(tmp_path, program, platform="sim")
+    assert outcome.ok, [d.message for d in outcome.diagnostics]
+
+
+@pytest.mark.parametrize(
+    ("condition", "woke"),
+    [
+        ("context_time() >= 4", 4.0),
+        ("context_time() > 4", 4.0),  # just after 4
+        ("4 <= context_time()", 4.0),
+        ("context_time() - 1 >= 3", 4.0),
+        ("10 - context_time() < 6", 4.0),
+        ("!(context_time() < 4)", 4.0),
+        ("context_time() + offset() >= 6", 4.0),
+    ],
+)
+def test_comparisons_with_the_clock_wake_the_program(tmp_path: Path, condition: str, woke: float) -> None:
+    program = (
+        "number fluent offset() { initially: () = 2; }\n"
+        "number fluent woke() { initially: () = -1; }\n"
+        f"procedure main() {{ test({condition}); woke() = context_time(); }}\n"
+    )
+    outcome = run(tmp_path, program)
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED, outcome.diagnostics
+    trace = outcome.trace
+    assert trace is not None
+    [assign] = trace.of(AssignEvent)
+    assert assign.value == pytest.approx(woke) and assign.value >= 4.0
+
+
+def test_a_wait_and_its_end_are_in_the_trace(tmp_path: Path) -> None:
+    outcome = run(tmp_path, TIMEOUT)
+    assert outcome.trace is not None
+    waits = outcome.trace.of(WaitingEvent)
+    first, resumed = waits[0], waits[1]
+    assert (first.t, first.statement, first.resumed) == (0.0, "test(context_time() >= t);", False)
+    assert first.at is not None and first.at.endswith("time.gpp:31:5")
+    assert first.condition == "this test is false (context_time() = 0.0)"
+    assert (resumed.t, resumed.statement, resumed.resumed) == (2.5, first.statement, True)
+    # Waiting for an activity is not a `waiting` record: start and end say it.
+    assert all("listen()" not in w.condition for w in waits)
+
+
+def test_a_deadline_that_moves_with_the_clock_is_reported_as_blocked(tmp_path: Path) -> None:
+    # Both sides read the clock: the comparison names no time to wake at, and nothing else comes.
+    program = "procedure main() { test(context_time() >= context_time() + 1); }\n"
+    outcome = run(tmp_path, program)
+    assert outcome.result is not None and outcome.result.status is RunStatus.BLOCKED
+    # A procedure's arguments are evaluated anew until its first step: the deadline moves.
+    program = (
+        "procedure chase(number t) { test(context_time() >= t); }\nprocedure main() { chase(context_time() + 1); }\n"
+    )
+    outcome = run(tmp_path, program)
+    assert outcome.result is not None and outcome.result.status is RunStatus.BLOCKED
+    [d] = outcome.diagnostics
+    assert d.code == "R0011" and "the time it waits for moves with the clock" in d.notes[-1]
+
+
+def test_a_loop_that_takes_no_time_stops_at_the_wall_clock_timeout(tmp_path: Path) -> None:
+    program = "number fluent n() { initially: () = 0; }\nprocedure main() { while (true) n() = n() + 1; }\n"
+    outcome = run(tmp_path, program, timeout=0.5)
+    assert outcome.result is not None and outcome.result.status is RunStatus.TIMEOUT
+    [d] = outcome.diagnostics
+    assert d.code == "R0013" and "of wall-clock time (platform time: 0 s)" in d.message
+    assert d.span.text == "while (true) n() = n() + 1;"
+
+
+def test_a_wait_on_an_activity_wakes_as_before(tmp_path: Path) -> None:
+    program = "action a() { duration: [3, 3] }\nprocedure main() { a(); }\n"
+    outcome = run(tmp_path, program)
+    assert outcome.ok and outcome.result is not None and outcome.result.platform_time == 3.0
+    assert outcome.trace is not None and outcome.trace.of(WaitingEvent) == []
+    assert [s.action for s in outcome.trace.of(StartEvent)] == ["a()"]
