@@ -3,17 +3,20 @@ evaluate `postcond()`. `gpp run` and `gpp test` are both thin layers over `run_p
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
 from pathlib import Path
 
+from gpp import __version__
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_program
 from gpp.platform import choose_platform, platform_class
 from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
 from gpp.runtime.contract import program_interface
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.events import ErrorEvent, FinishEvent, TraceEvent
+from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, HeaderEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace
 from gpp.source import Span
@@ -99,6 +102,7 @@ def run_program(
     outcome.platform = platform.name
     trace = Trace(options.trace, listeners)
     outcome.trace = trace
+    trace.emit(_header(path, platform))
     try:
         from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
@@ -134,6 +138,27 @@ def run_program(
     finally:
         platform.close()
         trace.close()
+
+
+def _header(path: Path, platform: Platform) -> HeaderEvent:
+    """The first record of the trace: what was run, on what, when."""
+    try:
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        digest = ""
+    facts = platform.facts()
+    return HeaderEvent(
+        t=platform.now(),
+        schema_version=TRACE_SCHEMA_VERSION,
+        gpp_version=__version__,
+        program=str(path),
+        program_sha256=digest,
+        platform=platform.name,
+        world=facts.world,
+        scenario=facts.scenario,
+        seed=facts.seed,
+        started=datetime.now(UTC).astimezone().isoformat(timespec="seconds"),
+    )
 
 
 def _unfit(problem: Problem, platform: str, fallback: Span) -> diag.Diagnostic:

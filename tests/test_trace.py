@@ -24,6 +24,7 @@ from gpp.runtime.events import (
     EventBase,
     ExogEvent,
     FinishEvent,
+    HeaderEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -43,6 +44,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PROGRAMS = ROOT / "tests" / "programs"
 
 EVENTS = {
+    "header",
     "start",
     "end",
     "update",
@@ -256,7 +258,7 @@ def test_interrupt_before_the_platform_took_an_activity_cancels_it_without_waiti
 
     run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
     records = _read(trace_file)
-    assert [r.EVENT for r in records] == ["start", "error", "cancel", "finish"]
+    assert [r.EVENT for r in records] == ["header", "start", "error", "cancel", "finish"]
 
 
 def test_failure_shows_in_the_trace_and_on_fail_runs() -> None:
@@ -303,6 +305,7 @@ def test_records_of_silent_actions_are_marked() -> None:
 GOLDEN = ROOT / "tests" / "golden" / "trace"
 UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"
 SECONDS = re.compile(r'"seconds": [0-9.eE+-]+')
+STARTED = re.compile(r'"started": "[^"]*"')
 
 
 def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -312,7 +315,8 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
     trace_file = tmp_path / "trace.jsonl"
     outcome = run_program(Path("tests/golden/trace/small.gpp"), RunOptions(trace=trace_file))
     assert outcome.ok
-    actual = SECONDS.sub('"seconds": 0.0', trace_file.read_text(encoding="utf-8"))
+    actual = STARTED.sub('"started": "2026-01-01T00:00:00+00:00"', trace_file.read_text(encoding="utf-8"))
+    actual = SECONDS.sub('"seconds": 0.0', actual)
     golden = GOLDEN / "small.jsonl"
     if UPDATE_GOLDEN:
         golden.write_text(actual, encoding="utf-8")
@@ -321,11 +325,15 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
     assert outcome.trace is not None
     assert [encode(e) for e in outcome.trace.records] == trace_file.read_text(encoding="utf-8").splitlines()
     assert [decode(line) for line in actual.splitlines()] == [
-        dataclasses.replace(e, seconds=0.0) if isinstance(e, PlanEvent | ReplanEvent) else e
+        dataclasses.replace(e, seconds=0.0)
+        if isinstance(e, PlanEvent | ReplanEvent)
+        else dataclasses.replace(e, started="2026-01-01T00:00:00+00:00")
+        if isinstance(e, HeaderEvent)
+        else e
         for e in outcome.trace.records
     ]
     kinds = {e.EVENT for e in outcome.trace.records}
-    assert kinds == {"assign", "plan", "start", "exog", "update", "end", "sense", "cancel", "finish"}
+    assert kinds == {"header", "assign", "plan", "start", "exog", "update", "end", "sense", "cancel", "finish"}
 
 
 # ---------------------------------------------------------------- the events and their encoding
@@ -419,5 +427,43 @@ def test_the_run_view_shows_the_pinned_trace() -> None:
     assert out.getvalue() == golden.read_text(encoding="utf-8")
     assert live.counts == {"actions": 4, "failed": 1, "exog": 3}
     assert live.running == {} and live.time == 4.0
-    assert live.plan == events[1] and isinstance(live.plan, PlanEvent)
+    assert live.plan == events[2] and isinstance(live.plan, PlanEvent)
     assert live.at == "tests/golden/trace/small.gpp:83:5  scan(1)"
+
+
+# ---------------------------------------------------------------- what the trace explains
+
+
+def test_the_header_says_what_was_run(tmp_path: Path) -> None:
+    import hashlib
+
+    from gpp import __version__
+
+    program = ROOT / "examples" / "blocksworld_faults.gpp"
+    outcome = run_program(program, RunOptions(platform="sim", trace=tmp_path / "t.jsonl"))
+    assert outcome.trace is not None
+    header = outcome.trace.records[0]
+    assert isinstance(header, HeaderEvent)
+    assert (header.gpp_version, header.program, header.platform) == (__version__, str(program), "sim")
+    assert header.program_sha256 == hashlib.sha256(program.read_bytes()).hexdigest()
+    assert (header.world, header.seed, header.scenario) == ("blocksworld_faults", 3, None)
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d[+-]\d\d:\d\d", header.started)
+    dummy = run_program(PROGRAMS / "exog_events.gpp", RunOptions())
+    assert dummy.trace is not None
+    first = dummy.trace.records[0]
+    assert isinstance(first, HeaderEvent) and first.platform == "dummy"
+    assert first.scenario is not None and first.scenario.endswith("exog_events.toml") and first.seed is None
+
+
+def test_end_and_exog_records_carry_the_fluent_changes() -> None:
+    outcome = run_program(ROOT / "tests" / "golden" / "trace" / "small.gpp", RunOptions())
+    assert outcome.trace is not None
+    ends = {e.action: e.changes for e in outcome.trace.of(EndEvent)}
+    assert ends["go(kitchen)"] == ({"fluent": "at()", "value": {"symbol": "kitchen"}},)
+    failed = [e for e in outcome.trace.of(EndEvent) if e.status != "final"]
+    assert failed and all(e.changes == () for e in failed)  # a failed activity changes nothing
+    exogs = outcome.trace.of(ExogEvent)
+    assert any(e.changes for e in exogs)
+    for e in exogs:
+        for change in e.changes:
+            assert set(change) == {"fluent", "value"}

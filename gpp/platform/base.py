@@ -59,6 +59,7 @@ __all__ = [
     "PlatformError",
     "Problem",
     "ProgramInterface",
+    "RunFacts",
     "option_help",
     "parse_options",
 ]
@@ -82,6 +83,15 @@ class PlatformConfig:
         """A directive naming a file, resolved against the program's folder."""
         value = self.directives.get(key)
         return self.program.parent / value if value is not None else None
+
+
+@dataclass(frozen=True)
+class RunFacts:
+    """What a platform tells the trace's header about a run (what it needs to be repeated)."""
+
+    world: str | None = None
+    scenario: str | None = None
+    seed: int | None = None
 
 
 @dataclass(frozen=True)
@@ -145,6 +155,10 @@ class Platform:
 
     def close(self) -> None:
         """Stop threads and release resources. Called once, also after errors."""
+
+    def facts(self) -> RunFacts:
+        """The world, scenario and seed of this run, where the platform has them."""
+        return RunFacts()
 
 
 # ---------------------------------------------------------------- options

@@ -35,6 +35,7 @@ from gpp.platform.base import (
     PlatformError,
     Problem,
     ProgramInterface,
+    RunFacts,
     parse_options,
 )
 from gpp.platform.values import ConversionError, to_value
@@ -238,8 +239,16 @@ class DummyPlatform(Platform):
     virtual_time = True
     Options = DummyOptions
 
-    def __init__(self, scenario: Scenario | None = None, seed: int = 1, random_mode: bool = False) -> None:
+    def __init__(
+        self,
+        scenario: Scenario | None = None,
+        seed: int = 1,
+        random_mode: bool = False,
+        scenario_path: Path | None = None,
+    ) -> None:
         super().__init__()
+        self.seed = seed
+        self.scenario_path = scenario_path
         # A copy: the rules count their uses, and a scenario may serve several runs.
         self.scenario = copy.deepcopy(scenario) if scenario is not None else Scenario()
         self.random_mode = random_mode
@@ -263,7 +272,11 @@ class DummyPlatform(Platform):
             scenario = Scenario.load(path) if path is not None else None
         except ScenarioError as e:
             raise PlatformError(str(e)) from None
-        return cls(scenario, options.seed if options.seed is not None else 1, options.random)
+        return cls(scenario, options.seed if options.seed is not None else 1, options.random, path)
+
+    def facts(self) -> RunFacts:
+        scenario = str(self.scenario_path) if self.scenario_path is not None else None
+        return RunFacts(scenario=scenario, seed=self.seed if self.random_mode else None)
 
     # ---------------------------------------------------------------- contract
 

@@ -25,7 +25,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.0"
+TRACE_SCHEMA_VERSION: Final = "1.1"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -45,6 +45,11 @@ ABSENT: Final = Absent.ABSENT
 
 _OPTIONAL: Final = {"optional": True}
 _TUPLE: Final = {"tuple": True}
+
+
+def fluent_change(fluent: str, value: Value) -> dict[str, JsonValue]:
+    """One entry of the `changes` of an `end` or `exog` record."""
+    return {"fluent": fluent, "value": json_value(value)}
 
 
 def json_value(value: Value) -> JsonValue:
@@ -69,7 +74,7 @@ class EventBase:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class HeaderEvent(EventBase):
-    """What was run (the first record of a trace; not written yet)."""
+    """What was run: the first record of a trace."""
 
     EVENT: ClassVar[str] = "header"
 
@@ -126,7 +131,7 @@ class ErrorEvent(EventBase):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class WaitingEvent(EventBase):
-    """The program is blocked on a condition and something can still arrive (not written yet);
+    """The program is blocked on a condition and something can still arrive;
     with `resumed`, the condition became true and the program goes on."""
 
     EVENT: ClassVar[str] = "waiting"
@@ -179,6 +184,8 @@ class EndEvent(EventBase):
     hook: str  # end, finish, fail, call or during
     unhandled: bool = field(default=False, metadata=_OPTIONAL)  # a failure nothing in the program handles
     silent: bool = field(default=False, metadata=_OPTIONAL)
+    # The fluent instances its effects set (`{"fluent": "loc(a)", "value": ...}`), when it ended final.
+    changes: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -216,6 +223,8 @@ class ExogEvent(EventBase):
     action: str
     precondition: bool = field(default=True, metadata=_OPTIONAL)  # written only when false
     silent: bool = field(default=False, metadata=_OPTIONAL)
+    # The fluent instances its effects set (`{"fluent": "loc(a)", "value": ...}`).
+    changes: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

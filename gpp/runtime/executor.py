@@ -404,9 +404,18 @@ class Executor:
         info = self.program.action(event.action)
         g = GroundAction(event.action, event.args)
         holds = self.sem.precondition_holds(info, g, self.state)
-        self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
+        updates = self.sem.effects(g, self.state)
+        self.state = self.state.updated(updates, self.program.initial)
         self.result.exog_events += 1
-        self.trace.emit(ev.ExogEvent(t=t, action=g.text, precondition=holds, silent=self.quiet(event.action)))
+        self.trace.emit(
+            ev.ExogEvent(
+                t=t, action=g.text, precondition=holds, silent=self.quiet(event.action), changes=self.changes(updates)
+            )
+        )
+
+    def changes(self, updates: Mapping[int, Value]) -> tuple[dict[str, ev.JsonValue], ...]:
+        """The `changes` of a trace record: each fluent instance set, with its new value."""
+        return tuple(ev.fluent_change(self.program.instance_text(slot), value) for slot, value in updates.items())
 
     def quiet(self, action: str) -> bool:
         """Is the action declared `silent: true`? Its records are marked `silent`: the trace
@@ -510,11 +519,13 @@ class Executor:
         assert status is not None
         record = self.records.get(g)
         now = self.platform.now()
+        updates: dict[int, Value] = {}
         if status is ActivityStatus.FINAL:
             info = self.program.action(g.name)
             if info.senses is not None and record is not None:
                 self.sense(g, record, info.senses)
-            self.state = self.state.updated(self.sem.effects(g, self.state), self.program.initial)
+            updates = self.sem.effects(g, self.state)
+            self.state = self.state.updated(updates, self.program.initial)
         unhandled = status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure
         if unhandled:
             # Nothing in the program reacts to this failure: it goes on, but it is reported.
@@ -527,6 +538,7 @@ class Executor:
                 hook=step.hook,
                 unhandled=unhandled,
                 silent=self.quiet(g.name),
+                changes=self.changes(updates),
             )
         )
         self.acts = self.acts.with_status(g, None)

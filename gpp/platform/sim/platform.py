@@ -32,6 +32,7 @@ from gpp.platform.base import (
     PlatformError,
     Problem,
     ProgramInterface,
+    RunFacts,
     parse_options,
 )
 from gpp.platform.sim.navigation import Happening, MapScene
@@ -262,6 +263,9 @@ class SimPlatform(Platform):
             self.recorder.capture(self, force=True)
             self.recorder.save()
         SimPlatform.last_run = self.stats()
+
+    def facts(self) -> RunFacts:
+        return RunFacts(world=self.world.name, seed=self.seed)
 
     # ---------------------------------------------------------------- reading the world
 
