@@ -104,10 +104,30 @@
     height += row.h;
   }
   addRow({ kind: "axis", h: AXIS, top: true });
-  if (D.exog.length) addRow({ kind: "exog", h: MARK, label: "exogenous" });
-  if (D.plans.length) addRow({ kind: "plans", h: MARK, label: "plans" });
-  if (D.changes.length) addRow({ kind: "changes", h: MARK, label: "fluents set" });
-  if (D.waits.length || D.problems.length) addRow({ kind: "program", h: MARK, label: "program" });
+  // Exogenous events: a row per action name (the first MAX_EXOG_ROWS names), then the rest.
+  const MAX_EXOG_ROWS = 6;
+  const exogRows = [];
+  const exogRowOf = new Map();
+  D.exog.forEach((e, i) => {
+    const name = e.action.split("(")[0];
+    let row = exogRowOf.get(name);
+    if (row === undefined) {
+      if (exogRows.length < MAX_EXOG_ROWS) {
+        row = { name: name, items: [] };
+        exogRows.push(row);
+      } else {
+        row = exogRows.find((r) => r.other) || (exogRows.push({ name: "other", other: true, items: [] }), exogRows[exogRows.length - 1]);
+      }
+      exogRowOf.set(name, row);
+    }
+    row.items.push(i);
+  });
+  if (exogRows.length) addRow({ kind: "group", h: 22, label: "exogenous events" });
+  for (const row of exogRows) addRow({ kind: "exog", h: MARK, label: row.name, count: row.items.length, items: row.items, other: !!row.other });
+  if (D.plans.length || D.changes.length || D.waits.length || D.problems.length) addRow({ kind: "group", h: 22, label: "program" });
+  if (D.plans.length) addRow({ kind: "plans", h: MARK, label: "plans", count: D.plans.length });
+  if (D.changes.length) addRow({ kind: "changes", h: MARK, label: "fluent changes", count: D.changes.length });
+  if (D.waits.length || D.problems.length) addRow({ kind: "program", h: MARK, label: D.waits.length ? "waiting" : "stopped" });
   if (D.lanes.length) addRow({ kind: "group", h: 22, label: "activities" });
   D.lanes.forEach((lane, i) => addRow({ kind: "lane", h: lane.rows * ROW + 4, lane: i }));
   if (D.series.length) addRow({ kind: "group", h: 22, label: "values over time" });
@@ -156,7 +176,10 @@
         out.push('<text class="lane-label" x="10" y="' + (row.y + 20) + '">' + esc(s.name) + "</text>");
         out.push('<text class="series-kind" x="10" y="' + (row.y + 35) + '">' + esc(s.kind) + "</text>");
       } else {
-        out.push('<text class="lane-label" x="10" y="' + (row.y + row.h / 2 + 4) + '">' + esc(row.label) + "</text>");
+        out.push(
+          '<text class="lane-label" x="10" y="' + (row.y + row.h / 2 + 4) + '">' + esc(row.label) +
+            (row.count ? ' <tspan class="lane-count">×' + row.count + "</tspan>" : "") + "</text>"
+        );
       }
     }
     // Grid and axes.
@@ -243,8 +266,9 @@
 
   function drawExog(out, row) {
     const cy = row.y + row.h / 2;
-    const label = labeller(D.exog.map((e) => x(e.t)));
-    D.exog.forEach((e, i) => {
+    const label = labeller(row.items.map((i) => x(D.exog[i].t)));
+    row.items.forEach((i) => {
+      const e = D.exog[i];
       const px = x(e.t);
       if (!visible(px)) return;
       const r = e.silent ? 4.5 : 6;
@@ -254,8 +278,9 @@
           '<path class="' + cls + '" d="M' + px.toFixed(1) + " " + (cy - r) + " l" + r + " " + r + " l" + -r + " " + r + " l" + -r + " " + -r + 'z"/>' +
           "</g>"
       );
-      const paren = e.action.indexOf("(");
-      label(out, px, cy + 4, e.action, "", paren > 0 && e.action.length - paren > 2 ? e.action.slice(paren) : "");
+      // The row names the action: its arguments are the label (all of it in the row of the rest).
+      const args = e.action.slice(e.action.indexOf("("));
+      label(out, px, cy + 4, row.other ? e.action : args.length > 2 ? args : "");
     });
   }
 
@@ -423,11 +448,15 @@
     for (let l = line - 1; l <= line + 1; l++) {
       if (file[l] === undefined) continue;
       const text = file[l];
-      html += '<span class="line' + (l === line ? " hl" : "") + '"><span class="ln">' + l + "</span>" + esc(text) + "</span>";
-      if (l === line) {
-        const lead = text.slice(0, Math.max(0, col - 1)).replace(/[^\t]/g, " ");
-        html += '<span class="line"><span class="ln"></span><span class="caret">' + lead + "^</span></span>";
+      let shown = esc(text);
+      if (l === line && col >= 1 && col <= text.length) {
+        // Underline the statement from the column the location names to its `;` (or the line's end).
+        const rest = text.slice(col - 1);
+        const semi = rest.indexOf(";");
+        const span = (semi >= 0 ? rest.slice(0, semi + 1) : rest).replace(/\s+$/, "");
+        shown = esc(text.slice(0, col - 1)) + '<span class="at">' + esc(span) + "</span>" + esc(rest.slice(span.length));
       }
+      html += '<span class="line' + (l === line ? " hl" : "") + '"><span class="ln">' + l + "</span>" + shown + "</span>";
     }
     return html + "</pre>";
   }
