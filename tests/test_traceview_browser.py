@@ -138,6 +138,8 @@ def test_the_page_loads_cleanly_and_draws_every_activity(opened: Opened, blocksw
     legend = opened.page.inner_text("#legend")
     assert "final" in legend and "exogenous event" in legend and "plan" in legend
     assert opened.page.locator("#plans-table tbody tr").count() == 1
+    assert opened.page.locator("#activities-table tbody tr").count() == 0  # filled when opened
+    opened.page.click("#activities-card summary")
     assert opened.page.locator("#activities-table tbody tr").count() == len(starts)
     assert opened.page.locator("text.axis-label").first.text_content() == "0 s"
 
@@ -177,7 +179,8 @@ def test_zoom_and_pan(opened: Opened) -> None:
     start, end = float(zoomed.split()[1]), float(zoomed.split()[4])
     assert 8 < end - start < 10  # a quarter of the run (and its margins), around its middle
     assert abs((start + end) / 2 - 35.8 / 2) < 0.5
-    assert page.locator("g.activity").count() == 13  # the bars off screen are still there
+    drawn = page.locator("g.activity").count()
+    assert 0 < drawn < 13  # only what is on screen
     # Drag to pan: the window moves later in time.
     box = page.locator("#chart").bounding_box()
     assert box is not None

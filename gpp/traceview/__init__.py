@@ -6,13 +6,12 @@ All three read the trace through `gpp.traceview.model` (load_trace, build_model)
 nothing of the executor, only the trace's events.
 """
 
-from gpp.traceview.model import Activity, Lane, Marker, RunModel, Sample, Series, TraceReadError, Wait, build_model
+from gpp.traceview.model import Activity, Lane, RunModel, Sample, Series, TraceReadError, Wait, build_model
 from gpp.traceview.model import load_trace as load_trace
 
 __all__ = [
     "Activity",
     "Lane",
-    "Marker",
     "RunModel",
     "Sample",
     "Series",

@@ -215,16 +215,6 @@ class Series:
     samples: list[Sample]
 
 
-@dataclass(frozen=True, slots=True)
-class Marker:
-    """A point in time worth a mark of its own (used by the viewers for one uniform list)."""
-
-    kind: str  # exog, plan, replan, assign, sense, error, blocked
-    t: float
-    label: str
-    at: str | None = None
-
-
 @dataclass(slots=True)
 class RunModel:
     events: list[TraceEvent]
@@ -548,7 +538,6 @@ __all__ = [
     "Activity",
     "Lane",
     "LoadedTrace",
-    "Marker",
     "RunModel",
     "Sample",
     "Series",

@@ -137,6 +137,7 @@
   // ------------------------------------------------------------------ drawing
 
   let frame = 0;
+  let hidden = 0; // activities left out of the last drawing (too dense to tell apart)
   function schedule() {
     if (!frame) frame = requestAnimationFrame(() => ((frame = 0), render()));
   }
@@ -207,6 +208,7 @@
       out.push('<text class="axis-title" x="10" y="' + (row.top ? base - 9 : base + 18) + '">platform time</text>');
     }
     // Content, clipped to the plot area.
+    hidden = 0;
     out.push('<g clip-path="url(#plot-clip)">');
     for (const row of rows) {
       if (row.kind === "exog") drawExog(out, row);
@@ -239,7 +241,8 @@
     svg.innerHTML = out.join("");
     document.getElementById("range").textContent =
       "showing " + fmtTime(Math.max(view[0], t0), digits + 1) + " – " + fmtTime(Math.min(view[1], t1), digits + 1) +
-      " of " + fmtTime(t0, 0) + " – " + fmtTime(D.end, 3);
+      " of " + fmtTime(t0, 0) + " – " + fmtTime(D.end, 3) +
+      (hidden ? " · " + plural(hidden, "activity", "activities") + " too short to draw at this zoom" : "");
   }
 
   // Labels right of marks, cut short before the next mark and skipped where they would not
@@ -337,6 +340,7 @@
 
   function drawLane(out, row) {
     const lane = D.lanes[row.lane];
+    const covered = [];
     let previous = -1;
     let alt = false;
     for (const id of lane.activities) {
@@ -347,10 +351,15 @@
       if (previous >= 0 && a.row === 0) alt = !alt;
       previous = id;
       const w = Math.max(3, px1 - px0);
-      if (px0 + w < GUTTER - 50 || px0 > GUTTER + plotW + 50) {
-        out.push(barGroup(a, id, "")); // keep one element per activity, even off-screen
+      if (px0 + w < GUTTER - 50 || px0 > GUTTER + plotW + 50) continue; // off screen
+      // A final activity that would be drawn inside the pixels already drawn in its row (a dense
+      // run seen whole) is left out: zooming in shows it.
+      const drawn = covered[a.row] === undefined ? -Infinity : covered[a.row];
+      if (a.status === "final" && px1 <= drawn) {
+        hidden++;
         continue;
       }
+      covered[a.row] = Math.max(drawn, px0 + w);
       let cls = "bar " + a.status + (alt && a.status === "final" ? " alt" : "") + (a.silent ? " silent" : "") + (a.unhandled ? " unhandled" : "");
       let inner = '<rect class="' + cls + '" x="' + px0.toFixed(1) + '" y="' + top + '" width="' + w.toFixed(1) + '" height="' + BAR + '" rx="3"/>';
       if (a.consumedAt !== null && a.consumedAt > a.stop) {
@@ -753,13 +762,19 @@
   document.getElementById("activities-count").textContent = "(" + D.activities.length + ")";
   const actTable = document.getElementById("activities-table");
   actTable.className = "data";
-  actTable.innerHTML =
+  // Filled when first opened (a long run has many).
+  const details = document.querySelector("#activities-card details");
+  details.addEventListener("toggle", function fill() {
+    details.removeEventListener("toggle", fill);
+    fillActivities();
+  });
+  const fillActivities = () => (actTable.innerHTML =
     "<thead><tr><th>#</th><th>activity</th><th>status</th><th>start</th><th>end</th><th>duration</th><th>taken by</th><th>source</th></tr></thead><tbody>" +
     D.activities.map((a, i) =>
       '<tr data-activity="' + i + '"><td class="num">' + a.id + '</td><td class="code">' + esc(a.action) + "</td><td>" + pill(a.status) +
         '</td><td class="num">' + esc(fmtTime(a.start)) + '</td><td class="num">' + (a.status === "running" ? "—" : esc(fmtTime(a.stop))) +
         '</td><td class="num">' + esc(fmtTime(a.stop - a.start)) + "</td><td>" + esc(a.hook || "") + '</td><td class="code">' + esc(a.at || "") + "</td></tr>"
-    ).join("") + "</tbody>";
+    ).join("") + "</tbody>");
   actTable.addEventListener("click", (ev) => {
     const tr = ev.target.closest("tr[data-activity]");
     if (!tr) return;
