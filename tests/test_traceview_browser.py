@@ -2,8 +2,8 @@
 driven by Playwright (the `dev` extra; never `playwright install`, which would download a
 browser of its own). The page of the blocksworld run on the sim loads without console errors
 or network requests, draws one bar per activity, shows the source line on hover, zooms and
-pans. `GPP_UPDATE_GOLDEN=1` also writes its screenshot to docs/trace_viewer.png (the README's
-picture)."""
+pans. `GPP_UPDATE_SCREENSHOT=1` also writes its screenshot to docs/trace_viewer.png (the
+README's picture; its own variable, since the planning time shown in it varies run to run)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 
 ROOT = Path(__file__).resolve().parent.parent
 SCREENSHOT = ROOT / "docs" / "trace_viewer.png"
-UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"
+UPDATE_SCREENSHOT = os.environ.get("GPP_UPDATE_SCREENSHOT") == "1"
 CHROMIUM = "/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else shutil.which("chromium")
 CHROMIUM_ARGS = [
     "--headless",
@@ -223,12 +223,12 @@ def test_a_run_that_stops_renders_its_waits_and_problems(browser: Browser, tmp_p
 
 def test_screenshot_of_the_blocksworld_run(opened: Opened, tmp_path: Path) -> None:
     """The README's picture: the whole page with the tooltip of a step. Written to
-    docs/trace_viewer.png with GPP_UPDATE_GOLDEN=1 (the planning time in it varies)."""
+    docs/trace_viewer.png with GPP_UPDATE_SCREENSHOT=1."""
     opened.page.hover('g.activity[data-action="stack(a,t2)"] rect.bar')
     shot = tmp_path / "trace_viewer.png"
     opened.page.screenshot(path=str(shot), full_page=True)
     data = shot.read_bytes()
     assert data.startswith(b"\x89PNG") and len(data) > 20_000
-    if UPDATE_GOLDEN:
+    if UPDATE_SCREENSHOT:
         SCREENSHOT.write_bytes(data)
-    assert SCREENSHOT.is_file(), "no docs/trace_viewer.png; make it with GPP_UPDATE_GOLDEN=1"
+    assert SCREENSHOT.is_file(), "no docs/trace_viewer.png; make it with GPP_UPDATE_SCREENSHOT=1"

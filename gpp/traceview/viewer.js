@@ -127,7 +127,10 @@
   if (D.plans.length || D.changes.length || D.waits.length || D.problems.length) addRow({ kind: "group", h: 22, label: "program" });
   if (D.plans.length) addRow({ kind: "plans", h: MARK, label: "plans", count: D.plans.length });
   if (D.changes.length) addRow({ kind: "changes", h: MARK, label: "fluent changes", count: D.changes.length });
-  if (D.waits.length || D.problems.length) addRow({ kind: "program", h: MARK, label: D.waits.length ? "waiting" : "stopped" });
+  if (D.waits.length || D.problems.length) {
+    const label = D.waits.length ? (D.problems.length ? "waiting · stop" : "waiting") : "stop";
+    addRow({ kind: "program", h: MARK, label: label });
+  }
   if (D.lanes.length) addRow({ kind: "group", h: 22, label: "activities" });
   D.lanes.forEach((lane, i) => addRow({ kind: "lane", h: lane.rows * ROW + 4, lane: i }));
   if (D.series.length) addRow({ kind: "group", h: 22, label: "values over time" });
@@ -334,7 +337,13 @@
         '<g class="problem" data-tip="problem:' + i + '"><circle class="problem-mark" cx="' + px.toFixed(1) + '" cy="' + cy + '" r="7"/>' +
           '<text x="' + px.toFixed(1) + '" y="' + (cy + 4) + '" text-anchor="middle" fill="#fff" font-size="11" font-weight="700" pointer-events="none">!</text></g>'
       );
-      label(out, px + 2, cy + 4, p.event + (p.code ? " " + p.code : ""), "problem-label");
+      const text = p.event + (p.code ? " " + p.code : "");
+      if (px + 12 + text.length * CHAR_W > GUTTER + plotW) {
+        // At the end of the run (where a run stops): the label goes left of the mark.
+        out.push('<text class="problem-label" text-anchor="end" x="' + (px - 11).toFixed(1) + '" y="' + (cy + 4) + '">' + esc(text) + "</text>");
+      } else {
+        label(out, px + 2, cy + 4, text, "problem-label");
+      }
     });
   }
 
@@ -375,7 +384,7 @@
       const args = a.action.slice(lane.name.length);
       const text = fitText(a.action, visibleW) || (args.length > 2 ? fitText(args, visibleW) : "");
       if (text) {
-        inner += '<text class="bar-label" x="' + (Math.max(px0, GUTTER) + 5).toFixed(1) + '" y="' + (top + BAR / 2 + 4) + '">' + esc(text) + "</text>";
+        inner += '<text class="bar-label ' + a.status + '" x="' + (Math.max(px0, GUTTER) + 5).toFixed(1) + '" y="' + (top + BAR / 2 + 4) + '">' + esc(text) + "</text>";
       }
       out.push(barGroup(a, id, inner));
     }
