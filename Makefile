@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck pytest bench clean
+.PHONY: run test lint typecheck pytest browser bench clean
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -32,7 +32,21 @@ typecheck: $(VENV)/.installed-dev
 pytest: $(VENV)/.installed-dev
 	$(BIN)/pytest
 
-test: lint typecheck pytest
+# The trace viewer's browser test (tests/test_traceview_browser.py) opens the page in Debian's
+# chromium. As root with apt-get (CI, a fresh machine) it is installed when missing; otherwise
+# the test is skipped and says why.
+browser:
+	@if command -v chromium >/dev/null 2>&1; then \
+		:; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing Debian's chromium for the trace viewer's browser test"; \
+		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium >/dev/null; } \
+			|| echo "warning: could not install chromium: the browser test will be skipped"; \
+	else \
+		echo "note: chromium is missing and cannot be installed here (needs root and apt-get): the browser test will be skipped"; \
+	fi
+
+test: browser lint typecheck pytest
 
 bench: $(VENV)/.installed
 	$(BIN)/python bench/parse_speed.py

@@ -226,10 +226,12 @@ def _emit_diagnostics(
     sys.stdout.flush()
 
 
-# `gpp run` and `gpp test` live in their own module.
+# `gpp run` and `gpp test` live in their own module, and so does `gpp trace`.
 from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
+from gpp.cli_trace import register as register_trace  # noqa: E402
 
 register(app)
+register_trace(app)
 
 # ---------------------------------------------------------------- entry point
 

@@ -34,6 +34,7 @@ def test_wheel_contains_grammar_and_stdlib(wheel: Path) -> None:
     assert "gpp/_data/grammar/gpp.lark" in names
     assert "gpp/cli.py" in names
     assert "gpp/trace.schema.json" in names  # gpp.runtime.events.load_schema()
+    assert {f"gpp/traceview/viewer.{ext}" for ext in ("html", "css", "js")} <= names  # gpp trace html
     assert any(n.startswith("gpp/_data/stdlib/") for n in names), sorted(n for n in names if "_data" in n)
     assert not any(n.startswith("tests/") for n in names)
 

@@ -1,0 +1,22 @@
+"""The trace viewer: `gpp trace summary|html|perfetto` read a run's trace (JSON lines, one
+gpp.runtime.events record per line) and show it as a terminal timeline, one self-contained
+interactive HTML page, or Chrome trace-event JSON for ui.perfetto.dev.
+
+All three read the trace through `gpp.traceview.model` (load_trace, build_model); they know
+nothing of the executor, only the trace's events.
+"""
+
+from gpp.traceview.model import Activity, Lane, RunModel, Sample, Series, TraceReadError, Wait, build_model
+from gpp.traceview.model import load_trace as load_trace
+
+__all__ = [
+    "Activity",
+    "Lane",
+    "RunModel",
+    "Sample",
+    "Series",
+    "TraceReadError",
+    "Wait",
+    "build_model",
+    "load_trace",
+]

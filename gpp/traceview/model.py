@@ -1,0 +1,557 @@
+"""A run as the viewers see it, built from the trace's events only (gpp.runtime.events).
+
+`load_trace(path)` reads a trace file (TraceReadError with a one-line message for anything
+that is not a trace); `build_model(events)` pairs each activity's `start` with its `update`,
+`cancel` and `end`, puts activities into lanes (one per action name, with extra rows where
+activities of that action overlap), and collects exogenous events, plans, waits, problems,
+and the numeric series to plot.
+
+Series are built by `numeric_samples`, the one place that knows which records carry numeric
+values (assignments, sensing results, numeric arguments of exogenous events). When the trace
+gains more (e.g. the fluent changes of each `end` and `exog`), they are added there and every
+viewer shows them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import re
+from collections import defaultdict
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from gpp.runtime.events import (
+    ABSENT,
+    Absent,
+    AssignEvent,
+    BlockedEvent,
+    CancelEvent,
+    EndEvent,
+    ErrorEvent,
+    ExogEvent,
+    FinishEvent,
+    HeaderEvent,
+    JsonValue,
+    PlanEvent,
+    ReplanEvent,
+    SenseEvent,
+    StartEvent,
+    TraceEvent,
+    UpdateEvent,
+    WaitingEvent,
+    decode,
+)
+
+
+class TraceReadError(Exception):
+    """The file cannot be read as a trace; the message is one line. `usage` is true when the
+    file could not be read at all (missing, a directory, no permission), false when it was
+    read and is not a valid trace."""
+
+    def __init__(self, message: str, *, usage: bool = False) -> None:
+        super().__init__(message)
+        self.usage = usage
+
+
+@dataclass(frozen=True, slots=True)
+class LoadedTrace:
+    events: list[TraceEvent]
+    # Warnings about what was skipped (an incomplete last line of a run that was killed).
+    warnings: list[str] = field(default_factory=list)
+
+
+def load_trace(path: Path) -> LoadedTrace:
+    """The events of a trace file. A last line without its newline that does not decode is the
+    partial write of a killed run: it is skipped with a warning. Blank lines are skipped."""
+    try:
+        data = path.read_bytes()
+    except IsADirectoryError:
+        raise TraceReadError(f"cannot read '{path}': it is a directory", usage=True) from None
+    except OSError as e:
+        raise TraceReadError(f"cannot read '{path}': {e.strerror or e}", usage=True) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise TraceReadError(f"{path}: not a trace (not UTF-8 text); traces are written by `gpp run --trace`") from None
+    lines = text.split("\n")
+    complete = text.endswith("\n")
+    if complete:
+        lines.pop()
+    events: list[TraceEvent] = []
+    warnings: list[str] = []
+    for number, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        try:
+            event = decode(line)
+            problem = _type_problem(event)
+            if problem:
+                raise ValueError(problem)
+            events.append(event)
+        except json.JSONDecodeError as e:
+            if number == len(lines) and not complete and events:
+                warnings.append(f"{path}:{number}: ignoring the incomplete last line (the run was stopped mid-write)")
+                continue
+            hint = "; traces are written by `gpp run --trace`" if not events else ""
+            raise TraceReadError(
+                f"{path}:{number}: not a JSON trace record ({e.msg}, column {e.colno}){hint}"
+            ) from None
+        except (ValueError, TypeError) as e:
+            if number == len(lines) and not complete and events:
+                warnings.append(f"{path}:{number}: ignoring the incomplete last line (the run was stopped mid-write)")
+                continue
+            raise TraceReadError(f"{path}:{number}: not a trace record: {_one_line(str(e))}") from None
+    if not events:
+        raise TraceReadError(f"{path}: empty trace (no records)")
+    return LoadedTrace(events, warnings)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _type_problem(event: TraceEvent) -> str | None:
+    """What is wrong with the types of a decoded record's fields (decode checks only that the
+    required fields are there), or None."""
+    for f in dataclasses.fields(event):
+        value = getattr(event, f.name)
+        annotation = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+        if not any(_fits(value, alternative.strip()) for alternative in annotation.split("|")):
+            return (
+                f"a `{event.EVENT}` record whose `{f.name}` is {json.dumps(value, default=str)} (expected {annotation})"
+            )
+    return None
+
+
+def _fits(value: object, annotation: str) -> bool:
+    if annotation in ("JsonValue", "object", "Any"):
+        return True
+    if annotation == "None":
+        return value is None
+    if annotation == "Absent":
+        return value is ABSENT
+    if annotation == "bool":
+        return isinstance(value, bool)
+    if annotation == "int":
+        return isinstance(value, int) and not isinstance(value, bool)
+    if annotation == "float":
+        return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    if annotation == "str":
+        return isinstance(value, str)
+    if annotation.startswith("dict["):
+        return isinstance(value, dict)
+    if annotation.startswith("tuple[str"):
+        return isinstance(value, tuple) and all(isinstance(v, str) for v in value)
+    return True  # a type this reader does not check
+
+
+# ---------------------------------------------------------------- the model
+
+
+@dataclass(slots=True)
+class Activity:
+    """One activity from its `start` to the platform's `update` (or the end of the trace)."""
+
+    id: int
+    action: str  # the ground action text
+    name: str  # the action's name: its lane
+    start: float
+    stop: float  # when the platform reported it terminated, else the trace's last time
+    status: str  # final, failed, cancelled, or `running` when the trace ends before its update
+    mapped: str
+    args: dict[str, JsonValue]
+    at: str | None
+    silent: bool = False
+    reason: str | None = None
+    result: JsonValue | Absent = ABSENT
+    cancelled_at: float | None = None  # when the program (or the run's end) preempted it
+    cancel_reason: str | None = None
+    consumed_at: float | None = None  # the `end` record: when the program took the outcome
+    hook: str | None = None
+    unhandled: bool = False
+    lane: int = 0
+    row: int = 0  # the row within the lane (activities of one action that overlap get more rows)
+
+    @property
+    def duration(self) -> float:
+        return self.stop - self.start
+
+
+@dataclass(slots=True)
+class Lane:
+    name: str  # the action name
+    rows: int
+    activities: list[Activity]
+
+
+@dataclass(frozen=True, slots=True)
+class Wait:
+    """The program waited from `start` on a false condition, until `stop` (None: still waiting
+    when the trace ends)."""
+
+    start: float
+    stop: float | None
+    statement: str
+    condition: str
+    at: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Sample:
+    t: float
+    value: float
+    source: str  # the record kind that carried it: assign, sense, exog, ...
+    label: str  # what set it: `assign`, the sensing action, the exogenous action
+    at: str | None = None
+
+
+@dataclass(slots=True)
+class Series:
+    name: str  # `battery()`, `temperature()`, `battery_report(·)`
+    kind: str  # `fluent`, or `exog argument` (a numeric argument of an exogenous action)
+    samples: list[Sample]
+
+
+@dataclass(slots=True)
+class RunModel:
+    events: list[TraceEvent]
+    header: HeaderEvent | None
+    finish: FinishEvent | None
+    start: float
+    end: float
+    activities: list[Activity]
+    lanes: list[Lane]
+    exog: list[ExogEvent]
+    plans: list[PlanEvent | ReplanEvent]
+    changes: list[AssignEvent | SenseEvent]
+    waits: list[Wait]
+    problems: list[ErrorEvent | BlockedEvent]
+    series: list[Series]
+
+    @property
+    def duration(self) -> float:
+        return self.end - self.start
+
+    @property
+    def program(self) -> str | None:
+        """The program's path: from the header, else the file most source locations name."""
+        if self.header is not None:
+            return self.header.program
+        counts: dict[str, int] = defaultdict(int)
+        for at in self.locations():
+            loc = parse_location(at)
+            if loc is not None:
+                counts[loc[0]] += 1
+        return max(counts, key=lambda f: counts[f]) if counts else None
+
+    @property
+    def status(self) -> str:
+        """How the run ended (`finish` status), or `incomplete` when the trace has no finish."""
+        return self.finish.status if self.finish is not None else "incomplete"
+
+    def locations(self) -> list[str]:
+        """Every source location the trace names, in order of first appearance."""
+        seen: dict[str, None] = {}
+        for event in self.events:
+            at = getattr(event, "at", None)
+            if isinstance(at, str):
+                seen.setdefault(at, None)
+        return list(seen)
+
+
+def build_model(events: Sequence[TraceEvent]) -> RunModel:
+    """The run the events describe (events in trace order; at least one)."""
+    times = [e.t for e in events]
+    start, end = (min(times), max(times)) if times else (0.0, 0.0)
+    header = next((e for e in events if isinstance(e, HeaderEvent)), None)
+    finish = next((e for e in reversed(events) if isinstance(e, FinishEvent)), None)
+    activities: list[Activity] = []
+    by_id: dict[int, Activity] = {}
+    # Terminated activities not consumed yet, by action text: `end` names no id.
+    unconsumed: dict[str, list[Activity]] = defaultdict(list)
+    exog: list[ExogEvent] = []
+    plans: list[PlanEvent | ReplanEvent] = []
+    changes: list[AssignEvent | SenseEvent] = []
+    problems: list[ErrorEvent | BlockedEvent] = []
+    waits: list[Wait] = []
+    waiting: WaitingEvent | None = None
+    for event in events:
+        match event:
+            case StartEvent():
+                activity = Activity(
+                    id=event.id,
+                    action=event.action,
+                    name=action_name(event.action),
+                    start=event.t,
+                    stop=end,
+                    status="running",
+                    mapped=event.mapped,
+                    args=dict(event.args),
+                    at=event.at,
+                    silent=event.silent,
+                )
+                activities.append(activity)
+                by_id[event.id] = activity
+            case UpdateEvent():
+                found = by_id.get(event.id)
+                if found is not None and found.status == "running":
+                    found.stop = event.t
+                    found.status = event.status
+                    found.reason = event.reason
+                    found.result = event.result
+                    unconsumed[found.action].append(found)
+            case CancelEvent():
+                found = by_id.get(event.id)
+                if found is not None and found.cancelled_at is None:
+                    found.cancelled_at = event.t
+                    found.cancel_reason = event.reason
+            case EndEvent():
+                queue = unconsumed.get(event.action)
+                if queue:
+                    taken = queue.pop(0)
+                    taken.consumed_at = event.t
+                    taken.hook = event.hook
+                    taken.unhandled = event.unhandled
+            case ExogEvent():
+                exog.append(event)
+            case PlanEvent() | ReplanEvent():
+                plans.append(event)
+            case AssignEvent() | SenseEvent():
+                changes.append(event)
+            case ErrorEvent() | BlockedEvent():
+                problems.append(event)
+            case WaitingEvent():
+                if event.resumed:
+                    if waiting is not None:
+                        waits.append(Wait(waiting.t, event.t, waiting.statement, waiting.condition, waiting.at))
+                        waiting = None
+                else:
+                    if waiting is not None:  # waiting on something else now
+                        waits.append(Wait(waiting.t, event.t, waiting.statement, waiting.condition, waiting.at))
+                    waiting = event
+            case HeaderEvent() | FinishEvent():
+                pass
+    if waiting is not None:
+        waits.append(Wait(waiting.t, None, waiting.statement, waiting.condition, waiting.at))
+    lanes = _lanes(activities)
+    return RunModel(
+        events=list(events),
+        header=header,
+        finish=finish,
+        start=start,
+        end=end,
+        activities=activities,
+        lanes=lanes,
+        exog=exog,
+        plans=plans,
+        changes=changes,
+        waits=waits,
+        problems=problems,
+        series=build_series(events),
+    )
+
+
+def _lanes(activities: list[Activity]) -> list[Lane]:
+    """One lane per action name, in order of first start; within a lane, each activity goes
+    to the first row that is free when it starts."""
+    lanes: dict[str, Lane] = {}
+    row_ends: dict[str, list[float]] = {}
+    for activity in sorted(activities, key=lambda a: (a.start, a.id)):
+        lane = lanes.get(activity.name)
+        if lane is None:
+            lane = lanes[activity.name] = Lane(activity.name, 0, [])
+            row_ends[activity.name] = []
+        ends = row_ends[activity.name]
+        row = next((i for i, t in enumerate(ends) if t <= activity.start), len(ends))
+        if row == len(ends):
+            ends.append(activity.stop)
+        else:
+            ends[row] = activity.stop
+        activity.row = row
+        lane.rows = len(ends)
+        lane.activities.append(activity)
+    ordered = list(lanes.values())
+    for index, lane in enumerate(ordered):
+        for activity in lane.activities:
+            activity.lane = index
+    return ordered
+
+
+# ---------------------------------------------------------------- numeric series
+
+
+def numeric_samples(events: Iterable[TraceEvent]) -> Iterator[tuple[str, str, Sample]]:
+    """(series name, series kind, sample) for every number the trace records over time: a
+    fluent assigned or sensed to a number, a numeric argument of an exogenous action."""
+    for event in events:
+        match event:
+            case AssignEvent():
+                number = as_number(event.value)
+                if number is not None:
+                    yield event.fluent, "fluent", Sample(event.t, number, "assign", "assignment", event.at)
+            case SenseEvent():
+                number = as_number(event.value)
+                if number is not None:
+                    yield event.fluent, "fluent", Sample(event.t, number, "sense", event.action)
+            case ExogEvent():
+                name, args = split_action(event.action)
+                for index, arg in enumerate(args):
+                    number = _number_literal(arg)
+                    if number is not None:
+                        shown = ",".join("·" if i == index else "_" for i in range(len(args)))
+                        yield f"{name}({shown})", "exog argument", Sample(event.t, number, "exog", event.action)
+            case _:
+                pass
+
+
+def build_series(events: Iterable[TraceEvent]) -> list[Series]:
+    """The numeric series, fluents first, each in order of first appearance."""
+    series: dict[tuple[str, str], Series] = {}
+    for name, kind, sample in numeric_samples(events):
+        key = (kind, name)
+        if key not in series:
+            series[key] = Series(name, kind, [])
+        series[key].samples.append(sample)
+    return sorted(series.values(), key=lambda s: s.kind != "fluent")
+
+
+def as_number(value: JsonValue) -> float | None:
+    """A JSON value as a plottable number (booleans are not numbers here)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+_NUMBER = re.compile(r"^-?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
+
+
+def _number_literal(text: str) -> float | None:
+    if not _NUMBER.match(text):
+        return None
+    number = float(text)
+    return number if math.isfinite(number) else None
+
+
+# ---------------------------------------------------------------- texts
+
+
+def action_name(action: str) -> str:
+    """The name of a ground action text: `go(kitchen)` → `go`."""
+    return action.split("(", 1)[0]
+
+
+def split_action(action: str) -> tuple[str, list[str]]:
+    """A ground action text as its name and its arguments' texts (commas inside strings,
+    lists and compounds do not split)."""
+    name, paren, rest = action.partition("(")
+    if not paren or not rest.endswith(")"):
+        return action, []
+    inner = rest[:-1]
+    if not inner:
+        return name, []
+    args: list[str] = []
+    depth = 0
+    quoted = False
+    escaped = False
+    current: list[str] = []
+    for ch in inner:
+        if quoted:
+            current.append(ch)
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                quoted = False
+            continue
+        if ch == '"':
+            quoted = True
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            args.append("".join(current))
+            current = []
+            continue
+        current.append(ch)
+    args.append("".join(current))
+    return name, args
+
+
+_LOCATION = re.compile(r"^(?P<file>.+):(?P<line>\d+):(?P<col>\d+)$")
+
+
+def parse_location(at: str) -> tuple[str, int, int] | None:
+    """`FILE:LINE:COL` as its parts, or None."""
+    match = _LOCATION.match(at)
+    if match is None:
+        return None
+    return match["file"], int(match["line"]), int(match["col"])
+
+
+def show_value(value: JsonValue | Absent) -> str:
+    """A trace value as golog++ shows it: symbols bare, strings quoted, lists in brackets."""
+    if value is ABSENT:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "null"
+    if isinstance(value, int | float):
+        return format_number(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list):
+        return "[" + ", ".join(show_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        if set(value) == {"symbol"}:
+            return str(value["symbol"])
+        if "compound" in value and isinstance(value.get("fields"), dict):
+            fields = value["fields"]
+            assert isinstance(fields, dict)
+            inner = ", ".join(f"{k}={show_value(v)}" for k, v in fields.items())
+            return f"{value['compound']}{{{inner}}}"
+        return json.dumps(value, ensure_ascii=False)
+    return str(value)
+
+
+def format_number(value: float) -> str:
+    """A number without a needless `.0`: 80, 21.5, 0.333333."""
+    if isinstance(value, int):
+        return str(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return f"{value:.6g}"
+
+
+def format_seconds(t: float) -> str:
+    """A time in seconds with 3 decimals (the trace keeps 6): `35.817 s`."""
+    return f"{t:.3f} s"
+
+
+__all__ = [
+    "Activity",
+    "Lane",
+    "LoadedTrace",
+    "RunModel",
+    "Sample",
+    "Series",
+    "TraceReadError",
+    "Wait",
+    "action_name",
+    "as_number",
+    "build_model",
+    "build_series",
+    "format_number",
+    "format_seconds",
+    "load_trace",
+    "numeric_samples",
+    "parse_location",
+    "show_value",
+    "split_action",
+]
