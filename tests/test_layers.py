@@ -32,8 +32,8 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("check", {"gpp.check"}),
     ("runtime", {"gpp.runtime"}),
     ("planner and platforms", {"gpp.planner", "gpp.platform"}),
-    ("runner", {"gpp.runner", "gpp.testing", "gpp.runview"}),
-    ("commands", {"gpp.cli", "gpp.cli_run", "gpp.__main__", "lsp"}),
+    ("runner", {"gpp.runner", "gpp.testing", "gpp.runview", "gpp.traceview"}),
+    ("commands", {"gpp.cli", "gpp.cli_run", "gpp.cli_trace", "gpp.__main__", "lsp"}),
 ]
 # Units of one layer that must not import each other.
 APART = {frozenset({"gpp.planner", "gpp.platform"})}
