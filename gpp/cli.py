@@ -16,6 +16,7 @@ through `_emit_diagnostics`, user mistakes through `_usage_error`, and end with
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from collections.abc import Sequence
 from enum import StrEnum
@@ -25,6 +26,7 @@ from typing import TYPE_CHECKING, Annotated, NoReturn
 import typer
 
 from gpp import __version__
+from gpp.runtime.errors import Terminated
 
 if TYPE_CHECKING:
     from gpp.diagnostics import Diagnostic
@@ -240,8 +242,12 @@ def main(argv: Sequence[str] | None = None) -> None:
     """The console script `gpp`: run the app and turn any internal failure into exit code 3."""
     # Programs nest deeply; Python 3.11 runs Python-to-Python calls without the C stack.
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         app(args=None if argv is None else list(argv), prog_name="gpp")
+    except Terminated:
+        print("terminated", file=sys.stderr)
+        sys.exit(143)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         sys.exit(130)
@@ -255,6 +261,11 @@ def main(argv: Sequence[str] | None = None) -> None:
             raise
         _report_internal_error(e)
         sys.exit(EXIT_INTERNAL)
+
+
+def _terminate(signum: int, frame: object) -> None:
+    """SIGTERM is handled like Ctrl-C: a run cancels its activities and finishes its trace."""
+    raise Terminated
 
 
 def _report_internal_error(e: Exception) -> None:

@@ -45,7 +45,8 @@ RandomOption = Annotated[
     bool, typer.Option("--random", help="Dummy platform: random durations, exog events and answers (seeded).")
 ]
 TimeoutOption = Annotated[
-    float | None, typer.Option("--timeout", help="Stop a run after this much platform time (seconds).")
+    float | None,
+    typer.Option("--timeout", help="Stop a run after this much platform time, or wall-clock time (seconds)."),
 ]
 WorldOption = Annotated[
     str | None,
@@ -75,6 +76,24 @@ def platform_options(pairs: list[str] | None, **shorthand: object) -> dict[str, 
         assert isinstance(given, str | int | float | bool | Path)
         options[name] = given
     return options
+
+
+# Exit codes of a run stopped from outside, as shells report a process ended by the signal.
+EXIT_INTERRUPTED = 130  # Ctrl-C (SIGINT)
+EXIT_TERMINATED = 143  # SIGTERM
+# `gpp test` bounds each program's wall-clock time by this many seconds unless --timeout is given,
+# so that a suite with an endless loop finishes.
+DEFAULT_TEST_TIMEOUT = 120.0
+
+
+def check_timeout(timeout: float | None) -> None:
+    """A timeout must be a positive number of seconds (a usage error otherwise)."""
+    import math
+
+    from gpp.cli import _usage_error
+
+    if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
+        _usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
 
 
 def register(app: typer.Typer) -> None:
@@ -118,6 +137,13 @@ def run(
     from gpp.runner import RunOptions, RunSetupError, run_program
 
     _require_readable(file)
+    check_timeout(timeout)
+    if trace is not None:
+        from gpp.paths import output_problem
+
+        problem = output_problem(trace)
+        if problem is not None:
+            _usage_error(f"--trace: {problem}")
     from gpp.check import check_program
 
     checked = check_program(file)
@@ -168,7 +194,7 @@ def run(
 
     print("\n".join(summary_lines(outcome)))
     if outcome.result is not None and outcome.result.status.value == "interrupted":
-        raise typer.Exit(130)
+        raise typer.Exit(EXIT_TERMINATED if outcome.result.terminated else EXIT_INTERRUPTED)
     raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
 
 
@@ -182,7 +208,14 @@ def test_command(
     scenario: ScenarioOption = None,
     seed: SeedOption = None,
     random: RandomOption = False,
-    timeout: TimeoutOption = None,
+    timeout: Annotated[
+        float | None,
+        typer.Option(
+            "--timeout",
+            help="Stop each program after this much platform or wall-clock time, seconds "
+            f"(default: {DEFAULT_TEST_TIMEOUT:g} s of wall-clock time).",
+        ),
+    ] = None,
     world: WorldOption = None,
 ) -> None:
     """Run every program's `main()` and check its `postcond()`; a table of the results.
@@ -192,6 +225,7 @@ def test_command(
     from gpp.runner import RunOptions
     from gpp.testing import Verdict, discover, run_all
 
+    check_timeout(timeout)
     targets = paths or [Path("tests/programs")]
     for p in targets:
         if not p.exists():
@@ -203,6 +237,7 @@ def test_command(
         platform=platform,
         platform_options=platform_options(platform_opt, scenario=scenario, seed=seed, random=random, world=world),
         timeout=timeout,
+        wall_timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
     )
     cases = run_all(files, options)
     from rich.console import Console

@@ -34,6 +34,8 @@ class RunOptions:
     # The platform's options (`--platform-opt key=value`), validated by the platform.
     platform_options: Mapping[str, OptionValue] = field(default_factory=dict)
     timeout: float | None = None
+    # Wall-clock seconds a run may take (default: the timeout's).
+    wall_timeout: float | None = None
     trace: Path | None = None
     entry: str = "main"
 
@@ -108,7 +110,15 @@ def run_program(
         from gpp.runtime.compiled import CompiledProgram
 
         program = CompiledProgram(check.model)
-        executor = Executor(program, platform, trace, options.timeout, options.entry, planner=PolicyPlanner())
+        executor = Executor(
+            program,
+            platform,
+            trace,
+            options.timeout,
+            options.entry,
+            planner=PolicyPlanner(),
+            wall_timeout=options.wall_timeout,
+        )
         problems = platform.attach(program_interface(program))
         if problems:
             fallback = check.model.main.span or check.loaded.files[-1].program.span

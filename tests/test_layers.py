@@ -25,6 +25,7 @@ LAYERS: list[tuple[str, set[str]]] = [
             "gpp.perf",
             "gpp.resources",
             "gpp.suggest",
+            "gpp.paths",
         },
     ),
     ("syntax", {"gpp.syntax"}),

@@ -32,7 +32,7 @@ from gpp.runtime.contract import (
     PlatformError,
     PlatformPort,
 )
-from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.errors import GppRuntimeError, Terminated
 from gpp.runtime.planning import OnlinePlanner, PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
@@ -88,6 +88,8 @@ class RunResult:
     steps: int = 0
     platform_time: float = 0.0
     wall_time: float = 0.0
+    # Interrupted by SIGTERM (not Ctrl-C).
+    terminated: bool = False
 
 
 class _ExecContext:
@@ -131,6 +133,7 @@ class Executor:
         timeout: float | None = None,
         entry: str = "main",
         planner: OnlinePlanner | None = None,
+        wall_timeout: float | None = None,
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.runner gives gpp.planner's); without one, a
         program that reaches them stops with an error (R0010)."""
@@ -138,6 +141,8 @@ class Executor:
         self.platform = platform
         self.trace = trace
         self.timeout = timeout
+        # Wall-clock seconds the run may take: the timeout's, unless given apart.
+        self.wall_timeout = wall_timeout if wall_timeout is not None else timeout
         self.entry = entry
         self.ctx = _ExecContext(platform)
         self.sem = Semantics(program, self.ctx, planning=False, planner=planner)
@@ -238,9 +243,11 @@ class Executor:
                     label="while executing this statement",
                 )
             )
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as e:
             result.status = RunStatus.INTERRUPTED
-            self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message="interrupted"))
+            result.terminated = isinstance(e, Terminated)
+            message = "terminated (SIGTERM)" if result.terminated else "interrupted"
+            self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message=message))
         except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
             if os.environ.get("GPP_DEBUG") == "1":
                 raise
@@ -283,7 +290,7 @@ class Executor:
     def wall_timed_out(self, started: float) -> bool:
         """Has the run taken longer than the timeout in wall-clock time? (On a virtual-time
         platform a loop that takes no time never moves the clock: this still ends it.)"""
-        return self.timeout is not None and time.perf_counter() - started > self.timeout
+        return self.wall_timeout is not None and time.perf_counter() - started > self.wall_timeout
 
     def stop_at_wall_timeout(self, prog: Prog, started: float) -> None:
         self.result.status = RunStatus.TIMEOUT
@@ -291,7 +298,7 @@ class Executor:
         assert span is not None
         d = diag.error(
             "R0013",
-            f"the run reached its timeout of {self.timeout:g} s of wall-clock time "
+            f"the run reached its timeout of {self.wall_timeout:g} s of wall-clock time "
             f"(platform time: {self.platform.now():g} s)",
             span,
             "running here",

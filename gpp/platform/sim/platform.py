@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from gpp.model.types import STRING, DomainType, Sym, Type
+from gpp.paths import output_problem
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,
@@ -137,6 +138,10 @@ class SimPlatform(Platform):
         from a `// world: NAME` line at the top of the program, else the blocksworld. The world's
         `[faults] seed` is used unless the `seed` option is given."""
         options = parse_options(SimOptions, config.options, cls.name)
+        for what, path in (("record", options.record), ("snapshot", options.snapshot)):
+            problem = output_problem(path) if path is not None else None
+            if problem is not None:
+                raise PlatformError(f"option `{what}` of platform `sim`: {problem}")
         try:
             if options.world is not None:
                 world = World.load(options.world)  # a name, or a path from the working directory

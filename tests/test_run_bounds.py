@@ -1,0 +1,112 @@
+"""Runs a robot programmer can trust: bounded in time, stopped cleanly by SIGTERM, and no option
+or output path silently ignored."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+LOOP = "number fluent n() { initially: () = 0; }\nprocedure main() { while (true) n() = n() + 1; }\n"
+
+
+def gpp(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "gpp", *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False
+    )
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf"])
+@pytest.mark.parametrize("command", ["run", "test"])
+def test_a_timeout_must_be_positive(command: str, value: str) -> None:
+    result = gpp(command, "examples/durative.gpp", f"--timeout={value}")
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "--timeout must be a number of seconds greater than 0" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--trace", "missing/t.jsonl"], "--trace: the folder 'missing' does not exist"),
+        (["--trace", "examples"], "--trace: 'examples' is a folder, not a file"),
+        (["-p", "sim", "--record", "missing/run.gif"], "option `record` of platform `sim`: the folder 'missing'"),
+        (["-p", "sim", "--snapshot", "examples"], "option `snapshot` of platform `sim`: 'examples' is a folder"),
+    ],
+)
+def test_outputs_that_cannot_be_written_are_usage_errors_before_the_run(args: list[str], message: str) -> None:
+    result = gpp("run", "-q", "examples/blocksworld.gpp", *args)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert message in result.stderr
+    assert "finished" not in result.stdout  # nothing ran
+
+
+def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
+    (tmp_path / "loop.gpp").write_text(LOOP, encoding="utf-8")
+    (tmp_path / "fine.gpp").write_text("procedure main() { }\n", encoding="utf-8")
+    started = time.perf_counter()
+    result = gpp("test", "--timeout", "1", str(tmp_path))
+    assert time.perf_counter() - started < 60
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "1 passed, 1 failed" in result.stdout
+    assert "timeout" in result.stdout
+
+
+def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: Path) -> None:
+    trace = tmp_path / "run.jsonl"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime", "--trace", str(trace)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        # Wait until an activity runs on the platform.
+        while time.monotonic() < deadline:
+            if trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8"):
+                break
+            time.sleep(0.05)
+        else:
+            pytest.fail("no activity started")
+        time.sleep(0.3)
+        process.send_signal(signal.SIGTERM)
+        out, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 143, out + err
+    records = [json.loads(line) for line in trace.read_text(encoding="utf-8").splitlines()]
+    assert records[-1]["event"] == "finish" and records[-1]["status"] == "interrupted"
+    errors = [r for r in records if r["event"] == "error"]
+    assert errors[0]["message"] == "terminated (SIGTERM)"
+    cancelled = [r["id"] for r in records if r["event"] == "cancel"]
+    acknowledged = [r["id"] for r in records if r["event"] == "update" and r["status"] == "cancelled"]
+    assert cancelled and acknowledged == cancelled
+    assert "Traceback" not in err
+
+
+@pytest.mark.skipif(os.name != "posix", reason="signals")
+def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        time.sleep(3)
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 130, out + err
