@@ -14,8 +14,14 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e .
 	touch $@
 
+# Development (and CI) installs the [ros] extra too, so that the ros2 platform's tests run
+# against real ROS 2 nodes. Its wheels depend on lark-parser 0.12, which writes into the same
+# `lark` package folder as lark 1.x (gpp's parser) and ships stubs that hide lark 1.x's types:
+# it is removed and lark 1.x put back (gpp uses only rosidl_parser.definition, no lark).
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,ros]'
+	$(BIN)/python -m pip uninstall -y -q lark-parser
+	$(BIN)/python -m pip install -q --force-reinstall --no-deps 'lark>=1.3.1,<2'
 	touch $@ $(VENV)/.installed
 
 # The blocksworld agent on the physics simulator; leaves an animation in run.gif.
