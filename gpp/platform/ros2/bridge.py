@@ -451,18 +451,21 @@ class Bridge:
 
     # ---------------------------------------------------------------- topics
 
-    def subscribe(self, name: str, cls: Any, callback: Callable[[Any], None], qos: Qos | None, depth: int) -> Any:
+    def subscribe(
+        self, name: str, cls: Any, callback: Callable[[Any], None], qos: Qos | None, depth: int, keep_all: bool = False
+    ) -> Any:
         """A subscription (call on the spin thread), with reliability and durability chosen from
         the publishers already there unless `qos` says them."""
-        profile = qos_profile(qos, depth, self.node.get_publishers_info_by_topic(name))
+        profile = qos_profile(qos, depth, self.node.get_publishers_info_by_topic(name), keep_all)
         return self.node.create_subscription(cls, name, self._guarded(callback), profile)
 
 
-def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = ()) -> QoSProfile:
+def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = (), keep_all: bool = False) -> QoSProfile:
     """The QoS of a subscription or publisher: what the binding says; otherwise best effort
     when a publisher is best effort (a reliable subscription would receive nothing from it),
     transient local when every publisher is (to get the message it keeps), else reliable and
-    volatile; `depth` messages are kept."""
+    volatile; `depth` messages are kept, or all until they are taken (`keep_all`: a reliable
+    publisher then waits rather than a message being dropped)."""
     qos = qos or Qos()
     reliability = qos.reliability
     if reliability is None:
@@ -474,7 +477,8 @@ def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = ()) -> 
             p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers
         )
         durability = "transient_local" if latched else "volatile"
-    history = HistoryPolicy.KEEP_ALL if qos.history == "keep_all" else HistoryPolicy.KEEP_LAST
+    all_ = qos.history == "keep_all" or (qos.history is None and keep_all)
+    history = HistoryPolicy.KEEP_ALL if all_ else HistoryPolicy.KEEP_LAST
     return QoSProfile(
         history=history,
         depth=qos.depth or depth,

@@ -254,7 +254,7 @@ class Ros2Platform(Platform):
         assert self.bridge is not None and topic.interface is not None
         qos = topic.qos_entry.qos if topic.qos_entry is not None else None
         topic.subscription = self.bridge.subscribe(
-            topic.name, topic.interface.cls, lambda msg: self._message(topic, msg), qos, 1000
+            topic.name, topic.interface.cls, lambda msg: self._message(topic, msg), qos, 1000, keep_all=True
         )
 
     def _subscribe_source(self, source: Source) -> None:
