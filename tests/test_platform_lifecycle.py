@@ -106,7 +106,9 @@ def test_the_platform_is_chosen_by_asking_the_platforms() -> None:
 
 
 def test_an_unknown_platform_has_a_did_you_mean() -> None:
-    with pytest.raises(PlatformError, match=r"unknown platform `simm`; did you mean `sim`\? \(available: dummy, sim"):
+    with pytest.raises(
+        PlatformError, match=r"unknown platform `simm`; did you mean `sim`\? \(available: dummy, ros2, sim"
+    ):
         platform_class("simm")
 
 

@@ -18,6 +18,7 @@ from gpp.suggest import did_you_mean
 _BUILTIN: dict[str, str] = {
     "dummy": "gpp.platform.dummy:DummyPlatform",
     "sim": "gpp.platform.sim:SimPlatform",
+    "ros2": "gpp.platform.ros2:Ros2Platform",
 }
 
 # Where a program runs when no directive selects a platform.

@@ -1,0 +1,172 @@
+"""Speed of the ros2 platform against real ROS 2 nodes in this process (one context shared by
+the agent and the test servers, discovery off, so nothing leaves the machine).
+
+Run: .venv/bin/python bench/ros2.py [--goals N] [--messages N]
+
+Prints
+* start-up: creating the platform and attaching it to a program with an action, a service and
+  an exogenous topic (node, spin thread, graph look-up, checks, subscription), best of 5;
+* goal round trip: `start` of a trivial action (test_msgs Fibonacci, order 1) until its
+  final update is queued (send -> accepted -> result), median and 90th percentile;
+* service round trip: the same for a service (std_srvs SetBool);
+* exogenous messages per second: a burst of std_msgs Int32 messages published into a running
+  program whose exogenous action counts them, from the first publish until the program has
+  applied the last one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "OFF"
+os.environ.setdefault("ROS_LOG_DIR", tempfile.mkdtemp(prefix="gpp-ros-log-"))
+sys.path.insert(0, str(ROOT / "tests" / "ros2"))
+
+try:
+    import rclpy
+    from rclpy.context import Context
+    from rclpy.signals import SignalHandlerOptions
+except ImportError:
+    print("bench/ros2.py: the ROS 2 packages are not installed (pip install 'gpp[ros]'); nothing measured")
+    sys.exit(0)
+
+from ros2_servers import TestRobot  # noqa: E402
+
+from gpp.check import check_text  # noqa: E402
+from gpp.platform.base import Activity, ActivityUpdate  # noqa: E402
+from gpp.platform.ros2 import Ros2Platform  # noqa: E402
+from gpp.runner import RunOptions, run_program  # noqa: E402
+from gpp.runtime.compiled import CompiledProgram  # noqa: E402
+from gpp.runtime.contract import program_interface  # noqa: E402
+from gpp.runtime.state import GroundAction  # noqa: E402
+
+PROGRAM = """
+action count(number n) { mapping: "/fib : test_msgs/action/Fibonacci" { order = n } }
+action switch(bool on) { mapping: "/set_bool : std_srvs/srv/SetBool" { data = on } }
+number fluent received() { initially: () = 0; }
+exog_action counted(number n) {
+mapping:
+    "/count : std_msgs/msg/Int32" { data = n }
+effect:
+    received() = received() + 1;
+}
+procedure main() { test(received() == MESSAGES); }
+"""
+
+
+def interface(text: str) -> object:
+    checked = check_text(text, Path("bench.gpp"))
+    assert not checked.errors, [d.message for d in checked.diagnostics]
+    return program_interface(CompiledProgram(checked.model))
+
+
+def start_up(context: Context, repeat: int = 5) -> tuple[float, float]:
+    """The first start-up in this process (the first node is the slowest) and the best of
+    `repeat` after it."""
+    first = 0.0
+    best = float("inf")
+    iface = interface(PROGRAM.replace("MESSAGES", "1"))
+    for i in range(repeat + 1):
+        started = time.perf_counter()
+        platform = Ros2Platform(context=context)
+        problems = platform.attach(iface)  # type: ignore[arg-type]
+        took = time.perf_counter() - started
+        if i == 0:
+            first = took
+        else:
+            best = min(best, took)
+        assert not problems, problems
+        platform.close()
+    return first, best
+
+
+def round_trips(context: Context, action: str, args: dict[str, object], n: int) -> list[float]:
+    """`args`: the mapped arguments (goal or request fields) of the action's one parameter."""
+    platform = Ros2Platform(context=context)
+    assert not platform.attach(interface(PROGRAM.replace("MESSAGES", "1")))  # type: ignore[arg-type]
+    times: list[float] = []
+    try:
+        for i in range(n + 5):
+            ground = GroundAction(action, tuple(args.values()))  # type: ignore[arg-type]
+            activity = Activity(i + 1, ground, "", args)  # type: ignore[arg-type]
+            started = time.perf_counter()
+            platform.start(activity)
+            update = None
+            while update is None:
+                assert platform.queue.wait(5.0), "no answer within 5 s"
+                for _, event in platform.queue.drain():
+                    if isinstance(event, ActivityUpdate):
+                        update = event
+            assert update.status.value == "final", update
+            if i >= 5:  # the first goals include discovery and client creation
+                times.append(time.perf_counter() - started)
+    finally:
+        platform.close()
+    return times
+
+
+def exog_rate(robot: TestRobot, messages: int) -> float:
+    from std_msgs.msg import Int32
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "bench.gpp"
+        path.write_text(PROGRAM.replace("MESSAGES", str(messages)))
+        began: list[float] = []
+
+        def publish() -> None:
+            robot.wait_for_subscriber(robot.count)
+            began.append(time.perf_counter())
+            for i in range(messages):
+                robot.count.publish(Int32(data=i))
+
+        publisher = threading.Thread(target=publish)
+        publisher.start()
+        outcome = run_program(path, RunOptions(platform="ros2", timeout=120.0))
+        ended = time.perf_counter()
+        publisher.join(30)
+        assert outcome.ok and outcome.result is not None, [d.message for d in outcome.diagnostics]
+        assert outcome.result.exog_events == messages, (outcome.result.exog_events, messages)
+        return messages / (ended - began[0])
+
+
+def ms(values: list[float]) -> str:
+    ordered = sorted(values)
+    p90 = ordered[int(0.9 * (len(ordered) - 1))]
+    return f"median {statistics.median(ordered) * 1000:.2f} ms, p90 {p90 * 1000:.2f} ms"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--goals", type=int, default=200)
+    parser.add_argument("--messages", type=int, default=5000)
+    args = parser.parse_args()
+    context = Context()
+    rclpy.init(
+        context=context, args=["--ros-args", "--log-level", "error"], signal_handler_options=SignalHandlerOptions.NO
+    )
+    robot = TestRobot(context)
+    Ros2Platform.shared_context = context
+    try:
+        print("ros2 platform (in-process test servers, discovery off)")
+        first, best = start_up(context)
+        print(f"  start-up (create + attach)  first {first * 1000:.1f} ms, then {best * 1000:.1f} ms (best of 5)")
+        goals = round_trips(context, "count", {"order": 1}, args.goals)
+        print(f"  goal round trip             {ms(goals)} ({args.goals} goals)")
+        print(f"  service round trip          {ms(round_trips(context, 'switch', {'data': True}, args.goals))}")
+        print(f"  exogenous messages          {exog_rate(robot, args.messages):,.0f} per s ({args.messages} messages)")
+    finally:
+        Ros2Platform.shared_context = None
+        robot.close()
+        context.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

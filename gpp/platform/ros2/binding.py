@@ -1,0 +1,324 @@
+"""The binding file of the ros2 platform: what a mapping cannot say.
+
+A TOML file beside the agent (`agent.ros2.toml` for `agent.gpp`), or the file named by a
+`// ros2: FILE` line of the program, or by `-o binding=FILE`. Its tables:
+
+    [defaults]                      # for every mapped name
+    server_timeout = 5.0            # s to wait for an action server or service to appear
+    ack_timeout = 5.0               # s to wait for a goal to be accepted (then one retry)
+    result_timeout = 0              # s an action may run (0: no limit); services: default 10
+
+    ["/navigate_to_pose"]           # one mapped ROS name (as in the program's mapping)
+    type = "nav2_msgs/action/NavigateToPose"   # when the mapping does not say it
+    server_timeout = 10.0
+    stamp = ["pose.header.stamp"]   # set to the agent's clock when the goal is sent
+    result = "location"             # the result field that is the sensing value
+    qos = { reliability = "best_effort", depth = 10 }   # topics
+
+    [exog_function.battery]         # an exogenous function of the program
+    topic = "/battery_state : sensor_msgs/msg/BatteryState"   # the latest message answers
+    field = "percentage"
+
+    [exog_function.block_on]
+    service = "/get_block_pose"     # each evaluation calls the service
+    request = { block = "b" }       # request field = parameter of the function
+    field = "location"
+    timeout = 2.0
+
+Everything is checked when the file is read (unknown keys with a did-you-mean, value
+types); whether its names fit the program is checked when the program attaches.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
+from gpp.source import Source, Span
+from gpp.suggest import did_you_mean
+
+
+class BindingError(Exception):
+    """A binding file that cannot be used; the message says where (file:line) and why."""
+
+
+_TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout")
+_DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout"})
+_NAME_KEYS = frozenset({"type", *_TIMEOUTS, "stamp", "result", "qos"})
+_FUNCTION_KEYS = frozenset({"topic", "service", "field", "request", "timeout", "qos", "server_timeout"})
+_QOS_KEYS = frozenset({"reliability", "durability", "depth", "history"})
+_QOS_WORDS = {
+    "reliability": ("reliable", "best_effort"),
+    "durability": ("volatile", "transient_local"),
+    "history": ("keep_last", "keep_all"),
+}
+
+DEFAULT_SERVER_TIMEOUT = 5.0
+DEFAULT_ACK_TIMEOUT = 5.0
+DEFAULT_SERVICE_TIMEOUT = 10.0
+DEFAULT_FUNCTION_TIMEOUT = 2.0
+
+
+@dataclass(frozen=True)
+class Qos:
+    reliability: str | None = None  # None: chosen from the publishers
+    durability: str | None = None
+    depth: int | None = None
+    history: str | None = None
+
+
+@dataclass
+class NameEntry:
+    """Settings for one mapped ROS name."""
+
+    name: str
+    type: str | None = None
+    server_timeout: float | None = None
+    ack_timeout: float | None = None
+    result_timeout: float | None = None
+    stamp: tuple[str, ...] = ()
+    result: str | None = None
+    qos: Qos | None = None
+    span: Span | None = None
+
+
+@dataclass
+class FunctionEntry:
+    """Where an exogenous function's answers come from."""
+
+    function: str
+    source: MappedName
+    kind: str  # "topic" or "service"
+    field: str | None = None
+    request: dict[str, str] = dataclasses.field(default_factory=dict)
+    timeout: float | None = None
+    server_timeout: float | None = None
+    qos: Qos | None = None
+    span: Span | None = None
+
+
+@dataclass
+class Binding:
+    path: Path | None = None
+    server_timeout: float = DEFAULT_SERVER_TIMEOUT
+    ack_timeout: float = DEFAULT_ACK_TIMEOUT
+    result_timeout: float | None = None  # actions; services default to DEFAULT_SERVICE_TIMEOUT
+    timeout: float = DEFAULT_FUNCTION_TIMEOUT  # exogenous function calls
+    names: dict[str, NameEntry] = field(default_factory=dict)
+    functions: dict[str, FunctionEntry] = field(default_factory=dict)
+
+    def entry(self, name: str) -> NameEntry:
+        return self.names.get(name) or NameEntry(name)
+
+    def server_timeout_for(self, name: str) -> float:
+        e = self.names.get(name)
+        return e.server_timeout if e is not None and e.server_timeout is not None else self.server_timeout
+
+    def ack_timeout_for(self, name: str) -> float:
+        e = self.names.get(name)
+        return e.ack_timeout if e is not None and e.ack_timeout is not None else self.ack_timeout
+
+    def result_timeout_for(self, name: str, service: bool) -> float | None:
+        e = self.names.get(name)
+        if e is not None and e.result_timeout is not None:
+            return e.result_timeout or None
+        if self.result_timeout is not None:
+            return self.result_timeout or None
+        return DEFAULT_SERVICE_TIMEOUT if service else None
+
+    @classmethod
+    def load(cls, path: Path) -> Binding:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as e:
+            raise BindingError(f"cannot read binding file '{path}': {e.strerror}") from None
+        except UnicodeDecodeError:
+            raise BindingError(f"binding file '{path}' is not UTF-8 text") from None
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as e:
+            raise BindingError(f"binding file '{path}' is not valid TOML: {e}") from None
+        return cls.from_data(data, Source(text, str(path)), path)
+
+    @classmethod
+    def from_data(cls, data: Mapping[str, Any], source: Source | None = None, path: Path | None = None) -> Binding:
+        where = str(path) if path is not None else "binding"
+        spans = _header_spans(source) if source is not None else {}
+        binding = cls(path)
+
+        def at(key: str) -> str:
+            span = spans.get(key)
+            return f"{where}:{span.line}: [{_header(key)}]" if span is not None else f"{where}: [{_header(key)}]"
+
+        for key, value in data.items():
+            if key == "defaults":
+                table = _table(value, at(key))
+                _check_keys(table, _DEFAULT_KEYS, at(key))
+                for t in _TIMEOUTS:
+                    if t in table:
+                        setattr(binding, t, _seconds(table[t], f"{at(key)} {t}", allow_zero=t == "result_timeout"))
+                if "timeout" in table:
+                    binding.timeout = _seconds(table["timeout"], f"{at(key)} timeout")
+            elif key == "exog_function":
+                functions = _table(value, f"{where}: [exog_function]")
+                for fname, entry in functions.items():
+                    fkey = f"exog_function.{fname}"
+                    binding.functions[fname] = _function(fname, _table(entry, at(fkey)), at(fkey), spans.get(fkey))
+            elif key.startswith("/") or key.startswith("~"):
+                name = normalize(key)
+                try:
+                    parse_mapped(key)
+                except NameError_ as e:
+                    raise BindingError(f"{at(key)}: {e}") from None
+                binding.names[name] = _name_entry(name, _table(value, at(key)), at(key), spans.get(key))
+            else:
+                hint = did_you_mean(key, ("defaults", "exog_function"))
+                raise BindingError(
+                    f"{at(key)}: unknown table `{key}`: tables are `[defaults]`, `[exog_function.NAME]` and "
+                    'ROS names written with their leading slash, such as `["/stack"]`' + (f"; {hint}" if hint else "")
+                )
+        return binding
+
+
+def find_binding(program: Path, explicit: Path | None, directive: Path | None) -> Path | None:
+    """The binding file for a program: the option, else the `// ros2:` directive, else
+    `NAME.ros2.toml` beside `NAME.gpp` when it exists."""
+    if explicit is not None:
+        return explicit
+    if directive is not None:
+        return directive
+    beside = program.with_name(program.stem + ".ros2.toml")
+    return beside if beside.is_file() else None
+
+
+def _name_entry(name: str, table: Mapping[str, Any], at: str, span: Span | None) -> NameEntry:
+    _check_keys(table, _NAME_KEYS, at)
+    entry = NameEntry(name, span=span)
+    if "type" in table:
+        entry.type = _text(table["type"], f"{at} type")
+    for t in _TIMEOUTS:
+        if t in table:
+            setattr(entry, t, _seconds(table[t], f"{at} {t}", allow_zero=t == "result_timeout"))
+    if "stamp" in table:
+        stamps = table["stamp"]
+        if isinstance(stamps, str):
+            stamps = [stamps]
+        if not isinstance(stamps, list) or not all(isinstance(s, str) and s for s in stamps):
+            raise BindingError(f'{at} stamp: expected a list of field paths such as ["header.stamp"]')
+        entry.stamp = tuple(stamps)
+    if "result" in table:
+        entry.result = _text(table["result"], f"{at} result")
+    if "qos" in table:
+        entry.qos = _qos(table["qos"], f"{at} qos")
+    return entry
+
+
+def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -> FunctionEntry:
+    _check_keys(table, _FUNCTION_KEYS, at)
+    kinds = [k for k in ("topic", "service") if k in table]
+    if len(kinds) != 1:
+        raise BindingError(
+            f'{at}: give the source of `{name}`: `topic = "/name : package/msg/Type"` (its latest message) or '
+            '`service = "/name"` (a call each time)'
+        )
+    kind = kinds[0]
+    try:
+        source = parse_mapped(_text(table[kind], f"{at} {kind}"))
+    except NameError_ as e:
+        raise BindingError(f"{at} {kind}: {e}") from None
+    entry = FunctionEntry(name, source, kind, span=span)
+    if "field" in table:
+        entry.field = _text(table["field"], f"{at} field")
+    if "request" in table:
+        request = _table(table["request"], f"{at} request")
+        if kind != "service":
+            raise BindingError(f"{at} request: only a service source takes a request")
+        for k, v in request.items():
+            if not isinstance(v, str) or not v:
+                raise BindingError(
+                    f'{at} request: `{k}` must name a parameter of `{name}` (a string such as "x"), not {v!r}'
+                )
+            entry.request[k] = v
+    if "timeout" in table:
+        entry.timeout = _seconds(table["timeout"], f"{at} timeout")
+    if "server_timeout" in table:
+        entry.server_timeout = _seconds(table["server_timeout"], f"{at} server_timeout")
+    if "qos" in table:
+        if kind != "topic":
+            raise BindingError(f"{at} qos: only a topic source takes a qos")
+        entry.qos = _qos(table["qos"], f"{at} qos")
+    return entry
+
+
+def _qos(value: Any, at: str) -> Qos:
+    table = _table(value, at)
+    _check_keys(table, _QOS_KEYS, at)
+    words: dict[str, str] = {}
+    for key, allowed in _QOS_WORDS.items():
+        if key in table:
+            v = table[key]
+            if v not in allowed:
+                hint = did_you_mean(str(v), allowed)
+                raise BindingError(
+                    f"{at}: {key} must be {' or '.join(repr(a) for a in allowed)}, not {v!r}"
+                    + (f"; {hint}" if hint else "")
+                )
+            words[key] = v
+    depth = table.get("depth")
+    if depth is not None and (isinstance(depth, bool) or not isinstance(depth, int) or depth < 1):
+        raise BindingError(f"{at}: depth must be a whole number >= 1, not {depth!r}")
+    return Qos(words.get("reliability"), words.get("durability"), depth, words.get("history"))
+
+
+def _table(value: Any, at: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise BindingError(f"{at}: expected a table, not {value!r}")
+    return value
+
+
+def _check_keys(table: Mapping[str, Any], known: frozenset[str], at: str) -> None:
+    for key in table:
+        if key not in known:
+            hint = did_you_mean(key, known)
+            raise BindingError(
+                f"{at}: unknown key `{key}`" + (f"; {hint}" if hint else "") + f" (known: {', '.join(sorted(known))})"
+            )
+
+
+def _text(value: Any, at: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise BindingError(f"{at}: expected a non-empty string, not {value!r}")
+    return value.strip()
+
+
+def _seconds(value: Any, at: str, allow_zero: bool = False) -> float:
+    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    if not ok or value < 0 or (value == 0 and not allow_zero):
+        bound = ">= 0 (0: no limit)" if allow_zero else "> 0"
+        raise BindingError(f"{at}: expected a number of seconds {bound}, not {value!r}")
+    return float(value)
+
+
+_HEADER_LINE = re.compile(r"^[ \t]*\[(?!\[)(.+?)\][ \t]*(#.*)?$", re.MULTILINE)
+
+
+def _header(key: str) -> str:
+    return f'"{key}"' if key.startswith(("/", "~")) else key
+
+
+def _header_spans(source: Source) -> dict[str, Span]:
+    """Where each `[table]` header of the file is, by its key (`/stack`, `defaults`,
+    `exog_function.battery`)."""
+    spans: dict[str, Span] = {}
+    for m in _HEADER_LINE.finditer(source.text):
+        parts = [p.strip().strip('"').strip("'") for p in re.split(r"\.(?=(?:[^\"]*\"[^\"]*\")*[^\"]*$)", m.group(1))]
+        key = ".".join(parts)
+        spans.setdefault(key, Span(source, m.start(1) - 1, m.end(1) + 1))
+    return spans

@@ -1,0 +1,516 @@
+"""The agent's ROS 2 node and the one thread that spins it.
+
+Every rclpy call runs on that thread: creating clients, publishers and subscriptions, sending
+goals, cancelling them, calling services. Other threads (the interpreter) only hand it work
+with `post` (thread-safe: rclpy's executor task queue) or `call` (the same, then a bounded
+wait for the answer). This avoids the thread-safety hazards of rclpy 9 (entities created from
+another thread while the executor spins, futures registered from two threads) and means the
+interpreter never waits inside rclpy.
+
+What runs on the spin thread never waits either: each goal or service call is a `Job`, a small
+state machine driven by the callbacks of rclpy futures and by a 20 ms tick that watches its
+deadlines (server appearing, goal acknowledged, server still alive, result in time). Whatever
+happens, a job ends exactly once, through its `done` callback.
+"""
+
+from __future__ import annotations
+
+import atexit
+import concurrent.futures
+import contextlib
+import logging
+import math
+import threading
+import time
+import weakref
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import rclpy
+from action_msgs.msg import GoalStatus
+from rclpy.action.client import ActionClient
+from rclpy.action.graph import get_action_names_and_types
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+
+from gpp.platform.ros2.binding import Qos
+from gpp.platform.ros2.interfaces import FieldError, Interface, InterfaceError, load_interface, make_message, to_plain
+from gpp.platform.ros2.interfaces import fill_fields as _fill
+from gpp.runtime.state import ActivityStatus
+
+log = logging.getLogger("gpp.platform.ros2")
+
+TICK = 0.02  # s between two checks of the jobs' deadlines
+LIVENESS = 0.5  # s between two checks that the server of a running goal is still there
+RETRY_TYPE = 1.0  # s between two graph look-ups of a topic whose type is not known yet
+
+_STATUS = {
+    GoalStatus.STATUS_UNKNOWN: "unknown",
+    GoalStatus.STATUS_ACCEPTED: "accepted",
+    GoalStatus.STATUS_EXECUTING: "executing",
+    GoalStatus.STATUS_CANCELING: "canceling",
+    GoalStatus.STATUS_SUCCEEDED: "succeeded",
+    GoalStatus.STATUS_CANCELED: "canceled",
+    GoalStatus.STATUS_ABORTED: "aborted",
+}
+
+
+@dataclass(frozen=True)
+class Outcome:
+    status: ActivityStatus
+    result: Any = None  # plain data (the result or response), when there is one
+    has_result: bool = False
+    reason: str = ""
+
+
+@dataclass(eq=False)
+class Job:
+    """One goal, service call or published message, from start to its one outcome."""
+
+    name: str
+    interface: Interface | None  # None: looked up in the graph first
+    entries: Sequence[tuple[str, Any]]  # field path -> value
+    done: Callable[[Outcome], None]
+    stamps: tuple[str, ...] = ()
+    server_timeout: float = 5.0
+    ack_timeout: float = 5.0
+    result_timeout: float | None = None
+    qos: Qos | None = None
+    # state, touched only on the spin thread
+    phase: str = "new"  # new, resolving, waiting, sent, running, ended
+    deadline: float = math.inf
+    result_deadline: float = math.inf
+    next_check: float = 0.0
+    attempts: int = 0
+    cancel_requested: bool = False
+    message: Any = None
+    client: Any = None
+    pending: Any = None  # the future of the goal request or the service call
+    goal: Any = None  # the accepted goal handle
+
+
+class Bridge:
+    """A node (`gpp_agent`) on its own or a given context, spun by one daemon thread."""
+
+    def __init__(
+        self,
+        context: Context | None = None,
+        domain_id: int | None = None,
+        node_name: str = "gpp_agent",
+        log_level: str = "warn",
+    ) -> None:
+        self.own_context = context is None
+        if context is None:
+            context = Context()
+            rclpy.init(
+                args=["--ros-args", "--log-level", log_level],
+                context=context,
+                domain_id=domain_id,
+                signal_handler_options=SignalHandlerOptions.NO,
+            )
+        self.context = context
+        self.node = rclpy.create_node(node_name, context=context, start_parameter_services=False)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        self.jobs: list[Job] = []
+        self.watchers: list[Callable[[float], None]] = []
+        self._action_clients: dict[tuple[str, str], Any] = {}
+        self._service_clients: dict[tuple[str, str], Any] = {}
+        self._publishers: dict[tuple[str, str], Any] = {}
+        self._stopping = False
+        self._closed = False
+        self.t0 = time.monotonic()
+        # Created before the thread spins: the only entity not made on the spin thread.
+        self._timer = self.node.create_timer(TICK, self._guarded(self._tick))
+        self.thread = threading.Thread(target=self._spin, name="gpp-ros2-spin", daemon=True)
+        _live.add(self)
+        self.thread.start()
+
+    # ---------------------------------------------------------------- the thread
+
+    def _spin(self) -> None:
+        while not self._stopping:
+            try:
+                self.executor.spin_once(timeout_sec=0.1)
+            except Exception as e:  # a callback's exception surfaces here: log it, keep spinning
+                if self._stopping or not self.context.ok():
+                    break
+                log.error("ros2: %s: %s", type(e).__name__, e)
+
+    def post(self, fn: Callable[..., None], *args: Any) -> None:
+        """Run `fn(*args)` on the spin thread, soon; its exceptions are logged."""
+        if self._closed:
+            return
+        self.executor.create_task(self._guarded(fn), *args)
+
+    def call(self, fn: Callable[..., Any], *args: Any, timeout: float = 5.0) -> Any:
+        """Run `fn(*args)` on the spin thread and return its value (or raise its exception);
+        TimeoutError when it has not run within `timeout` seconds."""
+        if threading.current_thread() is self.thread:
+            return fn(*args)
+        answer: concurrent.futures.Future[Any] = concurrent.futures.Future()
+
+        def run() -> None:
+            try:
+                answer.set_result(fn(*args))
+            except BaseException as e:
+                answer.set_exception(e)
+
+        self.executor.create_task(run)
+        return answer.result(timeout)
+
+    def _guarded(self, fn: Callable[..., None]) -> Callable[..., None]:
+        def run(*args: Any) -> None:
+            try:
+                fn(*args)
+            except Exception as e:
+                log.error("ros2: internal error in %s: %s: %s", getattr(fn, "__name__", fn), type(e).__name__, e)
+
+        return run
+
+    def now(self) -> float:
+        return time.monotonic() - self.t0
+
+    def close(self, grace: float = 1.0) -> None:
+        """Cancel what still runs (waiting at most `grace` s for the servers to confirm), stop
+        and join the spin thread, destroy the node, shut the context down (if it is ours)."""
+        if self._closed:
+            return
+        if self.thread.is_alive():
+            with contextlib.suppress(Exception):
+                self.call(self._cancel_all, timeout=grace)
+            deadline = time.monotonic() + grace
+            while time.monotonic() < deadline and any(j.phase == "running" for j in list(self.jobs)):
+                time.sleep(0.01)
+        self._closed = True
+        self._stopping = True
+        self.executor.wake()
+        self.thread.join(5.0)
+        for job in list(self.jobs):
+            self._end(job, Outcome(ActivityStatus.CANCELLED, reason="the ros2 platform closed"))
+        try:
+            self.executor.shutdown(timeout_sec=0)
+            self.node.destroy_node()
+        except Exception as e:
+            log.debug("ros2: closing the node: %s", e)
+        if self.own_context:
+            self.context.try_shutdown()
+        _live.discard(self)
+
+    def _cancel_all(self) -> None:
+        for job in list(self.jobs):
+            self.cancel(job)
+
+    # ---------------------------------------------------------------- the graph
+
+    def graph_type(self, name: str) -> tuple[str, str] | None:
+        """(kind, type name) of `name` in the ROS graph now: an action server, a service or a
+        topic with publishers; None when it is not there (yet)."""
+        for n, types in get_action_names_and_types(self.node):
+            if n == name and types:
+                return "action", types[0]
+        for n, types in self.node.get_service_names_and_types():
+            if n == name and types:
+                return "srv", types[0]
+        for n, types in self.node.get_topic_names_and_types():
+            if n == name and types and self.node.count_publishers(name) > 0:
+                return "msg", types[0]
+        return None
+
+    # ---------------------------------------------------------------- jobs
+
+    def submit(self, job: Job) -> None:
+        """Start a job (from any thread)."""
+        self.post(self._begin, job)
+
+    def cancel(self, job: Job) -> None:
+        """Ask a job to stop (on the spin thread): a running goal is cancelled on its server;
+        anything not on a server yet, and service calls (which cannot be cancelled), end
+        cancelled here and a late answer is dropped."""
+        if job.phase == "ended":
+            return
+        job.cancel_requested = True
+        if job.phase == "sent" and job.interface is not None and job.interface.kind == "action":
+            return  # cancelled as soon as it is accepted
+        if job.phase == "running" and job.goal is not None:
+            future = job.goal.cancel_goal_async()
+            future.add_done_callback(self._guarded(lambda f: self._cancel_answered(job, f)))
+            return
+        self._end(job, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
+
+    def _cancel_answered(self, job: Job, future: Any) -> None:
+        response = future.result()
+        if response is None or (response.return_code != 0 and job.phase != "ended"):
+            code = getattr(response, "return_code", "?")
+            log.warning("ros2: the server of %s refused to cancel the goal (return code %s)", job.name, code)
+
+    def _begin(self, job: Job) -> None:
+        self.jobs.append(job)
+        if job.cancel_requested:
+            self._end(job, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
+            return
+        if job.interface is None:
+            job.phase = "resolving"
+            job.deadline = self.now() + job.server_timeout
+            self._resolve(job)
+        else:
+            self._prepare(job)
+
+    def _resolve(self, job: Job) -> None:
+        found = self.graph_type(job.name)
+        if found is None:
+            if self.now() >= job.deadline:
+                self._fail(
+                    job,
+                    f'"{job.name}" is not available: no action server, service or topic of that name '
+                    f"appeared within {job.server_timeout:g} s",
+                )
+            return
+        try:
+            job.interface = load_interface(found[1])
+        except InterfaceError as e:
+            self._fail(job, str(e))
+            return
+        self._prepare(job)
+
+    def _prepare(self, job: Job) -> None:
+        assert job.interface is not None
+        try:
+            job.message = make_message(job.interface.request, job.entries)
+            if job.stamps:
+                stamp = self.node.get_clock().now().to_msg()
+                _fill(job.message, [(path, {"sec": stamp.sec, "nanosec": stamp.nanosec}) for path in job.stamps])
+        except FieldError as e:
+            self._fail(job, str(e))
+            return
+        kind = job.interface.kind
+        key = (job.name, job.interface.name)
+        if kind == "msg":
+            publisher = self._publishers.get(key)
+            if publisher is None:
+                publisher = self.node.create_publisher(job.interface.cls, job.name, qos_profile(job.qos, 10))
+                self._publishers[key] = publisher
+            publisher.publish(job.message)
+            self._end(job, Outcome(ActivityStatus.FINAL))
+            return
+        if kind == "action":
+            client = self._action_clients.get(key)
+            if client is None:
+                client = ActionClient(self.node, job.interface.cls, job.name)
+                self._action_clients[key] = client
+        else:
+            client = self._service_clients.get(key)
+            if client is None:
+                client = self.node.create_client(job.interface.cls, job.name)
+                self._service_clients[key] = client
+        job.client = client
+        job.phase = "waiting"
+        job.deadline = self.now() + job.server_timeout
+        self._wait_for_server(job)
+
+    def _server_ready(self, job: Job) -> bool:
+        assert job.interface is not None
+        if job.interface.kind == "action":
+            return bool(job.client.server_is_ready())
+        return bool(job.client.service_is_ready())
+
+    def _wait_for_server(self, job: Job) -> None:
+        if self._server_ready(job):
+            self._send(job)
+        elif self.now() >= job.deadline:
+            what = "action server" if job.interface is not None and job.interface.kind == "action" else "service"
+            self._fail(job, f'no {what} "{job.name}" became available within {job.server_timeout:g} s')
+
+    def _send(self, job: Job) -> None:
+        assert job.interface is not None
+        job.attempts += 1
+        now = self.now()
+        if job.interface.kind == "action":
+            job.phase = "sent"
+            job.deadline = now + job.ack_timeout
+            future = job.client.send_goal_async(job.message)
+            job.pending = future
+            future.add_done_callback(self._guarded(lambda f: self._goal_answered(job, f)))
+        else:
+            job.phase = "running"
+            job.result_deadline = now + job.result_timeout if job.result_timeout else math.inf
+            job.next_check = now + LIVENESS
+            future = job.client.call_async(job.message)
+            job.pending = future
+            future.add_done_callback(self._guarded(lambda f: self._response(job, f)))
+
+    def _goal_answered(self, job: Job, future: Any) -> None:
+        handle = future.result()
+        if future is not job.pending or job.phase == "ended":
+            # An answer to a request given up on (or to a job already ended): nobody waits for
+            # this goal, so it must not run.
+            if handle is not None and handle.accepted:
+                handle.cancel_goal_async()
+            return
+        if handle is None or not handle.accepted:
+            self._fail(job, f'the action server "{job.name}" rejected the goal')
+            return
+        job.goal = handle
+        job.phase = "running"
+        now = self.now()
+        job.result_deadline = now + job.result_timeout if job.result_timeout else math.inf
+        job.next_check = now + LIVENESS
+        result = handle.get_result_async()
+        result.add_done_callback(self._guarded(lambda f: self._result(job, f)))
+        if job.cancel_requested:
+            self.cancel(job)
+
+    def _result(self, job: Job, future: Any) -> None:
+        if job.phase == "ended":
+            return
+        response = future.result()
+        if response is None:
+            self._fail(job, f'"{job.name}": the goal ended without a result')
+            return
+        status = response.status
+        plain = _plain_or_error(response.result)
+        if status == GoalStatus.STATUS_SUCCEEDED:
+            if isinstance(plain, _Malformed):
+                self._fail(job, f'"{job.name}": bad result: {plain.reason}')
+            else:
+                self._end(job, Outcome(ActivityStatus.FINAL, plain, True))
+        elif status == GoalStatus.STATUS_CANCELED:
+            if job.cancel_requested:
+                self._end(job, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
+            else:
+                self._fail(job, f'the action server "{job.name}" cancelled the goal')
+        elif status == GoalStatus.STATUS_ABORTED:
+            partial = "" if isinstance(plain, _Malformed) else f" (its result: {_brief(plain)})"
+            self._fail(job, f'the action server "{job.name}" aborted the goal{partial}')
+        else:
+            self._fail(job, f'"{job.name}": the goal ended with unexpected status {_STATUS.get(status, status)}')
+
+    def _response(self, job: Job, future: Any) -> None:
+        if future is not job.pending or job.phase == "ended":
+            return  # a late answer to a call that was cancelled or timed out
+        try:
+            response = future.result()
+        except Exception as e:
+            self._fail(job, f'the call of "{job.name}" failed: {e}')
+            return
+        plain = _plain_or_error(response)
+        if isinstance(plain, _Malformed):
+            self._fail(job, f'"{job.name}": bad response: {plain.reason}')
+        else:
+            self._end(job, Outcome(ActivityStatus.FINAL, plain, True))
+
+    def _tick(self) -> None:
+        now = self.now()
+        for job in list(self.jobs):
+            if job.phase == "resolving":
+                self._resolve(job)
+            elif job.phase == "waiting":
+                self._wait_for_server(job)
+            elif job.phase == "sent" and now >= job.deadline:
+                if job.attempts < 2:
+                    log.warning(
+                        "ros2: no answer to the goal for %s within %g s: sending it again", job.name, job.ack_timeout
+                    )
+                    self._send(job)
+                else:
+                    self._fail(
+                        job,
+                        f'the action server "{job.name}" did not answer the goal request within '
+                        f"{job.ack_timeout:g} s (sent twice)",
+                    )
+            elif job.phase == "running":
+                if now >= job.result_deadline:
+                    if job.goal is not None:
+                        job.goal.cancel_goal_async()
+                    self._fail(job, f'"{job.name}" gave no result within {job.result_timeout:g} s')
+                elif now >= job.next_check:
+                    job.next_check = now + LIVENESS
+                    if not self._server_ready(job):
+                        what = "action server" if job.goal is not None else "service"
+                        self._fail(job, f'the {what} "{job.name}" went away before it answered')
+        for watch in list(self.watchers):
+            watch(now)
+
+    def _fail(self, job: Job, reason: str) -> None:
+        self._end(job, Outcome(ActivityStatus.FAILED, reason=reason))
+
+    def _end(self, job: Job, outcome: Outcome) -> None:
+        if job.phase == "ended":
+            return
+        job.phase = "ended"
+        job.pending = None
+        if job in self.jobs:
+            self.jobs.remove(job)
+        try:
+            job.done(outcome)
+        except Exception as e:
+            log.error("ros2: reporting the end of %s: %s: %s", job.name, type(e).__name__, e)
+
+    # ---------------------------------------------------------------- topics
+
+    def subscribe(
+        self, name: str, cls: Any, callback: Callable[[Any], None], qos: Qos | None, depth: int, keep_all: bool = False
+    ) -> Any:
+        """A subscription (call on the spin thread), with reliability and durability chosen from
+        the publishers already there unless `qos` says them."""
+        profile = qos_profile(qos, depth, self.node.get_publishers_info_by_topic(name), keep_all)
+        return self.node.create_subscription(cls, name, self._guarded(callback), profile)
+
+
+def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = (), keep_all: bool = False) -> QoSProfile:
+    """The QoS of a subscription or publisher: what the binding says; otherwise best effort
+    when a publisher is best effort (a reliable subscription would receive nothing from it),
+    transient local when every publisher is (to get the message it keeps), else reliable and
+    volatile; `depth` messages are kept, or all until they are taken (`keep_all`: a reliable
+    publisher then waits rather than a message being dropped)."""
+    qos = qos or Qos()
+    reliability = qos.reliability
+    if reliability is None:
+        best_effort = any(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in publishers)
+        reliability = "best_effort" if best_effort else "reliable"
+    durability = qos.durability
+    if durability is None:
+        latched = bool(publishers) and all(
+            p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers
+        )
+        durability = "transient_local" if latched else "volatile"
+    all_ = qos.history == "keep_all" or (qos.history is None and keep_all)
+    history = HistoryPolicy.KEEP_ALL if all_ else HistoryPolicy.KEEP_LAST
+    return QoSProfile(
+        history=history,
+        depth=qos.depth or depth,
+        reliability=ReliabilityPolicy.BEST_EFFORT if reliability == "best_effort" else ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if durability == "transient_local" else DurabilityPolicy.VOLATILE,
+    )
+
+
+@dataclass(frozen=True)
+class _Malformed:
+    reason: str
+
+
+def _plain_or_error(msg: Any) -> Any:
+    try:
+        return to_plain(msg)
+    except Exception as e:
+        return _Malformed(f"{type(e).__name__}: {e}")
+
+
+def _brief(plain: Any, limit: int = 120) -> str:
+    text = repr(plain)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+# Bridges still open when the interpreter exits are closed first: a thread still spinning at
+# exit makes the process abort ("terminate called without an active exception").
+_live: weakref.WeakSet[Bridge] = weakref.WeakSet()
+
+
+@atexit.register
+def _close_all() -> None:
+    for bridge in list(_live):
+        with contextlib.suppress(Exception):
+            bridge.close(grace=0.5)

@@ -1,0 +1,342 @@
+"""The checks the ros2 platform makes when a program attaches: every mapping whose type is known
+(written in the mapping, given in the binding file, or found in the ROS graph right now) is
+checked against that type: the type can be imported, the mapping's keys are fields (with a
+did-you-mean), the values' types fit the fields, literal constants fit their ranges, and a
+sensing action's result fits the sensed type. Each problem is located at the mapping entry
+(or the binding file entry) it is about, and all are reported at once.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from gpp.model.types import CompoundType, Type, base
+from gpp.platform.base import ActionBinding, ExogActionBinding, ExogFunctionSignature, Problem, ProgramInterface
+from gpp.platform.ros2.binding import Binding, FunctionEntry
+from gpp.platform.ros2.interfaces import (
+    FieldError,
+    Interface,
+    InterfaceError,
+    convert,
+    describe,
+    field_at,
+    fields,
+    load_interface,
+    message_problem,
+    type_problem,
+)
+from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
+from gpp.source import Span
+from gpp.suggest import did_you_mean
+
+if TYPE_CHECKING:
+    from gpp.platform.ros2.bridge import Bridge
+    from gpp.platform.ros2.platform import Target
+
+_KIND_WORD = {"action": "an action", "srv": "a service", "msg": "a topic"}
+
+
+class Graph:
+    """The names in the ROS graph when the program attaches (kind and type of each)."""
+
+    def __init__(self, bridge: Bridge | None) -> None:
+        self.known: dict[str, tuple[str, str]] = {}
+        if bridge is None:
+            return
+        try:
+            self.known = bridge.call(self._snapshot, bridge, timeout=5.0)
+        except Exception:
+            self.known = {}
+
+    @staticmethod
+    def _snapshot(bridge: Bridge) -> dict[str, tuple[str, str]]:
+        from rclpy.action.graph import get_action_names_and_types
+
+        node = bridge.node
+        known: dict[str, tuple[str, str]] = {}
+        for name, types in node.get_topic_names_and_types():
+            if types and node.count_publishers(name) > 0:
+                known[name] = ("msg", types[0])
+        for name, types in node.get_service_names_and_types():
+            if types:
+                known[name] = ("srv", types[0])
+        for name, types in get_action_names_and_types(node):
+            if types:
+                known[name] = ("action", types[0])
+        return known
+
+    def lookup(self, name: str) -> tuple[str, str] | None:
+        return self.known.get(name)
+
+
+def _parse(mapped: str, span: Span, what: str) -> tuple[MappedName | None, list[Problem]]:
+    try:
+        return parse_mapped(mapped), []
+    except NameError_ as e:
+        return None, [Problem(f"{what}: {e}", span, "not a ROS 2 name")]
+
+
+def _type_name(
+    name: MappedName, binding: Binding, graph: Graph, span: Span, what: str
+) -> tuple[str | None, list[Problem]]:
+    entry = binding.names.get(name.name)
+    declared = name.type
+    if entry is not None and entry.type is not None:
+        if declared is not None and declared != entry.type:
+            return None, [
+                Problem(
+                    f'{what}: the mapping says "{name.name}" is `{declared}`, the binding file says `{entry.type}`',
+                    span,
+                    "two types",
+                )
+            ]
+        declared = entry.type
+    if declared is None:
+        found = graph.lookup(name.name)
+        if found is not None:
+            return found[1], []
+    return declared, []
+
+
+def _load(type_name: str, span: Span, what: str) -> tuple[Interface | None, list[Problem]]:
+    try:
+        return load_interface(type_name), []
+    except InterfaceError as e:
+        return None, [Problem(f"{what}: {e}", span, "cannot import this type")]
+
+
+def action_target(binding: ActionBinding, b: Binding, graph: Graph) -> tuple[Target | None, list[Problem]]:
+    from gpp.platform.ros2.platform import Target, literal
+
+    what = f"action `{binding.name}`"
+    name, problems = _parse(binding.mapped_name, binding.span, what)
+    if name is None:
+        return None, problems
+    entry = b.entry(name.name)
+    type_name, problems = _type_name(name, b, graph, binding.span, what)
+    if problems:
+        return None, problems
+    if type_name is None:
+        return Target(binding, name, entry), []  # looked up in the graph when it is first used
+    iface, problems = _load(type_name, binding.span, what)
+    if iface is None:
+        return None, problems
+    request = iface.request
+    for arg in binding.args:
+        try:
+            t = field_at(request, arg.name)
+        except FieldError as e:
+            problems.append(
+                Problem(f'{what}: "{name.name}" ({iface.name}): {e}', arg.span, "no such field", help=e.hint)
+            )
+            continue
+        wrong = type_problem(t, arg.type)
+        if wrong is not None:
+            problems.append(Problem(f"{what}: `{arg.name}`: {wrong}", arg.span, f"the field is {describe(t)}"))
+            continue
+        if not arg.parameter:
+            known, value = literal(arg.span)
+            if known:
+                try:
+                    convert(t, value, arg.name)
+                except FieldError as e:
+                    problems.append(Problem(f"{what}: {e}", arg.span, f"the field is {describe(t)}"))
+    where = entry.span or binding.span
+    for path in entry.stamp:
+        try:
+            t = field_at(request, path)
+        except FieldError as e:
+            problems.append(Problem(f'binding file: "{name.name}" stamp: {e}', where, help=e.hint))
+            continue
+        if describe(t) != "builtin_interfaces/Time":
+            problems.append(
+                Problem(f'binding file: "{name.name}" stamp: `{path}` is {describe(t)}, not a time stamp', where)
+            )
+    if binding.sensing is not None:
+        problems.extend(_result_problems(what, name.name, iface, binding.sensing, entry.result, binding.span, where))
+    elif entry.result is not None:
+        problems.append(Problem(f'binding file: "{name.name}" result: `{binding.name}` senses nothing', where))
+    return Target(binding, name, entry, iface), problems
+
+
+def _result_problems(
+    what: str, name: str, iface: Interface, sensing: Type, path: str | None, span: Span, entry_span: Span
+) -> list[Problem]:
+    response = iface.response
+    if response is None:
+        return [Problem(f'{what} senses a value, but "{name}" is a topic: publishing returns nothing', span)]
+    kind = "result" if iface.kind == "action" else "response"
+    if path is not None:
+        try:
+            t = field_at(response, path)
+        except FieldError as e:
+            return [Problem(f'binding file: "{name}" result: the {kind} of {iface.name}: {e}', entry_span, help=e.hint)]
+        wrong = type_problem(t, sensing)
+        return [] if wrong is None else [Problem(f"{what}: the sensed {kind} field `{path}`: {wrong}", span)]
+    known = fields(response)
+    if not known:
+        return [Problem(f"{what} senses a value, but the {kind} of {iface.name} has no fields", span)]
+    if len(known) == 1 and not isinstance(base(sensing), CompoundType):
+        ((field_name, t),) = known.items()
+        wrong = type_problem(t, sensing)
+        return [] if wrong is None else [Problem(f"{what}: the {kind} field `{field_name}`: {wrong}", span)]
+    if not isinstance(base(sensing), CompoundType):
+        return [
+            Problem(
+                f"{what} senses a {sensing}, but the {kind} of {iface.name} has {len(known)} fields "
+                f"({', '.join(known)})",
+                span,
+                help=f'sense a compound type with these field names, or pick one with `result = "FIELD"` in the '
+                f'binding file\'s ["{name}"] entry',
+            )
+        ]
+    wrong = message_problem(response, sensing)
+    return [] if wrong is None else [Problem(f"{what}: the sensed {kind}: {wrong}", span)]
+
+
+def exog_route(
+    exog: ExogActionBinding, b: Binding, graph: Graph
+) -> tuple[tuple[str, Interface | None, list[tuple[str, str, Type]]] | None, list[Problem]]:
+    what = f"exogenous action `{exog.name}`"
+    name, problems = _parse(exog.mapped_name, exog.span, what)
+    if name is None:
+        return None, problems
+    by_param = {param: backend for backend, param in exog.fields.items()}
+    routes = [(by_param.get(p.name, p.name), p.name, p.type) for p in exog.params]
+    type_name, problems = _type_name(name, b, graph, exog.span, what)
+    if problems:
+        return None, problems
+    if type_name is None:
+        return (name.name, None, routes), []
+    iface, problems = _load(type_name, exog.span, what)
+    if iface is None:
+        return None, problems
+    if iface.kind != "msg":
+        return None, [
+            Problem(
+                f'{what}: "{name.name}" is {_KIND_WORD[iface.kind]} ({iface.name}); exogenous actions come from '
+                "topics (write `package/msg/Type`)",
+                exog.span,
+            )
+        ]
+    for path, param, t in routes:
+        span = exog.field_spans.get(path, exog.span)
+        try:
+            ft = field_at(iface.cls, path)
+        except FieldError as e:
+            problems.append(Problem(f'{what}: "{name.name}" ({iface.name}): {e}', span, "no such field", help=e.hint))
+            continue
+        wrong = type_problem(ft, t)
+        if wrong is not None:
+            problems.append(Problem(f"{what}: field `{path}` for parameter `{param}`: {wrong}", span))
+    return (name.name, iface, routes), problems
+
+
+def function_source(
+    entry: FunctionEntry, signature: ExogFunctionSignature, graph: Graph
+) -> tuple[Interface | None, list[Problem]]:
+    what = f"binding file: [exog_function.{entry.function}]"
+    span = entry.span
+    problems: list[Problem] = []
+    type_name = entry.source.type
+    if type_name is None:
+        found = graph.lookup(entry.source.name)
+        if found is None:
+            return None, [
+                Problem(
+                    f'{what}: the type of "{entry.source.name}" is not known: write it after the name '
+                    f'("{entry.source.name} : package/{"msg" if entry.kind == "topic" else "srv"}/Type")',
+                    span,
+                )
+            ]
+        type_name = found[1]
+    try:
+        iface = load_interface(type_name)
+    except InterfaceError as e:
+        return None, [Problem(f"{what}: {e}", span)]
+    wanted = "msg" if entry.kind == "topic" else "srv"
+    if iface.kind != wanted:
+        return None, [
+            Problem(
+                f'{what}: "{entry.source.name}" is {_KIND_WORD[iface.kind]} ({iface.name}), not {_KIND_WORD[wanted]}',
+                span,
+            )
+        ]
+    params = {p.name: p.type for p in signature.params}
+    if entry.kind == "topic" and params:
+        problems.append(
+            Problem(
+                f"{what}: `{entry.function}` has parameters ({', '.join(params)}); a topic answers only a function "
+                "without parameters (use a service for one with parameters)",
+                span,
+            )
+        )
+    if entry.kind == "service":
+        given = dict(entry.request)
+        for p in params:
+            if p not in given.values():
+                given[p] = p
+        for path, param in given.items():
+            if param not in params:
+                problems.append(
+                    Problem(
+                        f"{what} request: `{entry.function}` has no parameter `{param}`",
+                        span,
+                        help=did_you_mean(param, params),
+                    )
+                )
+                continue
+            try:
+                t = field_at(iface.request, path)
+            except FieldError as e:
+                problems.append(Problem(f"{what}: the request of {iface.name}: {e}", span, help=e.hint))
+                continue
+            wrong = type_problem(t, params[param])
+            if wrong is not None:
+                problems.append(Problem(f"{what}: request field `{path}` for parameter `{param}`: {wrong}", span))
+    answer = iface.response if iface.kind == "srv" else iface.cls
+    kind = "response" if iface.kind == "srv" else "message"
+    if entry.field is not None:
+        try:
+            t = field_at(answer, entry.field)
+        except FieldError as e:
+            problems.append(Problem(f"{what} field: the {kind} of {iface.name}: {e}", span, help=e.hint))
+        else:
+            wrong = type_problem(t, signature.return_type)
+            if wrong is not None:
+                problems.append(Problem(f"{what}: field `{entry.field}`: {wrong}", span))
+    else:
+        known = fields(answer)
+        if len(known) != 1 and not isinstance(base(signature.return_type), CompoundType):
+            problems.append(
+                Problem(
+                    f"{what}: the {kind} of {iface.name} has {len(known)} fields ({', '.join(known)}): "
+                    f'say which one answers `{entry.function}` with `field = "NAME"`',
+                    span,
+                )
+            )
+    return iface, problems
+
+
+def unused_entries(b: Binding, interface: ProgramInterface) -> list[Problem]:
+    """Binding file entries for ROS names that no mapping of the program uses."""
+    used: set[str] = set()
+    mapped = [b.mapped_name for b in interface.actions.values()]
+    mapped += [b.mapped_name for b in interface.exog_actions.values()]
+    for text in mapped:
+        try:
+            used.add(parse_mapped(text).name)
+        except NameError_:
+            used.add(normalize(text))
+    problems: list[Problem] = []
+    for name, entry in b.names.items():
+        if name not in used:
+            problems.append(
+                Problem(
+                    f'binding file: ["{name}"]: no mapping of the program uses this ROS name',
+                    entry.span,
+                    "not mapped",
+                    help=did_you_mean(name, used),
+                )
+            )
+    return problems

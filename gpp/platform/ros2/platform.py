@@ -1,0 +1,540 @@
+"""The ros2 platform: a golog++ agent on ROS 2 action servers, services and topics, with no
+glue code. The program's `mapping:` sections are the binding (see the README, "Running on a
+robot"):
+
+* an action mapped to `"/name"` or `"/name : pkg/action/Type"` sends a goal to that action
+  server (`pkg/srv/Type`: calls the service; `pkg/msg/Type`: publishes one message); the
+  mapping's keys are goal (request, message) fields, `a__b__c` reaches nested fields, a
+  compound value fills a nested message, a list fills an array;
+* the result (response) is the sensing value: a one-field result is unwrapped, a larger one
+  fills a compound type with the same field names (or the binding file picks a field);
+* an exogenous action mapped to `"/topic : pkg/msg/Type" { field = param }` happens for each
+  message on the topic;
+* exogenous functions are answered from the latest message on a topic or by a service call,
+  as the binding file declares.
+
+What the mapping cannot say (timeouts, QoS, time stamps, result fields, the sources of
+exogenous functions) is in the binding file (gpp.platform.ros2.binding). Every mapping whose
+type is known is checked when the program attaches, before anything is sent.
+
+rclpy is imported only when the platform is created, so that gpp works (and says how to
+install the ROS packages) where they are missing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import re
+import signal
+import threading
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from gpp.model.types import CompoundType, Type, base
+from gpp.platform.base import (
+    ActionBinding,
+    Activity,
+    ActivityUpdate,
+    ExogActionBinding,
+    ExogEvent,
+    Platform,
+    PlatformConfig,
+    PlatformError,
+    Problem,
+    ProgramInterface,
+    parse_options,
+)
+from gpp.platform.ros2.binding import (
+    Binding,
+    BindingError,
+    FunctionEntry,
+    NameEntry,
+    find_binding,
+)
+from gpp.platform.ros2.names import MappedName, NameError_, parse_mapped
+from gpp.platform.values import ConversionError, to_value
+from gpp.runtime.state import ActivityStatus
+from gpp.runtime.values import Value
+from gpp.source import Span
+from gpp.suggest import did_you_mean
+
+if TYPE_CHECKING:
+    from gpp.platform.ros2.bridge import Bridge, Job, Outcome
+    from gpp.platform.ros2.interfaces import Interface
+
+log = logging.getLogger("gpp.platform.ros2")
+
+INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
+
+
+@dataclass(frozen=True)
+class Ros2Options:
+    binding: Path | None = field(
+        default=None,
+        metadata={"help": "the binding file (default: the `// ros2:` line, else NAME.ros2.toml beside NAME.gpp)"},
+    )
+    domain_id: int | None = field(default=None, metadata={"help": "ROS domain id (default: $ROS_DOMAIN_ID, else 0)"})
+    server_timeout: float | None = field(
+        default=None, metadata={"help": "s to wait for a server to appear (default: the binding file's, else 5)"}
+    )
+    node_name: str = field(default="gpp_agent", metadata={"help": "the name of the agent's ROS node"})
+    log_level: str = field(default="warn", metadata={"help": "rclpy's log level (debug, info, warn, error)"})
+
+
+@dataclass
+class Target:
+    """A mapped action as the platform serves it."""
+
+    binding: ActionBinding
+    name: MappedName
+    entry: NameEntry
+    interface: Interface | None = None
+
+
+@dataclass
+class Topic:
+    """One subscribed topic and the exogenous actions its messages become."""
+
+    name: str
+    interface: Interface | None
+    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]]]] = field(default_factory=list)
+    qos_entry: NameEntry | None = None
+    subscription: Any = None
+    warned: bool = False
+    next_try: float = 0.0
+
+
+@dataclass
+class Source:
+    """Where an exogenous function's answers come from."""
+
+    entry: FunctionEntry
+    signature_type: Type
+    params: tuple[str, ...]
+    interface: Interface | None = None
+    latest: Any = None
+    has_latest: bool = False
+    subscription: Any = None
+    arrived: threading.Event = field(default_factory=threading.Event)
+
+
+class Ros2Platform(Platform):
+    name = "ros2"
+    virtual_time = False
+    selected_by = "ros2"
+    Options = Ros2Options
+    # For tests: the rclpy Context that a new platform joins (None: its own).
+    shared_context: ClassVar[Any] = None
+
+    def __init__(
+        self,
+        binding: Binding | None = None,
+        context: Any = None,
+        domain_id: int | None = None,
+        node_name: str = "gpp_agent",
+        log_level: str = "warn",
+    ) -> None:
+        super().__init__()
+        self.binding = binding or Binding()
+        self.context = context if context is not None else Ros2Platform.shared_context
+        self.domain_id = domain_id
+        self.node_name = node_name
+        self.log_level = log_level
+        self.t0 = time.monotonic()
+        self.bridge: Bridge | None = None
+        self.interface: ProgramInterface | None = None
+        self.targets: dict[str, Target] = {}
+        self.topics: dict[str, Topic] = {}
+        self.sources: dict[str, Source] = {}
+        self._jobs: dict[int, Job] = {}
+        self._lock = threading.Lock()
+        self._results: dict[int, Value] = {}
+        self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
+        self._old_sigterm: Any = None
+        self.exog_received = 0
+
+    @classmethod
+    def create(cls, config: PlatformConfig) -> Ros2Platform:
+        options = parse_options(Ros2Options, config.options, cls.name)
+        try:
+            import rclpy  # noqa: F401
+        except ImportError:
+            raise PlatformError(INSTALL_HINT) from None
+        path = find_binding(config.program, options.binding, config.directive_path("ros2"))
+        try:
+            binding = Binding.load(path) if path is not None else Binding()
+        except BindingError as e:
+            raise PlatformError(str(e)) from None
+        if options.server_timeout is not None:
+            binding.server_timeout = options.server_timeout
+        return cls(binding, None, options.domain_id, options.node_name, options.log_level)
+
+    # ---------------------------------------------------------------- attach
+
+    def attach(self, interface: ProgramInterface) -> list[Problem]:
+        from gpp.platform.ros2 import checks
+        from gpp.platform.ros2.bridge import Bridge
+
+        self.interface = interface
+        problems: list[Problem] = []
+        try:
+            self.bridge = Bridge(self.context, self.domain_id, self.node_name, self.log_level)
+        except Exception as e:
+            return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
+        bridge = self.bridge
+        self.t0 = bridge.t0
+        graph = checks.Graph(bridge)
+        for name, binding in sorted(interface.actions.items()):
+            target, found = checks.action_target(binding, self.binding, graph)
+            problems.extend(found)
+            if target is not None:
+                self.targets[name] = target
+        for name, exog in sorted(interface.exog_actions.items()):
+            found_topic, found = checks.exog_route(exog, self.binding, graph)
+            problems.extend(found)
+            if found_topic is None:
+                continue
+            topic_name, iface, routes = found_topic
+            topic = self.topics.get(topic_name)
+            if topic is None:
+                topic = Topic(topic_name, iface, qos_entry=self.binding.names.get(topic_name))
+                self.topics[topic_name] = topic
+            elif iface is not None and topic.interface is not None and iface.name != topic.interface.name:
+                problems.append(
+                    Problem(
+                        f'exogenous action `{name}`: topic "{topic_name}" is mapped with type `{iface.name}` here '
+                        f"and `{topic.interface.name}` elsewhere",
+                        exog.span,
+                    )
+                )
+                continue
+            topic.interface = topic.interface or iface
+            topic.routes.append((exog, routes))
+        for fname, entry in sorted(self.binding.functions.items()):
+            signature = interface.exog_functions.get(fname)
+            if signature is None:
+                problems.append(
+                    Problem(
+                        f"binding file: [exog_function.{fname}]: the program declares no exogenous function `{fname}`",
+                        entry.span,
+                        "not in the program",
+                        help=did_you_mean(fname, interface.exog_functions),
+                    )
+                )
+                continue
+            source, found = checks.function_source(entry, signature, graph)
+            problems.extend(found)
+            if source is not None:
+                self.sources[fname] = Source(entry, signature.return_type, signature.param_names, source)
+        problems.extend(checks.unused_entries(self.binding, interface))
+        if problems:
+            return problems
+        try:
+            bridge.call(self._subscribe_all, timeout=5.0)
+        except Exception as e:
+            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
+        bridge.watchers.append(self._watch_topics)
+        self._handle_sigterm()
+        return []
+
+    def _subscribe_all(self) -> None:
+        for topic in self.topics.values():
+            if topic.interface is not None:
+                self._subscribe(topic)
+        for source in self.sources.values():
+            if source.entry.kind == "topic" and source.interface is not None:
+                self._subscribe_source(source)
+
+    def _subscribe(self, topic: Topic) -> None:
+        assert self.bridge is not None and topic.interface is not None
+        qos = topic.qos_entry.qos if topic.qos_entry is not None else None
+        topic.subscription = self.bridge.subscribe(
+            topic.name, topic.interface.cls, lambda msg: self._message(topic, msg), qos, 1000, keep_all=True
+        )
+
+    def _subscribe_source(self, source: Source) -> None:
+        assert self.bridge is not None and source.interface is not None
+
+        def latest(msg: Any) -> None:
+            from gpp.platform.ros2.interfaces import to_plain
+
+            source.latest = to_plain(msg)
+            source.has_latest = True
+            source.arrived.set()
+
+        source.subscription = self.bridge.subscribe(
+            source.entry.source.name, source.interface.cls, latest, source.entry.qos, 1
+        )
+
+    def _watch_topics(self, now: float) -> None:
+        """On the spin thread: subscribe to topics whose type the graph did not know at attach
+        once a publisher shows it."""
+        from gpp.platform.ros2.interfaces import InterfaceError, load_interface
+
+        assert self.bridge is not None
+        for topic in self.topics.values():
+            if topic.subscription is not None or now < topic.next_try:
+                continue
+            topic.next_try = now + 1.0
+            found = self.bridge.graph_type(topic.name)
+            if found is None or found[0] != "msg":
+                if not topic.warned:
+                    topic.warned = True
+                    log.warning(
+                        'ros2: topic "%s" has no publisher yet and its type is not in the mapping; '
+                        "it is subscribed when a publisher appears",
+                        topic.name,
+                    )
+                continue
+            try:
+                topic.interface = load_interface(found[1])
+            except InterfaceError as e:
+                log.error("ros2: topic %s: %s", topic.name, e)
+                topic.next_try = float("inf")
+                continue
+            self._subscribe(topic)
+
+    def _message(self, topic: Topic, msg: Any) -> None:
+        """On the spin thread: a message on a subscribed topic becomes the exogenous events
+        mapped to it, queued in arrival order."""
+        from gpp.platform.ros2.interfaces import pick, to_plain
+
+        plain = to_plain(msg)
+        now = self.now()
+        for exog, routes in topic.routes:
+            args: list[Value] = []
+            try:
+                for path, _param, t in routes:
+                    args.append(to_value(pick(plain, path), t))
+            except (KeyError, ConversionError) as e:
+                log.warning("ros2: a message on %s does not fit `%s` and is dropped: %s", topic.name, exog.name, e)
+                continue
+            self.exog_received += 1
+            self.queue.put(ExogEvent(exog.name, tuple(args)), now)
+
+    def _handle_sigterm(self) -> None:
+        """SIGTERM stops the run as Ctrl-C does (goals cancelled, node shut down), not at once."""
+        if threading.current_thread() is not threading.main_thread():
+            return
+
+        def interrupt(signum: int, frame: FrameType | None) -> None:
+            raise KeyboardInterrupt
+
+        with contextlib.suppress(ValueError, OSError):
+            self._old_sigterm = signal.signal(signal.SIGTERM, interrupt)
+
+    # ---------------------------------------------------------------- the contract
+
+    def start(self, activity: Activity) -> None:
+        from gpp.platform.ros2.bridge import Job
+        from gpp.platform.ros2.interfaces import FieldError, make_message
+
+        if self.bridge is None:
+            raise PlatformError("the ros2 platform is not attached to a program")
+        target = self.targets.get(activity.action.name)
+        if target is None:
+            raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{activity.mapped_name}")')
+        entries = list(activity.args.items())
+        name = target.name.name
+        b = self.binding
+        service = target.interface is not None and target.interface.kind == "srv"
+        job = Job(
+            name,
+            target.interface,
+            entries,
+            lambda outcome: self._ended(activity, target, outcome),
+            stamps=target.entry.stamp,
+            server_timeout=b.server_timeout_for(name),
+            ack_timeout=b.ack_timeout_for(name),
+            result_timeout=b.result_timeout_for(name, service),
+            qos=target.entry.qos,
+        )
+        if target.interface is not None:
+            # Checked here, before anything is sent: an argument that does not fit ends the
+            # activity failed at once.
+            try:
+                make_message(target.interface.request, entries)
+            except FieldError as e:
+                self._update(activity, ActivityStatus.FAILED, reason=f'"{name}": {e}')
+                return
+        with self._lock:
+            self._jobs[activity.id] = job
+        self.bridge.submit(job)
+
+    def preempt(self, activity: Activity) -> None:
+        with self._lock:
+            job = self._jobs.get(activity.id)
+        if job is None or self.bridge is None:
+            return
+        self.bridge.post(self.bridge.cancel, job)
+
+    def _ended(self, activity: Activity, target: Target, outcome: Outcome) -> None:
+        """On the spin thread: a job ended; its activity's update is queued."""
+        with self._lock:
+            self._jobs.pop(activity.id, None)
+        status, reason = outcome.status, outcome.reason
+        result: Value = None
+        has_result = False
+        if outcome.has_result:
+            self._last[target.name.name] = outcome.result
+            sensing = target.binding.sensing
+            if sensing is not None and status is ActivityStatus.FINAL:
+                try:
+                    result = sensed_value(outcome.result, sensing, target.entry.result)
+                    has_result = True
+                    self._results[activity.id] = result
+                except (KeyError, ConversionError) as e:
+                    status, reason = ActivityStatus.FAILED, f'"{target.name.name}": bad result for the sensing: {e}'
+        self._update(activity, status, result, has_result, reason)
+
+    def _update(
+        self,
+        activity: Activity,
+        status: ActivityStatus,
+        result: Value = None,
+        has_result: bool = False,
+        reason: str = "",
+    ) -> None:
+        self.queue.put(ActivityUpdate(activity.id, status, result, has_result, reason), self.now())
+
+    def exog_function(
+        self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
+    ) -> Value:
+        source = self.sources.get(name)
+        if source is not None:
+            return self._ask(source, args, return_type)
+        if activity is not None:
+            if activity.id in self._results:
+                return self._results[activity.id]
+            raise PlatformError(
+                f'`{name}`: "{activity.mapped_name}" gave no result to sense (the goal result or the response '
+                "had no fields, or the action ended otherwise)"
+            )
+        # The golog++ ROS convention: a function given a mapped name answers with its last result.
+        for value in args.values():
+            if isinstance(value, str):
+                try:
+                    mapped = parse_mapped(value).name
+                except NameError_:
+                    continue
+                if mapped in self._last:
+                    try:
+                        return to_value(_unwrap(self._last[mapped], return_type), return_type)
+                    except ConversionError as e:
+                        raise PlatformError(f'the last result of "{mapped}": {e}') from None
+        raise PlatformError(
+            f"the ros2 platform has no source for exogenous function `{name}`: declare one in the binding file "
+            f'(`[exog_function.{name}]` with `topic = "/name : package/msg/Type"` or `service = "/name"`)'
+        )
+
+    def _ask(self, source: Source, args: Mapping[str, Value], return_type: Type) -> Value:
+        from gpp.platform.ros2.bridge import Job
+
+        entry = source.entry
+        timeout = entry.timeout if entry.timeout is not None else self.binding.timeout
+        what = f'`{entry.function}` ({entry.kind} "{entry.source.name}")'
+        if entry.kind == "topic":
+            if not source.has_latest and not source.arrived.wait(timeout):
+                raise PlatformError(f"{what}: no message arrived within {timeout:g} s")
+            plain = source.latest
+        else:
+            assert self.bridge is not None
+            by_param = {param: req for req, param in entry.request.items()}
+            entries = [(by_param.get(p, p), args[p]) for p in source.params if p in args]
+            answer: list[Outcome] = []
+            done = threading.Event()
+
+            def finished(outcome: Outcome) -> None:
+                answer.append(outcome)
+                done.set()
+
+            server_timeout = entry.server_timeout if entry.server_timeout is not None else timeout
+            job = Job(entry.source.name, source.interface, entries, finished, server_timeout=server_timeout)
+            job.result_timeout = timeout
+            self.bridge.submit(job)
+            if not done.wait(timeout + server_timeout + 0.5):
+                self.bridge.post(self.bridge.cancel, job)
+                raise PlatformError(f"{what}: no answer within {timeout:g} s")
+            outcome = answer[0]
+            if outcome.status is not ActivityStatus.FINAL:
+                raise PlatformError(f"{what}: {outcome.reason}")
+            plain = outcome.result
+        try:
+            return sensed_value(plain, return_type, entry.field)
+        except (KeyError, ConversionError) as e:
+            raise PlatformError(f"{what}: {e}") from None
+
+    def now(self) -> float:
+        return time.monotonic() - self.t0
+
+    def wait(self, deadline: float | None) -> bool:
+        while True:
+            if len(self.queue):
+                return True
+            if not self.live():
+                return False
+            slice_ = 0.1
+            if deadline is not None:
+                slice_ = min(slice_, deadline - self.now())
+                if slice_ <= 0:
+                    return False
+            if self.queue.wait(slice_):
+                return True
+
+    def live(self) -> bool:
+        with self._lock:
+            running = bool(self._jobs)
+        return running or bool(self.topics)
+
+    def close(self) -> None:
+        if self._old_sigterm is not None:
+            with contextlib.suppress(ValueError, OSError):
+                signal.signal(signal.SIGTERM, self._old_sigterm)
+            self._old_sigterm = None
+        if self.bridge is not None:
+            self.bridge.close()
+
+
+def sensed_value(plain: Any, t: Type, path: str | None) -> Value:
+    """The golog++ value of type `t` that a result (plain data) gives: the field at `path`
+    when given; else a one-field result unwrapped (unless `t` is a compound type); else the
+    whole result as a compound with the same field names."""
+    from gpp.platform.ros2.interfaces import pick
+
+    value = pick(plain, path) if path else _unwrap(plain, t)
+    return to_value(value, t)
+
+
+def _unwrap(plain: Any, t: Type) -> Any:
+    if isinstance(plain, dict) and len(plain) == 1 and not isinstance(base(t), CompoundType):
+        return next(iter(plain.values()))
+    return plain
+
+
+# ---------------------------------------------------------------- literal constants
+
+_NUMBER = re.compile(r"^-?\d+(\.\d+)?([eE][-+]?\d+)?$")
+_STRING = re.compile(r'^"([^"\\]*)"$')
+
+
+def literal(span: Span) -> tuple[bool, Value]:
+    """The value of a mapping entry `name = literal` (number, string, true or false) from its
+    source text; (False, None) for any other expression."""
+    _, sep, text = span.text.partition("=")
+    text = text.strip()
+    if not sep:
+        return False, None
+    if _NUMBER.match(text):
+        number = float(text)
+        return True, int(number) if number.is_integer() and "." not in text and "e" not in text.lower() else number
+    m = _STRING.match(text)
+    if m:
+        return True, m.group(1)
+    if text in ("true", "false"):
+        return True, text == "true"
+    return False, None
