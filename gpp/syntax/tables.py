@@ -73,8 +73,11 @@ def build_tables(grammar: str) -> Tables:
         logger.removeHandler(h)
     logger.addHandler(handler)
     logger.setLevel(logging.DEBUG)
+    # lark's annotations lag behind lark (they lack `lexer="basic"` and the attributes read
+    # below), so its parser object is used untyped.
+    make_parser: Any = Lark
     try:
-        lark = Lark(grammar, parser="lalr", lexer="basic", keep_all_tokens=True, debug=True)
+        lark = make_parser(grammar, parser="lalr", lexer="basic", keep_all_tokens=True, debug=True)
     finally:
         logger.removeHandler(handler)
         for h in old_handlers:
