@@ -54,6 +54,7 @@ class ModelBuilder:
         Collector(state).run()
         resolver.run()
         DomainEvaluator(state, checker).run()
+        resolver.resolve_compound_fields()
         resolver.check_forward_declarations()
         DeclarationChecker(state, resolver, checker).run()
         self.redirect_merged_parameters()

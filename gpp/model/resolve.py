@@ -146,6 +146,7 @@ class TypeResolver(Phase):
             symbol.params = params
 
     def resolve_compound_fields(self) -> None:
+        """Declare the fields of every compound type (the builder runs this after the domains)."""
         for symbol in self.model.types.values():
             decl = symbol.decl
             if symbol.kind is not SymbolKind.COMPOUND or not isinstance(decl, ast.CompoundDecl):
@@ -185,7 +186,6 @@ class TypeResolver(Phase):
         self.refer(name.span, member, name, declaration=True)
 
     def check_forward_declarations(self) -> None:
-        self.resolve_compound_fields()
         for symbol in list(self.model.globals.values()):
             decls = self.state.declarations.get(id(symbol), [])
             if len(decls) < 2 or symbol.decl is None:
