@@ -14,7 +14,7 @@ from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cache, cached_property
 from pathlib import Path
-from typing import TypeVar
+from typing import TypeVar, assert_never
 
 from gpp import codes
 from gpp import diagnostics as diag
@@ -25,7 +25,7 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr
-from gpp.syntax.walk import children, walk
+from gpp.syntax.walk import children, sub_statements, walk
 
 Op = ast.BinaryOp
 N = TypeVar("N", bound=ast.Node)
@@ -164,7 +164,7 @@ def statements(body: ast.Statement, planning: bool = False) -> Iterator[tuple[as
         s, inside = stack.pop()
         yield s, inside
         inner = inside or isinstance(s, ast.Solve | ast.Search)
-        stack.extend((c, inner) for c in reversed(list(children(s))) if isinstance(c, ast.Statement))
+        stack.extend((c, inner) for c in reversed(sub_statements(s)))
 
 
 def keyword_span(node: ast.Node, keyword: str) -> Span:
@@ -474,8 +474,25 @@ def _guarded(s: ast.Statement) -> bool:
 # ---------------------------------------------------------------- W0106 busy loop
 
 
-# Statements that act, wait or change the state.
-_EFFECTFUL = (ast.CallStmt, ast.HookStmt, ast.During, ast.Test, ast.Assign, ast.ListStmt)
+def _effectful(s: ast.Statement) -> bool:
+    """Does `s` itself act, wait or change the state (not counting the statements inside it)?"""
+    match s:
+        case ast.CallStmt() | ast.HookStmt() | ast.During() | ast.Test() | ast.Assign() | ast.ListStmt():
+            return True
+        case (
+            ast.Block()
+            | ast.If()
+            | ast.While()
+            | ast.Choose()
+            | ast.Concurrent()
+            | ast.Pick()
+            | ast.Solve()
+            | ast.Search()
+        ):
+            # Only the statements inside them can (`statements` visits those).
+            return False
+        case _:
+            assert_never(s)
 
 
 @_lint("W0106")
@@ -483,7 +500,7 @@ def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
     for node in program.nodes(ast.While):
         if not _is_true(node.condition):
             continue
-        if any(isinstance(s, _EFFECTFUL) for s, _ in statements(node.body)):
+        if any(_effectful(s) for s, _ in statements(node.body)):
             continue
         yield diag.warning(
             "W0106",

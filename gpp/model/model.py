@@ -39,7 +39,7 @@ class Model:
     expr_types: dict[int, Type] = field(default_factory=dict)
     targets: dict[int, Symbol] = field(default_factory=dict)
     # id(expression) -> the expression it stands for after boolean `==`/`!=` were given their
-    # golog++ precedence (see gpp.model.build.reassociate); consumers use `effective()`.
+    # golog++ precedence (see gpp.model.regroup); consumers use `effective()`.
     rewritten: dict[int, ast.Expr] = field(default_factory=dict)
     main: Symbol | None = None
 

@@ -24,7 +24,7 @@ from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
-from gpp.syntax.tables import Tables, load_tables
+from gpp.syntax.tables import Tables, first_sets, load_tables
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,46 +76,95 @@ _TERMINAL_WORDS.update(
     }
 )
 
-# Sets of terminals described by one phrase when all of them are expected.
-_PRIMARY_START = frozenset({"NAME", "NUMBER", "STRING", "TRUE", "FALSE", "NULL", "LPAR", "LIST", "BUILTIN"})
-_EXPRESSION_START = _PRIMARY_START | {"BANG", "ADD_OP", "QUANTIFIER", "IF"}
-_STATEMENT_START = (
-    frozenset({"LBRACE", "IF", "WHILE", "TEST", "CHOOSE", "PICK", "SOLVE", "SEARCH", "CONCURRENT", "DURING", "HOOK"})
-    | frozenset({"LIST_PUSH", "LIST_POP"})
-    | _PRIMARY_START
-)
-_DECLARATION_START = frozenset({"ACTION", "EXOG_ACTION", "PROCEDURE", "COMPOUND", "COMPONENT", "CONSTRAINTS"})
-_TYPE_START = frozenset({"NAME", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID", "LIST"})
-_OPERATORS = frozenset({"ARROW", "BAR", "AMP", "CMP_OP", "ADD_OP", "MUL_OP", "POW", "DOT", "LBRACKET"})
 _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
+# Brackets and what closes them. Not derived: the tables list the terminals of a rule, not
+# which of them pair up as brackets.
 _CLOSERS = {"LPAR": "RPAR", "LBRACKET": "RBRACKET", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE"}
+# What a repair may insert, in order of preference: a policy, not a fact of the grammar.
 _INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE", "COMMA")
-# Tokens that start an operand; when one is missing, a placeholder operand is inserted.
-_OPERAND_START = _PRIMARY_START
-_TYPED_DECLARATION = frozenset({"FLUENT", "FUNCTION", "EXOG_FUNCTION", "DOMAIN"})
-# A keyword that starts a statement or declaration comes after one of these (or first).
+# A keyword that starts a statement or declaration comes after one of these (or first), for
+# `did you mean` hints. Not derived: the grammar also lets `search`, `on_fail`, `on_cancel`
+# and the end of any expression (a function body) come before one, and hinting after names
+# and numbers would misfire.
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
-# Tokens where skipping stops: the parser resumes at a statement or a declaration.
-_SYNC = (
-    frozenset({"SEMI", "RBRACE"}) | _DECLARATION_START | (_STATEMENT_START - _PRIMARY_START - {"LBRACE"}) | {"INCLUDE"}
-)
+# Where a statement or a declaration ends: the parser can resume after these when skipping.
+_ENDS = frozenset({"SEMI", "RBRACE"})
 
-# What a rule that ends in ';' is, for "expected `;` after this ...".
-_SEMI_CONTEXT = {
-    "test": "statement",
-    "hook": "statement",
-    "assign": "statement",
-    "list_pop": "statement",
-    "list_push": "statement",
-    "call_stmt": "statement",
+# What a rule that ends in ';' is, by the nonterminal it produces, for "expected `;` after
+# this ...". Rules ending in ';' of other nonterminals (forward declarations) get no phrase.
+_SEMI_PHRASES = {
+    "simple_stmt": "statement",
     "effect": "effect",
-    "cond_effect": "effect",
-    "sec_senses": "sensing assignment",
+    "action_section": "sensing assignment",
     "initial": "initial value",
     "constraint": "constraint",
 }
+
+
+@dataclass(frozen=True, slots=True)
+class TokenSets:
+    """Sets of terminals the messages and the recovery use, derived from the grammar's rules
+    (kept in the LALR tables) once per set of tables, so that a new statement, declaration,
+    type or operator in grammar/gpp.lark is known to the recovery without listing it here."""
+
+    # FIRST(primary): what an operand begins with; when one is missing, a placeholder operand
+    # is inserted.
+    primary_start: frozenset[str]
+    expression_start: frozenset[str]  # FIRST(expr)
+    statement_start: frozenset[str]  # FIRST(statement)
+    type_start: frozenset[str]  # FIRST(type)
+    # The keywords that begin a declaration and nothing else: FIRST of a top-level item, less
+    # a type (typed declarations), `#include` and the legacy main block's `{`.
+    declaration_start: frozenset[str]
+    # The operator terminals of binary, field access and index expressions.
+    operators: frozenset[str]
+    # What follows the type in a declaration that begins with one (`fluent`, `domain`, ...).
+    typed_declaration: frozenset[str]
+    # Tokens where skipping stops: the parser resumes at a statement or a declaration: the end
+    # of one, a statement keyword (what begins a statement but not an expression or a
+    # block), a declaration keyword or `#include`.
+    sync: frozenset[str]
+    # Builder (or nonterminal) of each rule that ends in ';' -> what it is, in words.
+    semi_context: dict[str, str]
+
+
+def derive_token_sets(tables: Tables) -> TokenSets:
+    first = first_sets(tables.rules)
+    top_items = {symbol for r in tables.rules if r.origin == "_top" for symbol in r.symbols}
+    declaration_start = first["_top"] - first["type"] - first["include"] - first["main_block"]
+    statement_keywords = first["statement"] - first["postfix"] - first["block"]
+    return TokenSets(
+        primary_start=first["primary"],
+        expression_start=first["expr"],
+        statement_start=first["statement"],
+        type_start=first["type"],
+        declaration_start=declaration_start,
+        operators=frozenset(r.symbols[1] for r in tables.rules if r.builder in ("binary", "field", "index")),
+        typed_declaration=frozenset(
+            r.symbols[1] for r in tables.rules if r.origin in top_items and r.symbols[:1] == ("type",)
+        ),
+        sync=_ENDS | declaration_start | statement_keywords | first["include"],
+        semi_context={
+            r.builder or r.origin: _SEMI_PHRASES[r.origin]
+            for r in tables.rules
+            if r.last == "SEMI" and r.origin in _SEMI_PHRASES
+        },
+    )
+
+
+# Results of `derive_token_sets`, per table set (which they keep alive, so the id stays theirs).
+_TOKEN_SETS: dict[int, tuple[Tables, TokenSets]] = {}
+
+
+def token_sets(tables: Tables) -> TokenSets:
+    """The token sets of `tables`, derived on first use."""
+    cached = _TOKEN_SETS.get(id(tables))
+    if cached is None:
+        cached = _TOKEN_SETS[id(tables)] = (tables, derive_token_sets(tables))
+    return cached[1]
+
 
 _SUGGESTABLE_KEYWORDS = sorted(set(KEYWORDS) | set(SECTION_WORDS))
 
@@ -134,25 +183,25 @@ def describe_found(token: Token) -> str:
     return f"`{token.value}`"
 
 
-def describe_expected(expected: set[str]) -> str:
+def describe_expected(expected: set[str], sets: TokenSets) -> str:
     """`expected` terminals in words: `;`, a name, an expression, ..."""
     phrases: list[str] = []
     rest = set(expected)
-    if rest >= _DECLARATION_START and rest >= _TYPE_START:
+    if rest >= sets.declaration_start and rest >= sets.type_start:
         phrases.append("a declaration")
-        rest -= _DECLARATION_START | _TYPE_START | {"INCLUDE", "MAIN_LBRACE", "$END"}
-    if rest >= _STATEMENT_START:
+        rest -= sets.declaration_start | sets.type_start | {"INCLUDE", "MAIN_LBRACE", "$END"}
+    if rest >= sets.statement_start:
         phrases.append("a statement")
-        rest -= _STATEMENT_START | _EXPRESSION_START
-    elif rest >= _PRIMARY_START:
+        rest -= sets.statement_start | sets.expression_start
+    elif rest >= sets.primary_start:
         phrases.append("an expression")
-        rest -= _EXPRESSION_START
+        rest -= sets.expression_start
     if {"BOOL", "NUMBER_KW", "STRING_KW"} <= rest:
         phrases.append("a type")
-        rest -= _TYPE_START
-    if len(_OPERATORS & rest) >= 4:
+        rest -= sets.type_start
+    if len(sets.operators & rest) >= 4:
         phrases.append("an operator")
-        rest -= _OPERATORS
+        rest -= sets.operators
     words: list[str] = []
     for t in sorted(rest, key=_terminal_order):
         for w in _TERMINAL_WORDS.get(t, [t.lower()]):
@@ -207,6 +256,7 @@ class _Parser:
         end = len(source.text)
         self.tokens = [*tokens, Token("$END", "", end, end)]
         self.tables = tables
+        self.sets = token_sets(tables)
         self.builder = AstBuilder(source)
         self.diagnostics: list[diag.Diagnostic] = []
         # Index of the token up to which errors are not reported (cascade suppression).
@@ -407,7 +457,8 @@ class _Parser:
                 gain = self.progress(ss, [inserted, *ahead]) - 1
                 preference = 0 if inserted == "SEMI" and new_line else 1 + order
                 candidates.append((gain, -preference, inserted))
-        if expected & _OPERAND_START and tok.type not in _OPERAND_START:
+        operand_start = self.sets.primary_start
+        if expected & operand_start and tok.type not in operand_start:
             gain = self.progress(ss, ["NAME", *ahead]) - 1
             candidates.append((gain, -7, "OPERAND"))
         # The deleted token counts as read, so that deleting and inserting compare fairly.
@@ -435,10 +486,10 @@ class _Parser:
         """Can parsing resume at token j? At `;` and `}`, statement keywords, declaration
         keywords, and a type that starts a line or is followed by `fluent`/`function`/`domain`."""
         t = self.tokens[j]
-        if t.type in _SYNC:
+        if t.type in self.sets.sync:
             return True
-        if t.type in _TYPE_START and j + 1 < len(self.tokens):
-            if self.tokens[j + 1].type in _TYPED_DECLARATION:
+        if t.type in self.sets.type_start and j + 1 < len(self.tokens):
+            if self.tokens[j + 1].type in self.sets.typed_declaration:
                 return True
             prev = self.tokens[j - 1] if j > 0 else None
             starts_line = prev is None or self.source.line_col(prev.end)[0] < self.source.line_col(t.start)[0]
@@ -476,7 +527,7 @@ class _Parser:
             i,
             diag.error(
                 "E0012",
-                f"unexpected end of file, expected {describe_expected(expected)}",
+                f"unexpected end of file, expected {describe_expected(expected, self.sets)}",
                 self.span(self.tokens[i]),
                 "the file ends here",
                 secondary=secondary,
@@ -533,7 +584,8 @@ class _Parser:
         if inserted == "SEMI":
             reduced: list[str] = []
             self.simulate(ss, ["SEMI", tok.type], reduced)
-            what = next((_SEMI_CONTEXT[r] for r in reduced if r in _SEMI_CONTEXT), None)
+            semi_context = self.sets.semi_context
+            what = next((semi_context[r] for r in reduced if r in semi_context), None)
             message = f"expected `;` after this {what}" if what else "expected `;`"
             code = "E0011"
         else:
@@ -577,7 +629,7 @@ class _Parser:
             help = "remove this `;`: there is no empty statement (write `{}` for one that does nothing)"
             fix = remove
         else:
-            message = f"expected {describe_expected(expected)}, found {describe_found(tok)}"
+            message = f"expected {describe_expected(expected, self.sets)}, found {describe_found(tok)}"
             if tok.type == "EQ" and "CMP_OP" in expected:
                 help = help or "to compare two values write `==`"
             if deleting and help is None:

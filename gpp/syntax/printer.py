@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import Enum, IntEnum
+from typing import assert_never
 
 from gpp.syntax import ast
 
@@ -254,7 +255,20 @@ def _captures(s: ast.Statement, trailer: _Trailer) -> bool:
                 return True
             last = s.on_cancel if s.on_cancel is not None else s.on_fail if s.on_fail is not None else s.body
             return _captures(last, trailer)
-    return False
+        case (
+            ast.Block()
+            | ast.Choose()
+            | ast.Concurrent()
+            | ast.Test()
+            | ast.HookStmt()
+            | ast.Assign()
+            | ast.ListStmt()
+            | ast.CallStmt()
+        ):
+            # Closed by their own `}` or `;`: nothing can dangle after them.
+            return False
+        case _:
+            assert_never(s)
 
 
 def _guard(s: ast.Statement, trailer: _Trailer) -> ast.Statement:
@@ -305,7 +319,8 @@ def _stmt(s: ast.Statement, level: int) -> list[str]:
             return [f"{ind}{s.op.value}({format_expr(s.target)}{value});"]
         case ast.CallStmt():
             return [f"{ind}{_postfix(s.call)};"]
-    raise TypeError(f"cannot format statement {type(s).__name__}")
+        case _:
+            assert_never(s)
 
 
 def _during(s: ast.During, level: int) -> list[str]:

@@ -11,6 +11,7 @@ import hashlib
 import marshal
 import os
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -18,7 +19,7 @@ from typing import Any
 
 from gpp.resources import grammar_path
 
-_FORMAT = 3  # bump when the layout of the cached tables changes
+_FORMAT = 4  # bump when the layout of the cached tables changes
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,6 +31,7 @@ class Rule:
     splice: bool  # an inlined helper rule (`_name`, repetitions): its children join the parent's
     has_splices: bool  # some child comes from a splice rule
     last: str  # the last symbol of the right-hand side ("" when empty)
+    symbols: tuple[str, ...]  # the right-hand side (terminals are upper case)
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,8 +75,11 @@ def build_tables(grammar: str) -> Tables:
         logger.removeHandler(h)
     logger.addHandler(handler)
     logger.setLevel(logging.DEBUG)
+    # lark's annotations lag behind lark (they lack `lexer="basic"` and the attributes read
+    # below), so its parser object is used untyped.
+    make_parser: Any = Lark
     try:
-        lark = Lark(grammar, parser="lalr", lexer="basic", keep_all_tokens=True, debug=True)
+        lark = make_parser(grammar, parser="lalr", lexer="basic", keep_all_tokens=True, debug=True)
     finally:
         logger.removeHandler(handler)
         for h in old_handlers:
@@ -100,6 +105,7 @@ def build_tables(grammar: str) -> Tables:
                 splice=splice,
                 has_splices=any(s.startswith("_") and not s.isupper() for s in symbols),
                 last=symbols[-1] if symbols else "",
+                symbols=tuple(symbols),
             )
         )
     n_states = max(table.states) + 1
@@ -107,7 +113,7 @@ def build_tables(grammar: str) -> Tables:
     gotos: list[dict[str, int]] = [{} for _ in range(n_states)]
     for state, row in table.states.items():
         for symbol, (action, arg) in row.items():
-            if symbol.isupper() or symbol == "$END":
+            if is_terminal(symbol):
                 actions[state][symbol] = arg if action is Shift else -1 - rule_index[arg]
             else:
                 gotos[state][symbol] = arg
@@ -127,7 +133,7 @@ def _to_plain(t: Tables) -> Any:
         t.end_state,
         t.actions,
         t.gotos,
-        [(r.size, r.origin, r.builder, r.unit, r.splice, r.has_splices, r.last) for r in t.rules],
+        [(r.size, r.origin, r.builder, r.unit, r.splice, r.has_splices, r.last, r.symbols) for r in t.rules],
         t.conflicts,
     )
 
@@ -142,6 +148,37 @@ def _from_plain(p: Any) -> Tables:
         rules=[Rule(*r) for r in rules],
         conflicts=[tuple(c) for c in conflicts],
     )
+
+
+def is_terminal(symbol: str) -> bool:
+    return symbol.isupper() or symbol == "$END"
+
+
+def first_sets(rules: Sequence[Rule]) -> dict[str, frozenset[str]]:
+    """FIRST(X) for every nonterminal X of `rules`: the terminals a phrase derived from X can
+    begin with (the usual fixpoint over the rules, with the nonterminals that derive the empty
+    phrase)."""
+    first: dict[str, set[str]] = {r.origin: set() for r in rules}
+    nullable: set[str] = set()
+    changed = True
+    while changed:
+        changed = False
+        for r in rules:
+            into = first[r.origin]
+            before = len(into)
+            for symbol in r.symbols:
+                if is_terminal(symbol):
+                    into.add(symbol)
+                    break
+                into |= first[symbol]
+                if symbol not in nullable:
+                    break
+            else:
+                if r.origin not in nullable:
+                    nullable.add(r.origin)
+                    changed = True
+            changed = changed or len(into) != before
+    return {name: frozenset(terminals) for name, terminals in first.items()}
 
 
 @cache

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import fields
+from typing import assert_never
 
 from gpp.syntax import ast
 
@@ -28,6 +29,28 @@ def children(node: ast.Node) -> Iterator[ast.Node]:
             for item in value:
                 if isinstance(item, ast.Node):
                     yield item
+
+
+def sub_statements(s: ast.Statement) -> tuple[ast.Statement, ...]:
+    """The statements directly inside `s`, in source order (a `during`'s handlers after its
+    body, `on_fail` first)."""
+    match s:
+        case ast.Block():
+            return s.body
+        case ast.Choose():
+            return s.alternatives
+        case ast.Concurrent():
+            return s.branches
+        case ast.If():
+            return (s.then,) if s.otherwise is None else (s.then, s.otherwise)
+        case ast.While() | ast.Pick() | ast.Solve() | ast.Search():
+            return (s.body,)
+        case ast.During():
+            return (s.body, *(h for h in (s.on_fail, s.on_cancel) if h is not None))
+        case ast.Test() | ast.HookStmt() | ast.Assign() | ast.ListStmt() | ast.CallStmt():
+            return ()
+        case _:
+            assert_never(s)
 
 
 def walk(node: ast.Node) -> Iterator[ast.Node]:

@@ -1,0 +1,109 @@
+"""The state the model builder's phases share, and how they report into it.
+
+gpp.model.build runs the phases in order (collect, resolve, domains, declarations with the
+type checker and the precedence regrouping); each phase is a `Phase` over one `BuilderState`:
+
+* `model`: the code model being built (globals, types, symbols, references, targets, scopes,
+  expression types, rewritten expressions); every phase adds to it;
+* `diagnostics`: every error, in the order found (`report`/`error`), unless `silent`;
+* `declarations`, `decl_symbol`: written by collect (each global's declaration nodes, and the
+  symbol of each declaration node), read by the later phases;
+* `decl_params`: written by resolve (the parameter symbols of each declaration node), read by
+  the declaration checks;
+* `merged`: written by resolve (a forward declaration's parameter -> the same parameter of the
+  definition); the builder redirects references to them at the end;
+* `silent`: while above zero, nothing is reported or recorded (a phase that only wants an
+  answer, such as a type, raises it around the question);
+* `reassociated`: ids of the boolean chains the regrouping has looked at (see
+  gpp.model.regroup), written by it and read by the type checker.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable, Sequence
+
+from gpp import diagnostics as diag
+from gpp.model.model import Model
+from gpp.model.symbols import Reference, Symbol
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.loader import ParsedFile
+
+
+def suggest(name: str, candidates: Iterable[str]) -> str | None:
+    """`did you mean ...?` for a misspelled name, or None."""
+    pool = sorted(set(candidates) - {name})
+    lowered = {c.lower(): c for c in pool}
+    if name.lower() in lowered:
+        return f"did you mean `{lowered[name.lower()]}`?"
+    close = difflib.get_close_matches(name, pool, n=3, cutoff=0.6)
+    if not close:
+        return None
+    if len(close) == 1:
+        return f"did you mean `{close[0]}`?"
+    return "did you mean " + ", ".join(f"`{c}`" for c in close[:-1]) + f" or `{close[-1]}`?"
+
+
+class BuilderState:
+    """What the phases of the model builder share (see the module docstring)."""
+
+    def __init__(self, files: Sequence[ParsedFile]) -> None:
+        self.model = Model(list(files))
+        self.diagnostics: list[diag.Diagnostic] = []
+        # Every declaration node of a global (forward ones included), in source order.
+        self.declarations: dict[int, list[ast.Decl]] = {}
+        # Parameters per declaration node (forward declarations have their own).
+        self.decl_params: dict[int, tuple[Symbol, ...]] = {}
+        self.decl_symbol: dict[int, Symbol] = {}
+        self.silent = 0
+        self.reassociated: set[int] = set()
+        # Parameters of forward declarations -> the same parameter of the definition.
+        self.merged: dict[int, Symbol] = {}
+
+    # ---------------------------------------------------------------- reporting
+
+    def report(self, d: diag.Diagnostic) -> None:
+        if not self.silent:
+            self.diagnostics.append(d)
+
+    def error(
+        self,
+        code: str,
+        message: str,
+        span: Span,
+        label: str = "",
+        *,
+        secondary: Iterable[diag.Label] = (),
+        notes: Iterable[str] = (),
+        help: str | None = None,
+    ) -> None:
+        self.report(diag.error(code, message, span, label, secondary=secondary, notes=notes, help=help))
+
+    def refer(self, span: Span, symbol: Symbol, node: ast.Node | None = None, declaration: bool = False) -> None:
+        if self.silent:
+            return
+        self.model.references.append(Reference(span, symbol, declaration))
+        if node is not None:
+            self.model.targets[id(node)] = symbol
+
+    def given_twice(self, code: str, what: str, span: Span, first: Span) -> None:
+        self.error(
+            code, f"{what} is given twice", span, "given again", secondary=[diag.Label(first, "first given here")]
+        )
+
+    def declared_here(self, symbol: Symbol, what: str = "declared here") -> list[diag.Label]:
+        return [diag.Label(symbol.span, what)] if symbol.span is not None else []
+
+
+class Phase:
+    """One phase of the builder: the shared state, with its model and reporting at hand."""
+
+    def __init__(self, state: BuilderState) -> None:
+        self.state = state
+        self.model = state.model
+        # Bound once: the phases call these for every name and every error.
+        self.error = state.error
+        self.refer = state.refer
+        self.given_twice = state.given_twice
+        self.declared_here = state.declared_here

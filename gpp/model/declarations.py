@@ -1,0 +1,263 @@
+"""Phase 3 of the model builder, declarations: what each declaration says, checked.
+
+Runs after collect, resolve and domains, over every declaration of every file: fluents'
+initial values (literals, each parameter in its own position), action sections (precondition,
+effects, sensing, mapping, `silent:` and `duration:`, and what an exogenous action may not
+have), function bodies against the function's type, procedure and legacy main bodies,
+components (clock formulas, transitions between its states) and constraints (components,
+states, actions and argument patterns). Expressions and statements go to the type checker
+(gpp.model.typecheck), with the declaration's parameters in scope.
+
+Reads `state.decl_symbol`, `state.decl_params` and the resolved symbols; writes what the type
+checker writes, and the references of component members and constraint atoms.
+"""
+
+from __future__ import annotations
+
+from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.resolve import TypeResolver
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.typecheck import TypeChecker
+from gpp.model.types import BOOL, ERROR, Type
+from gpp.syntax import ast
+
+Op = ast.BinaryOp
+
+_INITIAL_LITERAL = "initial values must be literals"
+
+
+class DeclarationChecker(Phase):
+    def __init__(self, state: BuilderState, resolver: TypeResolver, checker: TypeChecker) -> None:
+        super().__init__(state)
+        self.resolver = resolver
+        self.checker = checker
+
+    def run(self) -> None:
+        for pf in self.model.files:
+            for decl in pf.program.declarations:
+                self.check_declaration(decl)
+
+    def check_declaration(self, decl: ast.Decl) -> None:
+        symbol = self.state.decl_symbol.get(id(decl))
+        params = self.state.decl_params.get(id(decl), ())
+        if isinstance(decl, ast.FluentDecl) and decl.initially is not None and symbol is not None:
+            with self.checker.scope(decl.span, params):
+                for init in decl.initially:
+                    self.check_initial_value(symbol, params, init)
+        elif isinstance(decl, ast.ActionDecl) and decl.sections is not None and symbol is not None:
+            with self.checker.scope(decl.span, params):
+                for section in decl.sections:
+                    self.check_section(symbol, decl, params, section)
+        elif isinstance(decl, ast.FunctionDecl) and decl.body is not None and symbol is not None:
+            with self.checker.scope(decl.span, params):
+                assert symbol.type is not None
+                value_type = self.decl_value_type(decl, symbol)
+                self.checker.expect(decl.body, value_type, "the function's type", decl.type.span)
+        elif isinstance(decl, ast.ProcedureDecl) and decl.body is not None:
+            with self.checker.scope(decl.span, params):
+                self.checker.stmt(decl.body)
+        elif isinstance(decl, ast.MainBlock):
+            self.checker.stmt(decl.body)
+        elif isinstance(decl, ast.ComponentDecl) and symbol is not None:
+            self.check_component(symbol, decl)
+        elif isinstance(decl, ast.ConstraintsDecl):
+            for c in decl.constraints:
+                self.spec(c.condition)
+                self.spec(c.requirement)
+
+    def decl_value_type(self, decl: ast.FunctionDecl | ast.FluentDecl, symbol: Symbol) -> Type:
+        if symbol.decl is decl and symbol.type is not None:
+            return symbol.type
+        return self.resolver.resolve_type_quiet(decl.type)
+
+    def check_initial_value(self, fluent: Symbol, params: tuple[Symbol, ...], init: ast.InitialValue) -> None:
+        if len(init.args) != len(params):
+            self.error(
+                "E0307",
+                f"fluent `{fluent.name}` has {len(params)} parameter{'s' * (len(params) != 1)}, "
+                f"but this initial value gives {len(init.args)} argument{'s' * (len(init.args) != 1)}",
+                init.span,
+                secondary=self.declared_here(fluent),
+            )
+        for i, arg in enumerate(init.args):
+            param = params[i] if i < len(params) else None
+            if isinstance(arg, ast.Name) and not arg.parenthesized:
+                by_name = next((p for p in params if p.name == arg.name), None)
+                if by_name is not None and by_name is param:
+                    self.refer(arg.span, by_name, arg)
+                    self.model.expr_types[id(arg)] = by_name.type or ERROR
+                    continue
+                if by_name is not None:
+                    position = params.index(by_name) + 1
+                    self.error(
+                        "E0307",
+                        f"`{arg.name}` is the parameter in position {position}; "
+                        f"here only `{param.name if param else '?'}` or a literal can stand",
+                        arg.span,
+                        "parameter in the wrong position",
+                        help="a parameter name stands for every value, and only in its own position",
+                    )
+                    continue
+            if param is not None and param.type is not None:
+                self.checker.expect_literal(arg, param.type, _INITIAL_LITERAL, f"parameter `{param.name}`", param.span)
+            else:
+                self.checker.expect_literal(arg, None, _INITIAL_LITERAL, "", None)
+        self.checker.expect_literal(
+            init.value,
+            fluent.type,
+            _INITIAL_LITERAL,
+            f"the type of `{fluent.name}`",
+            fluent.span,
+            help="compute the value in a procedure and assign it there",
+        )
+
+    def check_section(
+        self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], section: ast.ActionSection
+    ) -> None:
+        if decl.exogenous and isinstance(section, ast.SensesSection | ast.DurationSection):
+            word = ast.SECTION_KINDS[type(section)].value
+            self.error(
+                "E0309",
+                f"an exogenous action cannot have a `{word}:` section",
+                section.keyword,
+                help="exogenous actions are events the platform reports; they are not executed",
+            )
+        if isinstance(section, ast.PreconditionSection):
+            self.checker.expect(section.condition, BOOL, "a precondition")
+        elif isinstance(section, ast.EffectSection):
+            for effect in section.effects:
+                if effect.condition is not None:
+                    self.checker.expect(effect.condition, BOOL, "an effect's condition")
+                target = self.checker.assign_target(effect.target)
+                self.checker.expect(effect.value, target, "the assigned fluent")
+        elif isinstance(section, ast.SensesSection):
+            target = self.checker.assign_target(section.target)
+            self.checker.expect(section.value, target, "the sensed fluent")
+        elif isinstance(section, ast.MappingSection):
+            self.check_mapping(action, decl, params, section.mapping)
+        elif isinstance(section, ast.SilentSection):
+            v = section.value
+            if not isinstance(v, ast.BoolLit | ast.NullLit):
+                self.error("E0312", "`silent:` takes `true`, `false` or `null`", v.span)
+        elif isinstance(section, ast.DurationSection):
+            values: list[float] = []
+            for v in (section.low, section.high):
+                if isinstance(v, ast.NumberLit) and v.value >= 0:
+                    values.append(float(v.value))
+                else:
+                    self.error("E0312", "a duration bound is a non-negative number literal (seconds)", v.span)
+            if len(values) == 2 and values[0] > values[1]:
+                self.error("E0312", "the lower duration bound is greater than the upper one", section.span)
+
+    def check_mapping(
+        self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], mapping: ast.Mapping
+    ) -> None:
+        seen: dict[str, ast.MappingArg] = {}
+        bound: set[str] = set()
+        for arg in mapping.args:
+            first = seen.get(arg.name.name)
+            if first is not None:
+                self.given_twice("E0305", f"mapping argument `{arg.name.name}`", arg.name.span, first.name.span)
+            else:
+                seen[arg.name.name] = arg
+            self.checker.expr(arg.value)
+            if decl.exogenous:
+                v = arg.value
+                target = self.model.target(v) if isinstance(v, ast.Name) else None
+                if target is not None and target.kind is SymbolKind.PARAMETER and not v.parenthesized:
+                    bound.add(target.name)
+                else:
+                    self.error(
+                        "E0308",
+                        "an exogenous action's mapping entry must be one of its parameters",
+                        v.span,
+                        "not a parameter",
+                        notes=["the mapping is read backwards: incoming event fields set the parameters"],
+                    )
+        if decl.exogenous:
+            missing = [p.name for p in params if p.name not in bound]
+            if missing:
+                names = ", ".join(f"`{m}`" for m in missing)
+                self.error(
+                    "E0308",
+                    f"the mapping of exogenous action `{action.name}` does not bind {names}",
+                    mapping.span,
+                    help="add " + ", ".join(f"`{m} = {m}`" for m in missing),
+                )
+
+    def check_component(self, component: Symbol, decl: ast.ComponentDecl) -> None:
+        for section in decl.sections:
+            if isinstance(section, ast.StatesSection):
+                for s in section.states:
+                    if s.invariant is not None:
+                        self.clock_formula(component, s.invariant)
+            elif isinstance(section, ast.TransitionsSection):
+                for t in section.transitions:
+                    for state in (t.source, t.target):
+                        self.component_member(component, state, SymbolKind.STATE)
+                    if t.guard is not None:
+                        self.clock_formula(component, t.guard)
+                    for c in t.resets or ():
+                        self.component_member(component, c, SymbolKind.CLOCK)
+
+    def component_member(self, component: Symbol, name: ast.Ident, kind: SymbolKind) -> Symbol | None:
+        member = component.members.get(name.name)
+        if member is None or member.kind is not kind:
+            names = [m.name for m in component.members.values() if m.kind is kind]
+            self.error(
+                "E0107",
+                f"component `{component.name}` has no {kind.value} `{name.name}`",
+                name.span,
+                help=suggest(name.name, names),
+            )
+            return None
+        self.refer(name.span, member, name)
+        return member
+
+    def clock_formula(self, component: Symbol, f: ast.ClockFormula) -> None:
+        if isinstance(f, ast.ClockBound):
+            self.component_member(component, f.clock, SymbolKind.CLOCK)
+            if f.op not in (Op.LE, Op.GE):
+                self.error("E0204", "a clock bound uses `<=` or `>=`", f.span)
+        elif isinstance(f, ast.ClockNot):
+            self.clock_formula(component, f.operand)
+        elif isinstance(f, ast.ClockBinary):
+            self.clock_formula(component, f.left)
+            self.clock_formula(component, f.right)
+
+    def spec(self, s: ast.Spec) -> None:
+        if isinstance(s, ast.SpecBinary):
+            self.spec(s.left)
+            self.spec(s.right)
+        elif isinstance(s, ast.SpecUnary):
+            self.spec(s.operand)
+        elif isinstance(s, ast.StateAtom):
+            component = self.model.globals.get(s.component.name)
+            if component is None or component.kind is not SymbolKind.COMPONENT:
+                components = [g.name for g in self.model.globals.values() if g.kind is SymbolKind.COMPONENT]
+                self.error(
+                    "E0107",
+                    f"unknown component `{s.component.name}`",
+                    s.component.span,
+                    help=suggest(s.component.name, components),
+                )
+                return
+            self.refer(s.component.span, component, s.component)
+            self.component_member(component, s.state, SymbolKind.STATE)
+        elif isinstance(s, ast.ActionAtom):
+            g = s.action
+            action = self.model.globals.get(g.name.name)
+            if action is None or action.kind is not SymbolKind.ACTION:
+                actions = [x.name for x in self.model.globals.values() if x.kind is SymbolKind.ACTION]
+                self.error("E0103", f"unknown action `{g.name.name}`", g.name.span, help=suggest(g.name.name, actions))
+                return
+            self.refer(g.name.span, action, g.name)
+            if len(g.args) != len(action.params):
+                self.checker.arity_error(action, g.span, len(g.args))
+                return
+            for arg, p in zip(g.args, action.params, strict=True):
+                if isinstance(arg, ast.Wildcard):
+                    continue
+                self.checker.expect_literal(
+                    arg, p.type, "constraint patterns take literals or `*`", f"parameter `{p.name}`", p.span
+                )

@@ -1,0 +1,128 @@
+"""Phase 2b of the model builder, domains: every domain evaluated to its set of members.
+
+Runs after the types are resolved. Evaluates each domain definition (references to other
+domains, literal sets, union / difference / intersection), reporting cycles, element-type
+mismatches and non-literal members; the names listed in a `symbol` domain are declared here
+as the program's symbols. Literal members are typed by the type checker.
+
+Reads `model.types` and the domains' element types (from resolve); writes each DomainType's
+`values`/`defined`, `model.symbols`, and the references and expression types of the members.
+"""
+
+from __future__ import annotations
+
+from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.typecheck import TypeChecker, is_literal
+from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, same_value
+from gpp.syntax import ast
+
+
+class DomainEvaluator(Phase):
+    def __init__(self, state: BuilderState, checker: TypeChecker) -> None:
+        super().__init__(state)
+        self.checker = checker
+        self.domains_in_progress: set[int] = set()
+
+    def run(self) -> None:
+        for symbol in list(self.model.types.values()):
+            if symbol.kind is SymbolKind.DOMAIN:
+                self.evaluate_domain(symbol)
+
+    def evaluate_domain(self, symbol: Symbol) -> tuple[DomainValue, ...]:
+        dtype = symbol.type
+        if not isinstance(dtype, DomainType):
+            return ()
+        if dtype.defined:
+            return dtype.values
+        decl = symbol.decl
+        if not isinstance(decl, ast.DomainDecl) or decl.definition is None or dtype.broken:
+            dtype.defined = True
+            return ()
+        if id(symbol) in self.domains_in_progress:
+            self.error(
+                "E0311",
+                f"domain `{symbol.name}` is defined in terms of itself",
+                decl.name.span,
+                "this definition refers back to itself",
+            )
+            return ()
+        self.domains_in_progress.add(id(symbol))
+        values = self.domain_values(decl.definition, dtype)
+        self.domains_in_progress.discard(id(symbol))
+        dtype.values = values
+        dtype.defined = True
+        return values
+
+    def domain_values(self, d: ast.DomainExpr, dtype: DomainType) -> tuple[DomainValue, ...]:
+        if isinstance(d, ast.DomainRef):
+            other = self.model.types.get(d.name.name)
+            if other is None or other.kind is not SymbolKind.DOMAIN:
+                domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
+                name = d.name.name
+                message = f"`{name}` is not a domain" if other is not None else f"unknown domain `{name}`"
+                self.error("E0105", message, d.name.span, help=suggest(name, domains))
+                return ()
+            self.refer(d.name.span, other, d.name)
+            values = self.evaluate_domain(other)
+            assert isinstance(other.type, DomainType)
+            if other.type.element != dtype.element:
+                self.error(
+                    "E0311",
+                    f"domain `{other.name}` has `{other.type.element}` elements, "
+                    f"but `{dtype.name}` has `{dtype.element}` elements",
+                    d.span,
+                )
+                return ()
+            return values
+        if isinstance(d, ast.DomainSet):
+            out: list[DomainValue] = []
+            for e in d.elements:
+                v = self.domain_literal(e, dtype)
+                if v is not None and not any(same_value(v, x) for x in out):
+                    out.append(v)
+            return tuple(out)
+        if isinstance(d, ast.DomainBinary):
+            left = self.domain_values(d.left, dtype)
+            right = self.domain_values(d.right, dtype)
+            if d.op is ast.DomainOp.UNION:
+                return left + tuple(v for v in right if not any(same_value(v, x) for x in left))
+            if d.op is ast.DomainOp.DIFFERENCE:
+                return tuple(v for v in left if not any(same_value(v, x) for x in right))
+            return tuple(v for v in left if any(same_value(v, x) for x in right))
+        return ()
+
+    def domain_literal(self, e: ast.Expr, dtype: DomainType) -> DomainValue | None:
+        element = dtype.element
+        if element is SYMBOL:
+            if isinstance(e, ast.Name):
+                symbol = self.model.symbols.get(e.name)
+                if symbol is None:
+                    symbol = Symbol(e.name, SymbolKind.SYMBOL, e.span, decl=e, type=SYMBOL)
+                    self.model.symbols[e.name] = symbol
+                    self.refer(e.span, symbol, e, declaration=True)
+                else:
+                    symbol.other_spans.append(e.span)
+                    self.refer(e.span, symbol, e, declaration=True)
+                self.model.expr_types[id(e)] = SYMBOL
+                return Sym(e.name)
+            self.error(
+                "E0202", "expected a symbol name", e.span, f"a `symbol` domain lists names like `{dtype.name}_a`"
+            )
+            return None
+        if not is_literal(e) or isinstance(e, ast.Name | ast.NullLit):
+            self.error("E0213", f"a `{element}` domain lists {element} literals", e.span, "not a literal")
+            return None
+        t = self.checker.expr(e)
+        if t is not ERROR and t != element:
+            self.error(
+                "E0202", f"expected `{element}`, found `{t}`", e.span, f"domain `{dtype.name}` holds `{element}` values"
+            )
+            return None
+        return _literal_value(e)
+
+
+def _literal_value(e: ast.Expr) -> DomainValue | None:
+    if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
+        return e.value
+    return None

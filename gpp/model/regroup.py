@@ -1,0 +1,162 @@
+"""Precedence regrouping, part of the type-checking phase: boolean `==`/`!=` (iff/xor) get
+their golog++ precedence, the loosest beside `->`.
+
+The grammar parses every `==` as a comparison, tighter than `&`. Only once the operand types
+are known can a chain that mixes a boolean `==` with `&`, `|`, `->` or `!` be rebuilt; the
+type checker asks `reassociate` for each unvisited `!` and binary operator, and types the
+rebuilt tree instead.
+
+Reads the operand types through the type checker (silently, `state.silent`); writes
+`state.reassociated` (the chains already looked at, which are not looked at again) and the
+types of the parsed chain's own nodes in `model.expr_types`. The type checker records the
+rebuilt expression in `model.rewritten`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+from gpp.model.builder_state import BuilderState, Phase
+from gpp.model.types import BOOL, Type, base
+from gpp.source import Span
+from gpp.syntax import ast
+
+Op = ast.BinaryOp
+
+BOOL_CHAIN = frozenset({Op.AND, Op.OR, Op.IMPLIES})
+EQUALITY = frozenset({Op.EQ, Op.NE})
+
+
+class Regrouper(Phase):
+    def __init__(self, state: BuilderState, type_of: Callable[[ast.Expr], Type]) -> None:
+        super().__init__(state)
+        # The type checker's `expr`: types an operand (and records its type).
+        self.type_of = type_of
+        self.reassociated = state.reassociated
+
+    def reassociate(self, e: ast.Binary | ast.Unary) -> ast.Expr | None:
+        """Give boolean `==`/`!=` (iff/xor) their golog++ precedence, the loosest beside `->`.
+
+        The grammar parses every `==` as a comparison, tighter than `&`; once the operand types
+        are known, an unparenthesised chain that mixes a boolean `==` with `&`, `|`, `->` or `!`
+        is rebuilt: `p() == q() & r()` means `p() == (q() & r())`. Returns None when nothing
+        changes (almost always, and cheaply: the operand types are only computed when the chain
+        has both kinds of operator)."""
+        ops: set[object] = set()
+        members: list[int] = []
+        _chain_ops(e, ops, members, root=True)
+        if not (ops & EQUALITY) or not (ops - EQUALITY):
+            # Nothing to re-associate here, nor in any sub-chain: do not look again.
+            self.reassociated.update(members)
+            return None
+        items: list[ast.Expr | Op | _Not] = []
+        self.state.silent += 1
+        try:
+            self.flatten_chain(e, items, root=True)
+        finally:
+            self.state.silent -= 1
+        rebuilt, rest = _climb(items, 0)
+        assert not rest
+        if rebuilt == e:
+            return None
+        if e.parenthesized:
+            rebuilt = replace(rebuilt, span=e.span, parenthesized=True)
+        _mark(rebuilt, self.reassociated)
+        # The parsed chain's own nodes are all boolean; an editor pointing at one asks its type.
+        _mark_types(e, self.model.expr_types)
+        return rebuilt
+
+    def flatten_chain(self, e: ast.Expr, out: list[ast.Expr | Op | _Not], root: bool = False) -> None:
+        inside = root or not e.parenthesized
+        if inside and isinstance(e, ast.Binary) and e.op in BOOL_CHAIN:
+            self.flatten_chain(e.left, out)
+            out.append(e.op)
+            self.flatten_chain(e.right, out)
+        elif inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+            out.append(_Not(e.span))
+            self.flatten_chain(e.operand, out)
+        elif inside and isinstance(e, ast.Binary) and e.op in EQUALITY and self.is_boolean_pair(e):
+            self.flatten_chain(e.left, out)
+            out.append(e.op)
+            self.flatten_chain(e.right, out)
+        else:
+            out.append(e)
+
+    def is_boolean_pair(self, e: ast.Binary) -> bool:
+        return base(self.type_of(e.left)) is BOOL and base(self.type_of(e.right)) is BOOL
+
+
+def _chain_ops(e: ast.Expr, ops: set[object], members: list[int], root: bool = False) -> None:
+    """The operators of the unparenthesised boolean/equality chain rooted at `e` (parentheses
+    around the whole chain do not end it), and the ids of the chain's nodes. Iterative: a
+    chain of thousands of `&` is a deep tree."""
+    stack = [(e, root)]
+    while stack:
+        node, is_root = stack.pop()
+        if node.parenthesized and not is_root:
+            continue
+        if isinstance(node, ast.Binary) and (node.op in BOOL_CHAIN or node.op in EQUALITY):
+            ops.add(node.op)
+            members.append(id(node))
+            stack.append((node.left, False))
+            stack.append((node.right, False))
+        elif isinstance(node, ast.Unary) and node.op is ast.UnaryOp.NOT:
+            ops.add(ast.UnaryOp.NOT)
+            members.append(id(node))
+            stack.append((node.operand, False))
+
+
+_LEVELS: tuple[frozenset[Op], ...] = (
+    frozenset({Op.IMPLIES, Op.EQ, Op.NE}),
+    frozenset({Op.OR}),
+    frozenset({Op.AND}),
+)
+
+
+@dataclass(frozen=True, slots=True)
+class _Not:
+    """A prefix `!` in a flattened chain (it applies to the next operand)."""
+
+    span: Span
+
+
+def _climb(items: list[ast.Expr | Op | _Not], level: int) -> tuple[ast.Expr, list[ast.Expr | Op | _Not]]:
+    """Precedence climbing over a flattened chain; returns the tree and the unread items."""
+    if level == len(_LEVELS):
+        head = items[0]
+        if isinstance(head, _Not):
+            operand, rest = _climb(items[1:], level)
+            span = Span(head.span.source, head.span.start, operand.span.end)
+            return ast.Unary(span=span, op=ast.UnaryOp.NOT, operand=operand), rest
+        assert isinstance(head, ast.Expr)
+        return head, items[1:]
+    left, rest = _climb(items, level + 1)
+    while rest and isinstance(rest[0], Op) and rest[0] in _LEVELS[level]:
+        op = rest[0]
+        right, rest = _climb(rest[1:], level + 1)
+        span = Span(left.span.source, left.span.start, right.span.end)
+        left = ast.Binary(span=span, op=op, left=left, right=right)
+    return left, rest
+
+
+def _mark(e: ast.Expr, done: set[int]) -> None:
+    if isinstance(e, ast.Binary) and (e.op in BOOL_CHAIN or e.op in EQUALITY):
+        done.add(id(e))
+        _mark(e.left, done)
+        _mark(e.right, done)
+    elif isinstance(e, ast.Unary):
+        done.add(id(e))
+        _mark(e.operand, done)
+
+
+def _mark_types(e: ast.Expr, types: dict[int, Type]) -> None:
+    if e.parenthesized and id(e) in types:
+        return
+    if isinstance(e, ast.Binary) and (e.op in BOOL_CHAIN or e.op in EQUALITY):
+        types.setdefault(id(e), BOOL)
+        _mark_types(e.left, types)
+        _mark_types(e.right, types)
+    elif isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        types.setdefault(id(e), BOOL)
+        _mark_types(e.operand, types)

@@ -1,0 +1,756 @@
+"""The type checker: what type every expression has, and which statements and expressions are
+type errors. golog++'s typing rules live here; the other phases ask it for types and check
+only what is particular to a declaration (names given twice, sections, initial-value shapes).
+
+Used by the later phases of the model builder (gpp.model.build): the domains phase types
+literal members, the declarations phase types initial values, sections, function bodies and
+procedure bodies, and everything in them goes through `stmt` and `expr`. It owns:
+
+* statements (`stmt`, one case per kind): conditions are bool, only actions and procedures
+  are executed, only fluents (and their fields and elements) are assigned, `pick`/`solve`/
+  `during`/hooks/list operations take what they need;
+* expressions (`expr`): the type of every literal, name, call, operator, quantifier,
+  conditional, field access, index, compound and list literal and builtin, recorded in
+  `model.expr_types`; an expression with an error gets the type ERROR, which fits everywhere,
+  so a mistake is reported once;
+* what fits where (`expect`, `check_fits`, `expect_literal`): assignability, domain
+  membership of literals, literal-only slots;
+* the scopes of parameters and variables (`scope`, `new_variable`).
+
+Reads the symbols and types of phases 1 and 2; writes `model.expr_types`, `model.targets`,
+`model.references`, `model.scopes` and `model.rewritten` (the chains gpp.model.regroup
+rebuilt); reports into the shared state.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from typing import assert_never
+
+from gpp import diagnostics as diag
+from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
+from gpp.model.resolve import TypeResolver
+from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, ScopeRecord, Symbol, SymbolKind
+from gpp.model.types import (
+    BOOL,
+    ERROR,
+    NULL,
+    NUMBER,
+    STRING,
+    SYMBOL,
+    VOID,
+    CompoundType,
+    DomainType,
+    DomainValue,
+    ListType,
+    Sym,
+    Type,
+    assignable,
+    base,
+    common_type,
+    equatable,
+    is_finite,
+    ordered,
+    show_value,
+)
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.walk import walk
+
+Op = ast.BinaryOp
+
+
+def is_literal(e: ast.Expr) -> bool:
+    """A value written out: what initial values, `pick ... in`, domains and durations take."""
+    if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit | ast.NullLit | ast.Name):
+        return True
+    if isinstance(e, ast.CompoundLit):
+        return all(is_literal(f.value) for f in e.fields)
+    if isinstance(e, ast.ListLit):
+        return all(is_literal(x) for x in e.elements)
+    return False
+
+
+def operator_span(e: ast.Binary) -> Span:
+    """The span of a binary expression's operator token (found between its operands)."""
+    source = e.span.source
+    start, end = e.left.span.end, e.right.span.start
+    text = source.text[start:end]
+    at = text.find(e.op.value)
+    if at < 0:
+        return e.span
+    return Span(source, start + at, start + at + len(e.op.value))
+
+
+class TypeChecker(Phase):
+    def __init__(self, state: BuilderState, resolver: TypeResolver) -> None:
+        super().__init__(state)
+        self.resolver = resolver
+        self.scopes: list[dict[str, Symbol]] = []
+        self.reassociated = state.reassociated
+        self.regroup = Regrouper(state, self.expr)
+
+    # ---------------------------------------------------------------- scopes
+
+    @contextmanager
+    def scope(self, span: Span, symbols: Sequence[Symbol]) -> Iterator[None]:
+        self.scopes.append({s.name: s for s in symbols})
+        if not self.state.silent and symbols:
+            self.model.scopes.append(ScopeRecord(span, tuple(symbols)))
+        try:
+            yield
+        finally:
+            self.scopes.pop()
+
+    def lookup_variable(self, name: str) -> Symbol | None:
+        for scope in reversed(self.scopes):
+            s = scope.get(name)
+            if s is not None:
+                return s
+        return None
+
+    def visible_variables(self) -> set[str]:
+        return {n for scope in self.scopes for n in scope}
+
+    def new_variable(self, var_type: ast.TypeExpr, var: ast.Ident, decl: ast.Node) -> Symbol:
+        symbol = Symbol(var.name, SymbolKind.VARIABLE, var.span, decl=decl, type=self.resolver.resolve_type(var_type))
+        self.refer(var.span, symbol, var, declaration=True)
+        return symbol
+
+    # ---------------------------------------------------------------- literal-only slots
+
+    def expect_literal(
+        self,
+        e: ast.Expr,
+        target: Type | None,
+        message: str,
+        context: str,
+        span: Span | None,
+        help: str | None = None,
+    ) -> None:
+        """Check an expression where only a literal may stand (initial values, `pick ... in`,
+        constraint patterns): written as a literal, and every bare name in it a symbol."""
+        if not is_literal(e):
+            self.error("E0213", message, e.span, "not a literal", help=help)
+            self.expr(e)
+            return
+        if target is not None:
+            self.expect(e, target, context, span)
+        else:
+            self.expr(e)
+        for node in walk(e):
+            if isinstance(node, ast.Name):
+                symbol = self.model.target(node)
+                if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
+                    self.error(
+                        "E0213",
+                        f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
+                        node.span,
+                        "not a literal",
+                        help=help,
+                    )
+
+    # ---------------------------------------------------------------- statements
+
+    def stmt(self, s: ast.Statement) -> None:
+        match s:
+            case ast.Block():
+                for x in s.body:
+                    self.stmt(x)
+            case ast.CallStmt():
+                if isinstance(s.call, ast.Call):
+                    self.call(s.call, "statement")
+                else:
+                    self.expr(s.call)
+                    self.error(
+                        "E0104",
+                        "this expression is not a statement",
+                        s.call.span,
+                        "its value would be thrown away",
+                        help="statements call actions or procedures, assign fluents, or `test(...)` a condition",
+                    )
+            case ast.Assign():
+                target = self.assign_target(s.target)
+                self.expect(s.value, target, "the assigned fluent")
+            case ast.If():
+                self.expect(s.condition, BOOL, "an `if` condition")
+                self.stmt(s.then)
+                if s.otherwise is not None:
+                    self.stmt(s.otherwise)
+            case ast.While():
+                self.expect(s.condition, BOOL, "a `while` condition")
+                self.stmt(s.body)
+            case ast.Test():
+                self.expect(s.condition, BOOL, "a `test`")
+            case ast.Choose():
+                for x in s.alternatives:
+                    self.stmt(x)
+            case ast.Concurrent():
+                for x in s.branches:
+                    self.stmt(x)
+            case ast.Pick():
+                self.pick(s)
+            case ast.Solve():
+                self.solve(s)
+            case ast.Search():
+                self.stmt(s.body)
+            case ast.During():
+                self.action_call(s.action, "during")
+                self.stmt(s.body)
+                if s.on_fail is not None:
+                    self.stmt(s.on_fail)
+                if s.on_cancel is not None:
+                    self.stmt(s.on_cancel)
+            case ast.HookStmt():
+                self.action_call(s.action, s.hook.value)
+            case ast.ListStmt():
+                self.list_stmt(s)
+            case _:
+                assert_never(s)
+
+    def list_stmt(self, s: ast.ListStmt) -> None:
+        target = self.assign_target(s.target)
+        if target is not ERROR and not isinstance(target, ListType) and target is not NULL:
+            self.error("E0204", f"`{s.op.value}` needs a list, found `{target}`", s.target.span, f"this is `{target}`")
+            target = ERROR
+        if s.value is not None:
+            element = target.element if isinstance(target, ListType) else ERROR
+            self.expect(s.value, element, "the list's element type")
+
+    def action_call(self, e: ast.Expr, hook: str) -> None:
+        if isinstance(e, ast.Call):
+            self.call(e, hook)
+        else:
+            self.expr(e)
+            self.error("E0104", f"`{hook}` needs an action call such as `{hook}(go(kitchen))`", e.span)
+
+    def pick(self, s: ast.Pick) -> None:
+        variable = self.new_variable(s.var_type, s.var, s)
+        var_type = variable.type or ERROR
+        if s.values is None:
+            if not is_finite(var_type):
+                self.error(
+                    "E0210",
+                    f"`pick` over `{var_type}` needs a list of values",
+                    s.var_type.span,
+                    f"`{var_type}` has infinitely many values",
+                    help=f"write `pick ({var_type} {s.var.name} in {{...}})` or use a domain type",
+                )
+        else:
+            for v in s.values:
+                self.expect_literal(
+                    v, var_type, "`pick ... in {...}` lists literal values", f"`{s.var.name}`", s.var_type.span
+                )
+        # The variable is visible in the body only (not in its own list of values).
+        with self.scope(s.body.span, [variable]):
+            self.stmt(s.body)
+
+    def solve(self, s: ast.Solve) -> None:
+        self.expect(s.horizon, NUMBER, "a `solve` horizon")
+        reward = s.reward
+        if isinstance(reward, ast.Call) and not reward.parenthesized:
+            symbol = self.model.globals.get(reward.name.name)
+            if symbol is not None and symbol.kind is not SymbolKind.FUNCTION:
+                self.resolve_misused_call(reward, symbol)
+                self.error(
+                    "E0212",
+                    f"the reward of `solve` must be a function, but `{symbol.name}` is "
+                    f"{symbol.kind.article} {symbol.kind.value}",
+                    reward.span,
+                    secondary=self.declared_here(symbol),
+                    help="declare `number function reward() = ...` and call it here",
+                )
+            elif (t := self.expr(reward)) is not ERROR and base(t) is not NUMBER:
+                self.error("E0212", f"the reward of `solve` must be a number, found `{t}`", reward.span)
+        else:
+            self.expr(reward)
+            self.error("E0212", "the reward of `solve` is a call of a number function", reward.span)
+        self.stmt(s.body)
+
+    def assign_target(self, e: ast.Expr) -> Type:
+        """Check an assignment's left side (a fluent, or a field/element path from one) and
+        return its type."""
+        root = e
+        while isinstance(root, ast.FieldAccess | ast.Index) and not root.parenthesized:
+            root = root.subject
+        if isinstance(root, ast.Call) and not root.parenthesized:
+            symbol = self.model.globals.get(root.name.name)
+            if symbol is not None and symbol.kind is not SymbolKind.FLUENT:
+                self.resolve_misused_call(root, symbol)
+                self.error(
+                    "E0306",
+                    f"cannot assign to `{symbol.name}`: it is {symbol.kind.article} {symbol.kind.value}",
+                    root.span,
+                    "not a fluent",
+                    secondary=self.declared_here(symbol),
+                    help="only fluents (and their fields and elements) can be assigned",
+                )
+                return ERROR
+            return self.expr(e)
+        if isinstance(root, ast.Name):
+            self.expr(root)
+            target = self.model.target(root)
+            if target is None:
+                return ERROR  # an unknown name: already reported
+            if target.kind is SymbolKind.SYMBOL:
+                help = "a symbol is a constant; assign a fluent that holds symbols instead"
+            else:
+                help = "parameters and variables are immutable; declare a fluent to hold changing values"
+            self.error(
+                "E0306",
+                f"cannot assign to {target.kind.value} `{root.name}`",
+                root.span,
+                "not a fluent",
+                help=help,
+            )
+            return ERROR
+        self.expr(e)
+        self.error("E0306", "cannot assign to this expression", e.span, "not a fluent")
+        return ERROR
+
+    # ---------------------------------------------------------------- expressions
+
+    def expect(self, e: ast.Expr, target: Type, context: str, context_span: Span | None = None) -> Type:
+        """Type `e` and check that a slot of type `target` accepts it."""
+        t = self.expr(e)
+        self.check_fits(e, t, target, context, context_span)
+        return t
+
+    def check_fits(self, e: ast.Expr, t: Type, target: Type, context: str, context_span: Span | None) -> None:
+        secondary = [diag.Label(context_span, f"{context} is `{target}`")] if context_span else []
+        if not assignable(target, t):
+            help = None
+            if base(target) is STRING and base(t) in (NUMBER, BOOL, SYMBOL):
+                help = "convert it with `to_string(...)`"
+            elif isinstance(target, DomainType) and isinstance(t, DomainType):
+                help = f"`{t}` and `{target}` hold different kinds of values"
+            self.error(
+                "E0202",
+                f"expected `{target}`, found `{t}`",
+                e.span,
+                f"expected `{target}` for {context}",
+                secondary=secondary,
+                help=help,
+            )
+            return
+        if isinstance(target, DomainType) and target.defined:
+            value = self.literal_value(e)
+            if value is not None and not target.contains(value):
+                shown = ", ".join(show_value(v) for v in target.values[:10]) + (
+                    ", ..." if len(target.values) > 10 else ""
+                )
+                self.error(
+                    "E0203",
+                    f"`{show_value(value)}` is not in domain `{target}`",
+                    e.span,
+                    f"not a member of `{target}`",
+                    secondary=secondary,
+                    notes=[f"`{target}` = {{{shown}}}"],
+                )
+        elif isinstance(target, ListType) and isinstance(e, ast.ListLit):
+            pass  # elements were checked against the literal's own element type
+        elif isinstance(target, CompoundType | ListType):
+            return
+
+    def literal_value(self, e: ast.Expr) -> DomainValue | None:
+        if isinstance(e, ast.Name):
+            target = self.model.target(e)
+            return Sym(e.name) if target is not None and target.kind is SymbolKind.SYMBOL else None
+        if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
+            return e.value
+        return None
+
+    def expr(self, e: ast.Expr) -> Type:
+        t = self._expr(e)
+        self.model.expr_types[id(e)] = t
+        return t
+
+    def _expr(self, e: ast.Expr) -> Type:
+        if isinstance(e, ast.NumberLit):
+            return NUMBER
+        if isinstance(e, ast.StringLit):
+            return STRING
+        if isinstance(e, ast.BoolLit):
+            return BOOL
+        if isinstance(e, ast.NullLit):
+            return NULL
+        if isinstance(e, ast.Name):
+            return self.name(e)
+        if isinstance(e, ast.Call):
+            return self.call(e, "expression")
+        if isinstance(e, ast.Binary | ast.Unary) and id(e) not in self.reassociated:
+            replacement = self.regroup.reassociate(e)
+            if replacement is not None:
+                if not self.state.silent:
+                    self.model.rewritten[id(e)] = replacement
+                return self.expr(replacement)
+        if isinstance(e, ast.Unary):
+            if e.op is ast.UnaryOp.NOT:
+                self.expect_operand(e.operand, BOOL, "!")
+                return BOOL
+            self.expect_operand(e.operand, NUMBER, "-")
+            return NUMBER
+        if isinstance(e, ast.Binary):
+            return self.binary(e)
+        if isinstance(e, ast.Quantified):
+            variable = self.new_variable(e.var_type, e.var, e)
+            vt = variable.type or ERROR
+            if not is_finite(vt):
+                self.error(
+                    "E0210",
+                    f"`{e.quantifier.value}` over `{vt}` cannot be evaluated",
+                    e.var_type.span,
+                    f"`{vt}` has infinitely many values",
+                    help="quantify over a domain (or bool)",
+                )
+            with self.scope(e.body.span, [variable]):
+                self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")
+            return BOOL
+        if isinstance(e, ast.Conditional):
+            self.expect(e.condition, BOOL, "a condition")
+            a = self.expr(e.then)
+            b = self.expr(e.otherwise)
+            common = common_type(a, b)
+            if common is None:
+                self.error(
+                    "E0211",
+                    f"the branches of this conditional have different types: `{a}` and `{b}`",
+                    e.span,
+                    secondary=[diag.Label(e.then.span, f"`{a}`"), diag.Label(e.otherwise.span, f"`{b}`")],
+                )
+                return ERROR
+            return common
+        if isinstance(e, ast.FieldAccess):
+            return self.field_access(e)
+        if isinstance(e, ast.Index):
+            subject = self.expr(e.subject)
+            self.expect(e.index, NUMBER, "a list index")
+            if subject is ERROR:
+                return ERROR
+            if isinstance(subject, ListType):
+                return subject.element
+            self.error("E0207", f"`{subject}` cannot be indexed", e.subject.span, "not a list")
+            return ERROR
+        if isinstance(e, ast.CompoundLit):
+            return self.compound_literal(e)
+        if isinstance(e, ast.ListLit):
+            list_type = self.resolver.resolve_type(e.type)
+            element = list_type.element if isinstance(list_type, ListType) else ERROR
+            for x in e.elements:
+                self.expect(x, element, "the list's element type", e.type.span)
+            return list_type
+        if isinstance(e, ast.BuiltinCall):
+            arg = self.expr(e.arg)
+            if e.function is ast.Builtin.LENGTH:
+                if arg is not ERROR and not isinstance(arg, ListType):
+                    self.error("E0204", f"`length` needs a list, found `{arg}`", e.arg.span, f"this is `{arg}`")
+                return NUMBER
+            if isinstance(arg, CompoundType | ListType) or arg is VOID:
+                self.error(
+                    "E0204", f"`to_string` converts numbers, bools, symbols and strings, not `{arg}`", e.arg.span
+                )
+            return STRING
+        if isinstance(e, ast.Wildcard):
+            self.error("E0213", "`*` stands only in constraint patterns", e.span)
+            return ERROR
+        raise AssertionError(f"unhandled expression {type(e).__name__}")
+
+    def expect_operand(self, e: ast.Expr, want: Type, op: str) -> Type:
+        t = self.expr(e)
+        if t is ERROR or assignable(want, t):
+            if t is NULL:
+                self.error("E0204", f"`{op}` cannot be applied to `null`", e.span)
+                return ERROR
+            return t
+        self.error("E0204", f"`{op}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
+        return ERROR
+
+    def binary(self, e: ast.Binary) -> Type:
+        op = e.op
+        if op in BOOL_CHAIN:
+            self.expect_operand(e.left, BOOL, op.value)
+            self.expect_operand(e.right, BOOL, op.value)
+            return BOOL
+        if op in ast.COMPARISON_OPS:
+            return self.comparison(e)
+        left = self.expr(e.left)
+        right = self.expr(e.right)
+        if left is ERROR or right is ERROR:
+            return ERROR
+        if left is NULL or right is NULL:
+            self.error("E0204", f"`{op.value}` cannot be applied to `null`", (e.left if left is NULL else e.right).span)
+            return ERROR
+        bl, br = base(left), base(right)
+        if op is Op.ADD and bl is STRING and br is STRING:
+            return STRING
+        if bl is NUMBER and br is NUMBER:
+            return NUMBER
+        verb = {
+            Op.ADD: "add",
+            Op.SUB: "subtract",
+            Op.MUL: "multiply",
+            Op.DIV: "divide",
+            Op.MOD: "take the remainder of",
+        }
+        help = None
+        if op is Op.ADD and STRING in (bl, br):
+            help = "convert the other operand with `to_string(...)` to concatenate"
+        what = verb.get(op, "raise")
+        self.error(
+            "E0204",
+            f"cannot {what} `{left}` and `{right}`" if op is not Op.POW else f"cannot raise `{left}` to `{right}`",
+            operator_span(e),
+            f"`{op.value}` needs two numbers" + (" or two strings" if op is Op.ADD else ""),
+            secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
+            help=help,
+        )
+        return ERROR
+
+    def comparison(self, e: ast.Binary) -> Type:
+        left = self.expr(e.left)
+        right = self.expr(e.right)
+        if left is ERROR or right is ERROR:
+            return BOOL
+        chained = isinstance(e.left, ast.Binary) and e.left.op in ast.COMPARISON_OPS and not e.left.parenthesized
+        if chained and not (e.op in EQUALITY and base(right) is BOOL):
+            assert isinstance(e.left, ast.Binary)
+            self.error(
+                "E0205",
+                "comparison operators cannot be chained",
+                e.span,
+                f"`{e.left.op.value}` then `{e.op.value}`",
+                help=f"compare each pair and join them with `&`: `a {e.left.op.value} b & b {e.op.value} c`",
+            )
+            return BOOL
+        if e.op in EQUALITY:
+            if not equatable(left, right):
+                if isinstance(base(left), CompoundType | ListType) or isinstance(base(right), CompoundType | ListType):
+                    self.error(
+                        "E0209",
+                        f"values of type `{left}` cannot be compared with `{e.op.value}`",
+                        e.span,
+                        help="compare their fields or elements instead",
+                    )
+                else:
+                    self.error(
+                        "E0204",
+                        f"cannot compare `{left}` with `{right}`",
+                        operator_span(e),
+                        secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
+                    )
+            return BOOL
+        if left is NULL or right is NULL:
+            self.error("E0204", f"`{e.op.value}` cannot compare with `null`", e.span, help="test `x != null` first")
+        elif not ordered(left) or base(left) != base(right):
+            self.error(
+                "E0204",
+                f"cannot order `{left}` and `{right}` with `{e.op.value}`",
+                operator_span(e),
+                secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
+                notes=["`<`, `<=`, `>`, `>=` compare two numbers, two strings or two symbols"],
+            )
+        return BOOL
+
+    def name(self, e: ast.Name) -> Type:
+        variable = self.lookup_variable(e.name)
+        if variable is not None:
+            self.refer(e.span, variable, e)
+            return variable.type or ERROR
+        symbol = self.model.symbols.get(e.name)
+        if symbol is not None:
+            self.refer(e.span, symbol, e)
+            return SYMBOL
+        g = self.model.globals.get(e.name)
+        if g is not None and g.kind in EXPRESSION_CALLABLE:
+            self.refer(e.span, g, e)
+            self.error(
+                "E0102",
+                f"`{e.name}` is {g.kind.article} {g.kind.value}; call it with `{e.name}(...)`",
+                e.span,
+                "missing `(...)`",
+                secondary=self.declared_here(g),
+                help=f"write `{e.name}()`" if not g.params else f"write `{e.name}(...)` with its arguments",
+            )
+            return ERROR
+        candidates = [*self.visible_variables(), *self.model.symbols]
+        self.error(
+            "E0101",
+            f"unknown name `{e.name}`",
+            e.span,
+            "not a variable, parameter or symbol",
+            help=suggest(e.name, candidates),
+        )
+        return ERROR
+
+    def call(self, e: ast.Call, context: str) -> Type:
+        name = e.name.name
+        symbol = self.model.globals.get(name)
+        statement = context != "expression"
+        if symbol is None:
+            if statement:
+                allowed = STATEMENT_CALLABLE if context == "statement" else frozenset({SymbolKind.ACTION})
+                what = "action or procedure" if context == "statement" else "action"
+            else:
+                allowed = EXPRESSION_CALLABLE
+                what = "fluent or function"
+            pool = [g.name for g in self.model.globals.values() if g.kind in allowed]
+            self.error(
+                "E0103",
+                f"unknown {what} `{name}`",
+                e.name.span,
+                "not declared",
+                help=suggest(name, pool) or suggest(name, self.model.globals),
+            )
+            for a in e.args:
+                self.expr(a)
+            return ERROR
+        if not self.call_kind_ok(e, symbol, context):
+            self.resolve_misused_call(e, symbol)
+            return ERROR
+        self.refer(e.name.span, symbol, e)
+        params = symbol.params
+        if len(e.args) != len(params):
+            self.arity_error(symbol, e.span, len(e.args))
+        for i, a in enumerate(e.args):
+            if i < len(params) and params[i].type is not None:
+                p = params[i]
+                self.expect(a, p.type or ERROR, f"parameter `{p.name}`", p.span)
+            else:
+                self.expr(a)
+        return symbol.type or ERROR
+
+    def resolve_misused_call(self, e: ast.Call, symbol: Symbol) -> None:
+        """A call of the wrong kind of declaration (reported by the caller): the name still
+        refers to it, and the arguments are checked on their own."""
+        self.refer(e.name.span, symbol, e)
+        for a in e.args:
+            self.expr(a)
+
+    def call_kind_ok(self, e: ast.Call, symbol: Symbol, context: str) -> bool:
+        kind = symbol.kind
+        name = symbol.name
+        described = f"`{name}` is {kind.article} {kind.value}"
+        secondary = self.declared_here(symbol)
+        if context == "expression":
+            if kind in EXPRESSION_CALLABLE:
+                return True
+            self.error(
+                "E0104",
+                f"{described}; only fluents and functions can be used in expressions",
+                e.span,
+                f"{kind.value} call in an expression",
+                secondary=secondary,
+            )
+            return False
+        if context == "statement":
+            if kind in STATEMENT_CALLABLE:
+                return True
+            help: str | None
+            if kind is SymbolKind.EXOG_ACTION:
+                help = "the platform reports exogenous actions; a program cannot execute them"
+            elif kind is SymbolKind.FLUENT:
+                help = f"to change the fluent, assign it: `{name}(...) = value;`"
+            else:
+                help = "to wait until a condition holds, write `test(...)`" if symbol.type is BOOL else None
+            self.error(
+                "E0104",
+                f"{described} and cannot be executed as a statement",
+                e.span,
+                "not an action or procedure",
+                secondary=secondary,
+                help=help,
+            )
+            return False
+        if kind is SymbolKind.ACTION:
+            return True
+        self.error(
+            "E0104",
+            f"{described}; `{context}` needs an action",
+            e.span,
+            "not an action",
+            secondary=secondary,
+        )
+        return False
+
+    def arity_error(self, symbol: Symbol, span: Span, given: int) -> None:
+        n = len(symbol.params)
+        self.error(
+            "E0201",
+            f"`{symbol.name}` takes {n} argument{'s' * (n != 1)} but {given} {'were' if given != 1 else 'was'} given",
+            span,
+            f"expected {n} argument{'s' * (n != 1)}",
+            secondary=self.declared_here(symbol),
+            notes=[f"`{symbol.signature()}`"],
+        )
+
+    def field_access(self, e: ast.FieldAccess) -> Type:
+        subject = self.expr(e.subject)
+        if subject is ERROR:
+            return ERROR
+        if isinstance(subject, CompoundType):
+            ftype = subject.fields.get(e.field.name)
+            if ftype is None:
+                self.error(
+                    "E0106",
+                    f"`{subject}` has no field `{e.field.name}`",
+                    e.field.span,
+                    "unknown field",
+                    help=suggest(e.field.name, subject.fields),
+                    notes=[f"fields of `{subject}`: " + ", ".join(f"`{f}`" for f in subject.fields)],
+                )
+                return ERROR
+            if subject.symbol is not None:
+                member = subject.symbol.members.get(e.field.name)
+                if member is not None:
+                    self.refer(e.field.span, member, e.field)
+            return ftype
+        self.error("E0207", f"`{subject}` has no fields", e.subject.span, f"this is `{subject}`, not a compound")
+        return ERROR
+
+    def compound_literal(self, e: ast.CompoundLit) -> Type:
+        symbol = self.model.types.get(e.type_name.name)
+        if symbol is None or symbol.kind is not SymbolKind.COMPOUND:
+            compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
+            name = e.type_name.name
+            message = f"unknown compound type `{name}`" if symbol is None else f"`{name}` is not a compound type"
+            self.error("E0105", message, e.type_name.span, help=suggest(name, compounds))
+            for f in e.fields:
+                self.expr(f.value)
+            return ERROR
+        self.refer(e.type_name.span, symbol, e.type_name)
+        ctype = symbol.type
+        assert isinstance(ctype, CompoundType)
+        given: dict[str, ast.FieldInit] = {}
+        for f in e.fields:
+            ftype = ctype.fields.get(f.name.name)
+            if ftype is None:
+                self.error(
+                    "E0106",
+                    f"`{ctype}` has no field `{f.name.name}`",
+                    f.name.span,
+                    "unknown field",
+                    help=suggest(f.name.name, ctype.fields),
+                )
+                self.expr(f.value)
+                continue
+            first = given.get(f.name.name)
+            if first is not None:
+                self.given_twice("E0208", f"field `{f.name.name}`", f.name.span, first.name.span)
+            given[f.name.name] = f
+            member = symbol.members.get(f.name.name)
+            if member is not None:
+                self.refer(f.name.span, member, f.name)
+            self.expect(f.value, ftype, f"field `{f.name.name}`", member.span if member else None)
+        missing = [name for name in ctype.fields if name not in given]
+        if missing:
+            names = ", ".join(f"`{m}`" for m in missing)
+            self.error(
+                "E0208",
+                f"missing field{'s' * (len(missing) != 1)} {names} in `{ctype}` literal",
+                e.span,
+                secondary=self.declared_here(symbol, f"`{ctype}` declared here"),
+                help="give every field a value; write `null` for a field without one",
+            )
+        return ctype
