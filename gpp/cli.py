@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Annotated, NoReturn
 import typer
 
 from gpp import __version__
+from gpp.resources import InstallationError
 from gpp.runtime.errors import Terminated
 
 if TYPE_CHECKING:
@@ -248,6 +249,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     except Terminated:
         print("terminated", file=sys.stderr)
         sys.exit(143)
+    except InstallationError as e:
+        print(f"error: {e}", file=sys.stderr)
+        sys.exit(EXIT_USAGE)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         sys.exit(130)

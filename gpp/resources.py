@@ -12,11 +12,16 @@ from pathlib import Path
 _PACKAGE = Path(__file__).resolve().parent
 
 
+class InstallationError(Exception):
+    """gpp's installation is broken (a file missing, a dependency replaced by another version);
+    the message says how to repair it."""
+
+
 def _find(name: str) -> Path:
     for candidate in (_PACKAGE / "_data" / name, _PACKAGE.parent / name):
         if candidate.exists():
             return candidate
-    raise FileNotFoundError(f"gpp installation is incomplete: no {name}/ beside the package")
+    raise InstallationError(f"gpp installation is incomplete: no {name}/ beside the package")
 
 
 @cache
@@ -27,3 +32,15 @@ def grammar_path() -> Path:
 @cache
 def stdlib_dir() -> Path:
     return _find("stdlib")
+
+
+def check_lark(version: str) -> None:
+    """gpp builds its parser tables with lark 1.x. The ROS 2 wheels depend on lark-parser 0.12,
+    which installs into the same `lark` package and can replace lark 1.x."""
+    major = version.split(".", 1)[0]
+    if not major.isdigit() or int(major) < 1:
+        raise InstallationError(
+            f"gpp needs lark 1.x, but lark {version} is installed (lark-parser 0.12, which the ROS 2 wheels "
+            "depend on, replaces it); repair with: pip uninstall -y lark-parser && "
+            "pip install --force-reinstall --no-deps 'lark>=1.3.1,<2'"
+        )

@@ -70,3 +70,14 @@ def test_installed_package_checks_a_program_outside_the_source_tree(wheel: Path,
     )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "no problems found" in result.stdout
+
+
+def test_a_lark_replaced_by_lark_parser_is_reported_with_the_repair() -> None:
+    import pytest
+
+    from gpp.resources import InstallationError, check_lark
+
+    check_lark("1.3.1")
+    with pytest.raises(InstallationError, match=r"gpp needs lark 1.x, but lark 0.12.0 is installed") as caught:
+        check_lark("0.12.0")
+    assert "pip uninstall -y lark-parser" in str(caught.value)

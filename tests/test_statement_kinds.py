@@ -16,6 +16,11 @@ ROOT = Path(__file__).resolve().parent.parent
 
 # Every function that handles each statement kind (docs/design.md, "Adding a statement kind").
 DISPATCH_SITES = {
+    "gpp/check/lints.py:_effectful",
+    "gpp/model/typecheck.py:TypeChecker.stmt",
+    "gpp/syntax/printer.py:_captures",
+    "gpp/syntax/printer.py:_stmt",
+    "gpp/syntax/walk.py:sub_statements",
     "gpp/runtime/blocked.py:_Explanation.why_code",
     "gpp/runtime/semantics.py:Semantics._final_code",
     "gpp/runtime/semantics.py:Semantics._trans_code",

@@ -55,6 +55,11 @@ def build_tables(grammar: str) -> Tables:
     """Compile the grammar with lark and extract the LALR tables."""
     import logging
 
+    import lark as lark_package
+
+    from gpp.resources import check_lark
+
+    check_lark(lark_package.__version__)
     from lark import Lark, logger
     from lark.parsers.lalr_analysis import IntParseTable, Shift
 
