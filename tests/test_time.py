@@ -144,3 +144,36 @@ def test_a_wait_on_an_activity_wakes_as_before(tmp_path: Path) -> None:
     assert outcome.ok and outcome.result is not None and outcome.result.platform_time == 3.0
     assert outcome.trace is not None and outcome.trace.of(WaitingEvent) == []
     assert [s.action for s in outcome.trace.of(StartEvent)] == ["a()"]
+
+
+KNOCK = """// scenario: knock.toml
+bool fluent door_open() { initially: () = false; }
+number fluent knocks() { initially: () = 0; }
+exog_action knock() { effect: knocks() = knocks() + 1; }
+exog_action open_door() { effect: door_open() = true; }
+
+procedure main() {
+    while (knocks() > 0) knocks() = knocks() - 1;   // answer every knock
+    test(door_open());                               // then wait for the door
+}
+"""
+
+
+def test_a_blocked_sequence_steps_back_into_an_earlier_loop_and_the_trace_shows_it(tmp_path: Path) -> None:
+    """The example of docs/semantics.md, "A blocked sequence can step back into an earlier loop"."""
+    doc = (Path(__file__).resolve().parent.parent / "docs" / "semantics.md").read_text(encoding="utf-8")
+    assert "while (knocks() > 0) knocks() = knocks() - 1;" in doc
+    (tmp_path / "knock.toml").write_text(
+        '[[exog]]\nat = 1\naction = "knock"\n\n[[exog]]\nat = 2\naction = "open_door"\n', encoding="utf-8"
+    )
+    outcome = run(tmp_path, KNOCK, "knock.gpp")
+    assert outcome.ok and outcome.trace is not None
+    steps = [(e.EVENT, e.t, getattr(e, "at", None), getattr(e, "resumed", None)) for e in outcome.trace.records[1:]]
+    test_at = f"{tmp_path / 'knock.gpp'}:9:5"
+    assert steps[:5] == [
+        ("waiting", 0.0, test_at, False),
+        ("exog", 1.0, None, None),
+        ("waiting", 1.0, test_at, True),
+        ("assign", 1.0, f"{tmp_path / 'knock.gpp'}:8:26", None),  # back in the loop's body
+        ("waiting", 1.0, test_at, False),
+    ]

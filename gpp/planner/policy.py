@@ -20,7 +20,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from gpp.model.types import Type
 from gpp.planner.result import Plan, PolicyStep
+from gpp.runtime.compiled import Context
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
@@ -40,6 +42,7 @@ from gpp.runtime.semantics import (
     TestStep,
 )
 from gpp.runtime.state import Activities, ActivityStatus, State
+from gpp.runtime.values import Value
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -50,6 +53,29 @@ class PolicyPlanner:
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
         return PlanHolder.for_statement(sem, stmt, frame, state)
+
+
+class OncePerPlan:
+    """The evaluation context of one planning run: each exogenous function is asked of the
+    platform at most once per name and argument values; the clock is read as it is."""
+
+    def __init__(self, ctx: Context) -> None:
+        self.ctx = ctx
+        self.answers: dict[tuple[str, tuple[tuple[str, Value], ...]], Value] = {}
+        self.asked = 0
+
+    def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
+        key = (name, tuple(sorted(args.items())))
+        if key not in self.answers:
+            self.asked += 1
+            self.answers[key] = self.ctx.exog_function(name, args, return_type, span)
+        return self.answers[key]
+
+    def now(self) -> float:
+        return self.ctx.now()
+
+    def wake_at(self, t: float) -> None:
+        pass  # a plan is made at one moment: its conditions name no moment to wake at
 
 
 @dataclass(eq=False)
@@ -119,7 +145,9 @@ class PlanHolder:
         return sum(step.cost for _, step, _ in self.policy[: index - self.base])
 
     def make_plan(self, sem: Semantics, prog: Prog, state: State, acts: Activities) -> Plan:
-        planning = sem.with_mode(True)
+        # One plan asks each ground exogenous function once (docs/semantics.md, "Planning and
+        # the outside world"): on a robot every question is a service call.
+        planning = sem.with_context(OncePerPlan(sem.ctx), True)
         stmt = self.stmt
         if isinstance(stmt, ast.Solve):
             from gpp.planner.dp import solve_plan

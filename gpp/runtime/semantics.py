@@ -315,6 +315,9 @@ class Semantics:
     def with_mode(self, planning: bool) -> Semantics:
         return Semantics(self.program, self.ctx, planning, self.planner)
 
+    def with_context(self, ctx: Context, planning: bool) -> Semantics:
+        return Semantics(self.program, ctx, planning, self.planner)
+
     def env(self, state: State, frame: Frame) -> Env:
         return Env(state, frame.vars, self.ctx)
 
