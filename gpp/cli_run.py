@@ -54,20 +54,29 @@ WorldOption = Annotated[
 ]
 
 
+def key_values(pairs: list[str] | None, option: str) -> dict[str, str]:
+    """`KEY=VALUE` pairs of a repeatable option; a malformed pair or a key given twice is a
+    usage error."""
+    from gpp.cli import _usage_error
+
+    found: dict[str, str] = {}
+    for pair in pairs or []:
+        key, sep, value = pair.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            _usage_error(f"{option} takes KEY=VALUE, not {pair!r}")
+        if key in found:
+            _usage_error(f"{option} `{key}` is given twice")
+        found[key] = value.strip()
+    return found
+
+
 def platform_options(pairs: list[str] | None, **shorthand: object) -> dict[str, str | int | float | bool | Path]:
     """The platform options from `--platform-opt KEY=VALUE` pairs and the shorthand flags (those
     given: not None, not False). A malformed pair, or a key given twice, is a usage error."""
     from gpp.cli import _usage_error
 
-    options: dict[str, str | int | float | bool | Path] = {}
-    for pair in pairs or []:
-        key, sep, value = pair.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            _usage_error(f"--platform-opt takes KEY=VALUE, not {pair!r}")
-        if key in options:
-            _usage_error(f"platform option `{key}` is given twice")
-        options[key] = value.strip()
+    options: dict[str, str | int | float | bool | Path] = dict(key_values(pairs, "--platform-opt"))
     for name, given in shorthand.items():
         if given is None or given is False:
             continue
@@ -105,6 +114,15 @@ def run(
     file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
     platform: PlatformOption = None,
     platform_opt: PlatformOptOption = None,
+    arg: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--arg",
+            metavar="NAME=VALUE",
+            help="A value for a parameter of `main` (repeatable): a number, true/false, a symbol, text, "
+            "or a list or compound as JSON.",
+        ),
+    ] = None,
     scenario: ScenarioOption = None,
     seed: SeedOption = None,
     random: RandomOption = False,
@@ -172,6 +190,7 @@ def run(
         ),
         timeout=timeout,
         trace=trace,
+        args=key_values(arg, "--arg"),
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     try:

@@ -4,6 +4,7 @@ evaluate `postcond()`. `gpp run` and `gpp test` are both thin layers over `run_p
 from __future__ import annotations
 
 import hashlib
+import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -12,14 +13,19 @@ from pathlib import Path
 from gpp import __version__
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_program
+from gpp.model.symbols import Symbol
+from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, DomainType, Type
 from gpp.platform import choose_platform, platform_class
 from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
+from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.contract import program_interface
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, HeaderEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace
+from gpp.runtime.values import Value
 from gpp.source import Span
+from gpp.suggest import did_you_mean
 from gpp.syntax.directives import directives
 
 
@@ -36,6 +42,8 @@ class RunOptions:
     timeout: float | None = None
     # Wall-clock seconds a run may take (default: the timeout's).
     wall_timeout: float | None = None
+    # Values of the entry procedure's parameters (`--arg name=value`), as text or as values.
+    args: Mapping[str, object] = field(default_factory=dict)
     trace: Path | None = None
     entry: str = "main"
 
@@ -100,6 +108,7 @@ def run_program(
             diag.error("R0008", "the program has no `procedure main()` to run", check.loaded.files[-1].program.span)
         )
         return outcome
+    entry_args = entry_arguments(check.model.globals[options.entry], options.args)
     platform = make_platform(options, path, program_directives(check, path))
     outcome.platform = platform.name
     trace = Trace(options.trace, listeners)
@@ -118,6 +127,7 @@ def run_program(
             options.entry,
             planner=PolicyPlanner(),
             wall_timeout=options.wall_timeout,
+            entry_args=entry_args,
         )
         problems = platform.attach(program_interface(program))
         if problems:
@@ -148,6 +158,55 @@ def run_program(
     finally:
         platform.close()
         trace.close()
+
+
+def entry_arguments(procedure: Symbol, given: Mapping[str, object]) -> tuple[Value, ...]:
+    """The values of `procedure`'s parameters from `--arg name=value` pairs: text is read as a
+    golog++ literal of the parameter's type (a number, `true`/`false`, a symbol, a string as it
+    is, a list or compound as JSON). RunSetupError for a missing, unknown or ill-typed one."""
+    params = {p.name: p for p in procedure.params}
+    for name in given:
+        if name not in params:
+            hint = did_you_mean(name, params)
+            takes = ", ".join(params) if params else "no parameters"
+            raise RunSetupError(
+                f"`{procedure.name}` has no parameter `{name}`" + (f"; {hint}" if hint else "") + f" (it takes {takes})"
+            )
+    values: list[Value] = []
+    for name, param in params.items():
+        if name not in given:
+            shown = ", ".join(f"{p.type} {p.name}" for p in procedure.params)
+            raise RunSetupError(
+                f"`{procedure.name}({shown})` needs a value for `{name}`: give it with --arg {name}=VALUE"
+            )
+        raw = given[name]
+        assert param.type is not None
+        try:
+            values.append(to_value(_literal(raw, param.type) if isinstance(raw, str) else raw, param.type))
+        except ConversionError as e:
+            raise RunSetupError(f"--arg {name}: {e}") from None
+    return tuple(values)
+
+
+def _literal(text: str, t: Type) -> object:
+    """Text from the command line as plain data for `to_value`."""
+    element = t.element if isinstance(t, DomainType) else t
+    if element is STRING:
+        return text
+    if element is SYMBOL:
+        return text.strip()
+    if element is NUMBER:
+        try:
+            number = float(text)
+        except ValueError:
+            return text
+        return int(number) if number.is_integer() and "." not in text and "e" not in text.lower() else number
+    if element is BOOL:
+        return {"true": True, "false": False}.get(text.strip(), text)
+    try:
+        return json.loads(text)
+    except ValueError:
+        return text
 
 
 def _header(path: Path, platform: Platform) -> HeaderEvent:

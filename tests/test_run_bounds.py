@@ -110,3 +110,44 @@ def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
         if process.poll() is None:
             process.kill()
     assert process.returncode == 130, out + err
+
+
+# ---------------------------------------------------------------- parameters of main
+
+PARAMS = """symbol domain Room = {hall, kitchen}
+number fluent x() { initially: () = 0; }
+Room fluent at() { initially: () = hall; }
+bool fluent flag() { initially: () = false; }
+list[number] fluent l() { initially: () = list[number] []; }
+procedure main(number n, Room r, bool b, list[number] xs) { x() = n; at() = r; flag() = b; l() = xs; }
+bool function postcond() = x() == 3 & at() == kitchen & flag() & length(l()) == 2
+"""
+
+
+def test_main_takes_its_parameters_from_arg(tmp_path: Path) -> None:
+    (tmp_path / "p.gpp").write_text(PARAMS, encoding="utf-8")
+    args = ["--arg", "n=3", "--arg", "r=kitchen", "--arg", "b=true", "--arg", "xs=[1, 2]"]
+    result = gpp("run", "-q", "p.gpp", *args, cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "postcond()         holds" in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ([], "`main(number n, Room r, bool b, list[number] xs)` needs a value for `n`: give it with --arg n=VALUE"),
+        (["--arg", "xz=3"], "`main` has no parameter `xz`; did you mean `xs`? (it takes n, r, b, xs)"),
+        (["--arg", "n=abc"], "--arg n: expected a number, got 'abc'"),
+        (
+            ["--arg", "n=1", "--arg", "r=attic", "--arg", "b=true", "--arg", "xs=[]"],
+            "--arg r: attic is not in domain `Room`",
+        ),
+        (["--arg", "n"], "--arg takes KEY=VALUE, not 'n'"),
+    ],
+)
+def test_parameters_of_main_that_do_not_fit_are_usage_errors(tmp_path: Path, args: list[str], message: str) -> None:
+    (tmp_path / "p.gpp").write_text(PARAMS, encoding="utf-8")
+    result = gpp("run", "-q", "p.gpp", *args, cwd=tmp_path)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert message in result.stderr
+    assert "internal error" not in result.stdout + result.stderr

@@ -134,6 +134,7 @@ class Executor:
         entry: str = "main",
         planner: OnlinePlanner | None = None,
         wall_timeout: float | None = None,
+        entry_args: tuple[Value, ...] = (),
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.runner gives gpp.planner's); without one, a
         program that reaches them stops with an error (R0010)."""
@@ -144,6 +145,8 @@ class Executor:
         # Wall-clock seconds the run may take: the timeout's, unless given apart.
         self.wall_timeout = wall_timeout if wall_timeout is not None else timeout
         self.entry = entry
+        # The values of the entry procedure's parameters (`gpp run --arg n=3`), in order.
+        self.entry_args = entry_args
         self.ctx = _ExecContext(platform)
         self.sem = Semantics(program, self.ctx, planning=False, planner=planner)
         self.state = State()
@@ -173,7 +176,7 @@ class Executor:
         result = self.result
         prog: Prog | None = None
         try:
-            prog = self.sem.entry(self.entry)
+            prog = self.sem.entry(self.entry, self.entry_args)
             # Wake-ups in a row at which the program still could not step.
             chased = 0
             while True:

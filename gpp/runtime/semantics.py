@@ -321,12 +321,13 @@ class Semantics:
     def env(self, state: State, frame: Frame) -> Env:
         return Env(state, frame.vars, self.ctx)
 
-    def entry(self, name: str = "main") -> Prog:
-        body = self.program.procedure(name)[1]
+    def entry(self, name: str = "main", args: tuple[Value, ...] = ()) -> Prog:
+        """The body of procedure `name` with its parameters bound to `args` (in order)."""
+        params, body = self.program.procedure(name)
         if body is None:
             symbol = self.model.globals[name]
             raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", symbol.span)
-        return Code(body, EMPTY_FRAME)
+        return Code(body, Frame(tuple(zip(params, args, strict=True))))
 
     # ---------------------------------------------------------------- final
 
