@@ -159,7 +159,7 @@ def explain(
     info = codes.lookup(code)
     if info is None:
         _usage_error(f"unknown code `{code}`" + _did_you_mean(codes.close_matches(code)))
-    kind = "lint" if info.is_lint else "error"
+    kind = "lint" if info.is_lint else "warning" if info.is_warning else "error"
     print(f"{info.code} ({kind} `{info.name}`): {info.summary}")
     if info.explanation:
         print()

@@ -22,6 +22,11 @@ class CodeInfo:
     def is_lint(self) -> bool:
         return self.code.startswith("W")
 
+    @property
+    def is_warning(self) -> bool:
+        """Lints, and the run-time warnings (a run goes on after them)."""
+        return self.is_lint or self.code in RUN_TIME_WARNINGS
+
 
 _CODES: list[CodeInfo] = [
     # ---------------------------------------------------------------- syntax
@@ -99,7 +104,11 @@ _CODES: list[CodeInfo] = [
     CodeInfo("R0011", "blocked", "the program cannot make a step and nothing can change that"),
     CodeInfo("R0012", "recursion-too-deep", "procedure or function calls nested too deeply"),
     CodeInfo("R0013", "timeout", "the run reached the time limit given by `--timeout`"),
+    CodeInfo("R0014", "plan-unfinished", "a `solve` whose plan stops at its horizon with the program unfinished"),
 ]
+
+# Run-time codes that are warnings: the run goes on.
+RUN_TIME_WARNINGS = frozenset({"R0014"})
 
 # `gpp explain CODE`: what the problem is, in plain words, and a small example with its fix
 # (examples are indented by 4 spaces; tests/test_explain.py checks that each one does what it says).
@@ -1391,6 +1400,30 @@ Let the loop end:
     }
     procedure main() {
         while (rounds() < 3) patrol();
+    }
+""",
+    "R0014": """
+`solve(h, r) P` plans at most `h` steps of `P`. When the best plan uses all of them and `P` is
+not finished after them, the plan is cut at the horizon: its last steps were chosen without
+knowing what comes next (padding or truncation), and the rest of `P` is not executed: the run
+goes on after the `solve`. The warning says how many more steps `P` needs at least.
+
+For example, five deliveries planned with a horizon of 3:
+
+    number fluent delivered() { initially: () = 0; }
+    action deliver() { effect: delivered() = delivered() + 1; }
+    number function reward() = delivered()
+    procedure main() {
+        solve(3, reward()) while (delivered() < 5) deliver();
+    }
+
+Give the horizon room for the whole program:
+
+    number fluent delivered() { initially: () = 0; }
+    action deliver() { effect: delivered() = delivered() + 1; }
+    number function reward() = delivered()
+    procedure main() {
+        solve(5, reward()) while (delivered() < 5) deliver();
     }
 """,
 }

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from gpp.check import check_paths, merged_diagnostics
-from gpp.codes import CODES, close_matches, lints, lookup
+from gpp.codes import CODES, RUN_TIME_WARNINGS, close_matches, lints, lookup
 from gpp.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 
@@ -98,7 +98,7 @@ def test_the_example_shows_the_problem_and_the_fix(code: str, tmp_path: Path) ->
     assert remaining == [], f"{code}: the fixed example still reports problems"
 
 
-@pytest.mark.parametrize("code", sorted(c for c in CODES if c.startswith("R")))
+@pytest.mark.parametrize("code", sorted(c for c in CODES if c.startswith("R") and not CODES[c].is_warning))
 def test_the_example_of_a_runtime_error_stops_the_run_and_the_fix_runs_to_its_end(code: str, tmp_path: Path) -> None:
     blocks = example_blocks(CODES[code].explanation)
     problem = program_files(blocks[0], tmp_path / "check")
@@ -108,6 +108,15 @@ def test_the_example_of_a_runtime_error_stops_the_run_and_the_fix_runs_to_its_en
     assert [e.split(" ")[0] for e in errors] == [code], f"{code}: the first example reports {errors}"
     status, errors = run_example(blocks[-1], tmp_path / "fixed")
     assert (status, errors) == (RunStatus.FINISHED.value, []), f"{code}: the fixed example does not run cleanly"
+
+
+@pytest.mark.parametrize("code", sorted(RUN_TIME_WARNINGS))
+def test_the_example_of_a_runtime_warning_warns_and_the_fix_does_not(code: str, tmp_path: Path) -> None:
+    blocks = example_blocks(CODES[code].explanation)
+    for block, folder, expected in ((blocks[0], "problem", [code]), (blocks[-1], "fixed", [])):
+        outcome = run_program(program_files(block, tmp_path / folder)[0], RunOptions(timeout=60.0))
+        assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED, folder
+        assert [d.code for d in outcome.diagnostics if d.code.startswith("R")] == expected, folder
 
 
 def test_only_warnings_are_lints() -> None:

@@ -452,3 +452,47 @@ def test_profile_of_a_real_run_shows_its_plan() -> None:
     row = next(line for line in text.splitlines() if " plan " in line)
     assert "solve" in row
     assert " 96 " in row
+
+
+def test_profile_reports_a_search_that_stopped_without_a_plan() -> None:
+    import io
+
+    from rich.console import Console
+
+    from gpp.planner.profile import render_profile
+
+    outcome = run_program(ROOT / "tests" / "runtime_errors" / "search_unbounded.gpp", RunOptions())
+    assert outcome.trace is not None
+    out = io.StringIO()
+    render_profile(outcome.trace.records, Console(file=out, width=200, color_system=None))
+    text = out.getvalue()
+    assert "did not plan" not in text
+    assert "planning stopped without a plan at " in text
+    assert "`search` exceeded its bound of 10000 steps without finding an end" in text
+
+
+def test_a_solve_cut_at_its_horizon_warns_once_and_says_how_many_steps_are_left(tmp_path: Path) -> None:
+    program = tmp_path / "deliver.gpp"
+    program.write_text(
+        "number fluent delivered() { initially: () = 0; }\n"
+        "action deliver() { effect: delivered() = delivered() + 1; }\n"
+        "number function reward() = delivered()\n"
+        "procedure main() {\n"
+        "    solve(3, reward()) while (delivered() < 5) deliver();\n"
+        "}\n",
+        encoding="utf-8",
+    )
+    outcome = run_program(program, RunOptions())
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
+    [warning] = [d for d in outcome.diagnostics if d.code == "R0014"]
+    assert not warning.is_error and warning.span.text.startswith("solve(3, reward())")
+    assert warning.notes[1] == "finishing it needs at least 2 more step(s)"
+    assert warning.help == "raise the horizon to at least 5"
+    assert outcome.trace is not None
+    [plan] = outcome.trace.of(PlanEvent)
+    assert (plan.unfinished, plan.steps_left) == (True, 2)
+    # A horizon with room for the whole program: no warning.
+    program.write_text(program.read_text(encoding="utf-8").replace("solve(3,", "solve(5,"), encoding="utf-8")
+    outcome = run_program(program, RunOptions())
+    assert [d for d in outcome.diagnostics if d.code == "R0014"] == []
+    assert outcome.trace is not None and outcome.trace.of(PlanEvent)[0].unfinished is False

@@ -18,7 +18,7 @@ with the horizon that is left.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from gpp.model.types import Type
 from gpp.planner.result import Plan, PolicyStep
@@ -78,6 +78,51 @@ class OncePerPlan:
         pass  # a plan is made at one moment: its conditions name no moment to wake at
 
 
+# How far `steps_to_finish` looks: costed steps, and configurations expanded.
+FINISH_STEP_LIMIT = 50
+FINISH_NODE_BUDGET = 20_000
+
+
+def steps_to_finish(sem: Semantics, prog: Prog, state: State, acts: Activities) -> int | None:
+    """The fewest costed steps after which `prog` may end (breadth first over the planning
+    semantics, free steps followed within a level); None when none is found within
+    FINISH_STEP_LIMIT steps and FINISH_NODE_BUDGET configurations."""
+    level: set[tuple[Prog, State, Activities]] = {(prog, state, acts)}
+    seen: set[tuple[Prog, State, Activities]] = set(level)
+    budget = FINISH_NODE_BUDGET
+    for cost in range(FINISH_STEP_LIMIT + 1):
+        following: set[tuple[Prog, State, Activities]] = set()
+        pending = list(level)
+        while pending:
+            p, s, a = pending.pop()
+            budget -= 1
+            if budget < 0:
+                return None
+            try:
+                if sem.final(p, s, a):
+                    return cost
+                successors = sem.trans(p, s, a)
+            except GppRuntimeError:
+                continue
+            for q, step in successors:
+                try:
+                    s2, a2 = sem.apply(step, s, a)
+                except GppRuntimeError:
+                    continue
+                config = (q, s2, a2)
+                if config in seen:
+                    continue
+                seen.add(config)
+                if step.cost:
+                    following.add(config)
+                else:
+                    pending.append(config)
+        if not following:
+            return None
+        level = following
+    return None
+
+
 @dataclass(eq=False)
 class PlanHolder:
     """The plan of one `solve`/`search` being executed online (a PlanSession)."""
@@ -97,6 +142,8 @@ class PlanHolder:
     # The state of the last planning attempt that found no plan: only a changed world is
     # worth planning again.
     failed_in: State | None = None
+    # The evaluation context of the last planning run (its exogenous function answers).
+    context: OncePerPlan | None = None
 
     @classmethod
     def for_statement(cls, sem: Semantics, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
@@ -147,7 +194,8 @@ class PlanHolder:
     def make_plan(self, sem: Semantics, prog: Prog, state: State, acts: Activities) -> Plan:
         # One plan asks each ground exogenous function once (docs/semantics.md, "Planning and
         # the outside world"): on a robot every question is a service call.
-        planning = sem.with_context(OncePerPlan(sem.ctx), True)
+        self.context = OncePerPlan(sem.ctx)
+        planning = sem.with_context(self.context, True)
         stmt = self.stmt
         if isinstance(stmt, ast.Solve):
             from gpp.planner.dp import solve_plan
@@ -163,7 +211,7 @@ class PlanHolder:
         """The PlanStep: plan the body from the actual state."""
         plan = self.make_plan(sem, self.body, state, acts)
         self.install(plan, 0, state)
-        return plan.report(self.kind)
+        return self.unfinished(sem, self.body, plan, state, acts)
 
     def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
         """A ReplanStep at `index`: plan again from the planned program point there, with the
@@ -174,7 +222,25 @@ class PlanHolder:
             self.body = point
         plan = self.make_plan(sem, point, state, acts)
         self.install(plan, index, state)
-        return plan.report(self.kind)
+        return self.unfinished(sem, point, plan, state, acts)
+
+    def unfinished(self, sem: Semantics, prog: Prog, plan: Plan, state: State, acts: Activities) -> PlanReport:
+        """The plan's report, saying whether a `solve` plan ends at its horizon with the program
+        unfinished, and then how many more costed steps the program needs at least."""
+        report = plan.report(self.kind)
+        if self.kind != "solve" or not plan.feasible or plan.cost < plan.horizon:
+            return report
+        planning = sem.with_context(self.context or OncePerPlan(sem.ctx), True)
+        end = plan.steps[-1][2] if plan.steps else prog
+        try:
+            for _, step, _ in plan.steps:
+                state, acts = planning.apply(step, state, acts)
+            if planning.final(end, state, acts):
+                return report
+            left = steps_to_finish(planning, end, state, acts)
+        except GppRuntimeError:
+            return report
+        return replace(report, unfinished=True, steps_left=left)
 
     def successors(self, sem: Semantics, p: Planned, state: State, acts: Activities) -> list[Successor]:
         """`trans` of `p`, a Planned of this holder: the planned step if it is still a

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from gpp.runtime.events import EventBase, PlanEvent, ReplanEvent
+from gpp.runtime.events import ErrorEvent, EventBase, PlanEvent, ReplanEvent
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -84,14 +84,25 @@ def profile_table(events: Iterable[EventBase]) -> Table | None:
     return table
 
 
+PLANNING_ABORTED = "R0010"
+
+
 def render_profile(events: Iterable[EventBase], console: Console) -> None:
     """Print the planner profile of a run: for every plan and re-plan its kind, horizon, value,
     policy length, nodes expanded, cache hits, pruned options, reward evaluations and time."""
+    events = list(events)
     table = profile_table(events)
-    if table is None:
+    # Planning that stopped on an error (R0010: a step bound, a loop without costed steps, a bad
+    # horizon) made no plan record, but it was reached.
+    aborted = [e for e in events if isinstance(e, ErrorEvent) and e.code == PLANNING_ABORTED]
+    if table is None and not aborted:
         console.print("planner profile: the run did not plan (no `solve` or `search` was reached)")
         return
-    console.print(table)
+    if table is not None:
+        console.print(table)
+    for e in aborted:
+        where = f" at {e.at}" if isinstance(e.at, str) else ""
+        console.print(f"planner profile: planning stopped without a plan{where}: {e.message}", markup=False)
 
 
 def _value(r: PlanEvent | ReplanEvent) -> str:

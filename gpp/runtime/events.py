@@ -257,6 +257,10 @@ class PlanEvent(EventBase):
     pruned: int
     reward_evaluations: int
     seconds: float  # planning time (wall clock)
+    # A `solve` plan that uses its whole horizon with the program unfinished, and the fewest
+    # costed steps that would finish it (left out when not found).
+    unfinished: bool = field(default=False, metadata=_OPTIONAL)
+    steps_left: int | None = field(default=None, metadata=_OPTIONAL)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -275,6 +279,8 @@ class ReplanEvent(EventBase):
     pruned: int
     reward_evaluations: int
     seconds: float
+    unfinished: bool = field(default=False, metadata=_OPTIONAL)
+    steps_left: int | None = field(default=None, metadata=_OPTIONAL)
 
 
 TraceEvent: TypeAlias = (

@@ -158,6 +158,8 @@ class Executor:
         # Activities the platform took (its `start` returned): only these can be acknowledged.
         self.accepted: set[int] = set()
         self.cancel_grace = CANCEL_GRACE
+        # `solve` statements already warned about (R0014).
+        self.warned: set[int] = set()
         # The `waiting` record of the wait the program is in, if it is waiting.
         self.waiting_at: ev.WaitingEvent | None = None
         # The program waited for clock times that kept moving with the clock.
@@ -460,13 +462,41 @@ class Executor:
                     )
                 )
         elif isinstance(step, PlanStep):
-            self.trace_plan("plan", step.session.plan(self.sem, self.state, self.acts))
+            report = step.session.plan(self.sem, self.state, self.acts)
+            self.trace_plan("plan", report)
+            self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, ReplanStep):
-            self.trace_plan("replan", step.session.replan(self.sem, step.index, self.state, self.acts))
+            report = step.session.replan(self.sem, step.index, self.state, self.acts)
+            self.trace_plan("replan", report)
+            self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, TestStep | DoStep):
             pass
         else:
             assert_never(step)
+
+    def warn_unfinished(self, stmt: ast.Solve | ast.Search, report: PlanReport) -> None:
+        """A warning (once per `solve`) when its plan ends at the horizon with the program
+        unfinished: what runs after the plan is not planned."""
+        if not report.unfinished or id(stmt) in self.warned:
+            return
+        self.warned.add(id(stmt))
+        h = report.horizon
+        notes = [f"its plan uses all {h} step(s) of the horizon, and the program is not finished after them"]
+        if report.steps_left is not None:
+            notes.append(f"finishing it needs at least {report.steps_left} more step(s)")
+        notes.append("the rest of the `solve`'s program is not executed: the run goes on after the `solve`")
+        self.result.diagnostics.append(
+            diag.warning(
+                "R0014",
+                f"the plan of this `solve` stops at its horizon of {h} with the program unfinished",
+                stmt.span,
+                "planned only up to its horizon",
+                notes=notes,
+                help=f"raise the horizon to at least {h + report.steps_left}"
+                if report.steps_left is not None
+                else "raise the horizon",
+            )
+        )
 
     def trace_plan(self, event: str, plan: PlanReport) -> None:
         cls = ev.PlanEvent if event == "plan" else ev.ReplanEvent
@@ -483,6 +513,8 @@ class Executor:
                 pruned=plan.pruned,
                 reward_evaluations=plan.reward_evaluations,
                 seconds=round(plan.seconds, 6),
+                unfinished=plan.unfinished,
+                steps_left=plan.steps_left,
             )
         )
 

@@ -35,6 +35,12 @@ class PlanReport:
     pruned: int
     reward_evaluations: int
     seconds: float
+    # A `solve` plan that uses the whole horizon and leaves the program unfinished (it pads or
+    # truncates): the rest of the `solve`'s program is skipped.
+    unfinished: bool = False
+    # Then: the fewest costed steps that would finish the program after the plan (None: not
+    # found within the search the planner allows itself for this).
+    steps_left: int | None = None
 
 
 class PlanSession(Protocol):
