@@ -489,3 +489,16 @@ def test_a_run_starts_nothing_when_a_mapping_is_wrong(ros: Any, tmp_path: Path) 
     assert outcome.exit_code == 1
     assert outcome.trace is not None and not outcome.trace.of(StartEvent)
     assert ros.requests == []
+
+
+# ---------------------------------------------------------------- time
+
+
+def test_a_program_waiting_for_the_clock_wakes_up_on_wall_time(ros: Any, tmp_path: Path) -> None:
+    program = """#include "time.gpp"
+number fluent woke_at() { initially: () = -1; }
+procedure main() { wait_for(0.3); woke_at() = context_time(); }
+bool function postcond() = woke_at() >= 0.3 & woke_at() < 2
+"""
+    outcome = ok(run(tmp_path, program))
+    assert outcome.result is not None and 0.3 <= outcome.result.platform_time < 2

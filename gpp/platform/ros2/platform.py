@@ -476,8 +476,8 @@ class Ros2Platform(Platform):
         while True:
             if len(self.queue):
                 return True
-            if not self.live():
-                return False
+            if deadline is None and not self.live():
+                return False  # nothing can arrive, and the program waits for no moment
             slice_ = 0.1
             if deadline is not None:
                 slice_ = min(slice_, deadline - self.now())
