@@ -88,6 +88,12 @@ _CODES: list[CodeInfo] = [
     CodeInfo("W0109", "solve-without-choice", "a `solve` whose program has no `pick` or `choose`"),
     CodeInfo("W0110", "mixed-precedence", "an operator chain that the original golog++ reads differently"),
     CodeInfo("W0111", "shadowed-symbol", "a parameter or variable named like a domain symbol"),
+    CodeInfo("W0112", "quantifier-scope", "a quantifier whose body runs on into operands that do not use its variable"),
+    CodeInfo(
+        "W0113", "shared-sensing-result", "two exogenous functions in one `senses:` section: both get the same value"
+    ),
+    CodeInfo("W0114", "unended-activity", "a `start` whose activity no `end`, `finish`, `fail` or `cancel` refers to"),
+    CodeInfo("W0115", "busy-wait", "a `while` loop whose body cannot change what its condition reads"),
     # ---------------------------------------------------------------- run time
     # Reported by `gpp run` and `gpp test` when the program runs. R0099 (an internal error) is
     # not registered: it reports a bug in gpp, not a problem of the program.
@@ -1060,6 +1066,123 @@ Rename the parameter:
     symbol domain Room = {hall, kitchen}
     action go(Room target) { }
     procedure main() { go(kitchen); }
+""",
+    "W0112": """
+The body of `exists` and `forall` extends as far right as it can: `exists(Block z) on(z, x) &
+clear(x)` is `exists(Block z) (on(z, x) & clear(x))`. When the operands at the end of the body
+do not use the quantifier's variable, they were probably meant to stand outside it; with `!`
+in front of the quantifier, or with `->`, the two readings give different results. gpp warns
+when the trailing operands of the `&`, `|` or `->` chain that forms the body do not use the
+variable. Parentheses around the body do not help: they make one operand of a body that still
+extends to the right. Put the quantifier itself in parentheses.
+
+For example, `free(x)` is meant to be "nothing is on `x`, and `x` is not held":
+
+    symbol domain Block = {a, b, c}
+    bool fluent on(Block x, Block y) { initially: (x, y) = false; }
+    bool fluent holding(Block x) { initially: (x) = false; }
+    bool function free(Block x) = !exists(Block z) on(z, x) & !holding(x)
+    procedure main() { test(free(a)); }
+
+End the quantifier where its variable is no longer used:
+
+    symbol domain Block = {a, b, c}
+    bool fluent on(Block x, Block y) { initially: (x, y) = false; }
+    bool fluent holding(Block x) { initially: (x) = false; }
+    bool function free(Block x) = !(exists(Block z) on(z, x)) & !holding(x)
+    procedure main() { test(free(a)); }
+""",
+    "W0113": """
+When an activity ends with a result (the goal's result, the service's response, a scenario's
+`result`), that one result answers every exogenous function evaluated in the action's
+`senses:` section, whatever its name and arguments. Two different exogenous function calls in
+one `senses:` section therefore get the same value. gpp warns at each call that differs from
+the first one.
+
+For example, both coordinates get the whole result:
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    number exog_function sensed_x();
+    number exog_function sensed_y();
+    action locate() {
+    senses:
+        pose() = Pose { x = sensed_x(), y = sensed_y() };
+    }
+    procedure main() { locate(); }
+
+Sense one compound value (a result with the fields `x` and `y` fills it):
+
+    compound Pose { number x, number y }
+    Pose fluent pose() { initially: () = Pose { x = 0, y = 0 }; }
+    Pose exog_function sensed_pose();
+    action locate() {
+    senses:
+        pose() = sensed_pose();
+    }
+    procedure main() { locate(); }
+""",
+    "W0114": """
+`start(a(...))` starts an activity and goes on at once. The action's effects are applied by
+`end(a(...))` or `finish(a(...))` when it ends, and only `end`, `finish` and `fail` tell how
+it ended. An activity that no hook refers to runs unobserved: its effects are never applied,
+a failure goes unnoticed, and if it still runs when the program ends it is cancelled. gpp
+warns at a `start` of an action when no `end`, `finish`, `fail` or `cancel` of the same action
+(with any arguments) appears anywhere in the program.
+
+For example:
+
+    bool fluent charged() { initially: () = false; }
+    action charge() { effect: charged() = true; }
+    action beep() { }
+    procedure main() {
+        start(charge());
+        beep();
+        test(charged());
+    }
+
+Wait for the activity to end (or call `charge();` to start it and wait in one step):
+
+    bool fluent charged() { initially: () = false; }
+    action charge() { effect: charged() = true; }
+    action beep() { }
+    procedure main() {
+        start(charge());
+        beep();
+        end(charge());
+        test(charged());
+    }
+""",
+    "W0115": """
+A `while` loop does not wait for its condition. Its body runs as long as the condition holds,
+and a loop whose body has nothing left to do is finished, whatever the condition says: a loop
+with an empty body (or one made only of `if`s and blocks with nothing in them) ends at once. A
+body of assignments (or `test(true)`) that cannot change what the condition reads runs again
+and again, until something outside the loop (an exogenous event, the clock, another
+`concurrent` branch) makes the condition false. gpp warns about a `while` whose body has no
+action, hook, `during`, procedure call, `solve`, `search` or `test` (but `test(true)`), and
+assigns no fluent that the condition reads (directly or through the functions it calls). To
+wait until a condition holds, use `test`.
+
+For example, the robot does not wait for the door:
+
+    bool fluent door_open() { initially: () = false; }
+    exog_action door_opened() { effect: door_open() = true; }
+    action enter() { }
+    procedure main() {
+        while (!door_open()) { }
+        enter();
+    }
+
+Wait with `test`:
+
+    bool fluent door_open() { initially: () = false; }
+    exog_action door_opened() { effect: door_open() = true; }
+    action enter() { }
+    procedure main() {
+        test(door_open());
+        enter();
+    }
 """,
     # ---------------------------------------------------------------- run time
     "R0001": """

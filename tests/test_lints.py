@@ -1,4 +1,4 @@
-"""The lints (W0101-W0111): for each, a tiny program that triggers it, with the exact code,
+"""The lints (W0101-W0115): for each, a tiny program that triggers it, with the exact code,
 position and message, and a clean counterpart that does not; `allow` suppresses a lint by code
 or by name; declarations of included files are never linted."""
 
@@ -526,6 +526,259 @@ def test_names_unlike_symbols_are_not_reported() -> None:
     assert found(SHADOWED.replace("Room hall", "Room to").replace("Room kitchen", "Room r"), "W0111") == []
 
 
+def fixed(text: str, d: Diagnostic) -> str:
+    """`text` with the edits of `d`'s fix applied."""
+    assert d.fix is not None
+    for edit in sorted(d.fix.edits, key=lambda e: -e.span.start):
+        text = text[: edit.span.start] + edit.text + text[edit.span.end :]
+    return text
+
+
+# ---------------------------------------------------------------- W0112 quantifier scope
+
+BLOCKS = """\
+symbol domain Block = {a, b, c}
+bool fluent on(Block x, Block y) { initially: (x, y) = false; }
+bool fluent clear(Block x) { initially: (x) = true; }
+"""
+
+
+def scoped(expression: str) -> str:
+    return BLOCKS + f"bool function f(Block x) = {expression}\nprocedure main() {{ test(f(a)); }}\n"
+
+
+QUANTIFIER = scoped("!exists(Block z) on(z, x) & clear(x)")
+
+
+def test_quantifier_body_running_on_is_reported() -> None:
+    assert found(QUANTIFIER, "W0112") == ["4:56 `clear(x)` is part of the `exists(Block z)` body but does not use `z`"]
+    d = the(QUANTIFIER, "W0112")
+    assert d.notes == (
+        "a quantifier's body extends as far right as it can: this reads `exists(Block z) (on(z, x) & clear(x))`",
+    )
+    assert d.help == "put the quantifier in parentheses, `(exists(Block z) ...)`, to end it before `clear(x)`"
+    assert d.fix is not None and d.fix.message == "end the `exists` before `clear(x)`"
+    repaired = fixed(QUANTIFIER, d)
+    assert repaired.splitlines()[3] == "bool function f(Block x) = !(exists(Block z) on(z, x)) & clear(x)"
+    assert found(repaired, "W0112") == []
+
+
+@pytest.mark.parametrize(
+    ("expression", "outside", "repaired"),
+    [
+        (
+            "exists(Block z) on(z, x) & clear(x) | clear(b)",
+            "clear(x) | clear(b)",
+            "(exists(Block z) on(z, x)) & clear(x) | clear(b)",
+        ),
+        ("forall(Block z) on(z, x) -> clear(x)", "clear(x)", "(forall(Block z) on(z, x)) -> clear(x)"),
+        (
+            "exists(Block z) on(z, x) & on(x, z) & clear(x)",
+            "clear(x)",
+            "(exists(Block z) on(z, x) & on(x, z)) & clear(x)",
+        ),
+        (
+            "clear(a) & (exists(Block z) on(z, x) | clear(x))",
+            "clear(x)",
+            "clear(a) & ((exists(Block z) on(z, x)) | clear(x))",
+        ),
+        # The operands that use `z` are not one subtree: no certain fix.
+        ("exists(Block z) clear(a) | on(z, x) & clear(x)", "clear(x)", None),
+    ],
+)
+def test_quantifier_scope_fixes(expression: str, outside: str, repaired: str | None) -> None:
+    text = scoped(expression)
+    d = the(text, "W0112")
+    assert d.span.text == outside
+    if repaired is None:
+        assert d.fix is None
+    else:
+        assert fixed(text, d).splitlines()[3] == f"bool function f(Block x) = {repaired}"
+
+
+@pytest.mark.parametrize(
+    "expression",
+    [
+        "!exists(Block z) on(z, x) & clear(z)",
+        "!exists(Block z) clear(x) & on(z, x)",
+        "!exists(Block z) (on(z, x) & clear(x))",  # the body is parenthesised: meant
+        "!(exists(Block z) on(z, x)) & clear(x)",
+        "forall(Block z) on(z, x) == clear(x)",  # not an `&`/`|`/`->` chain
+        "exists(Block z) on(z, x)",
+    ],
+)
+def test_quantifiers_whose_body_uses_the_variable_to_the_end_are_not_reported(expression: str) -> None:
+    assert found(scoped(expression), "W0112") == []
+
+
+# ---------------------------------------------------------------- W0113 shared sensing result
+
+
+def sensing(senses: str) -> str:
+    return f"""\
+compound Pose {{ number x, number y }}
+Pose fluent pose() {{ initially: () = Pose {{ x = 0, y = 0 }}; }}
+number exog_function sensed(string axis);
+number exog_function sensed_x();
+action locate() {{
+senses:
+    {senses}
+}}
+procedure main() {{ locate(); }}
+"""
+
+
+SHARED_SENSING = sensing('pose() = Pose { x = sensed_x(), y = sensed("y") };')
+
+
+def test_two_exogenous_functions_in_one_senses_section_are_reported() -> None:
+    assert found(SHARED_SENSING, "W0113") == [
+        '7:41 `sensed("y")` gets the same value as `sensed_x()` in this `senses:` section'
+    ]
+    d = the(SHARED_SENSING, "W0113")
+    assert [(label.span.line, label.span.col, label.message) for label in d.secondary] == [
+        (7, 25, "the first exogenous function here")
+    ]
+
+
+@pytest.mark.parametrize(
+    ("senses", "messages"),
+    [
+        (
+            'pose() = Pose { x = sensed("x"), y = sensed("y") };',
+            ['7:42 `sensed("y")` gets the same value as `sensed("x")` in this `senses:` section'],
+        ),
+        (
+            'pose() = Pose { x = sensed_x(), y = sensed_x() + sensed("y") };',
+            ['7:54 `sensed("y")` gets the same value as `sensed_x()` in this `senses:` section'],
+        ),
+        # The same call twice is meant to give the same value.
+        ("pose() = Pose { x = if (sensed_x() > 0) sensed_x() else 0, y = 0 };", []),
+        ("pose() = Pose { x = sensed_x(), y = pose().y };", []),
+    ],
+)
+def test_each_exogenous_function_call_unlike_the_first_is_reported(senses: str, messages: list[str]) -> None:
+    assert found(sensing(senses), "W0113") == messages
+
+
+# ---------------------------------------------------------------- W0114 unended activity
+
+UNENDED = """\
+action scan() { }
+action go(number speed) { }
+action charge() { }
+action beep() { }
+procedure stop() { cancel(go(1)); }
+procedure main() {
+    start(scan());
+    start(go(2));
+    start(charge());
+    stop();
+    start(beep());
+    finish(charge());
+}
+"""
+
+
+def test_activities_started_and_never_ended_are_reported() -> None:
+    assert found(UNENDED, "W0114") == [
+        "7:5 `scan()` is started, but the program has no `end`, `finish`, `fail` or `cancel` of `scan`",
+        "11:5 `beep()` is started, but the program has no `end`, `finish`, `fail` or `cancel` of `beep`",
+    ]
+    d = the(UNENDED.replace("    start(beep());\n", ""), "W0114")
+    assert d.help == "wait for it with `end(scan());`, or call `scan();` to start it and wait in one step"
+
+
+@pytest.mark.parametrize("hook", ["end", "finish", "fail", "cancel"])
+def test_an_activity_any_hook_refers_to_is_not_reported(hook: str) -> None:
+    text = f"""\
+action scan(number range) {{ }}
+procedure watch() {{ {hook}(scan(5)); }}
+procedure main() {{ start(scan(1)); watch(); }}
+"""
+    assert found(text, "W0114") == []
+
+
+def test_a_hook_in_an_included_file_counts(tmp_path: Path) -> None:
+    (tmp_path / "lib.gpp").write_text("action scan() { }\nprocedure await_scan() { end(scan()); }\n")
+    main = tmp_path / "main.gpp"
+    main.write_text('#include "lib.gpp"\nprocedure main() { start(scan()); await_scan(); }\n')
+    assert [d.code for d in check_program(main).diagnostics] == []
+
+
+# ---------------------------------------------------------------- W0115 busy wait
+
+
+def looping(condition: str, body: str) -> str:
+    return f"""\
+bool fluent done() {{ initially: () = false; }}
+number fluent n() {{ initially: () = 0; }}
+number fluent other() {{ initially: () = 0; }}
+list[number] fluent queue() {{ initially: () = list[number] []; }}
+bool function finished() = n() >= 3
+action beep() {{ }}
+procedure step() {{ n() = n() + 1; }}
+procedure main() {{
+    while ({condition}) {body}
+    step();
+    beep();
+    test(done() & finished() & other() > 0 & length(queue()) > 0);
+}}
+"""
+
+
+NO_WAIT = "this `while` loop does not wait for its condition: its body does nothing, so it ends at once"
+BUSY = "this `while` loop busy-waits: nothing in its body changes what its condition reads"
+
+
+@pytest.mark.parametrize(
+    ("condition", "body", "message", "replacement"),
+    [
+        ("!done()", "{ }", NO_WAIT, "test(done());"),
+        ("!done()", "{ if (finished()) { } else { } }", NO_WAIT, "test(done());"),
+        ("!(done() | finished())", "{ }", NO_WAIT, "test(done() | finished());"),
+        ("done() == finished()", "{ }", NO_WAIT, "test(!(done() == finished()));"),
+        ("n() < 3", "{ { } }", NO_WAIT, "test(!(n() < 3));"),
+        ("!done()", "{ test(true); }", BUSY, "test(done());"),
+        ("!finished()", "test(1 < 2);", BUSY, "test(finished());"),
+        ("!(done() | finished())", "{ other() = other() + 1; }", BUSY, None),
+        ("!finished()", "{ push_back(queue(), 1); done() = true; }", BUSY, None),
+        ("other() == 0 & !done()", "{ n() = 1; }", BUSY, None),
+    ],
+)
+def test_loops_that_cannot_change_their_condition_are_reported(
+    condition: str, body: str, message: str, replacement: str | None
+) -> None:
+    text = looping(condition, body)
+    d = the(text, "W0115")
+    assert (d.span.line, d.span.col, d.message) == (9, 5, message)
+    assert d.span.text == f"while ({condition})"
+    if replacement is None:
+        assert d.fix is None
+    else:
+        assert fixed(text, d).splitlines()[8] == f"    {replacement}"
+        assert d.help == f"to wait until `{replacement[5:-2]}` holds, write `{replacement}`"
+
+
+@pytest.mark.parametrize(
+    ("condition", "body"),
+    [
+        ("n() < 3", "{ n() = n() + 1; }"),
+        ("!finished()", "n() = n() + 1;"),  # through the function
+        ("length(queue()) < 3", "push_back(queue(), 1);"),
+        ("!done()", "beep();"),
+        ("!finished()", "step();"),
+        ("!done()", "{ start(beep()); end(beep()); }"),
+        ("!done()", "{ test(done() | finished()); other() = 1; }"),  # waits for the world
+        ("!done()", "search { other() = 1; }"),
+        ("true", "{ }"),  # W0106's
+        ("false", "{ }"),  # W0107's
+    ],
+)
+def test_loops_that_can_change_their_condition_are_not_reported(condition: str, body: str) -> None:
+    assert found(looping(condition, body), "W0115") == []
+
+
 # ---------------------------------------------------------------- allow, no-lint, includes
 
 TRIGGERS = {
@@ -540,6 +793,10 @@ TRIGGERS = {
     "W0109": SOLVE,
     "W0110": FLUENTS + "number function f() = x() * 2 + x() * 3\n",
     "W0111": SHADOWED,
+    "W0112": QUANTIFIER,
+    "W0113": SHARED_SENSING,
+    "W0114": UNENDED,
+    "W0115": looping("!done()", "{ }"),
 }
 
 

@@ -885,3 +885,246 @@ def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
             secondary=[diag.Label(shadowed.span, "the symbol is declared here")] if shadowed.span else [],
             help=f"rename the {what}",
         )
+
+
+# ---------------------------------------------------------------- W0112 quantifier scope
+
+_CONNECTIVES = frozenset({Op.AND, Op.OR, Op.IMPLIES})
+
+
+@_lint("W0112")
+def quantifier_scope(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for node in program.nodes(ast.Quantified):
+        variable = model.target(node.var)
+        body = model.effective(node.body)
+        if variable is None or body.parenthesized or not _is_connective(body):
+            continue
+        operands = _connective_operands(body)
+        using = [i for i, x in enumerate(operands) if _mentions(model, x, variable)]
+        if not using or using[-1] == len(operands) - 1:
+            continue
+        last = using[-1]
+        source = node.span.source
+        outside = Span(source, operands[last + 1].span.start, operands[-1].span.end)
+        head_span = _quantifier_head(node)
+        head, rest = head_span.text, _one_line(outside.text)
+        q, var = node.quantifier.value, node.var.name
+        edits = (
+            diag.Edit(Span(source, head_span.start, head_span.start), "("),
+            diag.Edit(Span(source, operands[last].span.end, operands[last].span.end), ")"),
+        )
+        yield diag.warning(
+            "W0112",
+            f"`{rest}` is part of the `{head}` body but does not use `{var}`",
+            outside,
+            f"inside the `{q}`",
+            notes=[
+                f"a quantifier's body extends as far right as it can: this reads `{head} ({_one_line(body.span.text)})`"
+            ],
+            help=f"put the quantifier in parentheses, `({head} ...)`, to end it before `{rest}`",
+            fix=diag.Fix(f"end the `{q}` before `{rest}`", edits) if _prefix_subtree(body, last) else None,
+        )
+
+
+def _is_connective(e: ast.Expr) -> bool:
+    return isinstance(e, ast.Binary) and e.op in _CONNECTIVES
+
+
+def _connective_operands(root: ast.Expr) -> list[ast.Expr]:
+    """The operands of the unparenthesised `&`/`|`/`->` chain at `root`, in order."""
+    out: list[ast.Expr] = []
+    stack = [root]
+    while stack:
+        e = stack.pop()
+        if isinstance(e, ast.Binary) and _is_connective(e) and (e is root or not e.parenthesized):
+            stack.extend((e.right, e.left))
+        else:
+            out.append(e)
+    return out
+
+
+def _prefix_subtree(root: ast.Expr, last: int) -> bool:
+    """Do the chain's operands 0..last form one subtree of it (on its left spine)?"""
+    e = root
+    while True:
+        size = len(_connective_operands(e))
+        if size <= last + 1:
+            return size == last + 1
+        assert isinstance(e, ast.Binary)
+        if not _is_connective(e.left) or e.left.parenthesized:
+            return last == 0
+        e = e.left
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _mentions(model: Model, e: ast.Node, symbol: Symbol) -> bool:
+    return any(isinstance(n, ast.Name) and model.target(n) is symbol for n in walk(e))
+
+
+def _quantifier_head(node: ast.Quantified) -> Span:
+    """`exists(T v)`, without the parentheses around the whole quantifier."""
+    source = node.span.source
+    before = source.text[node.span.start : node.var_type.span.start]
+    start = node.span.start + before.rfind(node.quantifier.value)
+    close = source.text.find(")", node.var.span.end)
+    return Span(source, start, close + 1 if close >= 0 else node.var.span.end)
+
+
+# ---------------------------------------------------------------- W0113 shared sensing result
+
+
+@_lint("W0113")
+def shared_sensing_result(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for section in program.nodes(ast.SensesSection):
+        calls = [
+            n
+            for n in walk(section)
+            if isinstance(n, ast.Call) and (s := model.target(n)) is not None and s.kind is SymbolKind.EXOG_FUNCTION
+        ]
+        calls.sort(key=lambda c: c.span.start)
+        if not calls:
+            continue
+        first = format_expr(calls[0])
+        for call in calls[1:]:
+            if format_expr(call) == first:
+                continue
+            yield diag.warning(
+                "W0113",
+                f"`{format_expr(call)}` gets the same value as `{first}` in this `senses:` section",
+                call.span,
+                f"answered with the same result as `{first}`",
+                secondary=[diag.Label(calls[0].span, "the first exogenous function here")],
+                notes=[
+                    "when the activity ends with a result, that result answers every exogenous function "
+                    "evaluated in its `senses:` section, whatever its name"
+                ],
+                help="sense one compound value and take its fields, or sense the other value in another action",
+            )
+
+
+# ---------------------------------------------------------------- W0114 unended activity
+
+_ENDING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL, ast.Hook.CANCEL})
+
+
+@_lint("W0114")
+def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    ended: set[int] = set()
+    for _, body in program.bodies(model.files):
+        for s, _ in statements(body):
+            if isinstance(s, ast.HookStmt) and s.hook in _ENDING_HOOKS:
+                action = model.target(s.action)
+                if action is not None:
+                    ended.add(id(action))
+    for s in program.nodes(ast.HookStmt):
+        action = model.target(s.action)
+        if s.hook is not ast.Hook.START or action is None or id(action) in ended:
+            continue
+        started = format_expr(s.action)
+        yield diag.warning(
+            "W0114",
+            f"`{started}` is started, but the program has no `end`, `finish`, `fail` or `cancel` of `{action.name}`",
+            s.span,
+            "started here, never ended",
+            notes=[
+                "`end` or `finish` applies the action's effects and `fail` sees a failure; without them the "
+                "activity runs unobserved and is cancelled if it still runs when the program ends"
+            ],
+            help=f"wait for it with `end({started});`, or call `{started};` to start it and wait in one step",
+        )
+
+
+# ---------------------------------------------------------------- W0115 busy wait
+
+
+@_lint("W0115")
+def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for node in program.nodes(ast.While):
+        if _constant(model, node.condition) is not None:
+            continue  # `while (true)` is W0106's, other constant conditions W0107's
+        body = [s for s, _ in statements(node.body)]
+        if any(not _still(model, s) for s in body):
+            continue
+        read = _fluents_read(program, node.condition)
+        changed = [_assigned_fluent(model, s) for s in body if isinstance(s, ast.Assign | ast.ListStmt)]
+        if any(f is None or id(f) in read for f in changed):
+            continue
+        waited = _negated(node.condition)
+        steps = any(isinstance(s, ast.Test | ast.Assign | ast.ListStmt) for s in body)
+        replacement = f"test({waited});"
+        fix = diag.Fix(f"wait with `{replacement}`", (diag.Edit(node.span, replacement),)) if not changed else None
+        if steps:
+            yield diag.warning(
+                "W0115",
+                "this `while` loop busy-waits: nothing in its body changes what its condition reads",
+                _while_head(node),
+                "repeats its body without changing its condition",
+                notes=[
+                    "only something outside the loop (an exogenous event, the clock, another `concurrent` branch) "
+                    "can end it"
+                ],
+                help=f"to wait until `{waited}` holds, write `{replacement}`",
+                fix=fix,
+            )
+        else:
+            yield diag.warning(
+                "W0115",
+                "this `while` loop does not wait for its condition: its body does nothing, so it ends at once",
+                _while_head(node),
+                "ends at once, whatever the condition",
+                notes=["a loop whose body has nothing to do is finished, whether or not its condition holds"],
+                help=f"to wait until `{waited}` holds, write `{replacement}`",
+                fix=fix,
+            )
+
+
+def _still(model: Model, s: ast.Statement) -> bool:
+    """Does `s` neither act, call, plan nor wait for the world (looking only at `s`, not inside
+    it)? `test(true)` never waits."""
+    if isinstance(s, ast.Test):
+        return _constant(model, s.condition) is True
+    return not isinstance(s, ast.CallStmt | ast.HookStmt | ast.During | ast.Solve | ast.Search)
+
+
+def _assigned_fluent(model: Model, s: ast.Assign | ast.ListStmt) -> Symbol | None:
+    """The fluent an assignment or list statement changes, or None when it is not clear."""
+    e = s.target
+    while isinstance(e, ast.FieldAccess | ast.Index):
+        e = e.subject
+    symbol = model.target(e) if isinstance(e, ast.Call) else None
+    return symbol if symbol is not None and symbol.kind is SymbolKind.FLUENT else None
+
+
+def _fluents_read(program: _Program, e: ast.Expr) -> set[int]:
+    """The fluents (by id) `e` reads, directly or through the functions it calls."""
+    model = program.model
+    read: set[int] = set()
+    seen: set[int] = set()
+    stack: list[ast.Node] = [e]
+    while stack:
+        for n in walk(stack.pop()):
+            symbol = model.target(n) if isinstance(n, ast.Call) else None
+            if symbol is None or id(symbol) in seen:
+                continue
+            seen.add(id(symbol))
+            if symbol.kind is SymbolKind.FLUENT:
+                read.add(id(symbol))
+            elif isinstance(symbol.decl, ast.FunctionDecl) and symbol.decl.body is not None:
+                stack.append(symbol.decl.body)
+    return read
+
+
+def _negated(e: ast.Expr) -> str:
+    """The source text of the negation of a condition."""
+    if isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT and not e.parenthesized:
+        text = e.operand.span.text
+        return text[1:-1] if e.operand.parenthesized and text[:1] + text[-1:] == "()" else text
+    atomic = e.parenthesized or isinstance(e, ast.Call | ast.Name | ast.FieldAccess | ast.Index | ast.BoolLit)
+    return f"!{e.span.text}" if atomic else f"!({e.span.text})"
