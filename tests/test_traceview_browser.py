@@ -140,6 +140,8 @@ def test_the_page_loads_cleanly_and_draws_every_activity(opened: Opened, blocksw
     assert opened.page.locator("#plans-table tbody tr").count() == 1
     assert opened.page.locator("#activities-table tbody tr").count() == 0  # filled when opened
     opened.page.click("#activities-card summary")
+    # The table is filled by the `toggle` event, after the click returns: wait for its last row.
+    opened.page.locator("#activities-table tbody tr").nth(len(starts) - 1).wait_for(timeout=10_000)
     assert opened.page.locator("#activities-table tbody tr").count() == len(starts)
     assert opened.page.locator("text.axis-label").first.text_content() == "0 s"
 
