@@ -33,9 +33,10 @@ def literal_value(text: str) -> int | float | None:
     if text.isdigit():
         # More digits than MAX_WHOLE has (leading zeros aside) cannot be in range; checked
         # before int(), which refuses very long digit strings.
-        if len(text.lstrip("0")) > len(str(MAX_WHOLE)):
+        digits = text.lstrip("0") or "0"
+        if len(digits) > len(str(MAX_WHOLE)):
             return None
-        whole = int(text)
+        whole = int(digits)
         return whole if whole <= MAX_WHOLE else None
     value = float(text)
     return value if math.isfinite(value) else None
