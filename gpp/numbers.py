@@ -45,5 +45,17 @@ def literal_value(text: str) -> int | float | None:
 def describe(v: int | float) -> str:
     """A number for a message about its range: never thousands of digits."""
     if isinstance(v, int) and not isinstance(v, bool) and not in_range(v):
-        return f"a whole number of about {int(abs(v).bit_length() * math.log10(2)) + 1} digits"
+        if v.bit_length() > 14_000:  # beyond what str() writes (sys.get_int_max_str_digits)
+            return "a whole number of thousands of digits"
+        return f"a whole number of {len(str(abs(v)))} digits"
     return repr(v) if isinstance(v, float) else str(v)
+
+
+# The longest time a data file (a scenario, a world) may name, in seconds: about 31 years. Up to
+# it a 64-bit float still resolves the microseconds the trace writes.
+MAX_SECONDS = 1e9
+
+
+def bound_text(x: float) -> str:
+    """A bound of a range for a message: `0.01`, `10000`, `1e9`."""
+    return f"{x:g}".replace("e+0", "e").replace("e+", "e")
