@@ -12,6 +12,7 @@ The programs in tests/runtime_errors/ state what they expect in their leading co
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -58,6 +59,15 @@ class Expectation:
     notes: list[str] = field(default_factory=list)
     label: str | None = None
     timeout: float | None = None
+
+
+def _reject_constant(name: str) -> object:
+    raise ValueError(f"not strict JSON: {name}")
+
+
+def strict_json(line: str) -> object:
+    """A trace line parsed as strict JSON: NaN and infinities are not JSON (docs/trace.md)."""
+    return json.loads(line, parse_constant=_reject_constant)
 
 
 def expectation(path: Path) -> Expectation:
@@ -115,7 +125,10 @@ def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path
     if expected.label is not None:
         assert d.label == expected.label
 
-    records = [decode(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
+    lines = trace_file.read_text(encoding="utf-8").splitlines()
+    for line in lines:
+        strict_json(line)
+    records = [decode(line) for line in lines]
     stops = [r for r in records if isinstance(r, ErrorEvent | BlockedEvent)]
     assert len(stops) == 1
     [stop] = stops
