@@ -33,6 +33,7 @@ _CODES: list[CodeInfo] = [
     CodeInfo("E0001", "unexpected-character", "a character that cannot start any token"),
     CodeInfo("E0002", "unterminated", "a string literal or block comment that is never closed"),
     CodeInfo("E0003", "underscore-name", "a name that starts with '_'"),
+    CodeInfo("E0004", "number-too-large", "a number literal beyond the range of numbers (about ±1.8e308)"),
     CodeInfo("E0010", "unexpected-token", "a token where the grammar does not allow it"),
     CodeInfo("E0011", "missing-semicolon", "a statement or declaration that is not ended by ';'"),
     CodeInfo("E0012", "unexpected-eof", "the file ends inside a declaration"),
@@ -135,6 +136,26 @@ Remove the character, or write the operator golog++ has:
     number fluent count() { initially: () = 0; }
     procedure main() {
         count() = count() + 1;
+    }
+""",
+    "E0004": """
+Numbers range from -1.8e308 to 1.8e308, the range of a 64-bit float; whole numbers are exact
+in all of it. A number literal beyond that range, such as `1e400` or a whole number of more
+than 309 digits, is an error: it has no value. (A literal too small to tell from 0, such as
+`1e-400`, is 0.)
+
+For example:
+
+    number fluent limit() { initially: () = 1e400; }
+    procedure main() {
+        limit() = limit() - 1;
+    }
+
+Write a number within the range:
+
+    number fluent limit() { initially: () = 1e300; }
+    procedure main() {
+        limit() = limit() - 1;
     }
 """,
     "E0002": """

@@ -5,6 +5,7 @@ answers, random mode, preemption."""
 from __future__ import annotations
 
 import itertools
+import math
 from pathlib import Path
 from typing import Any
 
@@ -97,11 +98,30 @@ def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, s
         ({"action": [{"match": "go(*)", "outcom": "fail"}]}, "unknown key(s) outcom (known: duration, match"),
         ({"action": [{"match": "go(*)", "times": 0}]}, "times must be a whole number >= 1, not 0"),
         ({"action": [{"match": "go(*)", "times": "2"}]}, "times must be a whole number >= 1, not '2'"),
-        ({"action": [{"match": "go(*)", "duration": -1}]}, "duration must be a number of seconds >= 0, not -1"),
-        ({"action": [{"match": "go(*)", "duration": "slow"}]}, "must be a number of seconds >= 0, not 'slow'"),
+        (
+            {"action": [{"match": "go(*)", "duration": -1}]},
+            "duration must be a number of seconds from 0 to 1e9, not -1",
+        ),
+        ({"action": [{"match": "go(*)", "duration": "slow"}]}, "must be a number of seconds from 0 to 1e9, not 'slow'"),
         ({"action": {"match": "go(*)"}}, "`action` must be an array of tables, written [[action]]"),
-        ({"defaults": {"duration": True}}, "[defaults] duration must be a number of seconds >= 0, not True"),
+        ({"defaults": {"duration": True}}, "[defaults] duration must be a number of seconds from 0 to 1e9, not True"),
         ({"defaults": {"speed": 1}}, "[defaults]: unknown key(s) speed"),
+        (
+            {"defaults": {"duration": math.nan}},
+            "[defaults] duration must be a number of seconds from 0 to 1e9, not nan",
+        ),
+        (
+            {"action": [{"match": "go(*)", "duration": 2e9}]},
+            "#1 duration must be a number of seconds from 0 to 1e9, not 2000000000.0",
+        ),
+        (
+            {"exog": [{"at": math.inf, "action": "bell"}]},
+            "[[exog]] #1 at must be a number of seconds from 0 to 1e9, not inf",
+        ),
+        (
+            {"exog": [{"at": 10**400, "action": "bell"}]},
+            "[[exog]] #1 at must be a number of seconds from 0 to 1e9, not a whole number of 401 digits",
+        ),
         ({"exog": [{"action": "bell"}]}, '`at = <seconds>` and `action = "name"` are required'),
         ({"exog": [{"at": 1, "action": "bell", "args": "ann"}]}, "args must be a list of values, not 'ann'"),
         ({"exog": [{"at": 1, "action": "ring the bell"}]}, "action must be the name of an exogenous action"),
@@ -188,6 +208,21 @@ def test_pattern_arguments_match_values_by_type(pattern: str, args: tuple[Any, .
         ),
         ({"action": [{"match": "measure()", "result": "warm"}]}, "the result for `measure()`: expected a number"),
         ({"action": [{"match": "say(*)", "result": 1}]}, "`say(*)` gives a result, but `say` senses nothing"),
+        # docs/semantics.md, "Numbers": no NaN, infinity or whole number beyond ±1.8e308 comes in.
+        (
+            {"action": [{"match": "measure()", "result": math.nan}]},
+            "scenario: the result for `measure()`: expected a number, got NaN (not a number)",
+        ),
+        (
+            {"exog_function": [{"name": "thermometer", "value": -math.inf}]},
+            "scenario: an answer of `thermometer`: -inf is beyond the range of numbers"
+            " (numbers range from -1.8e308 to 1.8e308)",
+        ),
+        (
+            {"exog": [{"at": 1, "action": "visit", "args": ["hall", 10**309]}]},
+            "scenario: `visit` at 1 s: a whole number of 310 digits is beyond the range of numbers"
+            " (numbers range from -1.8e308 to 1.8e308)",
+        ),
     ],
 )
 def test_scenario_that_does_not_fit_the_program_is_reported_when_attached(data: dict[str, Any], problem: str) -> None:
@@ -496,3 +531,10 @@ def test_exog_event_objects_carry_parameter_order() -> None:
     assert platform.wait(None)
     [(_, event)] = platform.queue.drain()
     assert event == ExogEvent("visit", (Sym("kitchen"), 4))
+
+
+def test_scenario_with_a_whole_number_too_long_for_toml_is_a_clear_error(tmp_path: Path) -> None:
+    path = tmp_path / "s.toml"
+    path.write_text("[defaults]\nduration = " + "1" * 5000 + "\n", encoding="utf-8")
+    with pytest.raises(ScenarioError, match="has a whole number beyond the range of numbers"):
+        Scenario.load(path)

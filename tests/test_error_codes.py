@@ -94,6 +94,17 @@ CASES = [
         E("E0003", 1, 8, "a name cannot start with '_'"),
     ),
     case(
+        "E0004-float-literal-too-large",
+        FLUENT_N + "procedure main() {\n    n() = 1e400 - 1e400;\n}\n",
+        E("E0004", 6, 11, "number literal is too large"),
+        E("E0004", 6, 19, "number literal is too large"),
+    ),
+    case(
+        "E0004-whole-literal-too-large",
+        FLUENT_N + "procedure main() {\n    n() = -" + "1" * 4301 + ";\n}\n",
+        E("E0004", 6, 12, "number literal is too large"),
+    ),
+    case(
         "E0010-assignment-for-comparison",
         FLUENT_N + "procedure main() {\n    if (n() = 1) {}\n}\n",
         E("E0010", 6, 13, "expected one of an operator or `)`, found `=`", "to compare two values write `==`"),

@@ -26,6 +26,7 @@ LAYERS: list[tuple[str, set[str]]] = [
             "gpp.resources",
             "gpp.suggest",
             "gpp.paths",
+            "gpp.numbers",
         },
     ),
     ("syntax", {"gpp.syntax"}),

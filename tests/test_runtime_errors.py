@@ -12,6 +12,7 @@ The programs in tests/runtime_errors/ state what they expect in their leading co
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -58,6 +59,15 @@ class Expectation:
     notes: list[str] = field(default_factory=list)
     label: str | None = None
     timeout: float | None = None
+
+
+def _reject_constant(name: str) -> object:
+    raise ValueError(f"not strict JSON: {name}")
+
+
+def strict_json(line: str) -> object:
+    """A trace line parsed as strict JSON: NaN and infinities are not JSON (docs/trace.md)."""
+    return json.loads(line, parse_constant=_reject_constant)
 
 
 def expectation(path: Path) -> Expectation:
@@ -115,7 +125,10 @@ def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path
     if expected.label is not None:
         assert d.label == expected.label
 
-    records = [decode(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
+    lines = trace_file.read_text(encoding="utf-8").splitlines()
+    for line in lines:
+        strict_json(line)
+    records = [decode(line) for line in lines]
     stops = [r for r in records if isinstance(r, ErrorEvent | BlockedEvent)]
     assert len(stops) == 1
     [stop] = stops
@@ -207,7 +220,13 @@ def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None =
         ("n() = l()[0.5];", "R0003", "list index `0.5` is not a whole number", "l()[0.5]"),
         ("n() = l()[-1];", "R0003", "list index -1 is out of range (the list has 2 elements)", "l()[-1]"),
         ("n() = 1 / 0.0;", "R0001", "division by zero", "1 / 0.0"),
-        ("n() = 10 ** 400 / 3;", "R0001", "the result of `/` is too large for a number", "10 ** 400 / 3"),
+        ("n() = (10 ** 300) / 1e-300;", "R0001", "the result of `/` is too large for a number", "(10 ** 300) / 1e-300"),
+        ("n() = 1e308 + 1e308;", "R0001", "the result of `+` is too large for a number", "1e308 + 1e308"),
+        ("n() = -1e308 - 1e308;", "R0001", "the result of `-` is too large for a number", "-1e308 - 1e308"),
+        ("n() = (10 ** 308) * 10;", "R0001", "the result of `*` is too large for a number", "(10 ** 308) * 10"),
+        ("n() = (10 ** 308) * 10.0;", "R0001", "the result of `*` is too large for a number", "(10 ** 308) * 10.0"),
+        ("n() = 10 ** 309;", "R0001", "`10 ** 309` is too large", "10 ** 309"),
+        ("n() = (-10) ** 309;", "R0001", "`(-10) ** 309` is too large", "(-10) ** 309"),
         ("n() = 2.0 ** 10000;", "R0001", "`2.0 ** 10000` is too large", "2.0 ** 10000"),
         ("n() = 10 ** 10000000;", "R0001", "`10 ** 10000000` is too large", "10 ** 10000000"),
         ("n() = (0 - 8) ** 0.5;", "R0001", "`(-8) ** 0.5` is not a real number", "(0 - 8) ** 0.5"),

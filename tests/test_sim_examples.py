@@ -196,6 +196,85 @@ def test_bad_world_files_say_what_is_wrong(text: str, message: str) -> None:
     assert message in str(error.value)
 
 
+MAP = "[map]\nsize = [4, 4]\n"
+BENCH = '[workbench]\n[[workbench.slot]]\nname = "t1"\nx = 160\n'
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        # docs/semantics.md, "Numbers": every number of a world is finite and within its range.
+        ("dt = nan\n" + MAP, "world: `dt` must be between 0.0001 and 0.1, not nan"),
+        ("dt = inf\n" + MAP, "world: `dt` must be between 0.0001 and 0.1, not inf"),
+        (
+            "[map]\nsize = [1e9, 1e9]\n",
+            "world [map]: `size` must be a list of 2 numbers between 0.1 and 10000, not 1000000000.0",
+        ),
+        ("[map]\nsize = [4, nan]\n", "world [map]: `size` must be a list of 2 numbers between 0.1 and 10000, not nan"),
+        (
+            "[map]\nsize = [5000, 5000]\n",
+            "world [map]: a map of 5000 x 5000 m at a `resolution` of 0.1 m has 2500000000 grid cells, at most 4000000 "
+            "are allowed (make the map smaller or the resolution coarser)",
+        ),
+        (MAP + "resolution = -inf\n", "world [map]: `resolution` must be between 0.01 and 1, not -inf"),
+        (
+            MAP + "walls = [[0, 0, inf, 1]]\n",
+            "world [map]: `walls` must hold coordinates between -10000 and 10000, not inf",
+        ),
+        (MAP + "[map.robot]\nspeed = nan\n", "world [map] [robot]: `speed` must be between 0.01 and 100, not nan"),
+        (
+            MAP + "[map.battery]\nreport_every = 1e10\n",
+            "world [map] [battery]: `report_every` must be between 0.1 and 1e9, not 10000000000.0",
+        ),
+        (
+            MAP + "[[map.frame]]\nname = 'home'\nat = [nan, 1]\n",
+            "world [map] [[frame]] #1: `at` must be a list of 2 numbers between -10000 and 10000, not nan",
+        ),
+        (
+            MAP + "[[map.region]]\nname = 'r'\nevent = 'e'\ncircle = [1, 1, inf]\n",
+            "world [map] [[region]] #1: `circle` must be a list of 3 numbers between -10000 and 10000, not inf",
+        ),
+        (
+            MAP + "[faults]\n[[faults.obstacle]]\nat = nan\nrect = [0, 0, 1, 1]\n",
+            "world [faults] [[obstacle]] #1: `at` must be between 0 and 1e9, not nan",
+        ),
+        (MAP + "[faults]\ngrasp_slip = nan\n", "world [faults]: `grasp_slip` must be between 0 and 1, not nan"),
+        ("[workbench]\ngravity = inf\n", "world [workbench]: `gravity` must be between 0 and 10000, not inf"),
+        (
+            BENCH + "[workbench.table]\nleft = -inf\n",
+            "world [workbench] [table]: `left` must be between 0 and 10000, not -inf",
+        ),
+        (
+            BENCH + "[workbench.gripper]\nhome = [nan, 0]\n",
+            "world [workbench] [gripper]: `home` must be a list of 2 numbers between -10000 and 10000, not nan",
+        ),
+        (
+            BENCH + '[[workbench.block]]\nname = "a"\non = "t1"\nsize = [40, 1e300]\n',
+            "world [workbench] [[block]] #1: `size` must be a list of 2 numbers between 1 and 1000, not 1e+300",
+        ),
+        (
+            BENCH + '[[workbench.block]]\nname = "a"\non = "t1"\nmass = nan\n',
+            "world [workbench] [[block]] #1: `mass` must be between 0.01 and 1000, not nan",
+        ),
+        (
+            BENCH + "[[workbench.slot]]\nname = 't2'\nx = " + "9" * 400 + "\n",
+            "world [workbench] [[slot]] #2: `x` must be between -10000 and 10000, not a whole number of 400 digits",
+        ),
+    ],
+)
+def test_every_number_of_a_world_is_checked_against_its_range(text: str, message: str) -> None:
+    with pytest.raises(WorldError) as error:
+        World.from_data(tomllib.loads(text))
+    assert str(error.value) == message
+
+
+def test_world_with_a_whole_number_too_long_for_toml_is_a_clear_error(tmp_path: Path) -> None:
+    path = tmp_path / "w.toml"
+    path.write_text("dt = " + "1" * 5000 + "\n" + MAP, encoding="utf-8")
+    with pytest.raises(WorldError, match="has a whole number beyond the range of numbers"):
+        World.load(str(path))
+
+
 def test_record_and_snapshot(tmp_path: Path) -> None:
     gif, png = tmp_path / "run.gif", tmp_path / "end.png"
     sim_run("blocksworld.gpp", record=gif, snapshot=png)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import io
 import json
+import math
 import os
 import re
 from pathlib import Path
@@ -467,3 +468,58 @@ def test_end_and_exog_records_carry_the_fluent_changes() -> None:
     for e in exogs:
         for change in e.changes:
             assert set(change) == {"fluent", "value"}
+
+
+# ---------------------------------------------------------------- numbers (docs/semantics.md, "Numbers")
+
+
+def _reject_constant(name: str) -> object:
+    raise ValueError(f"not strict JSON: {name}")
+
+
+def _strict(line: str) -> object:
+    return json.loads(line, parse_constant=_reject_constant)
+
+
+def test_numbers_at_the_edge_of_the_range_are_exact_in_a_strict_json_trace(tmp_path: Path) -> None:
+    program = tmp_path / "edge.gpp"
+    program.write_text(
+        "number fluent n() { initially: () = 0; }\n"
+        'string fluent s() { initially: () = ""; }\n'
+        "procedure main() {\n"
+        "    n() = 10 ** 308;\n"
+        "    s() = to_string(n());\n"
+        "    n() = -1.7976931348623157e308;\n"
+        "    n() = 1e-400;\n"
+        "}\n",
+        encoding="utf-8",
+    )
+    trace_file = tmp_path / "trace.jsonl"
+    outcome = run_program(program, RunOptions(trace=trace_file))
+    assert outcome.ok
+    records = [_strict(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
+    values = [r["value"] for r in records if isinstance(r, dict) and r["event"] == "assign"]
+    assert values == [10**308, "1" + "0" * 308, -1.7976931348623157e308, 0.0]
+
+
+@pytest.mark.parametrize(
+    ("value", "written"),
+    [
+        (math.nan, '"NaN"'),
+        (math.inf, '"Infinity"'),
+        ([1, -math.inf], '[1, "-Infinity"]'),
+        ({"compound": "P", "fields": {"x": math.nan}}, '{"compound": "P", "fields": {"x": "NaN"}}'),
+        (10**5000, '"Infinity"'),
+        (-(10**400), "-1" + "0" * 400),  # beyond the range, but JSON
+    ],
+    ids=["nan", "inf", "list", "compound", "whole-5000-digits", "whole-negative"],
+)
+def test_a_number_beyond_the_range_from_a_platform_is_still_strict_json(value: object, written: str) -> None:
+    # Program values never leave the range; a platform's value that does is written by name.
+    line = encode(SenseEvent(t=1.5, action="a()", fluent="f()", value=value))  # type: ignore[arg-type]
+    _strict(line)
+    assert line == '{"t": 1.5, "event": "sense", "action": "a()", "fluent": "f()", "value": ' + written + "}"
+
+
+def test_a_non_finite_clock_is_still_strict_json() -> None:
+    assert encode(ErrorEvent(t=math.inf, message="m")) == '{"t": "Infinity", "event": "error", "message": "m"}'

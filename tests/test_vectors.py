@@ -341,6 +341,37 @@ def test_non_ascii_digit_is_an_unexpected_character() -> None:
     assert_error(result, "E0001", 1, 23, "unexpected character")
 
 
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("1.7976931348623157e308", 1.7976931348623157e308),
+        (
+            "179769313486231570814527423731704356798070567525844996598917476803157260780028538760589558632766878171540458953514382464234321326889464182768467546703537516986049910576551282076245490090389328944075868508455133942304583236903222948165808559332123348274797826204144723168738177180919299881250404026184124858368",
+            2**1024 - 2**971,
+        ),
+        (
+            "0000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000001",
+            1,
+        ),
+        ("1e-400", 0.0),
+    ],
+)
+def test_number_literal_within_the_range_of_numbers_keeps_its_value(text: str, value: float) -> None:
+    # docs/semantics.md, "Numbers": whole literals are exact up to the largest float.
+    body = function_body(f"number function f() = {text}")
+    assert isinstance(body, ast.NumberLit)
+    assert body.value == value and type(body.value) is type(value)
+
+
+@pytest.mark.parametrize(
+    ("text", "col"),
+    [("1e400", 23), ("1.7976931348623159e308", 23), ("1" + "0" * 309, 23), ("-" + "9" * 4301, 24)],
+)
+def test_number_literal_beyond_the_range_of_numbers_is_an_error(text: str, col: int) -> None:
+    result = parse_text(f"number function f() = {text}")
+    assert_error(result, "E0004", 1, col, "number literal is too large")
+
+
 # ---------------------------------------------------------------- keywords and names
 
 

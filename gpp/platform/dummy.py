@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import copy
 import heapq
-import math
 import random
 import re
 import tomllib
@@ -25,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.numbers import MAX_SECONDS, bound_text, describe
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,
@@ -122,6 +122,8 @@ class Scenario:
             raise ScenarioError(f"scenario '{path}' is not UTF-8 text") from None
         except tomllib.TOMLDecodeError as e:
             raise ScenarioError(f"scenario '{path}' is not valid TOML: {e}") from None
+        except ValueError:  # tomllib refuses a whole number of thousands of digits
+            raise ScenarioError(f"scenario '{path}' has a whole number beyond the range of numbers") from None
         return cls.from_data(data, str(path), _entry_spans(Source.from_file(path)))
 
     @classmethod
@@ -454,8 +456,9 @@ class DummyPlatform(Platform):
 
 
 def _seconds(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value < math.inf:
-        raise ScenarioError(f"{what} must be a number of seconds >= 0, not {value!r}")
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= MAX_SECONDS:
+        shown = describe(value) if isinstance(value, int | float) and not isinstance(value, bool) else repr(value)
+        raise ScenarioError(f"{what} must be a number of seconds from 0 to {bound_text(MAX_SECONDS)}, not {shown}")
     return float(value)
 
 

@@ -9,10 +9,12 @@ list values, `{ null = true }` is null; domain membership is checked.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.numbers import RANGE_TEXT, describe, in_range
 from gpp.runtime.values import CompoundValue, Value, show
 
 
@@ -31,29 +33,50 @@ def to_value(v: Any, t: Type | None) -> Value:
         elif isinstance(v, str):
             value = Sym(v)
         else:
-            raise ConversionError(f"expected a symbol name, got {v!r}")
+            raise ConversionError(f"expected a symbol name, got {_shown(v)}")
     elif element is NUMBER:
         if isinstance(v, bool) or not isinstance(v, int | float):
-            raise ConversionError(f"expected a number, got {v!r}")
-        value = v
+            raise ConversionError(f"expected a number, got {_shown(v)}")
+        value = _number(v)
     elif element is STRING:
         if not isinstance(v, str):
-            raise ConversionError(f"expected a string, got {v!r}")
+            raise ConversionError(f"expected a string, got {_shown(v)}")
         value = v
     elif element is BOOL:
         if not isinstance(v, bool):
-            raise ConversionError(f"expected true or false, got {v!r}")
+            raise ConversionError(f"expected true or false, got {_shown(v)}")
         value = v
     elif isinstance(t, ListType):
         if not isinstance(v, list | tuple):
-            raise ConversionError(f"expected a list, got {v!r}")
+            raise ConversionError(f"expected a list, got {_shown(v)}")
         value = tuple(to_value(x, t.element) for x in v)
     elif isinstance(t, CompoundType):
         if not isinstance(v, Mapping):
-            raise ConversionError(f"expected a table for `{t.name}`, got {v!r}")
+            raise ConversionError(f"expected a table for `{t.name}`, got {_shown(v)}")
         value = CompoundValue(t.name, tuple((n, to_value(v.get(n, {"null": True}), ft)) for n, ft in t.fields.items()))
+    elif isinstance(v, int | float) and not isinstance(v, bool):
+        value = _number(v)
     else:
-        value = v if isinstance(v, bool | int | float | str) else None
+        value = v if isinstance(v, bool | str) else None
     if isinstance(t, DomainType) and value is not None and value not in t.values:
         raise ConversionError(f"{show(value)} is not in domain `{t.name}`")
     return value
+
+
+def _number(v: int | float) -> int | float:
+    """A number within the range of numbers (docs/semantics.md, "Numbers"): never NaN, an
+    infinity or a whole number beyond ±1.8e308."""
+    if isinstance(v, float) and math.isnan(v):
+        raise ConversionError("expected a number, got NaN (not a number)")
+    if not in_range(v):
+        raise ConversionError(f"{describe(v)} is beyond the range of numbers ({RANGE_TEXT})")
+    return v
+
+
+def _shown(v: Any) -> str:
+    """`v` for a message: short, and never failing on a whole number too long to write."""
+    try:
+        text = repr(v)
+    except ValueError:  # a whole number of thousands of digits inside
+        return "a value with a huge whole number"
+    return text if len(text) <= 80 else text[:77] + "..."

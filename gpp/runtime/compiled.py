@@ -17,6 +17,7 @@ from typing import Protocol
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.numbers import MAX_WHOLE, RANGE_TEXT
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show, to_string
@@ -447,9 +448,15 @@ class CompiledProgram:
             if a is None or b is None:
                 raise GppRuntimeError("R0002", f"`{op.value}` applied to `null`", span)
             try:
-                return arithmetic(a, b, span)
+                result = arithmetic(a, b, span)
             except OverflowError:
-                raise GppRuntimeError("R0001", f"the result of `{op.value}` is too large for a number", span) from None
+                raise _too_large(op, span) from None
+            if isinstance(result, float):
+                if result - result != 0.0:  # infinite or NaN
+                    raise _too_large(op, span)
+            elif isinstance(result, int) and not -MAX_WHOLE <= result <= MAX_WHOLE:
+                raise _too_large(op, span)
+            return result
 
         return calculate
 
@@ -477,10 +484,13 @@ class CompiledProgram:
             if isinstance(value, int | float) and isinstance(shift, int | float) and not isinstance(value, bool):
                 # sign * now + shift == value at now = sign * (value - shift); strict comparisons
                 # change just after that moment.
-                crossing = float(sign * (value - shift))
+                try:
+                    crossing = float(sign * (value - shift))
+                except OverflowError:  # beyond any clock
+                    return result
                 now = env.ctx.now()
                 for t in (crossing, math.nextafter(crossing, math.inf)):
-                    if t > now:
+                    if now < t < math.inf:
                         env.ctx.wake_at(t)
             return result
 
@@ -750,21 +760,24 @@ def _pow(a: Value, b: Value, span: Span) -> Value:
         raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span)
     if isinstance(a, int) and isinstance(b, int) and b >= 0:
         if abs(a) > 1 and b * math.log2(abs(a)) > _MAX_POWER_BITS:
-            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span)
+            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,))
         power: int = a**b
+        if not -MAX_WHOLE <= power <= MAX_WHOLE:
+            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,))
         return power
     try:
         return math.pow(a, b)
     except ZeroDivisionError:
         raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span) from None
     except OverflowError:
-        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span) from None
+        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,)) from None
     except ValueError:
         raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is not a real number", span) from None
 
 
-# Whole-number powers beyond this many bits would take the machine's memory, not give a value.
-_MAX_POWER_BITS = 1_000_000
+# Whole-number powers beyond this many bits are beyond the range of numbers (MAX_WHOLE has 1024
+# bits); the margin leaves the exact check to the caller.
+_MAX_POWER_BITS = 1100
 
 _ARITHMETIC: dict[Op, Callable[[Value, Value, Span], Value]] = {
     Op.ADD: _add,
@@ -790,6 +803,11 @@ def _zero(env: Env) -> Value:
 def _number(v: Value) -> float:
     """A number for the clock arithmetic of `_clocked` (anything else makes it compare nothing)."""
     return float(v) if isinstance(v, int | float) and not isinstance(v, bool) else math.nan
+
+
+def _too_large(op: Op, span: Span) -> GppRuntimeError:
+    """A result beyond the range of numbers (docs/semantics.md, "Numbers")."""
+    return GppRuntimeError("R0001", f"the result of `{op.value}` is too large for a number", span, (RANGE_TEXT,))
 
 
 def _internal(span: Span, message: str) -> GppRuntimeError:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import importlib.resources
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
@@ -356,8 +357,34 @@ def to_json_dict(event: EventBase) -> dict[str, Any]:
 
 
 def encode(event: EventBase) -> str:
-    """The event as one line of a trace file (without the newline)."""
-    return json.dumps(to_json_dict(event), ensure_ascii=False)
+    """The event as one line of a trace file (without the newline), strict JSON whatever it
+    holds: gpp keeps NaN and infinities out of program values (docs/semantics.md, "Numbers"),
+    and one that still arrives (from a platform) is written as the string "NaN", "Infinity" or
+    "-Infinity" (docs/trace.md)."""
+    record = to_json_dict(event)
+    try:
+        return json.dumps(record, ensure_ascii=False, allow_nan=False)
+    except ValueError:
+        return json.dumps(_finite(record), ensure_ascii=False, allow_nan=False)
+
+
+# Whole numbers up to this many bits have at most 4,000 digits: Python writes them as text
+# (sys.get_int_max_str_digits() is 4,300 by default).
+_WRITABLE_BITS = 13_000
+
+
+def _finite(value: Any) -> Any:
+    """`value` with every non-finite float, and every whole number too long to write as text
+    (thousands of digits), replaced by its name as a string."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "NaN" if math.isnan(value) else "Infinity" if value > 0 else "-Infinity"
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > _WRITABLE_BITS:
+        return "Infinity" if value > 0 else "-Infinity"
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v) for v in value]
+    return value
 
 
 def from_json_dict(record: Mapping[str, Any]) -> TraceEvent:

@@ -13,6 +13,7 @@ from dataclasses import replace
 from typing import Any, TypeVar
 
 from gpp import diagnostics as diag
+from gpp.numbers import literal_value
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token, unescape_string
@@ -346,7 +347,9 @@ class AstBuilder:
 
     def number(self, c: list[Child]) -> ast.NumberLit:
         text: str = c[0].value
-        value: int | float = int(text) if text.isdigit() else float(text)
+        # A literal beyond the range of numbers is an error already (E0004, from the lexer).
+        literal = literal_value(text)
+        value: int | float = math.inf if literal is None else literal
         return ast.NumberLit(span=self.tspan(c[0]), value=value)
 
     def string(self, c: list[Child]) -> ast.StringLit:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from gpp.numbers import RANGE_TEXT, literal_value
 from gpp.source import Source, Span
 
 
@@ -244,6 +245,8 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                 tokens[-1].type = "NAME"
         elif kind == "number":
             ttype = "NUMBER"
+            if literal_value(value) is None:
+                errors.append(LexError("E0004", "number literal is too large", start, pos, RANGE_TEXT))
         elif kind == "string":
             ttype = "STRING"
         elif kind == "section":

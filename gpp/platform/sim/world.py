@@ -18,16 +18,25 @@ problem in a world file is a WorldError with the file and the entry that is wron
 
 from __future__ import annotations
 
+import math
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gpp.numbers import MAX_SECONDS, bound_text, describe
 from gpp.resources import stdlib_dir
 from gpp.suggest import closest
 
 DEFAULT_WORLD = "blocksworld"
+
+# The ranges of a world's numbers (docs/semantics.md, "Numbers"): coordinates and lengths of the
+# workbench (cm) and of the map's frames, regions and obstacles are within ±LIMIT; a map is at
+# most MAX_MAP_SIZE metres a side and MAX_MAP_CELLS grid cells.
+LIMIT = 10_000.0
+MAX_MAP_SIZE = 10_000.0
+MAX_MAP_CELLS = 4_000_000
 
 
 class WorldError(ValueError):
@@ -202,6 +211,8 @@ class World:
             raise WorldError(f"cannot read world '{path}': {e.strerror}") from None
         except tomllib.TOMLDecodeError as e:
             raise WorldError(f"world '{path}' is not valid TOML: {e}") from None
+        except ValueError:  # tomllib refuses a whole number of thousands of digits
+            raise WorldError(f"world '{path}' has a whole number beyond the range of numbers") from None
         return cls.from_data(data, path)
 
     @classmethod
@@ -337,18 +348,26 @@ class _Reader:
     def optional_text(self, key: str) -> str | None:
         return self.text(key) if key in self.data else None
 
-    def number(
-        self, key: str, default: float | None = None, low: float | None = None, high: float | None = None
-    ) -> float:
+    def number(self, key: str, default: float | None = None, low: float = -LIMIT, high: float = LIMIT) -> float:
+        """A number between `low` and `high` (never NaN or an infinity)."""
         v = self.data.get(key, default)
         if isinstance(v, bool) or not isinstance(v, int | float):
             raise WorldError(f"{self.where}: `{key}` must be a number" + ("" if key in self.data else " (required)"))
-        if (low is not None and v < low) or (high is not None and v > high):
-            bounds = f"between {low:g} and {high:g}" if low is not None and high is not None else f">= {low:g}"
-            raise WorldError(f"{self.where}: `{key}` must be {bounds}, not {v!r}")
+        if not low <= v <= high:  # also false for NaN
+            raise WorldError(
+                f"{self.where}: `{key}` must be between {bound_text(low)} and {bound_text(high)}, not {describe(v)}"
+            )
         return float(v)
 
-    def numbers(self, key: str, n: int, default: tuple[float, ...] | None = None) -> tuple[float, ...]:
+    def numbers(
+        self,
+        key: str,
+        n: int,
+        default: tuple[float, ...] | None = None,
+        low: float = -LIMIT,
+        high: float = LIMIT,
+    ) -> tuple[float, ...]:
+        """A list of `n` numbers, each between `low` and `high`."""
         v = self.data.get(key, default)
         if (
             not isinstance(v, list | tuple)
@@ -356,6 +375,12 @@ class _Reader:
             or any(isinstance(x, bool) or not isinstance(x, int | float) for x in v)
         ):
             raise WorldError(f"{self.where}: `{key}` must be a list of {n} numbers")
+        for x in v:
+            if not low <= x <= high:
+                raise WorldError(
+                    f"{self.where}: `{key}` must be a list of {n} numbers between {bound_text(low)} and "
+                    f"{bound_text(high)}, not {describe(x)}"
+                )
         return tuple(float(x) for x in v)
 
     def flag(self, key: str, default: bool) -> bool:
@@ -374,48 +399,62 @@ def _workbench(r: _Reader, where: str) -> WorkbenchSpec:
     slots: list[SlotSpec] = []
     for s in r.tables("slot"):
         s.only({"name", "x", "width"})
-        slots.append(SlotSpec(s.text("name"), s.number("x"), s.number("width", 60.0, low=1.0)))
+        slots.append(SlotSpec(s.text("name"), s.number("x"), s.number("width", 60.0, low=1.0, high=LIMIT)))
     blocks: list[BlockSpec] = []
     palette = ["#d1495b", "#2e86ab", "#edae49", "#66a182", "#8d6a9f", "#e07a5f", "#3d405b", "#81b29a"]
     for i, b in enumerate(r.tables("block")):
         b.only({"name", "size", "mass", "friction", "on", "color"})
-        w, h = b.numbers("size", 2, (40.0, 40.0))
+        w, h = b.numbers("size", 2, (40.0, 40.0), low=1.0, high=1000.0)
         blocks.append(
             BlockSpec(
                 b.text("name"),
                 w,
                 h,
-                b.number("mass", 1.0, low=0.01),
-                b.number("friction", 0.7, low=0.0),
+                b.number("mass", 1.0, low=0.01, high=1000.0),
+                b.number("friction", 0.7, low=0.0, high=10.0),
                 b.text("on"),
                 b.text("color", palette[i % len(palette)]),
             )
         )
     home = gripper.numbers("home", 2) if "home" in gripper.data else None
     return WorkbenchSpec(
-        width=r.number("width", 600.0, low=100.0),
-        table_left=table.number("left", 60.0),
-        table_right=table.number("right", 540.0),
-        table_top=table.number("top", 75.0, low=0.0),
+        width=r.number("width", 600.0, low=100.0, high=LIMIT),
+        table_left=table.number("left", 60.0, low=0.0, high=LIMIT),
+        table_right=table.number("right", 540.0, low=0.0, high=LIMIT),
+        table_top=table.number("top", 75.0, low=0.0, high=LIMIT),
         slots=tuple(slots),
         blocks=tuple(blocks),
-        gripper_speed=gripper.number("speed", 200.0, low=1.0),
+        gripper_speed=gripper.number("speed", 200.0, low=1.0, high=LIMIT),
         gripper_home=(home[0], home[1]) if home is not None else None,
         frame=r.optional_text("frame"),
         iterations=int(r.number("iterations", 30, low=1, high=200)),
-        gravity=r.number("gravity", 981.0, low=0.0),
+        gravity=r.number("gravity", 981.0, low=0.0, high=LIMIT),
     )
 
 
 def _map(r: _Reader, where: str) -> MapSpec:
     r.only({"size", "resolution", "walls", "robot", "battery", "frame", "region", "wall_thickness"})
-    width, height = r.numbers("size", 2)
+    width, height = r.numbers("size", 2, low=0.1, high=MAX_MAP_SIZE)
+    resolution = r.number("resolution", 0.1, low=0.01, high=1.0)
+    cells = math.ceil(width / resolution) * math.ceil(height / resolution)
+    if cells > MAX_MAP_CELLS:
+        raise WorldError(
+            f"{r.where}: a map of {width:g} x {height:g} m at a `resolution` of {resolution:g} m has {cells} grid "
+            f"cells, at most {MAX_MAP_CELLS} are allowed (make the map smaller or the resolution coarser)"
+        )
     walls = r.data.get("walls", [])
     if not isinstance(walls, list) or any(
         not isinstance(w, list) or len(w) != 4 or any(isinstance(x, bool) or not isinstance(x, int | float) for x in w)
         for w in walls
     ):
         raise WorldError(f"{r.where}: `walls` must be a list of [x1, y1, x2, y2] segments")
+    for w in walls:
+        for x in w:
+            if not -MAX_MAP_SIZE <= x <= MAX_MAP_SIZE:
+                raise WorldError(
+                    f"{r.where}: `walls` must hold coordinates between {bound_text(-MAX_MAP_SIZE)} and "
+                    f"{bound_text(MAX_MAP_SIZE)}, not {describe(x)}"
+                )
     robot = r.table("robot")
     robot.only({"radius", "speed", "start"})
     battery = r.table("battery")
@@ -452,14 +491,14 @@ def _map(r: _Reader, where: str) -> MapSpec:
         walls=tuple((float(a), float(b), float(c), float(d)) for a, b, c, d in walls),
         frames=tuple(frames),
         regions=tuple(regions),
-        resolution=r.number("resolution", 0.1, low=0.01, high=1.0),
-        robot_radius=robot.number("radius", 0.25, low=0.01),
-        robot_speed=robot.number("speed", 0.8, low=0.01),
+        resolution=resolution,
+        robot_radius=robot.number("radius", 0.25, low=0.01, high=100.0),
+        robot_speed=robot.number("speed", 0.8, low=0.01, high=100.0),
         robot_start=robot.optional_text("start"),
         battery=battery.number("level", 100.0, low=0.0, high=100.0) if "battery" in r.data else None,
-        drain_per_meter=battery.number("drain_per_meter", 1.0, low=0.0),
-        report_every=battery.number("report_every", 5.0, low=0.1),
-        wall_thickness=r.number("wall_thickness", 0.1, low=0.01),
+        drain_per_meter=battery.number("drain_per_meter", 1.0, low=0.0, high=100.0),
+        report_every=battery.number("report_every", 5.0, low=0.1, high=MAX_SECONDS),
+        wall_thickness=r.number("wall_thickness", 0.1, low=0.01, high=10.0),
     )
 
 
@@ -470,7 +509,11 @@ def _faults(r: _Reader, where: str) -> FaultSpec:
         o.only({"name", "at", "rect"})
         x0, y0, x1, y1 = o.numbers("rect", 4)
         obstacles.append(
-            ObstacleSpec(o.text("name", f"obstacle{len(obstacles) + 1}"), o.number("at", low=0.0), (x0, y0, x1, y1))
+            ObstacleSpec(
+                o.text("name", f"obstacle{len(obstacles) + 1}"),
+                o.number("at", low=0.0, high=MAX_SECONDS),
+                (x0, y0, x1, y1),
+            )
         )
     seed = r.data.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
