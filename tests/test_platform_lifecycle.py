@@ -140,6 +140,7 @@ def test_platform_opt_pairs_reach_the_platform() -> None:
         (["-o", "seed=abc"], "option `seed` of platform `dummy` must be a whole number, not 'abc'"),
         (["-o", "seed"], "--platform-opt takes KEY=VALUE, not 'seed'"),
         (["-o", "seed=1", "--seed", "2"], "platform option `seed` is given twice"),
+        (["--seed", "2"], "option `seed` of platform `dummy` applies only with `random`"),
     ],
 )
 def test_options_that_do_not_apply_are_usage_errors(args: list[str], message: str) -> None:

@@ -269,6 +269,10 @@ class DummyPlatform(Platform):
         """The platform for `gpp run`: the scenario from the `scenario` option, else from a
         `// scenario: FILE` line at the top of the program (relative to it), else none."""
         options = parse_options(DummyOptions, config.options, cls.name)
+        if options.seed is not None and not options.random:
+            raise PlatformError(
+                "option `seed` of platform `dummy` applies only with `random` (without it nothing is random)"
+            )
         path = options.scenario if options.scenario is not None else config.directive_path("scenario")
         try:
             scenario = Scenario.load(path) if path is not None else None
