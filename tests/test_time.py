@@ -207,3 +207,33 @@ def test_the_live_view_shows_what_the_program_waits_for(tmp_path: Path) -> None:
     for event in events:
         view(event)
     assert "wait   this test is false (context_time() = 0.0): test(context_time() >= t);" in plain.getvalue()
+
+
+def test_a_comparison_with_the_clock_evaluates_its_other_side_once(tmp_path: Path) -> None:
+    from collections.abc import Mapping
+
+    from gpp.check import check_text
+    from gpp.model.types import Type
+    from gpp.platform.base import Activity
+    from gpp.platform.dummy import DummyPlatform, Scenario
+    from gpp.runtime.compiled import CompiledProgram
+    from gpp.runtime.executor import Executor
+    from gpp.runtime.trace import Trace
+    from gpp.runtime.values import Value
+
+    class Counting(DummyPlatform):
+        asked = 0
+
+        def exog_function(
+            self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
+        ) -> Value:
+            self.asked += 1
+            return super().exog_function(name, args, return_type, activity)
+
+    program = "number exog_function deadline();\nprocedure main() { test(context_time() >= deadline()); }\n"
+    check = check_text(program, tmp_path / "p.gpp", lint=False)
+    platform = Counting(Scenario.from_data({"exog_function": [{"name": "deadline", "value": 3}]}))
+    result = Executor(CompiledProgram(check.model), platform, Trace()).run()
+    assert result.status is RunStatus.FINISHED and result.platform_time == 3.0
+    # Asked once when the test was false at 0 s and once when it held at 3 s: never twice for one test.
+    assert platform.asked == 2

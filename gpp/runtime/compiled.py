@@ -426,21 +426,20 @@ class CompiledProgram:
         if op is Op.IMPLIES:
             return lambda env: (not _truth(left(env))) or _truth(right(env))
         if op is Op.EQ:
-            return self._clocked(e, lambda env: same(left(env), right(env)))
+            return self._compare(e, left, right, same)
         if op is Op.NE:
-            return self._clocked(e, lambda env: not same(left(env), right(env)))
+            return self._compare(e, left, right, lambda a, b: not same(a, b))
         if op in (Op.LT, Op.LE, Op.GT, Op.GE):
             compare = _ORDER[op]
 
-            def order(env: Env) -> Value:
-                a, b = left(env), right(env)
+            def order(a: Value, b: Value) -> Value:
                 if a is None or b is None:
                     raise GppRuntimeError("R0002", f"`{op.value}` compares `null`", span)
                 if isinstance(a, Sym):
                     return compare(a.name, b.name)  # type: ignore[union-attr]
                 return compare(a, b)
 
-            return self._clocked(e, order)
+            return self._compare(e, left, right, order)
         arithmetic = _ARITHMETIC[op]
 
         def calculate(env: Env) -> Value:
@@ -462,33 +461,31 @@ class CompiledProgram:
 
     # ---------------------------------------------------------------- comparisons with the clock
 
-    def _clocked(self, e: ast.Binary, compare: Evaluator) -> Evaluator:
-        """`compare` for a comparison of the clock with a value (`context_time() >= t0 + 5`):
-        besides comparing, it tells the context when the comparison's truth value changes next,
-        so that a program blocked on it wakes up then. One side must be `context_time()` plus or
-        minus amounts that do not read the clock, the other must not read the clock; any other
-        comparison is evaluated as it is."""
+    def _compare(
+        self, e: ast.Binary, left: Evaluator, right: Evaluator, test: Callable[[Value, Value], Value]
+    ) -> Evaluator:
+        """A comparison. When it compares the clock with a value (`context_time() >= t0 + 5`), it
+        also tells the context when its truth value changes next, so that a program blocked on it
+        wakes up then. For that, one side must be `context_time()` plus or minus amounts that do
+        not read the clock, and the other side must not read the clock; any other comparison is
+        just evaluated."""
         left_clock, right_clock = self._reads_clock(e.left), self._reads_clock(e.right)
-        if left_clock == right_clock:
-            return compare
-        linear = self._clock_linear(e.left if left_clock else e.right)
-        if linear is None:
-            return compare
-        sign, offset = linear
-        other = self.expr(e.right if left_clock else e.left)
+        sign = self._clock_sign(e.left if left_clock else e.right) if left_clock != right_clock else None
+        if sign is None:
+            return lambda env: test(left(env), right(env))
 
         def clocked(env: Env) -> Value:
-            result = compare(env)
-            value = other(env)
-            shift = offset(env)
-            if isinstance(value, int | float) and isinstance(shift, int | float) and not isinstance(value, bool):
-                # sign * now + shift == value at now = sign * (value - shift); strict comparisons
-                # change just after that moment.
+            a, b = left(env), right(env)
+            result = test(a, b)
+            clock, other = (a, b) if left_clock else (b, a)
+            if _is_number(clock) and _is_number(other):
+                # clock = sign * now + shift, so it equals other at now + sign * (other - clock);
+                # a strict comparison changes just after that moment.
+                now = env.ctx.now()
                 try:
-                    crossing = float(sign * (value - shift))
+                    crossing = now + float(sign * (other - clock))  # type: ignore[operator]
                 except OverflowError:  # beyond any clock
                     return result
-                now = env.ctx.now()
                 for t in (crossing, math.nextafter(crossing, math.inf)):
                     if now < t < math.inf:
                         env.ctx.wake_at(t)
@@ -505,26 +502,21 @@ class CompiledProgram:
         symbol = self.model.target(e)
         return symbol is not None and symbol.predefined and symbol.name == "context_time"
 
-    def _clock_linear(self, e: ast.Expr) -> tuple[int, Evaluator] | None:
-        """`e` as `sign * context_time() + offset` when it has that form (the clock with amounts
-        added or subtracted), else None."""
+    def _clock_sign(self, e: ast.Expr) -> int | None:
+        """1 or -1 when `e` is `sign * context_time()` plus or minus amounts that do not read the
+        clock, else None."""
         if self._is_clock(e):
-            return 1, _zero
+            return 1
         if not isinstance(e, ast.Binary) or e.op not in (Op.ADD, Op.SUB):
             return None
         left_clock = self._reads_clock(e.left)
         if left_clock == self._reads_clock(e.right):
             return None
-        inner = self._clock_linear(e.left if left_clock else e.right)
-        if inner is None:
+        sign = self._clock_sign(e.left if left_clock else e.right)
+        if sign is None:
             return None
-        sign, offset = inner
-        other = self.expr(e.right if left_clock else e.left)
-        if e.op is Op.ADD:
-            return sign, lambda env: _number(offset(env)) + _number(other(env))
-        if left_clock:  # (clock + offset) - other
-            return sign, lambda env: _number(offset(env)) - _number(other(env))
-        return -sign, lambda env: _number(other(env)) - _number(offset(env))  # other - (clock + offset)
+        # `other - (clock ...)` turns the clock's sign; `+` and `(clock ...) - other` keep it.
+        return -sign if e.op is Op.SUB and not left_clock else sign
 
     def _quantifier(self, e: ast.Quantified) -> Evaluator:
         variable = self.model.target(e.var)
@@ -796,13 +788,8 @@ _ORDER: dict[Op, Callable[[object, object], bool]] = {
 }
 
 
-def _zero(env: Env) -> Value:
-    return 0
-
-
-def _number(v: Value) -> float:
-    """A number for the clock arithmetic of `_clocked` (anything else makes it compare nothing)."""
-    return float(v) if isinstance(v, int | float) and not isinstance(v, bool) else math.nan
+def _is_number(v: Value) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
 
 
 def _too_large(op: Op, span: Span) -> GppRuntimeError:
