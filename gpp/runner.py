@@ -113,8 +113,8 @@ def run_program(
     outcome.platform = platform.name
     trace = Trace(options.trace, listeners)
     outcome.trace = trace
-    trace.emit(_header(path, platform))
     try:
+        trace.emit(_header(path, platform))
         from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
 

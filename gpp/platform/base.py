@@ -60,7 +60,6 @@ __all__ = [
     "Problem",
     "ProgramInterface",
     "RunFacts",
-    "option_help",
     "parse_options",
 ]
 
@@ -182,11 +181,6 @@ def parse_options(options_type: type[OptionsT], given: Mapping[str, OptionValue]
             )
         values[key] = _convert(raw, hints[key], f"option `{key}` of platform `{platform}`")
     return options_type(**values)
-
-
-def option_help(platform: type[Platform]) -> list[tuple[str, str]]:
-    """(name, help) of every option of a platform, for listings."""
-    return [(f.name, str(f.metadata.get("help", ""))) for f in dataclasses.fields(platform.Options)]
 
 
 _TRUE = {"true", "yes", "on", "1"}

@@ -173,9 +173,6 @@ class ActionBinding:
     # False when the action has no `mapping:` (it is mapped to its own name and parameters).
     explicit: bool = True
 
-    def argument(self, name: str) -> MappedArgument | None:
-        return next((a for a in self.args if a.name == name), None)
-
 
 @dataclass(frozen=True, slots=True)
 class ExogActionBinding:

@@ -350,7 +350,8 @@ def to_json_dict(event: EventBase) -> dict[str, Any]:
     record: dict[str, Any] = {"t": event.t, "event": event.EVENT}
     for f in _FIELDS[type(event)]:
         value = getattr(event, f.name)
-        if f.optional and value is f.default:
+        # A tuple field is left out when empty whether or not it is the very same empty tuple.
+        if f.optional and (value is f.default or (f.as_tuple and value == f.default)):
             continue
         record[f.name] = list(value) if f.as_tuple else value
     return record

@@ -213,9 +213,7 @@ class Executor:
                     break
                 if wake is not None or self.platform.live():
                     self.note_waiting(prog)
-                    deadline = (
-                        wake if self.timeout is None or (wake is not None and wake < self.timeout) else self.timeout
-                    )
+                    deadline = min((t for t in (wake, self.timeout) if t is not None), default=None)
                     if self.platform.wait(deadline) or len(self.platform.queue) > 0:
                         continue
                     if wake is not None and self.platform.now() >= wake:
