@@ -152,7 +152,7 @@ def run(
         _usage_error,
         use_color,
     )
-    from gpp.runner import RunOptions, RunSetupError, run_program
+    from gpp.runner import RunOptions, RunSetupError, platform_for, run_program
 
     _require_readable(file)
     check_timeout(timeout)
@@ -170,12 +170,7 @@ def run(
         _emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
-    chosen = platform
-    if chosen is None:
-        from gpp.platform import choose_platform
-        from gpp.runner import program_directives
-
-        chosen = choose_platform(program_directives(checked, file))
+    chosen = platform_for(platform, checked, file)
     options = RunOptions(
         platform=chosen,
         platform_options=platform_options(

@@ -79,13 +79,18 @@ def program_directives(check: CheckResult, path: Path) -> dict[str, str]:
     return directives(root.source.text) if root is not None else {}
 
 
-def make_platform(options: RunOptions, program: Path, found: Mapping[str, str]) -> Platform:
-    """The platform for a run of `program` with directives `found`; RunSetupError when it cannot
-    be created (unknown platform or option, unusable scenario or world file)."""
-    name = options.platform if options.platform is not None else choose_platform(found)
+def platform_for(name: str | None, check: CheckResult, path: Path) -> str:
+    """The platform a checked program runs on: `name` when given, else the one its directives
+    choose (`// world:` selects the sim)."""
+    return name if name is not None else choose_platform(program_directives(check, path))
+
+
+def make_platform(options: RunOptions, check: CheckResult, path: Path) -> Platform:
+    """The platform for a run of the checked program at `path`; RunSetupError when it cannot be
+    created (unknown platform or option, unusable scenario or world file)."""
     try:
-        cls = platform_class(name)
-        return cls.create(PlatformConfig(program, found, options.platform_options))
+        cls = platform_class(platform_for(options.platform, check, path))
+        return cls.create(PlatformConfig(path, program_directives(check, path), options.platform_options))
     except PlatformError as e:
         raise RunSetupError(str(e)) from None
 
@@ -109,7 +114,7 @@ def run_program(
         )
         return outcome
     entry_args = entry_arguments(check.model.globals[options.entry], options.args)
-    platform = make_platform(options, path, program_directives(check, path))
+    platform = make_platform(options, check, path)
     outcome.platform = platform.name
     trace = Trace(options.trace, listeners)
     outcome.trace = trace

@@ -62,12 +62,10 @@ class OncePerPlan:
     def __init__(self, ctx: Context) -> None:
         self.ctx = ctx
         self.answers: dict[tuple[str, tuple[tuple[str, Value], ...]], Value] = {}
-        self.asked = 0
 
     def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
         key = (name, tuple(sorted(args.items())))
         if key not in self.answers:
-            self.asked += 1
             self.answers[key] = self.ctx.exog_function(name, args, return_type, span)
         return self.answers[key]
 
@@ -230,7 +228,8 @@ class PlanHolder:
         report = plan.report(self.kind)
         if self.kind != "solve" or not plan.feasible or plan.cost < plan.horizon:
             return report
-        planning = sem.with_context(self.context or OncePerPlan(sem.ctx), True)
+        assert self.context is not None  # make_plan set it: the same answers as the plan's
+        planning = sem.with_context(self.context, True)
         end = plan.steps[-1][2] if plan.steps else prog
         try:
             for _, step, _ in plan.steps:
