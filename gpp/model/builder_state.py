@@ -20,7 +20,6 @@ type checker and the precedence regrouping); each phase is a `Phase` over one `B
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Sequence
 
 from gpp import diagnostics as diag
@@ -29,20 +28,6 @@ from gpp.model.symbols import Reference, Symbol
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
-
-
-def suggest(name: str, candidates: Iterable[str]) -> str | None:
-    """`did you mean ...?` for a misspelled name, or None."""
-    pool = sorted(set(candidates) - {name})
-    lowered = {c.lower(): c for c in pool}
-    if name.lower() in lowered:
-        return f"did you mean `{lowered[name.lower()]}`?"
-    close = difflib.get_close_matches(name, pool, n=3, cutoff=0.6)
-    if not close:
-        return None
-    if len(close) == 1:
-        return f"did you mean `{close[0]}`?"
-    return "did you mean " + ", ".join(f"`{c}`" for c in close[:-1]) + f" or `{close[-1]}`?"
 
 
 class BuilderState:

@@ -14,11 +14,12 @@ checker writes, and the references of component members and constraint atoms.
 
 from __future__ import annotations
 
-from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker
 from gpp.model.types import BOOL, ERROR, Type
+from gpp.suggest import suggest
 from gpp.syntax import ast
 
 Op = ast.BinaryOp

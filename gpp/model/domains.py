@@ -11,10 +11,11 @@ Reads `model.types` and the domains' element types (from resolve); writes each D
 
 from __future__ import annotations
 
-from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
 from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, same_value
+from gpp.suggest import suggest
 from gpp.syntax import ast
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from gpp import diagnostics as diag
-from gpp.model.builder_state import Phase, suggest
+from gpp.model.builder_state import Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import (
     BOOL,
@@ -33,6 +33,7 @@ from gpp.model.types import (
     ListType,
     Type,
 )
+from gpp.suggest import suggest
 from gpp.syntax import ast
 
 

@@ -29,7 +29,7 @@ from contextlib import contextmanager
 from typing import assert_never
 
 from gpp import diagnostics as diag
-from gpp.model.builder_state import BuilderState, Phase, suggest
+from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, ScopeRecord, Symbol, SymbolKind
@@ -56,6 +56,7 @@ from gpp.model.types import (
     show_value,
 )
 from gpp.source import Span
+from gpp.suggest import suggest
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 
