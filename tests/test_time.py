@@ -67,7 +67,6 @@ procedure main() {
     wait_for(1.5);
     woke_at() = context_time();
     get_block_pose(a);
-    wait_until(context_time() + 0);
 }
 bool function postcond() = woke_at() == 1.5
 """
