@@ -596,7 +596,9 @@ class _Parser:
                 secondary.append(diag.Label(self.span(opener), f"to close this `{opener.value}`"))
         if tok.type != "$END" and self.source.line_col(tok.start)[0] == self.source.line_col(prev.end)[0]:
             secondary.append(diag.Label(self.span(tok), f"found {describe_found(tok)}"))
-        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),))
+        # Only a missing `;` is certain; another inserted token is the parser's guess.
+        safe = diag.Applicability.SAFE if inserted == "SEMI" else diag.Applicability.UNSAFE
+        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),), safe)
         self.report(
             i,
             diag.error(
@@ -615,7 +617,7 @@ class _Parser:
         prev = self.tokens[i - 1] if i > 0 else None
         help = self.keyword_hint(i)
         fix = None
-        remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+        remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),), diag.Applicability.SAFE)
         if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE" and prev.value:
             message = "unexpected `;` after `}`"
             help = "remove this `;`: a statement or declaration that ends with `}` takes no `;`"
