@@ -288,7 +288,7 @@ def test_command(
         files = [f for f in files if matches(str(f))]
     if not files:
         where = ", ".join(f"'{p}'" for p in targets)
-        print(f"no programs to run in {where}" + (f" match -k `{keyword}`" if keyword else ""))
+        print(f"no program in {where} matches -k `{keyword}`" if keyword else f"no programs to run in {where}")
         raise typer.Exit(EXIT_NO_TESTS)
     timeout = timeout if timeout is not None else config.test_timeout
     options = RunOptions(

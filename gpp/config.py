@@ -118,7 +118,9 @@ def _has_gpp_table(pyproject: Path) -> bool:
     return isinstance(tool, dict) and "gpp" in tool
 
 
-_CACHE: dict[Path, Config] = {}
+# Read files by path, as long as they do not change (a long-lived process, such as the
+# language server, sees edits).
+_CACHE: dict[Path, tuple[tuple[int, int], Config]] = {}
 
 
 def config_for(start: Path) -> Config:
@@ -127,9 +129,12 @@ def config_for(start: Path) -> Config:
     found = find_config_file(start)
     if found is None:
         return Config()
-    if found not in _CACHE:
-        _CACHE[found] = load_config(found)
-    return _CACHE[found]
+    stat = found.stat()
+    stamp = (stat.st_mtime_ns, stat.st_size)
+    cached = _CACHE.get(found)
+    if cached is None or cached[0] != stamp:
+        cached = _CACHE[found] = (stamp, load_config(found))
+    return cached[1]
 
 
 # ---------------------------------------------------------------- reading and checking the file
@@ -257,7 +262,9 @@ class _Reader:
             try:
                 read = reader(value)
             except _Bad as e:
-                raise ConfigError(self.error(key, f"`{self.shown(key)}` {e}", e.help)) from None
+                text = str(e)
+                message = f"`{self.shown(key)}` {text}" if text.startswith("must") else f"`{self.shown(key)}`: {text}"
+                raise ConfigError(self.error(key, message, "this value", help=e.help)) from None
             if key in _PATH_KEYS:
                 assert isinstance(read, tuple)
                 read = tuple(root / p for p in read)
@@ -272,24 +279,27 @@ class _Reader:
     def unknown(self, key: str) -> None:
         head, _, rest = key.partition(".")
         if head in _TABLES and not rest:
-            raise ConfigError(self.error(head, f"`{self.shown(head)}` must be a table", None))
+            raise ConfigError(self.error(head, f"`{self.shown(head)}` must be a table", "not a table"))
         if rest and head in _TABLES:
             name = rest.partition(".")[0]
             known = [k.partition(".")[2] for k in _KEYS if k.startswith(head + ".")]
-            message = f"unknown key `{name}` in [{self.shown(head)}]"
+            table = f"[{self.shown(head)}]"
             place = f"{head}.{name}"
         else:
             name = place = head
             known = sorted({k.partition(".")[0] for k in _KEYS})
-            message = f"unknown key `{head}` in " + (f"[{'.'.join(self.prefix)}]" if self.prefix else CONFIG_NAME)
-        raise ConfigError(self.error(place, message, did_you_mean(name, known)))
+            table = f"[{'.'.join(self.prefix)}]" if self.prefix else CONFIG_NAME
+        note = f"the keys of {table}: " + ", ".join(f"`{k}`" for k in known) + " (docs/config.md)"
+        message = f"unknown key `{name}` in {table}"
+        raise ConfigError(self.error(place, message, "unknown key", help=did_you_mean(name, known), notes=[note]))
 
-    def error(self, key: str, message: str, help: str | None) -> diag.Diagnostic:
+    def error(
+        self, key: str, message: str, label: str, *, help: str | None = None, notes: Sequence[str] = ()
+    ) -> diag.Diagnostic:
         span = self.places.get((*self.prefix, *key.split(".")))
         if span is None:  # a key written in an inline table: point at the table
             span = self.places.get((*self.prefix, key.partition(".")[0])) or Span(self.source, 0, 0)
-        notes = [f"the keys: {', '.join(sorted(_KEYS))} (see docs/config.md)"]
-        return diag.error("", message, span, "here", notes=notes, help=help)
+        return diag.error("", message, span, label, notes=notes, help=help)
 
 
 def _flatten(data: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
@@ -366,6 +376,14 @@ def _skipped(path: Path, folder: Path, exclude: Sequence[str]) -> bool:
     )
 
 
+def _below_cwd(path: Path) -> Path:
+    """A path relative to the working directory when it is below it (as the user would write it)."""
+    try:
+        return path.relative_to(Path.cwd())
+    except ValueError:
+        return path
+
+
 def project_files(paths: Sequence[Path], cwd: Path | None = None) -> list[Path]:
     """What `gpp check` and `gpp fmt` work on: the given files and folders, or, given none, the
     `paths` of the configuration found from the working directory (default: that folder).
@@ -373,7 +391,7 @@ def project_files(paths: Sequence[Path], cwd: Path | None = None) -> list[Path]:
     Raises ConfigError for a bad configuration file."""
     if not paths:
         config = config_for(cwd or Path.cwd())
-        return gpp_files(config.paths, config.exclude)
+        return [_below_cwd(p) for p in gpp_files(config.paths, config.exclude)]
     found: list[Path] = []
     for p in paths:
         exclude = config_for(p).exclude if p.is_dir() else ()

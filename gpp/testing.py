@@ -117,12 +117,11 @@ def _run_parallel(
     stop_at_first_failure: bool,
     on_case: Callable[[TestCase], None] | None,
 ) -> Iterator[TestCase]:
-    import multiprocessing
     from concurrent.futures import Future, ProcessPoolExecutor
 
-    # A fresh interpreter per worker (no fork of a process that may hold threads).
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=min(jobs, len(paths)), mp_context=context) as pool:
+    # The platform's default start method (fork on Linux: the workers start with gpp loaded;
+    # nothing has run in this process yet, so there is no thread to lose).
+    with ProcessPoolExecutor(max_workers=min(jobs, len(paths))) as pool:
         futures: list[Future[TestCase]] = [pool.submit(_run_detached, p, options) for p in paths]
         stopped = False
         for future in futures:
