@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
@@ -15,6 +16,7 @@ if TYPE_CHECKING:
     from gpp.check.fixes import Checker
     from gpp.cli import ColorMode, OutputFormat
     from gpp.config import Config, ConfigError
+    from gpp.diagnostics import Diagnostic
 
 
 def config_error(e: ConfigError) -> NoReturn:
@@ -47,9 +49,10 @@ def run_check(
     fix: bool,
     diff: bool,
 ) -> NoReturn:
-    from gpp.check import check_program, merged_diagnostics
+    from gpp.check import check_loaded, merged_diagnostics
     from gpp.cli import EXIT_OK, EXIT_PROBLEMS, OutputFormat, _emit_diagnostics, _require_readable, _usage_error
     from gpp.config import ConfigError, project_files
+    from gpp.syntax.loader import load
 
     for given in files:
         if not given.exists():
@@ -65,20 +68,23 @@ def run_check(
         _require_readable(path)
     configs = {path: load_config(path) for path in paths}
 
+    plan = _plan(paths, configs)
+
     def checker(path: Path, overrides: dict[Path, str]) -> CheckResult:
         config = configs.get(path) or load_config(path)
         allow = [*allowed, *config.disabled_lints()]
-        return check_program(path, lint, allow, overrides, config.include)
+        roots = [path, *plan.libraries.get(path, ())]
+        return check_loaded(load(roots, overrides, config.include), lint, allow)
 
-    programs = _programs(paths, configs)
     fixed = ""
     try:
         if fix or diff:
-            results, fixed = _fix(programs, checker, write=not diff)
+            results, fixed = _fix(plan.programs, checker, write=not diff)
         else:
-            results = [checker(p, {}) for p in programs]
+            results = [checker(p, {}) for p in plan.programs]
     except OSError as e:  # a file that vanished after the check above
         _usage_error(f"cannot read '{e.filename or paths[0]}': {e.strerror or e}")
+    results = plan.agreed(results)
     diagnostics = merged_diagnostics(results)
     _emit_diagnostics(diagnostics, output_format, color)
     if fixed:
@@ -89,24 +95,67 @@ def run_check(
     raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
 
 
-def _programs(paths: Sequence[Path], configs: dict[Path, Config]) -> list[Path]:
-    """The files to check as programs: those another file of the set does not include (a
-    library is checked as part of the programs that include it, so that what they use of it
-    counts as used), in order."""
+# Lints about what a program uses of a library: each program sees its own part of the library.
+_USE_LINTS = frozenset({"W0101", "W0116"})
+
+
+@dataclass
+class _Plan:
+    """How the files of a project are checked. A file that another file of the set includes (a
+    library) is checked as a root together with each program that includes it, so that it is
+    linted and what the program uses of it counts as used; its `unused` warnings stand only
+    when every program that includes it agrees."""
+
+    programs: list[Path]
+    libraries: dict[Path, list[Path]] = field(default_factory=dict)  # program -> its libraries
+    users: dict[Path, int] = field(default_factory=dict)  # resolved library -> programs including it
+
+    def agreed(self, results: list[CheckResult]) -> list[CheckResult]:
+        """The results without a library's `unused` warnings that not every user reports."""
+        from collections import Counter
+
+        if not self.users:
+            return results
+
+        def key(d: Diagnostic) -> tuple[str, int, str]:
+            return (d.span.source.path, d.span.start, d.message)
+
+        def library(r: CheckResult, d: Diagnostic) -> Path | None:
+            f = next((f for f in r.loaded.files if f.source is d.span.source), None)
+            return f.path if f is not None and f.path in self.users else None
+
+        counts = Counter(key(d) for r in results for d in r.diagnostics if d.code in _USE_LINTS and library(r, d))
+        for r in results:
+            r.diagnostics = [
+                d
+                for d in r.diagnostics
+                if d.code not in _USE_LINTS or (lib := library(r, d)) is None or counts[key(d)] == self.users[lib]
+            ]
+        return results
+
+
+def _plan(paths: Sequence[Path], configs: dict[Path, Config]) -> _Plan:
     from gpp.syntax.loader import load
 
     if len(paths) < 2:
-        return list(paths)
-    included: set[Path] = set()
+        return _Plan(list(paths))
+    reaches: dict[Path, set[Path]] = {}
     for path in paths:
         try:
             loaded = load([path], include_dirs=configs[path].include)
         except OSError:
             continue
-        for f in loaded.files:
-            included.update(f.includes)
-    programs = [p for p in paths if p.resolve() not in included]
-    return programs or list(paths)
+        reaches[path] = {f.path for f in loaded.files} - {path.resolve()}
+    included = set().union(*reaches.values())
+    plan = _Plan([p for p in paths if p.resolve() not in included])
+    if not plan.programs:  # files that include each other (an include cycle): each on its own
+        return _Plan(list(paths))
+    for program in plan.programs:
+        libraries = [q for q in paths if q.resolve() in reaches.get(program, set())]
+        plan.libraries[program] = libraries
+        for q in libraries:
+            plan.users[q.resolve()] = plan.users.get(q.resolve(), 0) + 1
+    return plan
 
 
 def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[CheckResult], str]:

@@ -191,6 +191,29 @@ def test_check_takes_folders_and_uses_the_configuration(here: Path) -> None:
     assert result.stdout.splitlines()[0] == "src/agent.gpp:1:10: error[E0030] cannot find included file `robot.gpp`"
 
 
+def test_a_library_is_linted_with_the_programs_that_include_it(here: Path) -> None:
+    write(
+        here,
+        {
+            "lib.gpp": (
+                "action go() {}\n"
+                "procedure patrol() { go(); }\n"
+                "procedure dock() { go(); }\n"
+                "procedure spin(number turns) { go(); }\n"
+                "procedure never() { go(); }\n"
+            ),
+            "a.gpp": '#include "lib.gpp"\nprocedure main() { patrol(); spin(1); }\n',
+            "b.gpp": '#include "lib.gpp"\nprocedure main() { patrol(); dock(); }\n',
+        },
+    )
+    result = gpp("check", "--format", "concise")
+    assert result.stdout == (
+        "lib.gpp:4:23: warning[W0102] parameter `turns` of procedure `spin` is never used\n"
+        "lib.gpp:5:11: warning[W0101] procedure `never` is never used\n"
+        "Found 2 warnings.\n"
+    )
+
+
 def test_deny_warnings_from_the_configuration(here: Path) -> None:
     write(here, {"agent.gpp": AGENT.replace("kitchn", "kitchen"), "gpp.toml": "[lint]\ndeny_warnings = true\n"})
     assert gpp("check").exit_code == 1
@@ -362,6 +385,24 @@ def test_a_comment_above_a_declaration_allows_lints_in_all_of_it() -> None:
 def test_a_file_comment_allows_lints_everywhere() -> None:
     text = "action idle() {}\naction spare() {}\nprocedure main() {}\n// gpp: allow-file unused\n"
     assert problems(text) == []
+
+
+def test_a_comment_on_its_own_line_in_a_body_allows_lints_on_the_next_line() -> None:
+    text = (
+        "action go() {}\n"
+        "procedure main() {\n"
+        "    // gpp: allow online-nondeterminism\n"
+        "    pick (bool b) go();\n"
+        "    pick (bool c) go();\n"
+        "    // gpp: allow\n"
+        "}\n"
+    )
+    assert problems(text) == [
+        "4:16 W0102 variable `b` is never used",
+        "5:5 W0105 `pick` outside `solve` or `search` takes the first value that works now",
+        "5:16 W0102 variable `c` is never used",
+        "6:5 W0117 a suppression that names no lint",
+    ]
 
 
 def test_unused_and_invalid_suppressions_are_reported() -> None:

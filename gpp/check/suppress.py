@@ -91,6 +91,16 @@ def apply_suppressions(
 
 
 def _problems(s: _Suppression, allowed: set[str]) -> Iterator[diag.Diagnostic]:
+    if not s.entries and INVALID not in allowed:
+        remove = diag.Fix("remove the suppression", (diag.Edit(s.removal, ""),), diag.Applicability.SAFE)
+        yield diag.warning(
+            INVALID,
+            "a suppression that names no lint",
+            s.comment,
+            "allows nothing",
+            help="name lints: `// gpp: allow unused`",
+            fix=remove,
+        )
     for i, e in enumerate(s.entries):
         what = "the suppression" if len(s.entries) == 1 else f"`{e.text}` from the suppression"
         remove = diag.Fix(f"remove {what}", (_removal(s, i),), diag.Applicability.SAFE)
@@ -205,7 +215,7 @@ def _parse(source: Source, start: int, end: int, code_before: int, next_token: i
         if comma is None:
             break
         at = comma.end()
-    return s if s.entries else None
+    return s
 
 
 def _line_end(text: str, at: int) -> int:
