@@ -179,7 +179,7 @@ def _toml_error_span(source: Source, message: str) -> Span:
     return Span(source, at, at)
 
 
-# One key: its type's name, a reader of the value (raises _Bad), the Config field it fills.
+# Reads the value of one key into what the Config holds; raises _Bad when it does not fit.
 _KeyReader = Callable[[Any], object]
 
 
@@ -269,7 +269,9 @@ class _Reader:
                 assert isinstance(read, tuple)
                 read = tuple(root / p for p in read)
             values[name] = read
-        config = Config(file=path.resolve(), table=".".join(self.prefix), root=root, **values)  # type: ignore[arg-type]
+        config = Config(file=path.resolve(), table=".".join(self.prefix), root=root)
+        for name, value in values.items():
+            setattr(config, name, value)
         config.given = {key for key, _ in _flatten(data)}
         return config
 

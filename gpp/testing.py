@@ -141,6 +141,9 @@ def _run_parallel(
 # ---------------------------------------------------------------- -k EXPRESSION
 
 
+NameTest = Callable[[str], bool]
+
+
 class SelectionError(ValueError):
     """A `-k` expression that does not parse."""
 
@@ -165,21 +168,21 @@ def selector(expression: str) -> Callable[[str], bool]:
         position += 1
         return token
 
-    def either() -> Callable[[str], bool]:
-        parts = [both()]
-        while peek() == "or":
+    def chain(operator: str, operand: Callable[[], NameTest], combine: Callable[[Iterable[bool]], bool]) -> NameTest:
+        """Operands joined by `operator` (`and`, `or`), as one test."""
+        parts = [operand()]
+        while peek() == operator:
             take()
-            parts.append(both())
-        return lambda name: any(p(name) for p in parts)
+            parts.append(operand())
+        return lambda name: combine(p(name) for p in parts)
 
-    def both() -> Callable[[str], bool]:
-        parts = [negation()]
-        while peek() == "and":
-            take()
-            parts.append(negation())
-        return lambda name: all(p(name) for p in parts)
+    def either() -> NameTest:
+        return chain("or", both, any)
 
-    def negation() -> Callable[[str], bool]:
+    def both() -> NameTest:
+        return chain("and", negation, all)
+
+    def negation() -> NameTest:
         if peek() == "not":
             take()
             inner = negation()

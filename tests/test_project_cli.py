@@ -221,6 +221,24 @@ def test_deny_warnings_from_the_configuration(here: Path) -> None:
     assert gpp("check").exit_code == 0
 
 
+def test_gpp_run_takes_its_defaults_from_the_configuration(here: Path) -> None:
+    write(
+        here,
+        {
+            "gpp.toml": "[run]\ntimeout = 5\n",
+            "loop.gpp": "action step() { duration: [1, 1] }\nprocedure main() { while (true) step(); }\n",
+        },
+    )
+    result = gpp("run", "--quiet", "loop.gpp")
+    assert result.exit_code == 1
+    assert "error[R0013]" in result.stdout
+    assert "time               5.000 s platform" in result.stdout
+    (here / "gpp.toml").write_text('[run]\nplatform = "nowhere"\n')
+    result = gpp("run", "--quiet", "loop.gpp")
+    assert result.exit_code == 2
+    assert "nowhere" in result.stderr
+
+
 # ---------------------------------------------------------------- output formats
 
 
