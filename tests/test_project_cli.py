@@ -302,6 +302,13 @@ def test_a_guess_among_several_names_is_an_unsafe_fix() -> None:
     assert d.fix is not None and not d.fix.is_safe and d.fix.edits[0].text == "hall3"
 
 
+def test_a_misspelled_keyword_gets_an_unsafe_fix() -> None:
+    [d] = check_text("procedur main() {}\n", lint=False).diagnostics
+    assert d.fix is not None and d.help == d.fix.message == "did you mean `procedure`?"
+    [edit] = d.fix.edits
+    assert (edit.span.start, edit.span.end, edit.text, d.fix.is_safe) == (0, 8, "procedure", False)
+
+
 # ---------------------------------------------------------------- --fix and --diff
 
 SEVERAL_FIXES = """\
