@@ -54,6 +54,8 @@ def run_check(
     from gpp.config import ConfigError, project_files
     from gpp.syntax.loader import load
 
+    if diff and output_format is not OutputFormat.TEXT:
+        _usage_error(f"--diff writes a unified diff; --format {output_format.value} does not apply to it")
     for given in files:
         if not given.exists():
             _usage_error(f"cannot read '{given}': No such file or directory")

@@ -17,7 +17,8 @@ the command line override the file. The keys (docs/config.md):
 
     [run]
     platform = "dummy"       # the platform of `gpp run` without --platform
-    world = "rescue"         # the sim's world when neither --world nor `// world:` names one
+    world = "rescue"         # the sim's world (a name, or a .toml file) when neither --world
+                             # nor `// world:` names one
     timeout = 600            # seconds; a run's limit without --timeout
 
     [test]
@@ -268,6 +269,8 @@ class _Reader:
             if key in _PATH_KEYS:
                 assert isinstance(read, tuple)
                 read = tuple(root / p for p in read)
+            elif key == "run.world" and isinstance(read, str) and read.endswith(".toml"):
+                read = str(root / read)  # a world file, relative to the configuration's folder
             values[name] = read
         config = Config(file=path.resolve(), table=".".join(self.prefix), root=root)
         for name, value in values.items():

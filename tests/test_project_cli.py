@@ -353,6 +353,7 @@ def test_diff_shows_the_fixes_without_writing(here: Path) -> None:
     )
     assert result.stderr == "would fix 5 problems in 1 file\n"
     assert (here / "agent.gpp").read_text() == SEVERAL_FIXES
+    assert gpp("check", "--diff", "--format", "json").exit_code == 2
 
 
 def test_fix_writes_every_safe_fix_and_a_second_run_changes_nothing(
