@@ -239,6 +239,18 @@ def test_gpp_run_takes_its_defaults_from_the_configuration(here: Path) -> None:
     assert "nowhere" in result.stderr
 
 
+def test_the_configured_world_is_used_on_the_sim(here: Path) -> None:
+    example = (Path(__file__).resolve().parent.parent / "examples" / "rescue.gpp").read_text()
+    program = "".join(line for line in example.splitlines(keepends=True) if not line.startswith("// world:"))
+    write(here, {"rescue.gpp": program, "gpp.toml": '[run]\nplatform = "sim"\nworld = "rescue"\n'})
+    result = gpp("run", "--quiet", "rescue.gpp")
+    assert result.exit_code == 0, result.stdout
+    assert result.stdout.splitlines()[0] == "rescue.gpp on sim: finished"
+    # Without it the sim's default world (the blocksworld) has none of the rescue's services.
+    (here / "gpp.toml").write_text('[run]\nplatform = "sim"\n')
+    assert gpp("run", "--quiet", "rescue.gpp").exit_code == 1
+
+
 # ---------------------------------------------------------------- output formats
 
 
