@@ -321,6 +321,14 @@ def test_a_misspelled_keyword_gets_an_unsafe_fix() -> None:
     assert (edit.span.start, edit.span.end, edit.text, d.fix.is_safe) == (0, 8, "procedure", False)
 
 
+def test_a_fluent_used_without_parentheses_gets_a_safe_fix() -> None:
+    text = "number fluent n() { initially: () = 0; }\nprocedure main() { n() = n + 1; }\n"
+    [d] = check_text(text, lint=False).diagnostics
+    assert d.code == "E0102" and d.fix is not None and d.fix.is_safe
+    [edit] = d.fix.edits
+    assert (edit.span.start, edit.span.end, edit.text) == (text.index("n + 1") + 1, text.index("n + 1") + 1, "()")
+
+
 # ---------------------------------------------------------------- --fix and --diff
 
 SEVERAL_FIXES = """\

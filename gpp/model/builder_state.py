@@ -64,10 +64,10 @@ class BuilderState:
         notes: Iterable[str] = (),
         help: str | None = None,
         suggested: Suggestion | None = None,
+        fix: diag.Fix | None = None,
     ) -> None:
         """Report an error; `suggested` names close names for the one at `span` (the help line,
         and a fix replacing it)."""
-        fix = None
         if suggested is not None:
             help, fix = suggested.help, suggested.fix(span)
         self.report(diag.error(code, message, span, label, secondary=secondary, notes=notes, help=help, fix=fix))

@@ -573,6 +573,14 @@ class TypeChecker(Phase):
                 "missing `(...)`",
                 secondary=self.declared_here(g),
                 help=f"write `{e.name}()`" if not g.params else f"write `{e.name}(...)` with its arguments",
+                # Without parameters, `()` is the one repair; the fix's message is the help line.
+                fix=diag.Fix(
+                    f"write `{e.name}()`",
+                    (diag.Edit(Span(e.span.source, e.span.end, e.span.end), "()"),),
+                    diag.Applicability.SAFE,
+                )
+                if not g.params
+                else None,
             )
             return ERROR
         candidates = [*self.visible_variables(), *self.model.symbols]
