@@ -196,7 +196,11 @@ class _Writer:
         self.starts_line = [False] * n
         self.indent = [""] * n
         self.depth = [0] * n
-        self.breaks: dict[int, str] = {}
+        self.enclosing: list[tuple[int, ...]] = [()] * n
+        self.closer_of: dict[int, int] = {}  # opening bracket -> its closing one, on one printed line
+        self.opener_of: dict[int, int] = {}
+        self.breaks: set[int] = set()  # tokens that start a line the printer did not start
+        self.exploded: set[int] = set()  # opening brackets whose content is laid out one part per line
         self._analyse(newline_before)
         self.lines: list[str] = [""]
         self.trailing_at: dict[int, int] = {}  # line -> column where its trailing comment's gap starts
@@ -209,46 +213,66 @@ class _Writer:
         lines: list[int] = []  # the first token of each printed line
         indent = ""
         depth = 0
+        stack: list[int] = []  # the brackets open at a token, opened on its printed line
         for k, t in enumerate(self.tokens):
             sep = self.printed[self.tokens[k - 1].end : t.start] if k else "\n"
             if "\n" in sep:
                 lines.append(k)
                 indent = sep[sep.rfind("\n") + 1 :]
                 depth = 0
+                stack = []
                 self.starts_line[k] = True
             self.indent[k] = indent
             if t.type in _CLOSERS:
                 depth -= 1
+                if stack:
+                    opener = stack.pop()
+                    self.closer_of[opener] = k
+                    self.opener_of[k] = opener
             self.depth[k] = depth if t.type not in _CLOSERS else depth + 1
+            self.enclosing[k] = tuple(stack)
             if t.type in _OPENERS:
                 depth += 1
+                stack.append(k)
         # The program's own line breaks where a long line could be broken are kept; then
         # what is still too long is wrapped.
         for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=True):
             kept = [k for k in range(lo + 1, hi) if newline_before[k] and self._break_rank(k) is not None]
-            for k in kept:
-                self.breaks[k] = self.continuation(k)
+            self.breaks.update(kept)
             bounds = [lo, *kept, hi]
             for start, end in zip(bounds, bounds[1:], strict=False):
-                self._wrap(start, end, self.breaks.get(start, self.indent[lo]))
+                self._wrap(start, end)
+        # Brackets broken at their commas put each part on its own lines, closed on a line
+        # of its own: `f(` / `a,` / `b` / `)`.
+        for k in list(self.breaks):
+            if self.tokens[k - 1].type == "COMMA" and self.enclosing[k] and self.enclosing[k][-1] in self.closer_of:
+                self.exploded.add(self.enclosing[k][-1])
+        for o in self.exploded:
+            self.breaks.update((o + 1, self.closer_of[o]))
 
     def continuation(self, k: int) -> str:
-        """The indentation of token k when a line is broken before it."""
+        """The indentation of token k when a line is broken before it: one step per exploded
+        bracket around it, and for a line that continues an expression one step more, plus one
+        per other open bracket."""
         t = self.tokens[k]
-        depth = self.depth[k]
-        if t.type in _CLOSERS:
-            depth -= 1
-        if depth <= 0 and (t.type == "RBRACE" or t.type in _STATEMENT_WORDS or t.type in ("LBRACE", "MAIN_LBRACE")):
+        groups = self.enclosing[k]
+        exploded = sum(1 for o in groups if o in self.exploded)
+        if self.opener_of.get(k) in self.exploded:
+            return self.indent[k] + INDENT * exploded
+        if groups and groups[-1] in self.exploded and (k - 1 == groups[-1] or self.tokens[k - 1].type == "COMMA"):
+            return self.indent[k] + INDENT * exploded
+        if not groups and (t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS):
             return self.indent[k]
-        return self.indent[k] + INDENT * (1 + max(depth, 0))
+        return self.indent[k] + INDENT * (1 + len(groups))
 
     def _span_length(self, lo: int, hi: int) -> int:
         text = self.printed[self.tokens[lo].start : self.tokens[hi - 1].end]
         return max(len(line) for line in text.split("\n"))
 
-    def _wrap(self, lo: int, hi: int, indent: str) -> None:
-        """Break the printed line of tokens lo..hi-1 where it is longer than WIDTH."""
-        if len(indent) + self._span_length(lo, hi) <= WIDTH:
+    def _wrap(self, lo: int, hi: int) -> None:
+        """Break the tokens lo..hi-1, which start a line, where they are longer than WIDTH."""
+        indent = len(self.indent[lo]) + (len(INDENT) * (1 + self.depth[lo]) if lo in self.breaks else 0)
+        if indent + self._span_length(lo, hi) <= WIDTH:
             return
         candidates: list[tuple[int, int, int]] = []  # (depth, rank, token)
         for k in range(lo + 1, hi):
@@ -259,11 +283,10 @@ class _Writer:
             return
         depth, rank, _ = min(candidates)
         chosen = [k for d, r, k in candidates if d == depth and r == rank]
-        for k in chosen:
-            self.breaks[k] = self.continuation(k)
+        self.breaks.update(chosen)
         bounds = [lo, *chosen, hi]
         for start, end in zip(bounds, bounds[1:], strict=False):
-            self._wrap(start, end, self.breaks.get(start, indent))
+            self._wrap(start, end)
 
     def _break_rank(self, k: int) -> int | None:
         """How loose a line break before token k is (lower is looser), None if no break fits."""
