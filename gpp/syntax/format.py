@@ -33,6 +33,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
+from itertools import pairwise
 
 from gpp.diagnostics import Diagnostic
 from gpp.source import Source
@@ -236,11 +237,11 @@ class _Writer:
                 stack.append(k)
         # The program's own line breaks where a long line could be broken are kept; then
         # what is still too long is wrapped.
-        for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=True):
+        for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=False):
             kept = [k for k in range(lo + 1, hi) if newline_before[k] and self._break_rank(k) is not None]
             self.breaks.update(kept)
             bounds = [lo, *kept, hi]
-            for start, end in zip(bounds, bounds[1:], strict=False):
+            for start, end in pairwise(bounds):
                 self._wrap(start, end)
         # Brackets broken at their commas put each part on its own lines, closed on a line
         # of its own: `f(` / `a,` / `b` / `)`.
@@ -285,7 +286,7 @@ class _Writer:
         chosen = [k for d, r, k in candidates if d == depth and r == rank]
         self.breaks.update(chosen)
         bounds = [lo, *chosen, hi]
-        for start, end in zip(bounds, bounds[1:], strict=False):
+        for start, end in pairwise(bounds):
             self._wrap(start, end)
 
     def _break_rank(self, k: int) -> int | None:
