@@ -20,7 +20,7 @@ Where a comment has to end a line that the printer did not end (a `//` comment i
 expression), the rest of the line continues on the next line, indented one step more than the
 line, plus one step per open bracket. The same continuation indentation wraps printed lines
 longer than `WIDTH` characters: at the loosest separators of the shallowest bracket depth, in
-this order: after a definition's `=`, after `,`, before `->`, `|`, `&`, then binary `+`/`-`.
+this order: after the `=` of a top-level definition, after `,`, before `->`, `|`, `&`, then binary `+`/`-`.
 
 Directives (`// world: ...`) and suppression comments (`// gpp: allow ...`) are ordinary comments
 for the formatter: they stay on their line, above what they preceded.
@@ -293,8 +293,8 @@ class _Writer:
         """How loose a line break before token k is (lower is looser), None if no break fits."""
         before = self.tokens[k - 1].type
         t = self.tokens[k].type
-        if before == "EQ":
-            return 0
+        if before == "EQ" and not self.indent[k]:
+            return 0  # a top-level definition: `bool function f() =` / `    body`
         if before == "COMMA":
             return 1
         if t == "ARROW":
