@@ -36,12 +36,11 @@ REPO_PROGRAMS = sorted(p for p in ROOT.glob("**/*.gpp") if ".venv" not in p.part
 
 CASES: dict[str, tuple[str, str]] = {
     "directives and a header stay on top, blank lines kept": (
-        "// world: blocksworld\n//scenario: s.toml\n\n\n// About this file.\n\n#include \"time.gpp\"\naction a();\n",
+        '// world: blocksworld\n//scenario: s.toml\n\n\n// About this file.\n\n#include "time.gpp"\naction a();\n',
         '// world: blocksworld\n//scenario: s.toml\n\n// About this file.\n\n#include "time.gpp"\naction a();\n',
     ),
     "leading comments above declarations and statements": (
-        "// the action\naction a();\n  // the main procedure\nprocedure main() {\n"
-        "        // first a\n  a();\n}\n",
+        "// the action\naction a();\n  // the main procedure\nprocedure main() {\n        // first a\n  a();\n}\n",
         "// the action\naction a();\n// the main procedure\nprocedure main() {\n    // first a\n    a();\n}\n",
     ),
     "trailing comments stay on their line, aligned when consecutive": (
@@ -74,7 +73,8 @@ CASES: dict[str, tuple[str, str]] = {
     ),
     "a comment before `else` keeps `else` at the statement's indentation": (
         "procedure main() {\n    if (c()) { d(); }\n    // otherwise\n    else { e(); }\n}\n",
-        "procedure main() {\n    if (c()) {\n        d();\n    }\n    // otherwise\n    else {\n        e();\n    }\n}\n",
+        "procedure main() {\n    if (c()) {\n        d();\n    }\n    // otherwise\n"
+        "    else {\n        e();\n    }\n}\n",
     ),
     "comments at the end of the file": (
         "action a();\n// the end\n\n/* really */\n",
@@ -343,7 +343,10 @@ def test_fmt_unreadable_files_are_usage_errors(project: Path) -> None:
 
 def test_fmt_stdin_cannot_be_combined_with_files(project: Path) -> None:
     result = run_gpp("fmt", "-", "ugly.gpp", cwd=project, stdin=UGLY)
-    assert (result.returncode, result.stderr) == (2, "error: `-` (standard input) cannot be combined with other paths\n")
+    assert (result.returncode, result.stderr) == (
+        2,
+        "error: `-` (standard input) cannot be combined with other paths\n",
+    )
 
 
 def test_examples_and_stdlib_are_formatted() -> None:

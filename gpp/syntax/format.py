@@ -143,13 +143,36 @@ def _key(t: Token) -> tuple[str, object]:
 def _token_map(original: list[Token], printed: list[Token]) -> list[int]:
     """For the gap before each original token (and the one after the last): the gap of the
     printed text that gets its comments. The printed tokens are the program's own but for the
-    spelling of literals; a difference, if any, is bridged by a diff."""
+    spelling of literals and redundant parentheses, which the printer drops (`((x))` is
+    `(x)`); the gap before a dropped token goes before the next printed token."""
     a = [_key(t) for t in original]
     b = [_key(t) for t in printed]
-    if a == b:
-        return list(range(len(original) + 1))
-    target = [0] * (len(original) + 1)
-    target[len(original)] = len(printed)
+    target = [0] * (len(a) + 1)
+    i = j = 0
+    while i < len(a):
+        if j < len(b) and (a[i] == b[j] or a[i][0] == b[j][0] in _LITERALS):
+            target[i] = j
+            i += 1
+            j += 1
+        elif a[i][0] in _PARENS:
+            target[i] = j
+            i += 1
+        elif j < len(b) and b[j][0] in _PARENS:
+            j += 1
+        else:
+            return _diff_map(a, b)
+    target[len(a)] = len(b)
+    return target
+
+
+_LITERALS = frozenset({"NUMBER", "STRING"})
+_PARENS = frozenset({"LPAR", "RPAR"})
+
+
+def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[int]:
+    """The token map by a diff, for printed tokens that differ in ways not foreseen."""
+    target = [0] * (len(a) + 1)
+    target[len(a)] = len(b)
     for op, i1, i2, j1, j2 in difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes():
         for i in range(i1, i2):
             target[i] = j1 + (i - i1) if op != "delete" and j1 + (i - i1) < j2 else j2
@@ -310,12 +333,15 @@ class _Writer:
     # ------------------------------------------------ output
 
     def write(self, text: str) -> None:
-        first, *rest = text.split("\n")
-        self.lines[-1] += first
-        for line in rest:
-            self.lines.append(line)
-        if text:
-            self.at_line_start = False
+        if not text:
+            return
+        if "\n" in text:
+            first, *rest = text.split("\n")
+            self.lines[-1] += first
+            self.lines.extend(rest)
+        else:
+            self.lines[-1] += text
+        self.at_line_start = False
 
     def newline(self) -> None:
         self.lines[-1] = self.lines[-1].rstrip()
@@ -368,16 +394,34 @@ class _Writer:
         n = len(self.tokens)
         printed_break = k == n or self.starts_line[k]
         line_break = printed_break or k in self.breaks
-        comments = self.comments[k]
-        modes = self._modes(k, comments, line_break)
+        last_inline = False
+        if self.comments[k]:
+            line_break, last_inline = self._comments(k, printed_break, line_break)
         if k == n:
+            return
+        if line_break or self.at_line_start:
+            if not self.at_line_start:
+                self.newline()
+            if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
+                self.blank_line()
+            self.write(self.indent[k] if printed_break else self.continuation(k))
+        elif last_inline:
+            self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
+        else:
+            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+
+    def _comments(self, k: int, printed_break: bool, line_break: bool) -> tuple[bool, bool]:
+        """Write the comments of gap k; whether token k now starts a line, and whether the
+        last comment was written inline."""
+        comments = self.comments[k]
+        if k == len(self.tokens):
             comment_indent = ""
         else:
             indent = self.indent[k] if printed_break else self.continuation(k)
             closing = self.tokens[k].type == "RBRACE" and indent == self.indent[k]
             comment_indent = indent + INDENT if closing else indent
         last_inline = False
-        for c, mode in zip(comments, modes, strict=True):
+        for c, mode in zip(comments, self._modes(k, comments, line_break), strict=True):
             last_inline = False
             if mode is _Mode.OWN_LINE:
                 if not self.at_line_start:
@@ -397,18 +441,7 @@ class _Writer:
                 gap = "" if self.lines[-1].endswith(("(", "[")) or self.at_line_start else " "
                 self.write(gap + c.text)
                 last_inline = True
-        if k == n:
-            return
-        if line_break or self.at_line_start:
-            if not self.at_line_start:
-                self.newline()
-            if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
-                self.blank_line()
-            self.write(self.indent[k] if printed_break else self.continuation(k))
-        elif last_inline:
-            self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
-        else:
-            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+        return line_break, last_inline
 
     def _align_trailing(self) -> None:
         """The trailing comments of consecutive lines start in one column."""
