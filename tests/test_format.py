@@ -100,6 +100,10 @@ CASES: dict[str, tuple[str, str]] = {
         "action a();\n\n\n\naction b();\nprocedure main() {\n\n    a();\n\n\n    b();\n\n}\n",
         "action a();\n\naction b();\nprocedure main() {\n    a();\n\n    b();\n}\n",
     ),
+    "redundant parentheses go, their comments stay": (
+        "number function f() = ((1 /* one */)) + (/* two */ (2))\n",
+        "number function f() = (1 /* one */) + (/* two */ 2)\n",
+    ),
     "comments and blank lines only": (
         "\n\n// just a note\n\n\n/* and another */\n",
         "// just a note\n\n/* and another */\n",
