@@ -20,8 +20,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_printer import programs
 
+from gpp.source import Source
 from gpp.syntax import ast
-from gpp.syntax.format import FormatError, format_text
+from gpp.syntax.directives import directives
+from gpp.syntax.format import FormatError, _token_map, format_text
+from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
 
@@ -204,6 +207,7 @@ def assert_formats_faithfully(text: str) -> None:
     formatted = format_text(text)
     assert reparse(formatted) == reparse(text), formatted
     assert comments(formatted) == comments(text), formatted
+    assert directives(formatted) == directives(text), formatted
     assert format_text(formatted) == formatted, formatted
 
 
@@ -353,7 +357,21 @@ def test_fmt_stdin_cannot_be_combined_with_files(project: Path) -> None:
     )
 
 
+def test_fmt_folder_without_programs_is_a_usage_error(tmp_path: Path) -> None:
+    (tmp_path / "empty").mkdir()
+    result = run_gpp("fmt", "empty", cwd=tmp_path)
+    assert (result.returncode, result.stderr) == (2, "error: no .gpp files in 'empty'\n")
+
+
 def test_examples_and_stdlib_are_formatted() -> None:
     result = run_gpp("fmt", "--check", "examples", "stdlib", cwd=ROOT)
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.endswith(" already formatted\n")
+
+
+def test_tokens_the_printer_adds_are_bridged_by_a_diff() -> None:
+    # Not from a parsed program (the printer adds braces only to trees the parser cannot
+    # produce), but the comment mapping must not depend on that.
+    original, _ = tokenize(Source("a(); b();", "x"))
+    printed, _ = tokenize(Source("a(); { b(); }", "x"))
+    assert _token_map(original, printed) == [0, 1, 2, 3, 5, 6, 7, 8, 10]

@@ -4,8 +4,9 @@
 is the pretty-printer's (printer.format_program: 4-space indentation, one statement per line,
 `} else {`), so the formatted program parses to the same tree. The comments and blank lines
 are then put back between the printed tokens: the formatter lines up the program's tokens with
-the printed ones (they are the same but for the spelling of number literals) and writes the
-comments of each gap between two tokens into the matching gap of the printed text:
+the printed ones (the same but for the spelling of literals and the redundant parentheses the
+printer drops) and writes the comments of each gap between two tokens into the matching gap of
+the printed text:
 
 * a comment on a line of its own stays on a line of its own, directly above the code that
   followed it, indented like that code (one step deeper above a closing `}`);
@@ -16,11 +17,14 @@ comments of each gap between two tokens into the matching gap of the printed tex
   after an opening `{` or a section keyword, never before a closing `}`), none where it had
   none.
 
-Where a comment has to end a line that the printer did not end (a `//` comment inside an
-expression), the rest of the line continues on the next line, indented one step more than the
-line, plus one step per open bracket. The same continuation indentation wraps printed lines
-longer than `WIDTH` characters: at the loosest separators of the shallowest bracket depth, in
-this order: after the `=` of a top-level definition, after `,`, before `->`, `|`, `&`, then binary `+`/`-`.
+Printed lines are broken at break points: after the `=` of a top-level definition, after `,`,
+before `->`, `|`, `&` and binary `+`/`-` (loosest first). A line break the program has at a
+break point is kept; a line still longer than `WIDTH` is broken at its loosest break points of
+the shallowest bracket depth, and so on until the parts fit. Brackets broken after their commas
+hold one part per line and close on a line of their own (`f(` / `a,` / `b` / `)`); any other
+continued line is indented one step more than the line it continues, plus one per open bracket.
+A comment that has to end a line the printer did not end (a `//` comment inside an
+expression) breaks it the same way.
 
 Directives (`// world: ...`) and suppression comments (`// gpp: allow ...`) are ordinary comments
 for the formatter: they stay on their line, above what they preceded.
