@@ -276,7 +276,9 @@ def _emit_diagnostics(
     sys.stdout.flush()
 
 
-# `gpp run` and `gpp test` live in their own module, and so does `gpp trace`.
+# `gpp run` and `gpp test` live in their own module, and so do `gpp trace`, `gpp fmt`,
+# `gpp config` and `gpp new`.
+from gpp.cli_fmt import register as register_fmt  # noqa: E402
 from gpp.cli_project import register as register_project  # noqa: E402
 from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
 from gpp.cli_trace import register as register_trace  # noqa: E402
@@ -284,6 +286,7 @@ from gpp.cli_trace import register as register_trace  # noqa: E402
 register(app)
 register_trace(app)
 register_project(app)
+register_fmt(app)
 
 # ---------------------------------------------------------------- entry point
 

@@ -40,7 +40,16 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("runner", {"gpp.runner", "gpp.testing", "gpp.runview", "gpp.traceview"}),
     (
         "commands",
-        {"gpp.cli", "gpp.cli_run", "gpp.cli_trace", "gpp.cli_check", "gpp.cli_project", "gpp.__main__", "lsp"},
+        {
+            "gpp.cli",
+            "gpp.cli_run",
+            "gpp.cli_trace",
+            "gpp.cli_check",
+            "gpp.cli_project",
+            "gpp.cli_fmt",
+            "gpp.__main__",
+            "lsp",
+        },
     ),
 ]
 # Units of one layer that must not import each other.
