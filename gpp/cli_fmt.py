@@ -25,13 +25,13 @@ def register(app: typer.Typer) -> None:
 
 def fmt(
     paths: Annotated[
-        list[Path],
+        list[Path] | None,
         typer.Argument(
-            metavar="PATH",
-            help="The .gpp files to format; a folder means every .gpp file in it; `-` reads standard input "
-            "and writes the result to standard output.",
+            metavar="[PATH]...",
+            help="The .gpp files to format; a folder means every .gpp file in it; none: the project's paths "
+            "(gpp.toml); `-` reads standard input and writes the result to standard output.",
         ),
-    ],
+    ] = None,
     check: Annotated[
         bool, typer.Option("--check", help="Change nothing; list the files that would change and exit 1 if any.")
     ] = False,
@@ -42,6 +42,7 @@ def fmt(
     """Format golog++ files in the canonical layout, keeping their comments."""
     from gpp.cli import EXIT_OK, EXIT_PROBLEMS, _usage_error
 
+    paths = paths or []
     if any(str(p) == STDIN for p in paths):
         if len(paths) > 1:
             _usage_error("`-` (standard input) cannot be combined with other paths")
@@ -75,29 +76,24 @@ def fmt(
 
 
 def expand_paths(paths: Sequence[Path]) -> list[Path]:
-    """The files to format: each file given, and the .gpp files under each folder given
-    (sorted, hidden folders skipped). A path that does not exist, or folders without any .gpp
-    file, are usage errors."""
+    """The files to format, found as `gpp check` finds them (gpp.config.project_files): each
+    file given, the .gpp files under each folder given, or with no PATH the project's `paths`.
+    A path that does not exist, a bad configuration file or no .gpp file at all are usage errors."""
     from gpp.cli import _usage_error
+    from gpp.cli_check import config_error
+    from gpp.config import ConfigError, project_files
 
-    files: list[Path] = []
     for path in paths:
-        if path.is_dir():
-            found = sorted(
-                p for p in path.rglob("*.gpp") if p.is_file() and not _hidden(p.relative_to(path).parts[:-1])
-            )
-            files.extend(found)
-        elif path.exists():
-            files.append(path)
-        else:
+        if not path.exists():
             _usage_error(f"cannot read '{path}': no such file or folder")
+    try:
+        files = project_files(paths)
+    except ConfigError as e:
+        config_error(e)
     if not files:
-        _usage_error("no .gpp files in " + ", ".join(f"'{p}'" for p in paths))
-    return list(dict.fromkeys(files))
-
-
-def _hidden(folders: Sequence[str]) -> bool:
-    return any(part.startswith(".") for part in folders)
+        where = ", ".join(f"'{p}'" for p in paths) if paths else "the project (the working directory)"
+        _usage_error(f"no .gpp files in {where}")
+    return files
 
 
 def _format_stdin(check: bool, diff: bool) -> int:

@@ -363,6 +363,21 @@ def test_fmt_folder_without_programs_is_a_usage_error(tmp_path: Path) -> None:
     assert (result.returncode, result.stderr) == (2, "error: no .gpp files in 'empty'\n")
 
 
+def test_fmt_without_paths_formats_the_project_as_configured(project: Path) -> None:
+    (project / "gpp.toml").write_text('paths = ["."]\nexclude = ["sub"]\n')
+    (project / "sub" / "ugly_too.gpp").write_text(UGLY)
+    result = run_gpp("fmt", "--check", cwd=project)
+    assert (result.returncode, result.stdout) == (
+        1,
+        "would reformat: ugly.gpp\n1 file would be reformatted, 0 already formatted\n",
+    )
+    (project / "gpp.toml").write_text('paths = ["."]\nexclud = ["sub"]\n')
+    bad = run_gpp("fmt", cwd=project)
+    assert bad.returncode == 2
+    assert "did you mean `exclude`?" in bad.stderr
+    assert (project / "ugly.gpp").read_text() == UGLY
+
+
 def test_examples_and_stdlib_are_formatted() -> None:
     result = run_gpp("fmt", "--check", "examples", "stdlib", cwd=ROOT)
     assert result.returncode == 0, result.stdout + result.stderr
