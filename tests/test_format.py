@@ -170,6 +170,12 @@ def test_a_line_without_a_break_point_stays_long() -> None:
 # ---------------------------------------------------------------- errors
 
 
+def test_literals_keep_their_spelling() -> None:
+    source = 'procedure main() {\n    x = 1e308 + 1.50 + 0.0 + f("caf\\u00e9 \\"x\\"");\n}\n'
+    assert format_text(source) == source
+    assert format_text(source.replace("    x = 1e308 ", "x=  1e308 ")) == source
+
+
 def test_syntax_errors_raise_with_the_diagnostics() -> None:
     with pytest.raises(FormatError) as caught:
         format_text("procedure main() {\n    a()\n}\n", "agent.gpp")

@@ -68,15 +68,44 @@ def format_text(text: str, path: str = "<input>") -> str:
     printed = format_program(result.program)
     out_tokens, errors = tokenize(Source(printed, path))
     assert not errors, errors
+    token_map = _token_map(result.tokens, out_tokens)
+    printed, out_tokens = _keep_literal_spelling(printed, path, result.tokens, out_tokens, token_map)
     gaps = _gaps(text, result.tokens)
     placed: list[list[_Comment]] = [[] for _ in range(len(out_tokens) + 1)]
     blank_before = [False] * (len(out_tokens) + 1)
     newline_before = [False] * (len(out_tokens) + 1)
-    for gap, target in zip(gaps, _token_map(result.tokens, out_tokens), strict=True):
+    for gap, target in zip(gaps, token_map, strict=True):
         placed[target].extend(gap.comments)
         blank_before[target] |= gap.blank_before_token
         newline_before[target] |= gap.newline
     return _Writer(printed, out_tokens, placed, blank_before, newline_before).run()
+
+
+def _keep_literal_spelling(
+    printed: str, path: str, original: list[Token], out_tokens: list[Token], token_map: list[int]
+) -> tuple[str, list[Token]]:
+    """The printed text with each number and string literal spelled as the author wrote it
+    (`1e308`, `0.50`, `"\u00e9"` stay as they are): the printer spells a literal by its value,
+    which is the same value but not always the same text."""
+    replaced: list[tuple[Token, str]] = []
+    for i, token in enumerate(original):
+        j = token_map[i]
+        if token.type in _LITERALS and j < len(out_tokens):
+            out = out_tokens[j]
+            if out.type == token.type and out.value != token.value and _key(out) == _key(token):
+                replaced.append((out, token.value))
+    if not replaced:
+        return printed, out_tokens
+    parts: list[str] = []
+    pos = 0
+    for out, spelling in replaced:
+        parts += [printed[pos : out.start], spelling]
+        pos = out.end
+    parts.append(printed[pos:])
+    text = "".join(parts)
+    tokens, errors = tokenize(Source(text, path))
+    assert not errors and len(tokens) == len(out_tokens), errors
+    return text, tokens
 
 
 # ---------------------------------------------------------------- comments of the program
