@@ -23,6 +23,7 @@ from gpp.perf import paused_gc
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
+from gpp.syntax.depth import limit_nesting
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
 from gpp.syntax.tables import Tables, first_sets, load_tables
 
@@ -39,15 +40,17 @@ class ParseResult:
 
 
 def parse(source: Source) -> ParseResult:
-    """Parse one file. Always returns a Program (partial after syntax errors)."""
+    """Parse one file. Always returns a Program (partial after syntax errors), which nests at
+    most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014)."""
     with paused_gc():
         tokens, lex_errors = tokenize(source)
         parser = _Parser(source, tokens, load_tables())
         parser.quiet_after_lex_errors([e.start for e in lex_errors])
-        program = parser.run()
+        program, too_deep = limit_nesting(parser.run(), tokens)
     diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
+    diagnostics.extend(too_deep)
     diagnostics.sort(key=diag.Diagnostic.sort_key)
     return ParseResult(program, diagnostics, tokens)
 
