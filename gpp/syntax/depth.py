@@ -24,6 +24,18 @@ from gpp.syntax.walk import children
 # writes, and far within what the recursive phases can follow on Python's stack (with the
 # recursion limit `gpp` sets for them).
 MAX_NESTING = 2_000
+# How many constructs may be open at once while parsing (the parser's stack). An open
+# statement or operator takes at most a few entries (`pick (T x)` takes five), so no
+# declaration within MAX_NESTING comes near; deeper ones stop here, before their tree is built,
+# and so do parentheses around parentheses (which add no level to the tree).
+MAX_OPEN = 10 * MAX_NESTING
+
+
+_NOTES = [
+    "each statement inside another, each operand of an operator chain such as `a + b + c`, "
+    "and each call, field access, index, `!`, `-` or quantifier adds a level"
+]
+_HELP = "move the inner part into a function or procedure of its own, or split the chain"
 
 
 def limit_nesting(program: ast.Program, tokens: Sequence[Token]) -> tuple[ast.Program, list[diag.Diagnostic]]:
@@ -81,11 +93,20 @@ def nesting_error(node: ast.Node) -> diag.Diagnostic:
         f"this {_what(node) or 'declaration'} nests more than {MAX_NESTING} levels deep",
         at,
         f"more than {MAX_NESTING} levels deep",
-        notes=[
-            "each statement inside another, each operand of an operator chain such as `a + b + c`, "
-            "and each call, field access, index, `!`, `-` or quantifier adds a level"
-        ],
-        help="move the inner part into a function or procedure of its own, or split the chain",
+        notes=_NOTES,
+        help=_HELP,
+    )
+
+
+def too_deep_error(at: Span) -> diag.Diagnostic:
+    """E0014 where the parser found more than MAX_OPEN constructs open."""
+    return diag.error(
+        "E0014",
+        f"this declaration nests more than {MAX_NESTING} levels deep",
+        at,
+        f"more than {MAX_OPEN} brackets, operators and statements open here",
+        notes=_NOTES,
+        help=_HELP,
     )
 
 
