@@ -40,6 +40,10 @@ FAMILIES: dict[str, tuple[Callable[[int], str], int]] = {
         lambda n: "".join(f"procedure p{i}() {{ x = = 1; }}\n" for i in range(n)),
         40,
     ),
+    "a missing `;` on every line": (
+        lambda n: "number fluent k() { initially: () = 0; }\n" + main_body("k() = 1\n" * n),
+        100,
+    ),
     "nested if": (lambda n: main_body("if (true) " * n + "{}"), 200),
     "nested if-else": (lambda n: main_body("if (true) {} else " * n + "{}"), 200),
     "nested while": (lambda n: main_body("while (true) " * n + "{}"), 200),

@@ -92,6 +92,8 @@ _INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE", "COMMA")
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
+# How many tokens of the file the parser loads at a time (see `_Parser.load_more`).
+_CHUNK = 4096
 # Where a statement or a declaration ends: the parser can resume after these when skipping.
 _ENDS = frozenset({"SEMI", "RBRACE"})
 
@@ -277,7 +279,14 @@ class _Parser:
     def __init__(self, source: Source, tokens: list[Token], tables: Tables) -> None:
         self.source = source
         end = len(source.text)
-        self.tokens = [*tokens, Token("$END", "", end, end)]
+        # The tokens of the file; `tokens` holds those read so far (with what the recovery
+        # inserted) and the next ones, a chunk at a time, up to a `$MORE` token that no state
+        # accepts: a repair inserts at the current token, and so moves only the rest of the
+        # chunk, never the rest of the file.
+        self.original = [*tokens, Token("$END", "", end, end)]
+        self.loaded = 0
+        self.tokens: list[Token] = []
+        self.load_more()
         self.tables = tables
         self.sets = token_sets(tables)
         self.builder = AstBuilder(source)
@@ -288,9 +297,8 @@ class _Parser:
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()
-        # The tokens of the file (the recovery inserts into `tokens`), where they start, and,
-        # matched once on the first error that needs them, the brackets open before each.
-        self.original = list(self.tokens)
+        # Where the tokens of the file start and, matched once on the first error that needs
+        # them, the brackets open before each.
         self._starts: list[int] | None = None
         self.open_before: list[int] | None = None
 
@@ -458,9 +466,30 @@ class _Parser:
                 return n
         return 0
 
+    def load_more(self) -> None:
+        """Read the next chunk of the file's tokens into `tokens`."""
+        tokens = self.tokens
+        if tokens and tokens[-1].type == "$MORE":
+            tokens.pop()
+        start, self.loaded = self.loaded, min(self.loaded + _CHUNK, len(self.original))
+        tokens.extend(self.original[start : self.loaded])
+        if self.loaded < len(self.original):
+            at = self.original[self.loaded].start
+            tokens.append(Token("$MORE", "", at, at))
+
+    def load_until(self, k: int) -> None:
+        """Make tokens 0..k (as far as the file goes) tokens of the file."""
+        while self.loaded < len(self.original) and len(self.tokens) - 1 <= k:
+            self.load_more()
+
     def recover(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
         """Report the error at token i and repair the input; returns where to go on."""
         tokens = self.tokens
+        if tokens[i].type == "$MORE":
+            self.load_more()
+            return i
+        # Repairs read ahead, and report what they see, up to the probe's length.
+        self.load_until(i + 2 * _PROBE)
         tok = tokens[i]
         expected = self.acceptable(ss)
         prev = tokens[i - 1] if i > 0 else None
@@ -552,7 +581,10 @@ class _Parser:
         """Panic mode: skip to a token where a statement or declaration can go on, and pop the
         parser back to a state that accepts it."""
         tokens = self.tokens
-        for j in range(i, len(tokens)):
+        j = i - 1
+        while j + 1 < len(tokens):
+            j += 1
+            self.load_until(j + 4)
             if not (tokens[j].type == "$END" or self.is_sync(j)):
                 continue
             resume = j + 1 if tokens[j].type == "SEMI" else j
@@ -580,7 +612,9 @@ class _Parser:
         while original[j].type != "$END" and not (open_before[j] < 0 and self.starts_declaration(j)):
             j += 1
         del self.tokens[i:]
-        self.tokens.extend(original[j:])
+        self.loaded = j
+        self.load_more()
+        self.load_until(i + 3)
         ahead = self.lookahead(i, 3)
         for depth in range(len(ss), 0, -1):
             if self.simulate(ss, ahead, height=depth):
