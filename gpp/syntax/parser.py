@@ -23,6 +23,7 @@ from gpp.perf import paused_gc
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
+from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
 from gpp.syntax.tables import Tables, first_sets, load_tables
 
@@ -39,15 +40,17 @@ class ParseResult:
 
 
 def parse(source: Source) -> ParseResult:
-    """Parse one file. Always returns a Program (partial after syntax errors)."""
+    """Parse one file. Always returns a Program (partial after syntax errors), which nests at
+    most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014)."""
     with paused_gc():
         tokens, lex_errors = tokenize(source)
         parser = _Parser(source, tokens, load_tables())
         parser.quiet_after_lex_errors([e.start for e in lex_errors])
-        program = parser.run()
+        program, too_deep = limit_nesting(parser.run(), tokens)
     diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
+    diagnostics.extend(too_deep)
     diagnostics.sort(key=diag.Diagnostic.sort_key)
     return ParseResult(program, diagnostics, tokens)
 
@@ -89,6 +92,8 @@ _INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE", "COMMA")
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
+# How many tokens of the file the parser loads at a time (see `_Parser.load_more`).
+_CHUNK = 4096
 # Where a statement or a declaration ends: the parser can resume after these when skipping.
 _ENDS = frozenset({"SEMI", "RBRACE"})
 
@@ -223,6 +228,11 @@ def _terminal_order(t: str) -> tuple[int, str]:
     return (priority.get(t, 10), t)
 
 
+# A simulated parser stack: the lowest `height` states of the real stack, and the states
+# pushed above them as a linked list (top first), which several simulations can share.
+_Pushed = tuple[int, "_Pushed"] | None
+_Overlay = tuple[int, _Pushed]
+
 # Results of `_Parser.unit_chain`, per table set; they depend on the tables only.
 _UNIT_CHAINS: dict[int, dict[tuple[int, int, str], int]] = {}
 
@@ -250,11 +260,33 @@ def _flatten(children: list[Any]) -> list[Any]:
     return out
 
 
+def _match_brackets(tokens: Sequence[Token]) -> list[int]:
+    """For each token, the index of the innermost bracket opened before it and not closed
+    (-1 if none); a bracket's entry is the one it is inside. One forward scan: a closer
+    closes the innermost open bracket if it matches it and is ignored otherwise."""
+    open_before: list[int] = []
+    top = -1
+    for k, t in enumerate(tokens):
+        open_before.append(top)
+        if t.type in _CLOSERS:
+            top = k
+        elif top >= 0 and t.value and _CLOSERS[tokens[top].type] == t.type:
+            top = open_before[top]
+    return open_before
+
+
 class _Parser:
     def __init__(self, source: Source, tokens: list[Token], tables: Tables) -> None:
         self.source = source
         end = len(source.text)
-        self.tokens = [*tokens, Token("$END", "", end, end)]
+        # The tokens of the file; `tokens` holds those read so far (with what the recovery
+        # inserted) and the next ones, a chunk at a time, up to a `$MORE` token that no state
+        # accepts: a repair inserts at the current token, and so moves only the rest of the
+        # chunk, never the rest of the file.
+        self.original = [*tokens, Token("$END", "", end, end)]
+        self.loaded = 0
+        self.tokens: list[Token] = []
+        self.load_more()
         self.tables = tables
         self.sets = token_sets(tables)
         self.builder = AstBuilder(source)
@@ -265,6 +297,10 @@ class _Parser:
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()
+        # Where the tokens of the file start and, matched once on the first error that needs
+        # them, the brackets open before each.
+        self._starts: list[int] | None = None
+        self.open_before: list[int] | None = None
 
     # ---------------------------------------------------------------- the LALR loop
 
@@ -276,6 +312,7 @@ class _Parser:
             for r in t.rules
         ]
         unit_cache = self.unit_cache
+        max_stack = MAX_OPEN
         ss: list[int] = [t.start_state]
         vs: list[Any] = []
         tokens = self.tokens
@@ -291,6 +328,12 @@ class _Parser:
                 i = recovered
                 continue
             if x >= 0:
+                if len(ss) > max_stack:
+                    resumed = self.skip_too_deep(i, ss, vs)
+                    if resumed is None:
+                        return self.partial_program(vs)
+                    i = resumed
+                    continue
                 ss.append(x)
                 vs.append(tok)
                 i += 1
@@ -345,33 +388,51 @@ class _Parser:
 
     # ---------------------------------------------------------------- simulation
 
-    def simulate(self, ss: Sequence[int], types: Sequence[str], reduced: list[str] | None = None) -> bool:
-        """Would the parser in state stack `ss` accept the token types `types`?"""
+    def simulate(
+        self, ss: Sequence[int], types: Sequence[str], reduced: list[str] | None = None, height: int | None = None
+    ) -> bool:
+        """Would the parser in state stack `ss` (its lowest `height` states, all by default)
+        accept the token types `types`?"""
+        h = len(ss) if height is None else height
+        return self.advance(ss, (h, None), types, reduced) is not None
+
+    def advance(
+        self, ss: Sequence[int], at: _Overlay, types: Sequence[str], reduced: list[str] | None = None
+    ) -> _Overlay | None:
+        """The stack after the parser, at `at` over `ss`, reads `types`; None if it cannot.
+
+        `ss` is not changed nor copied: the simulated stack is its lowest states plus a chain
+        of states pushed above them, so a simulation costs the tokens it reads, not the depth
+        of the stack (recovery simulates often, and the stack of a deeply nested input is deep).
+        """
         actions, gotos, rules, end_state = (
             self.tables.actions,
             self.tables.gotos,
             self.tables.rules,
             self.tables.end_state,
         )
-        stack = list(ss)
+        h, above = at
         for tt in types:
             while True:
-                x = actions[stack[-1]].get(tt)
+                x = actions[above[0] if above is not None else ss[h - 1]].get(tt)
                 if x is None:
-                    return False
+                    return None
                 if x >= 0:
-                    stack.append(x)
+                    above = (x, above)
                     break
                 r = rules[-1 - x]
                 if reduced is not None:
                     reduced.append(r.builder if r.builder else r.origin)
-                if r.size:
-                    del stack[-r.size :]
-                g = gotos[stack[-1]][r.origin]
+                n = r.size
+                while n and above is not None:
+                    above = above[1]
+                    n -= 1
+                h -= n
+                g = gotos[above[0] if above is not None else ss[h - 1]][r.origin]
                 if g == end_state and tt == "$END":
-                    return True
-                stack.append(g)
-        return True
+                    return (h, above)
+                above = (g, above)
+        return (h, above)
 
     def lookahead(self, i: int, count: int = 3) -> list[str]:
         return [t.type for t in self.tokens[i : i + count]]
@@ -381,9 +442,8 @@ class _Parser:
     def quiet_after_lex_errors(self, offsets: list[int]) -> None:
         """A token the lexer dropped leaves a gap the parser would report again: errors at the
         token that follows a lexical error are not reported."""
-        starts = [t.start for t in self.tokens]
         for offset in offsets:
-            at = bisect_left(starts, offset)
+            at = bisect_left(self.starts(), offset)
             # The token at the error (an unterminated string read to the end of its line) and
             # the one after it.
             self.quiet_tokens.update((at, at + 1))
@@ -406,9 +466,30 @@ class _Parser:
                 return n
         return 0
 
+    def load_more(self) -> None:
+        """Read the next chunk of the file's tokens into `tokens`."""
+        tokens = self.tokens
+        if tokens and tokens[-1].type == "$MORE":
+            tokens.pop()
+        start, self.loaded = self.loaded, min(self.loaded + _CHUNK, len(self.original))
+        tokens.extend(self.original[start : self.loaded])
+        if self.loaded < len(self.original):
+            at = self.original[self.loaded].start
+            tokens.append(Token("$MORE", "", at, at))
+
+    def load_until(self, k: int) -> None:
+        """Make tokens 0..k (as far as the file goes) tokens of the file."""
+        while self.loaded < len(self.original) and len(self.tokens) - 1 <= k:
+            self.load_more()
+
     def recover(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
         """Report the error at token i and repair the input; returns where to go on."""
         tokens = self.tokens
+        if tokens[i].type == "$MORE":
+            self.load_more()
+            return i
+        # Repairs read ahead, and report what they see, up to the probe's length.
+        self.load_until(i + 2 * _PROBE)
         tok = tokens[i]
         expected = self.acceptable(ss)
         prev = tokens[i - 1] if i > 0 else None
@@ -500,7 +581,10 @@ class _Parser:
         """Panic mode: skip to a token where a statement or declaration can go on, and pop the
         parser back to a state that accepts it."""
         tokens = self.tokens
-        for j in range(i, len(tokens)):
+        j = i - 1
+        while j + 1 < len(tokens):
+            j += 1
+            self.load_until(j + 4)
             if not (tokens[j].type == "$END" or self.is_sync(j)):
                 continue
             resume = j + 1 if tokens[j].type == "SEMI" else j
@@ -508,7 +592,7 @@ class _Parser:
                 return None
             ahead = self.lookahead(resume, 3)
             for depth in range(len(ss), 0, -1):
-                if self.simulate(ss[:depth], ahead):
+                if self.simulate(ss, ahead, height=depth):
                     del ss[depth:]
                     del vs[depth - 1 :]
                     self.quiet_until = max(self.quiet_until, resume + 2)
@@ -516,6 +600,45 @@ class _Parser:
             if tokens[j].type == "$END":
                 return None
         return None
+
+    def skip_too_deep(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
+        """More than MAX_OPEN constructs are open at token i: report E0014 there and leave out
+        the rest of the declaration, so that its tree is never built. Parsing goes on at the
+        next declaration outside all brackets (found in one forward scan)."""
+        self.report(i, too_deep_error(self.span(self.tokens[i])))
+        open_before = self.brackets()
+        original = self.original
+        j = self.file_index(i) + 1
+        while original[j].type != "$END" and not (open_before[j] < 0 and self.starts_declaration(j)):
+            j += 1
+        del self.tokens[i:]
+        self.loaded = j
+        self.load_more()
+        self.load_until(i + 3)
+        ahead = self.lookahead(i, 3)
+        for depth in range(len(ss), 0, -1):
+            if self.simulate(ss, ahead, height=depth):
+                del ss[depth:]
+                del vs[depth - 1 :]
+                self.quiet_until = max(self.quiet_until, i + 2)
+                return i
+        return None
+
+    def starts_declaration(self, j: int) -> bool:
+        """Can token j of the file (outside all brackets) begin a declaration?"""
+        t = self.original[j]
+        if t.type in self.sets.declaration_start or t.type == "INCLUDE":
+            return True
+        if t.type in self.sets.type_start:
+            following = self.original[j + 1].type
+            if following in self.sets.typed_declaration:
+                return True
+            if following == "LBRACKET" and t.type == "LIST":
+                return self.line_of(t.start) > self.line_of(self.original[j - 1].end)
+        return False
+
+    def line_of(self, offset: int) -> int:
+        return self.source.line_col(offset)[0]
 
     def recover_at_end(self, i: int, ss: list[int], expected: set[str]) -> int | None:
         """End of file inside a declaration: say what is open, then close it."""
@@ -545,16 +668,21 @@ class _Parser:
             ["NAME", "RPAR", "SEMI"],
         )
         inserted: list[str] = []
+        # Each closer is simulated from the stack the ones before it left: the cost is the
+        # number of unclosed brackets, however many.
+        at: _Overlay = (len(ss), None)
         for opener in reversed(self.unclosed(i)):
             closer = _CLOSERS[opener.type]
             for filler in fillers:
-                if self.simulate(ss, [*inserted, *filler, closer]):
+                after = self.advance(ss, at, [*filler, closer])
+                if after is not None:
                     inserted += [*filler, closer]
+                    at = after
                     break
             else:
                 break
         for filler in fillers[:4]:
-            if self.simulate(ss, [*inserted, *filler, "$END"]):
+            if self.advance(ss, at, [*filler, "$END"]) is not None:
                 end = self.tokens[i].start
                 self.tokens[i:i] = [Token(t, "", end, end) for t in [*inserted, *filler]]
                 return i
@@ -562,17 +690,36 @@ class _Parser:
 
     def unclosed(self, i: int) -> list[Token]:
         """The brackets opened before token i and not closed, outermost first."""
+        open_before = self.brackets()
+        k = open_before[self.file_index(i)]
         stack: list[Token] = []
-        for t in self.tokens[:i]:
-            if t.type in _CLOSERS:
-                stack.append(t)
-            elif t.type in ("RPAR", "RBRACKET", "RBRACE") and t.value and stack and _CLOSERS[stack[-1].type] == t.type:
-                stack.pop()
+        while k >= 0:
+            stack.append(self.original[k])
+            k = open_before[k]
+        stack.reverse()
         return stack
 
     def innermost_unclosed(self, i: int) -> Token | None:
-        stack = self.unclosed(i)
-        return stack[-1] if stack else None
+        k = self.brackets()[self.file_index(i)]
+        return self.original[k] if k >= 0 else None
+
+    def starts(self) -> list[int]:
+        """Where each token of the file starts (computed on first use)."""
+        if self._starts is None:
+            self._starts = [t.start for t in self.original]
+        return self._starts
+
+    def brackets(self) -> list[int]:
+        """`_match_brackets` of the file's tokens (matched on the first error that needs it)."""
+        if self.open_before is None:
+            self.open_before = _match_brackets(self.original)
+        return self.open_before
+
+    def file_index(self, i: int) -> int:
+        """The index in the file's tokens of the first one at or after token i. Tokens the
+        recovery inserted start where the next token of the file starts, or earlier, and
+        close nothing, so the brackets open before i are those open before that token."""
+        return bisect_left(self.starts(), self.tokens[i].start)
 
     def report_insertion(self, i: int, ss: list[int], inserted: str, expected: set[str]) -> None:
         tokens = self.tokens
