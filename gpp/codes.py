@@ -34,6 +34,7 @@ _CODES: list[CodeInfo] = [
     CodeInfo("E0002", "unterminated", "a string literal or block comment that is never closed"),
     CodeInfo("E0003", "underscore-name", "a name that starts with '_'"),
     CodeInfo("E0004", "number-too-large", "a number literal beyond the range of numbers (about ±1.8e308)"),
+    CodeInfo("E0005", "non-ascii-name", "a name with letters outside ASCII (names are ASCII in golog++)"),
     CodeInfo("E0010", "unexpected-token", "a token where the grammar does not allow it"),
     CodeInfo("E0011", "missing-semicolon", "a statement or declaration that is not ended by ';'"),
     CodeInfo("E0012", "unexpected-eof", "the file ends inside a declaration"),
@@ -156,6 +157,26 @@ Write a number within the range:
     number fluent limit() { initially: () = 1e300; }
     procedure main() {
         limit() = limit() - 1;
+    }
+""",
+    "E0005": """
+Names in golog++ (of fluents, actions, procedures, parameters, symbols, ...) are written in
+ASCII: letters `a`-`z` and `A`-`Z`, digits and `_`. Strings and comments may hold any text.
+gpp reports each such name once, at its first appearance, and checks the rest of the program
+with the name as written, so its uses are not reported again.
+
+For example:
+
+    number fluent größe() { initially: () = 1; }
+    procedure main() {
+        größe() = größe() + 1;
+    }
+
+Rename it everywhere it is used:
+
+    number fluent groesse() { initially: () = 1; }
+    procedure main() {
+        groesse() = groesse() + 1;
     }
 """,
     "E0002": """

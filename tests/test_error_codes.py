@@ -105,6 +105,30 @@ CASES = [
         E("E0004", 6, 12, "number literal is too large"),
     ),
     case(
+        "E0005-non-ascii-name-once-per-name",
+        "number fluent größe() {\ninitially:\n    () = 0;\n}\nprocedure main() {\n"
+        "    größe() = größe() + 1;\n    pick (number ñ in {1, 2}) größe() = ñ;\n}\n",
+        E(
+            "E0005",
+            1,
+            15,
+            "the name `größe` has letters outside ASCII",
+            "rename it, for example to `grosse` (everywhere it is used)",
+        ),
+        E(
+            "E0005",
+            7,
+            18,
+            "the name `ñ` has letters outside ASCII",
+            "rename it, for example to `n` (everywhere it is used)",
+        ),
+    ),
+    case(
+        "E0005-non-ascii-name-without-ascii-spelling",
+        "action 移動() {}\nprocedure main() {\n    移動();\n}\n",
+        E("E0005", 1, 8, "the name `移動` has letters outside ASCII", None),
+    ),
+    case(
         "E0010-assignment-for-comparison",
         FLUENT_N + "procedure main() {\n    if (n() = 1) {}\n}\n",
         E("E0010", 6, 13, "expected one of an operator or `)`, found `=`", "to compare two values write `==`"),

@@ -43,9 +43,11 @@ def parse(source: Source) -> ParseResult:
     with paused_gc():
         tokens, lex_errors = tokenize(source)
         parser = _Parser(source, tokens, load_tables())
-        parser.quiet_after_lex_errors([e.start for e in lex_errors])
+        parser.quiet_after_lex_errors([e.start for e in lex_errors if e.dropped])
         program = parser.run()
-    diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
+    diagnostics = [
+        diag.error(e.code, e.message, Span(source, e.start, e.end), e.label, help=e.help or None) for e in lex_errors
+    ]
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
     diagnostics.sort(key=diag.Diagnostic.sort_key)
