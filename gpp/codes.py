@@ -643,8 +643,9 @@ Compare the fields:
 """,
     "E0210": """
 `exists`, `forall` and a `pick` without `in {...}` try every value of the variable's type,
-so the type must be finite: a domain or `bool`. Over `number` or `string`, list the values
-with `pick (number n in {1, 2, 3})` or declare a domain.
+so the type must be finite: a domain, `bool`, or `symbol` (whose values are the symbols the
+program's domains declare). Over `number` or `string`, list the values with
+`pick (number n in {1, 2, 3})` or declare a domain.
 
 For example:
 

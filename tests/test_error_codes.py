@@ -556,7 +556,7 @@ CASES = [
     case(
         "E0210-exists-over-string",
         'bool function f() = exists(string s) s == "a"\n',
-        E("E0210", 1, 28, "`exists` over `string` cannot be evaluated", "quantify over a domain (or bool)"),
+        E("E0210", 1, 28, "`exists` over `string` cannot be evaluated", "quantify over a domain, `bool` or `symbol`"),
     ),
     case(
         "E0211-branch-types",
