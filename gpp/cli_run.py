@@ -253,7 +253,7 @@ def test_command(
         timeout=timeout,
         wall_timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
     )
-    cases = run_all(files, options)
+    cases = run_all(files, options, named=[p for p in targets if not p.is_dir()])
     from rich.console import Console
     from rich.table import Table
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
@@ -39,8 +39,10 @@ def discover(paths: Sequence[Path]) -> list[Path]:
     return found
 
 
-def run_case(path: Path, options: RunOptions) -> TestCase:
-    """Run one program (on the platform its directives choose when `options.platform` is None)."""
+def run_case(path: Path, options: RunOptions, named: bool = False) -> TestCase:
+    """Run one program (on the platform its directives choose when `options.platform` is None).
+    A program without `main` found in a folder is skipped (it may be a file others include);
+    one `named` on the command line is an error, since it was meant to run."""
     started = time.perf_counter()
     try:
         outcome = run_program(path, options)
@@ -51,7 +53,7 @@ def run_case(path: Path, options: RunOptions) -> TestCase:
         error = next(d for d in outcome.diagnostics if d.is_error)
         return TestCase(path, Verdict.ERROR, seconds, f"{error.code} at {error.span}: {error.message}", outcome)
     if outcome.check.model.main is None:
-        return TestCase(path, Verdict.SKIP, seconds, "no `procedure main()`", outcome)
+        return TestCase(path, Verdict.ERROR if named else Verdict.SKIP, seconds, "no `procedure main()`", outcome)
     result = outcome.result
     if result is None:
         first = next((d for d in outcome.diagnostics if d.is_error), None)
@@ -66,5 +68,6 @@ def run_case(path: Path, options: RunOptions) -> TestCase:
     return TestCase(path, Verdict.PASS, seconds, detail, outcome)
 
 
-def run_all(paths: Iterable[Path], options: RunOptions) -> list[TestCase]:
-    return [run_case(p, options) for p in paths]
+def run_all(paths: Iterable[Path], options: RunOptions, named: Collection[Path] = ()) -> list[TestCase]:
+    """Run each program; `named` are the files given by name (not found in a folder)."""
+    return [run_case(p, options, p in named) for p in paths]
