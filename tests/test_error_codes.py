@@ -180,6 +180,61 @@ CASES = [
         "action go() {}\nprocedure main() {\n    during(go()) {} on_fail {} on_fail {}\n}\n",
         E("E0021", 3, 32, "`on_fail` handler given twice"),
     ),
+    # ------------------------------------------------------------ legacy golog++ (E004x)
+    case(
+        "E0040-type-sigils-one-error-per-file",
+        "%fluent n() {\ninitially:\n    () = 0;\n}\n?function big(%x) = %x > n()\nprocedure main() { test(big(1)); }\n",
+        E(
+            "E0040",
+            1,
+            1,
+            "`%` before a name is the legacy way of writing a type",
+            "write the type names instead (`gpp explain E0040`)",
+        ),
+    ),
+    case(
+        "E0041-unquoted-mapping-name",
+        "action go() {\nmapping:\n    move_base {}\n}\nprocedure main() { go(); }\n",
+        E(
+            "E0041",
+            3,
+            5,
+            "the mapped name `move_base` is not quoted",
+            'write it as a string: `"move_base"` (`gpp explain E0041`)',
+        ),
+    ),
+    case(
+        "E0042-senses-without-assignment",
+        FLUENT_N + "action look() {\nsenses:\n    n();\n}\nprocedure main() { look(); }\n",
+        E("E0042", 7, 5, "`senses:` without `= ...` is legacy golog++", UNCHECKED),
+    ),
+    case(
+        "E0043-domain-section",
+        ROOMS + "action go(symbol r) {\ndomain:\n    r in Room;\n}\nprocedure main() { go(hall); }\n",
+        E("E0043", 3, 1, "a `domain:` section is legacy golog++", UNCHECKED),
+    ),
+    case(
+        "E0044-function-with-returns",
+        "number function one() {\n    return 1;\n}\nprocedure main() { test(one() == 1); }\n",
+        E(
+            "E0044",
+            1,
+            23,
+            "function `one` has a block body, which is legacy golog++",
+            "write `= 1` (`gpp explain E0044`)",
+        ),
+    ),
+    case(
+        "E0045-exog-function-with-body",
+        "number exog_function level() { }\nprocedure main() { test(level() > 0); }\n",
+        E(
+            "E0045",
+            1,
+            30,
+            "exogenous function `level` has a body, which is legacy golog++",
+            "end the declaration with `;` (`gpp explain E0045`)",
+        ),
+    ),
     # ------------------------------------------------------------ names (E01xx)
     case(
         "E0101-misspelled-symbol",

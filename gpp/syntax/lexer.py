@@ -180,6 +180,7 @@ _TOKEN_RE = re.compile(
     | (?P<punct>"""
     + _PUNCT_RE
     + r""")
+    | (?P<sigil>[?$\u00a7](?=[A-Za-z]))
     | (?P<open_string>")
     | (?P<eof>\Z)
     | (?P<bad>.)
@@ -266,6 +267,8 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
         elif kind == "include":
             ttype = "INCLUDE"
+        elif kind == "sigil":
+            ttype = "SIGIL"  # legacy `?function`, `$domain`, `§room`: gpp.syntax.legacy rewrites it
         elif kind == "open_comment":
             errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
             break
