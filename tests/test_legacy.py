@@ -105,3 +105,20 @@ def test_modern_remainder_and_unknown_characters_are_not_sigils(tmp_path: Path) 
     assert codes_of(path) == []
     path.write_text("procedure main() { ?; }\n")
     assert codes_of(path)[:1] == ["E0001"]
+
+
+def test_sigils_inside_a_rewritten_body_are_written_once(tmp_path: Path) -> None:
+    path = tmp_path / "old.gpp"
+    path.write_text(
+        "%fluent limit() {\ninitially:\n    () = 3;\n}\n"
+        "?function big(%x) {\n    if (%x > limit()) return true;\n    return false;\n}\n"
+        "%exog_function level(%x) {\n    return %x;\n}\n"
+        "procedure main() { test(big(level(5))); }\n"
+    )
+    diagnostics = merged_diagnostics(check_paths([path]))
+    assert [d.code for d in diagnostics] == ["E0040", "E0044", "E0045"]
+    fixed = apply_fixes(path.read_text(), diagnostics)
+    assert "bool function big(number x) = if (x > limit()) true else false\n" in fixed
+    assert "number exog_function level(number x) ;\n" in fixed
+    path.write_text(fixed)
+    assert codes_of(path) == []

@@ -141,6 +141,20 @@ class _Rewriter:
     def edit(self, start: int, end: int, text: str) -> diag.Edit:
         return diag.Edit(self.span(start, end), text)
 
+    def modern_text(self, start: int, end: int) -> str:
+        """The source text from `start` to `end` with the sigil edits inside it applied."""
+        text = self.text[start:end]
+        for offset in sorted((k for k in self.sigil_edits if start <= k < end), reverse=True):
+            e = self.sigil_edits[offset]
+            text = text[: e.span.start - start] + e.text + text[e.span.end - start :]
+        return text
+
+    def replaced(self, start: int, end: int) -> None:
+        """A fix replaces the text from `start` to `end` as a whole: the sigils inside it need no
+        edit of their own (their edits would overlap)."""
+        for offset in [k for k in self.sigil_edits if start <= k < end]:
+            del self.sigil_edits[offset]
+
     # ---------------------------------------------------------------- E0040 sigils
 
     def sigils(self, tokens: list[Token]) -> list[Token]:
@@ -344,7 +358,7 @@ class _Rewriter:
                     "the sensing result comes from an exogenous function: the platform answers it with the "
                     "action's result, whatever its name"
                 ],
-                help=f"write `senses: {self.text[where.start : where.end]} = {function}();` and declare "
+                help=f"write `senses: {self.modern_text(where.start, where.end)} = {function}();` and declare "
                 f"`{declaration.strip()}` (`gpp explain E0042`)",
                 fix=diag.Fix(
                     f"assign the result of a new exogenous function `{function}`",
@@ -439,8 +453,7 @@ class _Rewriter:
         fix = None
         if resolved:
             edits.append(self.edit(removal_start, removal_end, ""))
-            for offset in [k for k in self.sigil_edits if removal_start <= k < removal_end]:
-                del self.sigil_edits[offset]  # removed with the section
+            self.replaced(removal_start, removal_end)  # the section's sigils go with it
             fix = diag.Fix("type the parameters with their domains", tuple(edits))
         self.diagnostics.append(
             diag.error(
@@ -473,6 +486,7 @@ class _Rewriter:
             )
             return [_synthetic("EQ", "=", brace.start, brace.end), _synthetic("NULL", "null", brace.end)]
         new_tokens, text = converted
+        self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
                 "E0044",
@@ -494,7 +508,7 @@ class _Rewriter:
             expr = body[1:-1]
             if any(t.type == "SEMI" for t in expr):
                 return None
-            return expr, self.text[expr[0].start : expr[-1].end]
+            return expr, self.modern_text(expr[0].start, expr[-1].end)
         if body and body[0].type == "IF" and len(body) > 3 and body[1].type == "LPAR":
             close = self.close_paren(body, 1)
             if close is None:
@@ -515,7 +529,7 @@ class _Rewriter:
                 at = then_tokens[0].start
                 then_tokens = [_synthetic("LPAR", "(", at), *then_tokens, _synthetic("RPAR", ")", then_tokens[-1].end)]
                 then_text = f"({then_text})"
-            c = self.text[condition[0].start : condition[-1].end]
+            c = self.modern_text(condition[0].start, condition[-1].end)
             tokens = [body[0], body[1], *condition, body[close], *then_tokens]
             tokens += [_synthetic("ELSE", "else", then_tokens[-1].end), *otherwise[0]]
             return tokens, f"if ({c}) {then_text} else {otherwise[1]}"
@@ -555,6 +569,7 @@ class _Rewriter:
     def exog_function_body(self, tokens: list[Token], open_: int, close: int, name: str) -> Token:
         brace = tokens[open_]
         whole = self.span(brace.start, tokens[close].end)
+        self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
                 "E0045",
