@@ -143,3 +143,17 @@ def test_the_run_log_the_trace_and_its_views_show_golog_values(
     assert viewer in html  # so that only the page's data is left to look at
     for text in (run.stdout, summary, html.replace(viewer, "")):
         assert PYTHON_ISMS.findall(text) == []
+
+
+def test_a_bad_horizon_is_shown_as_golog_writes_it(tmp_path: Path) -> None:
+    from gpp.runner import RunOptions, run_program
+
+    path = tmp_path / "horizon.gpp"
+    path.write_text(
+        "number fluent h() {\ninitially:\n    () = null;\n}\naction go() { }\n"
+        "number function r() = 0\nprocedure main() { solve(h(), r()) go(); }\n"
+    )
+    outcome = run_program(path, RunOptions(timeout=60))
+    assert [(d.code, d.message) for d in outcome.diagnostics if d.is_error] == [
+        ("R0010", "the horizon of `solve` must be a whole number >= 0, got null")
+    ]
