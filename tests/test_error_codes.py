@@ -171,6 +171,17 @@ CASES = [
         ),
     ),
     case(
+        "E0014-nesting-too-deep",
+        "bool function deep() =\n" + "!" * 2_000 + "true\n",
+        E(
+            "E0014",
+            2,
+            2_001,
+            "this expression nests more than 2000 levels deep",
+            "move the inner part into a function or procedure of its own, or split the chain",
+        ),
+    ),
+    case(
         "E0020-duplicate-section",
         "action go() {\nprecondition: true\nprecondition: false\n}\n",
         E("E0020", 3, 1, "section `precondition:` appears twice", "merge the two `precondition:` sections into one"),

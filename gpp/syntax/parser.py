@@ -23,6 +23,7 @@ from gpp.perf import paused_gc
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
+from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
 from gpp.syntax.legacy import modernize
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
 from gpp.syntax.tables import Tables, first_sets, load_tables
@@ -40,19 +41,21 @@ class ParseResult:
 
 
 def parse(source: Source) -> ParseResult:
-    """Parse one file. Always returns a Program (partial after syntax errors)."""
+    """Parse one file. Always returns a Program (partial after syntax errors), which nests at
+    most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014)."""
     with paused_gc():
         tokens, lex_errors = tokenize(source)
         tokens, legacy_errors = modernize(source, tokens)
         parser = _Parser(source, tokens, load_tables())
         parser.quiet_after_lex_errors([e.start for e in lex_errors if e.dropped])
-        program = parser.run()
+        program, too_deep = limit_nesting(parser.run(), tokens)
     diagnostics = [
         diag.error(e.code, e.message, Span(source, e.start, e.end), e.label, help=e.help or None) for e in lex_errors
     ]
     diagnostics.extend(legacy_errors)
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
+    diagnostics.extend(too_deep)
     diagnostics.sort(key=diag.Diagnostic.sort_key)
     return ParseResult(program, diagnostics, tokens)
 
@@ -308,6 +311,7 @@ class _Parser:
             for r in t.rules
         ]
         unit_cache = self.unit_cache
+        max_stack = MAX_OPEN
         ss: list[int] = [t.start_state]
         vs: list[Any] = []
         tokens = self.tokens
@@ -323,6 +327,12 @@ class _Parser:
                 i = recovered
                 continue
             if x >= 0:
+                if len(ss) > max_stack:
+                    resumed = self.skip_too_deep(i, ss, vs)
+                    if resumed is None:
+                        return self.partial_program(vs)
+                    i = resumed
+                    continue
                 ss.append(x)
                 vs.append(tok)
                 i += 1
@@ -580,6 +590,43 @@ class _Parser:
             if tokens[j].type == "$END":
                 return None
         return None
+
+    def skip_too_deep(self, i: int, ss: list[int], vs: list[Any]) -> int | None:
+        """More than MAX_OPEN constructs are open at token i: report E0014 there and leave out
+        the rest of the declaration, so that its tree is never built. Parsing goes on at the
+        next declaration outside all brackets (found in one forward scan)."""
+        self.report(i, too_deep_error(self.span(self.tokens[i])))
+        open_before = self.brackets()
+        original = self.original
+        j = self.file_index(i) + 1
+        while original[j].type != "$END" and not (open_before[j] < 0 and self.starts_declaration(j)):
+            j += 1
+        del self.tokens[i:]
+        self.tokens.extend(original[j:])
+        ahead = self.lookahead(i, 3)
+        for depth in range(len(ss), 0, -1):
+            if self.simulate(ss, ahead, height=depth):
+                del ss[depth:]
+                del vs[depth - 1 :]
+                self.quiet_until = max(self.quiet_until, i + 2)
+                return i
+        return None
+
+    def starts_declaration(self, j: int) -> bool:
+        """Can token j of the file (outside all brackets) begin a declaration?"""
+        t = self.original[j]
+        if t.type in self.sets.declaration_start or t.type == "INCLUDE":
+            return True
+        if t.type in self.sets.type_start:
+            following = self.original[j + 1].type
+            if following in self.sets.typed_declaration:
+                return True
+            if following == "LBRACKET" and t.type == "LIST":
+                return self.line_of(t.start) > self.line_of(self.original[j - 1].end)
+        return False
+
+    def line_of(self, offset: int) -> int:
+        return self.source.line_col(offset)[0]
 
     def recover_at_end(self, i: int, ss: list[int], expected: set[str]) -> int | None:
         """End of file inside a declaration: say what is open, then close it."""
