@@ -122,3 +122,26 @@ def test_sigils_inside_a_rewritten_body_are_written_once(tmp_path: Path) -> None
     assert "number exog_function level(number x) ;\n" in fixed
     path.write_text(fixed)
     assert codes_of(path) == []
+
+
+def test_damaged_legacy_files_give_diagnostics_and_fixes_that_do_not_overlap(tmp_path: Path) -> None:
+    import random
+
+    rng = random.Random(7)
+    samples = [(LEGACY / name).read_text() for name in ("forms.gpp", "sigils.gpp")]
+    path = tmp_path / "damaged.gpp"
+    for _ in range(20):
+        parts = rng.choice(samples).split(" ")
+        for _ in range(rng.randint(1, 5)):  # delete, repeat or swap words
+            k, j = rng.randrange(len(parts)), rng.randrange(len(parts))
+            action = rng.choice(("delete", "repeat", "swap"))
+            if action == "delete" and len(parts) > 1:
+                del parts[k]
+            elif action == "repeat":
+                parts.insert(k, parts[j])
+            else:
+                parts[k], parts[j] = parts[j], parts[k]
+        path.write_text(" ".join(parts))
+        diagnostics = merged_diagnostics(check_paths([path]))  # no internal error
+        assert diagnostics, " ".join(parts)
+        apply_fixes(path.read_text(), [d for d in diagnostics if d.code.startswith("E004")])
