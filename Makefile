@@ -55,6 +55,7 @@ browser:
 test: browser lint typecheck pytest
 
 bench: $(VENV)/.installed
+	$(BIN)/python bench/startup.py
 	$(BIN)/python bench/parse_speed.py
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py

@@ -1,31 +1,118 @@
-"""The work of `gpp check` (the options are declared in gpp.cli): the project's files and
-settings, checking, `--fix` and `--diff`. Also the shared handling of a bad configuration file."""
+"""`gpp check`: parse and type-check programs and report every problem; also the project's
+files and settings, `--fix` and `--diff`, and the shared handling of a bad configuration file.
+
+This command is started by editors and CI on every save, so it is kept cheap to start: its
+options are parsed with argparse and nothing is imported that a check does not use (no typer,
+no rich unless colour is asked for, no interpreter, planner or platform). gpp.cli hands it the
+arguments after `check`; tests/test_cli.py checks the modules a check imports.
+"""
 
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
-import typer
+from gpp.cli import (
+    EXIT_OK,
+    EXIT_PROBLEMS,
+    EXIT_USAGE,
+    ColorMode,
+    OutputFormat,
+    _did_you_mean,
+    _emit_diagnostics,
+    _require_readable,
+    _usage_error,
+)
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
     from gpp.check.fixes import Checker
-    from gpp.cli import ColorMode, OutputFormat
     from gpp.config import Config, ConfigError
     from gpp.diagnostics import Diagnostic
+
+DESCRIPTION = (
+    "Parse PATHs and everything they include, and report the problems found. Settings come from the "
+    "nearest gpp.toml or pyproject.toml [tool.gpp] (see `gpp config`)."
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]  # argparse's is NoReturn too
+        self.print_usage()
+        _usage_error(message)
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="gpp check", description=DESCRIPTION)
+    parser.add_argument(
+        "files",
+        nargs="*",
+        type=Path,
+        metavar="PATH",
+        help="the .gpp files or folders (searched for *.gpp) to check, with their includes "
+        "(default: the project's `paths`, else the working directory)",
+    )
+    parser.add_argument(
+        "--format",
+        dest="output_format",
+        choices=[f.value for f in OutputFormat],
+        default=OutputFormat.TEXT.value,
+        help="write diagnostics as text, a line each (concise), GitHub annotations, one JSON document, or SARIF 2.1.0",
+    )
+    parser.add_argument(
+        "--color",
+        choices=[c.value for c in ColorMode],
+        default=ColorMode.AUTO.value,
+        help="colour the text output: auto (when a terminal), always, never",
+    )
+    parser.add_argument("--no-lint", action="store_true", help="report errors only, no lint warnings")
+    parser.add_argument(
+        "--allow",
+        action="append",
+        metavar="LINT",
+        default=[],
+        help="do not report this lint (a code such as W0101, or its name); repeatable",
+    )
+    parser.add_argument("--deny-warnings", action="store_true", help="exit with status 1 when there are warnings, too")
+    parser.add_argument("--list-lints", action="store_true", help="list the lints and exit")
+    parser.add_argument(
+        "--fix", action="store_true", help="apply every safe fix to the files, then report what remains"
+    )
+    parser.add_argument(
+        "--diff", action="store_true", help="show the safe fixes as a unified diff without writing (exit 1 if any)"
+    )
+    return parser
+
+
+def check(argv: Sequence[str]) -> int:
+    """Run `gpp check` with the arguments after `check`; the exit code."""
+    options = _parser().parse_args(list(argv))
+    if options.list_lints:
+        _print_lints()
+        return EXIT_OK
+    allowed = [_lint_code(a) for a in options.allow]
+    return run_check(
+        options.files,
+        OutputFormat(options.output_format),
+        ColorMode(options.color),
+        lint=not options.no_lint,
+        allowed=allowed,
+        deny_warnings=options.deny_warnings,
+        fix=options.fix,
+        diff=options.diff,
+    )
 
 
 def config_error(e: ConfigError) -> NoReturn:
     """A bad configuration file: its diagnostic on stderr, exit status 2."""
-    from gpp.cli import EXIT_USAGE
     from gpp.render import render_text
 
     sys.stderr.write(render_text([e.diagnostic], summary=False))
-    raise typer.Exit(EXIT_USAGE)
+    raise SystemExit(EXIT_USAGE)
 
 
 def load_config(start: Path) -> Config:
@@ -48,9 +135,9 @@ def run_check(
     deny_warnings: bool,
     fix: bool,
     diff: bool,
-) -> NoReturn:
+) -> int:
+    """Check the files (or the project), fixing first with `fix`/`diff`; the exit code."""
     from gpp.check import check_loaded, merged_diagnostics
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, OutputFormat, _emit_diagnostics, _require_readable, _usage_error
     from gpp.config import ConfigError, project_files
     from gpp.syntax.loader import load
 
@@ -94,7 +181,7 @@ def run_check(
         print(fixed, file=sys.stdout if to_stdout else sys.stderr, flush=True)
     strict = deny_warnings or any(c.deny_warnings for c in configs.values())
     failed = any(d.is_error or strict for d in diagnostics)
-    raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
+    return EXIT_PROBLEMS if failed else EXIT_OK
 
 
 # Lints about what a program uses of a library: each program sees its own part of the library.
@@ -165,7 +252,6 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
     empty). The final check, and the line that says what was fixed."""
     from gpp.check import merged_diagnostics
     from gpp.check.fixes import fix_programs, unified_diff, write_atomically
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS
 
     outcome = fix_programs(paths, checker)
     changed = outcome.changed()
@@ -174,7 +260,7 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
         sys.stdout.write(unified_diff(outcome))
         sys.stdout.flush()
         print(f"would fix {_problems(outcome.applied)} in {files}", file=sys.stderr)
-        raise typer.Exit(EXIT_PROBLEMS if changed else EXIT_OK)
+        raise SystemExit(EXIT_PROBLEMS if changed else EXIT_OK)
     for path in changed:
         write_atomically(path, outcome.fixed[path])
     remaining = len(merged_diagnostics(outcome.results))
@@ -185,3 +271,25 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
 
 def _problems(n: int) -> str:
     return f"{n} problem" + ("" if n == 1 else "s")
+
+
+def _lint_code(code_or_name: str) -> str:
+    """The code of a lint given by code or name, or a usage error."""
+    from gpp import codes
+
+    info = codes.lookup(code_or_name)
+    if info is None:
+        _usage_error(f"unknown lint `{code_or_name}`" + _did_you_mean(codes.close_matches(code_or_name, lints=True)))
+    if not info.is_lint:
+        _usage_error(f"`{info.code}` is an error, not a lint: only lints can be allowed")
+    return info.code
+
+
+def _print_lints() -> None:
+    from gpp import codes
+
+    rows = [(c.code, c.name, c.summary) for c in codes.lints()]
+    width = max(len(name) for _, name, _ in rows)
+    print(f"{'code':<7}{'name':<{width + 2}}summary")
+    for code, name, summary in rows:
+        print(f"{code:<7}{name:<{width + 2}}{summary}")

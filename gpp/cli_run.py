@@ -300,7 +300,8 @@ def test_command(
         allow=config.disabled_lints(),
     )
     try:
-        cases = run_all(files, options, jobs=jobs, stop_at_first_failure=exitfirst)
+        named = [_shown(p) for p in targets if not p.is_dir()]
+        cases = run_all(files, options, jobs=jobs, stop_at_first_failure=exitfirst, named=named)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         raise typer.Exit(EXIT_USAGE) from None

@@ -34,6 +34,7 @@ _CODES: list[CodeInfo] = [
     CodeInfo("E0002", "unterminated", "a string literal or block comment that is never closed"),
     CodeInfo("E0003", "underscore-name", "a name that starts with '_'"),
     CodeInfo("E0004", "number-too-large", "a number literal beyond the range of numbers (about ±1.8e308)"),
+    CodeInfo("E0005", "non-ascii-name", "a name with letters outside ASCII (names are ASCII in golog++)"),
     CodeInfo("E0010", "unexpected-token", "a token where the grammar does not allow it"),
     CodeInfo("E0011", "missing-semicolon", "a statement or declaration that is not ended by ';'"),
     CodeInfo("E0012", "unexpected-eof", "the file ends inside a declaration"),
@@ -41,6 +42,12 @@ _CODES: list[CodeInfo] = [
     CodeInfo("E0014", "nesting-too-deep", "a declaration nested more than 2,000 levels deep"),
     CodeInfo("E0020", "duplicate-section", "an action section (`effect:`, ...) given twice"),
     CodeInfo("E0021", "duplicate-handler", "a `during` handler given twice"),
+    CodeInfo("E0040", "legacy-type-sigil", "a type written as a sigil (`%fluent`, `?function`, `§x`): legacy golog++"),
+    CodeInfo("E0041", "legacy-mapping-name", "an unquoted mapped name (`move_base { ... }`): legacy golog++"),
+    CodeInfo("E0042", "legacy-senses", "`senses: f()` without an assignment: legacy golog++"),
+    CodeInfo("E0043", "legacy-domain-section", "a `domain:` section restricting parameters: legacy golog++"),
+    CodeInfo("E0044", "legacy-function-body", "a function with a block body of `return`s: legacy golog++"),
+    CodeInfo("E0045", "legacy-exog-function-body", "an `exog_function` with a body: legacy golog++"),
     CodeInfo("E0030", "include-not-found", "an `#include` whose file cannot be found or read"),
     CodeInfo("E0031", "include-cycle", "files that include each other"),
     # ---------------------------------------------------------------- names
@@ -160,6 +167,154 @@ Write a number within the range:
     procedure main() {
         limit() = limit() - 1;
     }
+""",
+    "E0005": """
+Names in golog++ (of fluents, actions, procedures, parameters, symbols, ...) are written in
+ASCII: letters `a`-`z` and `A`-`Z`, digits and `_`. Strings and comments may hold any text.
+gpp reports each such name once, at its first appearance, and checks the rest of the program
+with the name as written, so its uses are not reported again.
+
+For example:
+
+    number fluent größe() { initially: () = 1; }
+    procedure main() {
+        größe() = größe() + 1;
+    }
+
+Rename it everywhere it is used:
+
+    number fluent groesse() { initially: () = 1; }
+    procedure main() {
+        groesse() = groesse() + 1;
+    }
+""",
+    "E0040": """
+Early golog++ (2018) wrote types as a sign before a name: `%` for `number`, `?` for `bool`,
+`$` for `string` and `§` for `symbol`, on declarations (`%fluent`, `?function`,
+`§domain`), on parameters (`§r`) and on the parameters' uses (`count(§r)`). golog++ writes
+types as words. gpp reports all the signs of a file as one error, whose fix writes the type
+words and drops the signs before uses (`gpp check` then checks the file as if it had).
+
+For example:
+
+    §domain rooms = {kitchen, hall}
+    %fluent count(§r) {
+    initially:
+        (§r) = 0;
+    }
+    ?function busy(§r) = count(§r) > 1
+    procedure main() { test(!busy(hall)); }
+
+Write the types as words:
+
+    symbol domain rooms = {kitchen, hall}
+    number fluent count(symbol r) {
+    initially:
+        (r) = 0;
+    }
+    bool function busy(symbol r) = count(r) > 1
+    procedure main() { test(!busy(hall)); }
+""",
+    "E0041": """
+The name an action is mapped to is a string, so that it can be any name of the platform
+(`"/move_base"`, `"speech"`). Older agents wrote a bare name.
+
+For example:
+
+    action go(number x) {
+    mapping:
+        move_base { goal = x }
+    }
+    procedure main() { go(1); }
+
+Quote the name:
+
+    action go(number x) {
+    mapping:
+        "move_base" { goal = x }
+    }
+    procedure main() { go(1); }
+""",
+    "E0042": """
+Older golog++ wrote `senses: f();` to put the result of an action into the fluent `f`.
+golog++ assigns the fluent, and the value comes from an exogenous function: the platform
+answers the exogenous function of a `senses:` section with the action's result, whatever the
+function is called. The fix declares one, `sensed_f`, of the fluent's type.
+
+For example:
+
+    number fluent temperature() { initially: () = 0; }
+    action read_thermometer() {
+    senses:
+        temperature();
+    }
+    procedure main() { read_thermometer(); }
+
+Assign the result of an exogenous function:
+
+    number fluent temperature() { initially: () = 0; }
+    number exog_function sensed_temperature();
+    action read_thermometer() {
+    senses:
+        temperature() = sensed_temperature();
+    }
+    procedure main() { read_thermometer(); }
+""",
+    "E0043": """
+Early golog++ restricted a parameter to a domain with a `domain:` section
+(`domain: r in rooms;`). golog++ gives the parameter the domain as its type instead: a
+domain is a type.
+
+For example:
+
+    symbol domain Room = {kitchen, hall}
+    action go(symbol r) {
+    domain:
+        r in Room;
+    }
+    procedure main() { go(kitchen); }
+
+Type the parameter with the domain:
+
+    symbol domain Room = {kitchen, hall}
+    action go(Room r) {
+    }
+    procedure main() { go(kitchen); }
+""",
+    "E0044": """
+Early golog++ functions had a block body with `return` statements. A golog++ function is one
+expression after `=`; a choice between values is a conditional expression,
+`if (c) a else b`. The fix rewrites bodies made of `return`s and `if`/`else`; other bodies
+(loops, assignments) have to be rewritten by hand, perhaps as a procedure.
+
+For example:
+
+    number function sign(number x) {
+        if (x < 0)
+            return -1;
+        return 1;
+    }
+    procedure main() { test(sign(-5) == -1); }
+
+Write the body as one expression:
+
+    number function sign(number x) = if (x < 0) -1 else 1
+    procedure main() { test(sign(-5) == -1); }
+""",
+    "E0045": """
+An exogenous function is answered by the platform (a scenario, the simulator, a robot's
+service), so it is only declared. Older agents gave it a body.
+
+For example:
+
+    number exog_function battery() {
+    }
+    procedure main() { test(battery() >= 0); }
+
+End the declaration with `;`:
+
+    number exog_function battery();
+    procedure main() { test(battery() >= 0); }
 """,
     "E0002": """
 A string literal must be closed by `"` on the same line, and a block comment `/* ... */`
@@ -666,8 +821,9 @@ Compare the fields:
 """,
     "E0210": """
 `exists`, `forall` and a `pick` without `in {...}` try every value of the variable's type,
-so the type must be finite: a domain or `bool`. Over `number` or `string`, list the values
-with `pick (number n in {1, 2, 3})` or declare a domain.
+so the type must be finite: a domain, `bool`, or `symbol` (whose values are the symbols the
+program's domains declare). Over `number` or `string`, list the values with
+`pick (number n in {1, 2, 3})` or declare a domain.
 
 For example:
 

@@ -6,7 +6,7 @@ event, so logs and CI output stay readable."""
 from __future__ import annotations
 
 from collections import deque
-from typing import TYPE_CHECKING, Any, Protocol, TextIO, assert_never
+from typing import TYPE_CHECKING, Protocol, TextIO, assert_never
 
 from gpp.runtime.events import (
     AssignEvent,
@@ -25,6 +25,7 @@ from gpp.runtime.events import (
     UpdateEvent,
     WaitingEvent,
 )
+from gpp.runtime.values import show_json
 
 if TYPE_CHECKING:
     from rich.console import Console, RenderableType
@@ -47,11 +48,13 @@ def describe(event: TraceEvent) -> str | None:
             return f"update {event.action} {event.status}" + (f" ({event.reason})" if event.reason else "")
         case ExogEvent():
             suffix = " (its precondition was false)" if event.precondition is False else ""
+            if event.failed:
+                suffix += " (its effect failed)"
             return f"exog   {event.action}{suffix}"
         case SenseEvent():
-            return f"sense  {event.fluent} = {_show(event.value)} (by {event.action})"
+            return f"sense  {event.fluent} = {show_json(event.value)} (by {event.action})"
         case AssignEvent():
-            return f"assign {event.fluent} = {_show(event.value)}"
+            return f"assign {event.fluent} = {show_json(event.value)}"
         case CancelEvent():
             return f"cancel {event.action}" + (f" ({event.reason})" if event.reason else "")
         case PlanEvent() | ReplanEvent():
@@ -74,18 +77,6 @@ def describe(event: TraceEvent) -> str | None:
             return None
         case _:
             assert_never(event)
-
-
-def _show(value: Any) -> str:
-    if isinstance(value, dict) and "symbol" in value:
-        return str(value["symbol"])
-    if isinstance(value, str):
-        return f'"{value}"'
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if value is None:
-        return "null"
-    return str(value)
 
 
 class RunView(Protocol):

@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 import time
 import xml.etree.ElementTree as ET
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from enum import Enum
 from pathlib import Path
@@ -54,8 +54,10 @@ def discover(paths: Sequence[Path]) -> list[Path]:
     return found
 
 
-def run_case(path: Path, options: RunOptions) -> TestCase:
-    """Run one program (on the platform its directives choose when `options.platform` is None)."""
+def run_case(path: Path, options: RunOptions, named: bool = False) -> TestCase:
+    """Run one program (on the platform its directives choose when `options.platform` is None).
+    A program without `main` found in a folder is skipped (it may be a file others include);
+    one `named` on the command line is an error, since it was meant to run."""
     started = time.perf_counter()
     try:
         outcome = run_program(path, options)
@@ -66,7 +68,7 @@ def run_case(path: Path, options: RunOptions) -> TestCase:
         error = next(d for d in outcome.diagnostics if d.is_error)
         return TestCase(path, Verdict.ERROR, seconds, f"{error.code} at {error.span}: {error.message}", outcome)
     if outcome.check.model.main is None:
-        return TestCase(path, Verdict.SKIP, seconds, "no `procedure main()`", outcome)
+        return TestCase(path, Verdict.ERROR if named else Verdict.SKIP, seconds, "no `procedure main()`", outcome)
     result = outcome.result
     if result is None:
         first = next((d for d in outcome.diagnostics if d.is_error), None)
@@ -88,26 +90,28 @@ def run_all(
     jobs: int = 1,
     stop_at_first_failure: bool = False,
     on_case: Callable[[TestCase], None] | None = None,
+    named: Collection[Path] = (),
 ) -> list[TestCase]:
     """Run the programs in order, or in `jobs` worker processes at once (the results come back
     in the order of `paths` either way). `stop_at_first_failure`: no program is started after
-    one failed (with several jobs, those already running finish)."""
+    one failed (with several jobs, those already running finish). `named`: the programs given
+    by name on the command line (not found in a folder)."""
     paths = list(paths)
     if jobs <= 1 or len(paths) <= 1:
         cases: list[TestCase] = []
         for p in paths:
-            cases.append(run_case(p, options))
+            cases.append(run_case(p, options, p in named))
             if on_case is not None:
                 on_case(cases[-1])
             if stop_at_first_failure and cases[-1].failed:
                 break
         return cases
-    return list(_run_parallel(paths, options, jobs, stop_at_first_failure, on_case))
+    return list(_run_parallel(paths, options, jobs, stop_at_first_failure, on_case, named))
 
 
-def _run_detached(path: Path, options: RunOptions) -> TestCase:
+def _run_detached(path: Path, options: RunOptions, named: bool) -> TestCase:
     """`run_case` in a worker process: the outcome (interpreter state, platform) stays there."""
-    return replace(run_case(path, options), outcome=None)
+    return replace(run_case(path, options, named), outcome=None)
 
 
 def _run_parallel(
@@ -116,13 +120,14 @@ def _run_parallel(
     jobs: int,
     stop_at_first_failure: bool,
     on_case: Callable[[TestCase], None] | None,
+    named: Collection[Path],
 ) -> Iterator[TestCase]:
     from concurrent.futures import Future, ProcessPoolExecutor
 
     # The platform's default start method (fork on Linux: the workers start with gpp loaded;
     # nothing has run in this process yet, so there is no thread to lose).
     with ProcessPoolExecutor(max_workers=min(jobs, len(paths))) as pool:
-        futures: list[Future[TestCase]] = [pool.submit(_run_detached, p, options) for p in paths]
+        futures: list[Future[TestCase]] = [pool.submit(_run_detached, p, options, p in named) for p in paths]
         stopped = False
         for future in futures:
             if stopped:

@@ -89,7 +89,7 @@ def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, s
     ("data", "message"),
     [
         ({"actions": []}, "unknown section(s) actions (known: action, defaults, exog, exog_function)"),
-        ({"action": [{"match": "go(hall)", "outcome": "crash"}]}, "outcome must be final, fail or cancel, not 'crash'"),
+        ({"action": [{"match": "go(hall)", "outcome": "crash"}]}, 'outcome must be final, fail or cancel, not "crash"'),
         ({"action": [{"match": "go(hall"}]}, "pattern 'go(hall' must look like"),
         ({"action": [{"match": "go(a b)"}]}, "pattern 'go(a b)' must look like"),
         ({"action": [{"match": "1go"}]}, "pattern '1go' must look like"),
@@ -97,14 +97,14 @@ def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, s
         ({"action": [{"outcome": "fail"}]}, '`match = "name(args)"` is required'),
         ({"action": [{"match": "go(*)", "outcom": "fail"}]}, "unknown key(s) outcom (known: duration, match"),
         ({"action": [{"match": "go(*)", "times": 0}]}, "times must be a whole number >= 1, not 0"),
-        ({"action": [{"match": "go(*)", "times": "2"}]}, "times must be a whole number >= 1, not '2'"),
+        ({"action": [{"match": "go(*)", "times": "2"}]}, 'times must be a whole number >= 1, not "2"'),
         (
             {"action": [{"match": "go(*)", "duration": -1}]},
             "duration must be a number of seconds from 0 to 1e9, not -1",
         ),
-        ({"action": [{"match": "go(*)", "duration": "slow"}]}, "must be a number of seconds from 0 to 1e9, not 'slow'"),
+        ({"action": [{"match": "go(*)", "duration": "slow"}]}, 'must be a number of seconds from 0 to 1e9, not "slow"'),
         ({"action": {"match": "go(*)"}}, "`action` must be an array of tables, written [[action]]"),
-        ({"defaults": {"duration": True}}, "[defaults] duration must be a number of seconds from 0 to 1e9, not True"),
+        ({"defaults": {"duration": True}}, "[defaults] duration must be a number of seconds from 0 to 1e9, not true"),
         ({"defaults": {"speed": 1}}, "[defaults]: unknown key(s) speed"),
         (
             {"defaults": {"duration": math.nan}},
@@ -123,7 +123,7 @@ def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, s
             "[[exog]] #1 at must be a number of seconds from 0 to 1e9, not a whole number of 401 digits",
         ),
         ({"exog": [{"action": "bell"}]}, '`at = <seconds>` and `action = "name"` are required'),
-        ({"exog": [{"at": 1, "action": "bell", "args": "ann"}]}, "args must be a list of values, not 'ann'"),
+        ({"exog": [{"at": 1, "action": "bell", "args": "ann"}]}, 'args must be a list of values, not "ann"'),
         ({"exog": [{"at": 1, "action": "ring the bell"}]}, "action must be the name of an exogenous action"),
         ({"exog_function": [{"name": "name"}]}, "`name` and `value` (or `values = [...]`) are required"),
         ({"exog_function": [{"name": "name", "values": []}]}, "values must be a non-empty list of answers"),
@@ -412,7 +412,7 @@ def test_exog_function_used_by_the_program_is_asked_each_time() -> None:
 def test_to_value_converts_toml_values_to_golog_values() -> None:
     assert to_value("kitchen", None) == "kitchen"
     assert to_value({"null": True}, NUMBER) is None
-    with pytest.raises(ConversionError, match="expected a number, got True"):
+    with pytest.raises(ConversionError, match="expected a number, got true"):
         to_value(True, NUMBER)
 
 

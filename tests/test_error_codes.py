@@ -105,6 +105,30 @@ CASES = [
         E("E0004", 6, 12, "number literal is too large"),
     ),
     case(
+        "E0005-non-ascii-name-once-per-name",
+        "number fluent größe() {\ninitially:\n    () = 0;\n}\nprocedure main() {\n"
+        "    größe() = größe() + 1;\n    pick (number ñ in {1, 2}) größe() = ñ;\n}\n",
+        E(
+            "E0005",
+            1,
+            15,
+            "the name `größe` has letters outside ASCII",
+            "rename it, for example to `grosse` (everywhere it is used)",
+        ),
+        E(
+            "E0005",
+            7,
+            18,
+            "the name `ñ` has letters outside ASCII",
+            "rename it, for example to `n` (everywhere it is used)",
+        ),
+    ),
+    case(
+        "E0005-non-ascii-name-without-ascii-spelling",
+        "action 移動() {}\nprocedure main() {\n    移動();\n}\n",
+        E("E0005", 1, 8, "the name `移動` has letters outside ASCII", None),
+    ),
+    case(
         "E0010-assignment-for-comparison",
         FLUENT_N + "procedure main() {\n    if (n() = 1) {}\n}\n",
         E("E0010", 6, 13, "expected one of an operator or `)`, found `=`", "to compare two values write `==`"),
@@ -166,6 +190,61 @@ CASES = [
         "E0021-duplicate-handler",
         "action go() {}\nprocedure main() {\n    during(go()) {} on_fail {} on_fail {}\n}\n",
         E("E0021", 3, 32, "`on_fail` handler given twice"),
+    ),
+    # ------------------------------------------------------------ legacy golog++ (E004x)
+    case(
+        "E0040-type-sigils-one-error-per-file",
+        "%fluent n() {\ninitially:\n    () = 0;\n}\n?function big(%x) = %x > n()\nprocedure main() { test(big(1)); }\n",
+        E(
+            "E0040",
+            1,
+            1,
+            "`%` before a name is the legacy way of writing a type",
+            "write the type names instead (`gpp explain E0040`)",
+        ),
+    ),
+    case(
+        "E0041-unquoted-mapping-name",
+        "action go() {\nmapping:\n    move_base {}\n}\nprocedure main() { go(); }\n",
+        E(
+            "E0041",
+            3,
+            5,
+            "the mapped name `move_base` is not quoted",
+            'write it as a string: `"move_base"` (`gpp explain E0041`)',
+        ),
+    ),
+    case(
+        "E0042-senses-without-assignment",
+        FLUENT_N + "action look() {\nsenses:\n    n();\n}\nprocedure main() { look(); }\n",
+        E("E0042", 7, 5, "`senses:` without `= ...` is legacy golog++", UNCHECKED),
+    ),
+    case(
+        "E0043-domain-section",
+        ROOMS + "action go(symbol r) {\ndomain:\n    r in Room;\n}\nprocedure main() { go(hall); }\n",
+        E("E0043", 3, 1, "a `domain:` section is legacy golog++", UNCHECKED),
+    ),
+    case(
+        "E0044-function-with-returns",
+        "number function one() {\n    return 1;\n}\nprocedure main() { test(one() == 1); }\n",
+        E(
+            "E0044",
+            1,
+            23,
+            "function `one` has a block body, which is legacy golog++",
+            "write `= 1` (`gpp explain E0044`)",
+        ),
+    ),
+    case(
+        "E0045-exog-function-with-body",
+        "number exog_function level() { }\nprocedure main() { test(level() > 0); }\n",
+        E(
+            "E0045",
+            1,
+            30,
+            "exogenous function `level` has a body, which is legacy golog++",
+            "end the declaration with `;` (`gpp explain E0045`)",
+        ),
     ),
     # ------------------------------------------------------------ names (E01xx)
     case(
@@ -543,7 +622,7 @@ CASES = [
     case(
         "E0210-exists-over-string",
         'bool function f() = exists(string s) s == "a"\n',
-        E("E0210", 1, 28, "`exists` over `string` cannot be evaluated", "quantify over a domain (or bool)"),
+        E("E0210", 1, 28, "`exists` over `string` cannot be evaluated", "quantify over a domain, `bool` or `symbol`"),
     ),
     case(
         "E0211-branch-types",

@@ -41,3 +41,16 @@ def test_explicit_platform_applies_to_every_program() -> None:
     result = gpp("test", "--platform", "dummy", "examples/blocksworld.gpp")
     assert result.returncode == 1
     assert "sensed_location" in result.stdout
+
+
+def test_a_named_program_without_main_fails_and_one_found_in_a_folder_is_skipped(tmp_path: Path) -> None:
+    library = tmp_path / "lib"
+    library.mkdir()
+    (library / "helpers.gpp").write_text("number function twice(number x) = 2 * x\n")
+    named = gpp("test", "lib/helpers.gpp", cwd=tmp_path)
+    assert named.returncode == 1, named.stdout + named.stderr
+    assert "error[R0008]: the program has no `procedure main()` to run" in named.stdout
+    assert named.stdout.strip().splitlines()[-1] == "0 passed, 1 failed"
+    found = gpp("test", "lib", cwd=tmp_path)
+    assert found.returncode == 0, found.stdout + found.stderr
+    assert found.stdout.strip().splitlines()[-1] == "0 passed, 0 failed, 1 skipped"

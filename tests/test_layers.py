@@ -42,6 +42,7 @@ LAYERS: list[tuple[str, set[str]]] = [
         "commands",
         {
             "gpp.cli",
+            "gpp.cli_app",
             "gpp.cli_run",
             "gpp.cli_trace",
             "gpp.cli_check",

@@ -19,7 +19,7 @@ import pytest
 from typer.testing import CliRunner, Result
 
 from gpp.check import check_text
-from gpp.cli import app
+from gpp.cli_app import app
 from gpp.config import ConfigError, config_for, find_config_file, load_config, project_files
 
 # Line 5 has a misspelled symbol with one close name (a safe fix); `idle` is unused.

@@ -316,3 +316,42 @@ def test_missing_parenthesis_after_if_is_one_error() -> None:
     d = single(result)
     assert (d.code, d.span.line, d.span.col) == ("E0010", 2, 8)
     assert d.message == "expected `(`, found `p`"
+
+
+# ---------------------------------------------------------------- follow-on errors with wrong fixes
+
+BLOCKS = "symbol domain Block = {a, b, c}\naction stack(Block x, Block y) { }\nprocedure main() {\n"
+
+
+def fixed_text(text: str, d: Diagnostic) -> str:
+    assert d.fix is not None
+    for e in sorted(d.fix.edits, key=lambda e: e.span.start, reverse=True):
+        text = text[: e.span.start] + e.text + text[e.span.end :]
+    return text
+
+
+def test_a_missing_comma_between_arguments_is_inserted_not_an_argument_deleted() -> None:
+    text = BLOCKS + "    stack(a b);\n    pick (Block x in {a, b}) stack(x, c);\n}\n"
+    d = single(parse_text(text))
+    assert (d.code, d.span.line, d.span.col, d.message) == ("E0010", 4, 12, "expected `,`, found `b`")
+    assert "    stack(a, b);\n" in fixed_text(text, d)
+    assert parse_text(fixed_text(text, d)).diagnostics == []
+
+
+@pytest.mark.parametrize("unfinished", ["stack(a,", "x =", "stack(a, b"])
+def test_a_keyword_after_an_unfinished_statement_is_not_called_a_reserved_word(unfinished: str) -> None:
+    result = parse_text(BLOCKS + f"    {unfinished}\n    pick (Block x) stack(x, c);\n}}\n")
+    d = single(result)
+    assert (d.code, d.span.line, d.span.col) == ("E0010", 5, 5)
+    assert "reserved word" not in d.message and d.message.endswith("found keyword `pick`")
+    assert d.fix is None  # nothing to delete or insert on the `pick` line
+    assert labels(d) == [(4, 5 + len(unfinished), "the statement before is not finished")]
+    # and the `pick` statement is still parsed as one
+    main = result.program.declarations[-1]
+    assert isinstance(main, ast.ProcedureDecl) and main.body is not None
+    assert any(isinstance(s, ast.Pick) for s in main.body.body)
+
+
+def test_a_keyword_used_as_a_name_is_still_a_reserved_word() -> None:
+    d = single(parse_text("action pick() {}\n"))
+    assert (d.code, d.message) == ("E0013", "`pick` is a reserved word and cannot be used as a name")

@@ -137,7 +137,7 @@ def test_main_takes_its_parameters_from_arg(tmp_path: Path) -> None:
     [
         ([], "`main(number n, Room r, bool b, list[number] xs)` needs a value for `n`: give it with --arg n=VALUE"),
         (["--arg", "xz=3"], "`main` has no parameter `xz`; did you mean `xs`? (it takes n, r, b, xs)"),
-        (["--arg", "n=abc"], "--arg n: expected a number, got 'abc'"),
+        (["--arg", "n=abc"], '--arg n: expected a number, got "abc"'),
         (
             ["--arg", "n=1", "--arg", "r=attic", "--arg", "b=true", "--arg", "xs=[]"],
             "--arg r: attic is not in domain `Room`",

@@ -9,7 +9,7 @@ from bisect import bisect_right
 from dataclasses import dataclass, field
 
 from gpp.model.symbols import GLOBAL_KINDS, Reference, ScopeRecord, Symbol, SymbolKind
-from gpp.model.types import ERROR, DomainType, Type
+from gpp.model.types import ERROR, DomainType, Sym, Type
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
@@ -46,6 +46,7 @@ class Model:
     def __post_init__(self) -> None:
         self._refs_by_source: dict[int, list[Reference]] | None = None
         self._refs_by_symbol: dict[int, list[Reference]] | None = None
+        self._declared_symbols: tuple[Sym, ...] | None = None
 
     # ---------------------------------------------------------------- facts
 
@@ -188,6 +189,19 @@ class Model:
 
     def global_symbols(self) -> list[Symbol]:
         return [s for s in self.globals.values() if s.kind in GLOBAL_KINDS]
+
+    def declared_symbols(self) -> tuple[Sym, ...]:
+        """The values of the type `symbol`, which `exists`, `forall` and `pick` range over:
+        every symbol named in a `symbol` domain of the program, in the order the program first
+        names them (files in the order they are loaded, the root file first)."""
+        if self._declared_symbols is None:
+            order = {id(f.source): i for i, f in enumerate(self.files)}
+
+            def first_named(s: Symbol) -> tuple[int, int]:
+                return (order.get(id(s.span.source), len(order)), s.span.start) if s.span else (len(order), 0)
+
+            self._declared_symbols = tuple(Sym(s.name) for s in sorted(self.symbols.values(), key=first_named))
+        return self._declared_symbols
 
 
 def _type_text(t: ast.TypeExpr) -> str:

@@ -404,7 +404,7 @@ class TypeChecker(Phase):
                     f"`{e.quantifier.value}` over `{vt}` cannot be evaluated",
                     e.var_type.span,
                     f"`{vt}` has infinitely many values",
-                    help="quantify over a domain (or bool)",
+                    help="quantify over a domain, `bool` or `symbol`",
                 )
             with self.scope(e.body.span, [variable]):
                 self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")

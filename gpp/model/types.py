@@ -195,8 +195,9 @@ def ordered(t: Type) -> bool:
 
 
 def is_finite(t: Type) -> bool:
-    """Can a quantifier or `pick` enumerate this type?"""
-    return t is ERROR or t is BOOL or isinstance(t, DomainType)
+    """Can a quantifier or `pick` enumerate this type? `symbol` ranges over the symbols the
+    program declares (Model.declared_symbols)."""
+    return t is ERROR or t is BOOL or t is SYMBOL or isinstance(t, DomainType)
 
 
 def common_type(a: Type, b: Type) -> Type | None:

@@ -42,7 +42,7 @@ from gpp.runtime.semantics import (
     TestStep,
 )
 from gpp.runtime.state import Activities, ActivityStatus, State
-from gpp.runtime.values import Value
+from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
 
@@ -154,7 +154,7 @@ class PlanHolder:
             h = int(h)
         if not isinstance(h, int) or isinstance(h, bool) or h < 0:
             raise GppRuntimeError(
-                "R0010", f"the horizon of `solve` must be a whole number >= 0, got {h!r}", s.horizon.span
+                "R0010", f"the horizon of `solve` must be a whole number >= 0, got {show(h)}", s.horizon.span
             )
         return cls("solve", Code(s.body, frame), h, frame, s)
 

@@ -15,7 +15,7 @@ from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import EMPTY_FRAME, Code, Frame, Prog, Semantics
 from gpp.runtime.state import Activities, State
-from gpp.runtime.values import Value
+from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
@@ -89,7 +89,7 @@ def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:
     state = State()
     horizon = program.expr(solve.horizon)(sem.env(state, EMPTY_FRAME))
     if not isinstance(horizon, int | float) or isinstance(horizon, bool) or horizon != int(horizon):
-        raise ValueError(f"the horizon of the `solve` is not a whole number: {horizon!r}")
+        raise ValueError(f"the horizon of the `solve` is not a whole number: {show(horizon)}")
     reward = make_reward(sem, solve, EMPTY_FRAME)
     return PlanningProblem(sem, Code(solve.body, EMPTY_FRAME), state, Activities(), int(horizon), reward, solve.span)
 

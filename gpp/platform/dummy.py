@@ -38,7 +38,7 @@ from gpp.platform.base import (
     RunFacts,
     parse_options,
 )
-from gpp.platform.values import ConversionError, to_value
+from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import CompoundValue, Value, show
 from gpp.source import Source, Span
@@ -154,7 +154,7 @@ class Scenario:
             name, args = _parse_pattern(pattern, at)
             word = entry.get("outcome", "final")
             if not isinstance(word, str) or word not in _OUTCOMES:
-                raise ScenarioError(f"{at}: outcome must be final, fail or cancel, not {word!r}")
+                raise ScenarioError(f"{at}: outcome must be final, fail or cancel, not {show_plain(word)}")
             rule = ActionRule(pattern, name, args, _OUTCOMES[word], span=spans.get(("action", i)))
             if "duration" in entry:
                 rule.duration = _seconds(entry["duration"], f"{at} duration")
@@ -163,7 +163,7 @@ class Scenario:
             if "times" in entry:
                 times = entry["times"]
                 if isinstance(times, bool) or not isinstance(times, int) or times < 1:
-                    raise ScenarioError(f"{at}: times must be a whole number >= 1, not {times!r}")
+                    raise ScenarioError(f"{at}: times must be a whole number >= 1, not {show_plain(times)}")
                 rule.times = times
             scenario.actions.append(rule)
         for i, entry in enumerate(_entries(data, "exog", where)):
@@ -172,10 +172,11 @@ class Scenario:
             if "action" not in entry or "at" not in entry:
                 raise ScenarioError(f'{at}: `at = <seconds>` and `action = "name"` are required')
             if not isinstance(entry["action"], str) or not _is_name(entry["action"]):
-                raise ScenarioError(f"{at}: action must be the name of an exogenous action, not {entry['action']!r}")
+                shown = show_plain(entry["action"])
+                raise ScenarioError(f"{at}: action must be the name of an exogenous action, not {shown}")
             args = entry.get("args", [])
             if not isinstance(args, list):
-                raise ScenarioError(f"{at}: args must be a list of values, not {args!r}")
+                raise ScenarioError(f"{at}: args must be a list of values, not {show_plain(args)}")
             scenario.exogs.append(
                 ExogRule(_seconds(entry["at"], f"{at} at"), entry["action"], list(args), spans.get(("exog", i)))
             )
@@ -461,7 +462,7 @@ class DummyPlatform(Platform):
 
 def _seconds(value: Any, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= MAX_SECONDS:
-        shown = describe(value) if isinstance(value, int | float) and not isinstance(value, bool) else repr(value)
+        shown = describe(value) if isinstance(value, int | float) and not isinstance(value, bool) else show_plain(value)
         raise ScenarioError(f"{what} must be a number of seconds from 0 to {bound_text(MAX_SECONDS)}, not {shown}")
     return float(value)
 

@@ -33,26 +33,26 @@ def to_value(v: Any, t: Type | None) -> Value:
         elif isinstance(v, str):
             value = Sym(v)
         else:
-            raise ConversionError(f"expected a symbol name, got {_shown(v)}")
+            raise ConversionError(f"expected a symbol name, got {show_plain(v)}")
     elif element is NUMBER:
         if isinstance(v, bool) or not isinstance(v, int | float):
-            raise ConversionError(f"expected a number, got {_shown(v)}")
+            raise ConversionError(f"expected a number, got {show_plain(v)}")
         value = _number(v)
     elif element is STRING:
         if not isinstance(v, str):
-            raise ConversionError(f"expected a string, got {_shown(v)}")
+            raise ConversionError(f"expected a string, got {show_plain(v)}")
         value = v
     elif element is BOOL:
         if not isinstance(v, bool):
-            raise ConversionError(f"expected true or false, got {_shown(v)}")
+            raise ConversionError(f"expected true or false, got {show_plain(v)}")
         value = v
     elif isinstance(t, ListType):
         if not isinstance(v, list | tuple):
-            raise ConversionError(f"expected a list, got {_shown(v)}")
+            raise ConversionError(f"expected a list, got {show_plain(v)}")
         value = tuple(to_value(x, t.element) for x in v)
     elif isinstance(t, CompoundType):
         if not isinstance(v, Mapping):
-            raise ConversionError(f"expected a table for `{t.name}`, got {_shown(v)}")
+            raise ConversionError(f"expected a table for `{t.name}`, got {show_plain(v)}")
         value = CompoundValue(t.name, tuple((n, to_value(v.get(n, {"null": True}), ft)) for n, ft in t.fields.items()))
     elif isinstance(v, int | float) and not isinstance(v, bool):
         value = _number(v)
@@ -73,10 +73,22 @@ def _number(v: int | float) -> int | float:
     return v
 
 
-def _shown(v: Any) -> str:
-    """`v` for a message: short, and never failing on a whole number too long to write."""
+def show_plain(v: Any) -> str:
+    """`v` for a message, written as golog++ and TOML write values (`true`, `"text"`, `[1, 2]`,
+    `{x = 1}`), never as Python does: short, and never failing on a whole number too long to
+    write."""
     try:
-        text = repr(v)
+        text = _plain(v)
     except ValueError:  # a whole number of thousands of digits inside
         return "a value with a huge whole number"
     return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _plain(v: Any) -> str:
+    if v is None or isinstance(v, bool | int | float | str | Sym):
+        return show(v)
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_plain(x) for x in v) + "]"
+    if isinstance(v, Mapping):
+        return "{" + ", ".join(f"{k} = {_plain(x)}" for k, x in v.items()) + "}"
+    return repr(v)  # an object of a robot's message library: its own text

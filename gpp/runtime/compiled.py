@@ -16,7 +16,7 @@ from typing import Protocol
 
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.model.types import BOOL, CompoundType, DomainType, ListType, Sym, Type
+from gpp.model.types import BOOL, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
 from gpp.numbers import MAX_WHOLE, RANGE_TEXT
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.state import Activities, GroundAction, State
@@ -521,7 +521,7 @@ class CompiledProgram:
     def _quantifier(self, e: ast.Quantified) -> Evaluator:
         variable = self.model.target(e.var)
         assert variable is not None
-        values = domain_values(variable.type)
+        values = domain_values(variable.type, self.model)
         var_id = id(variable)
         body = self.expr(e.body)
         exists = e.quantifier is ast.Quantifier.EXISTS
@@ -664,9 +664,12 @@ def check_domain(value: Value, t: Type, span: Span) -> None:
             check_domain(v, t.element, span)
 
 
-def domain_values(t: Type | None) -> tuple[Value, ...]:
+def domain_values(t: Type | None, model: Model) -> tuple[Value, ...]:
+    """The values a quantifier or `pick` over type `t` tries, in order."""
     if t is BOOL:
         return (False, True)
+    if t is SYMBOL:
+        return model.declared_symbols()
     if isinstance(t, DomainType):
         return t.values
     raise AssertionError(f"not a finite type: {t}")

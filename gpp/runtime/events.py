@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.1"
+TRACE_SCHEMA_VERSION: Final = "1.2"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -226,6 +226,9 @@ class ExogEvent(EventBase):
     silent: bool = field(default=False, metadata=_OPTIONAL)
     # The fluent instances its effects set (`{"fluent": "loc(a)", "value": ...}`).
     changes: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
+    # Written only when true: its effects could not be applied (the `error` record that follows
+    # says why) and the run stops there.
+    failed: bool = field(default=False, metadata=_OPTIONAL)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -414,9 +414,17 @@ class Executor:
         info = self.program.action(event.action)
         g = GroundAction(event.action, event.args)
         holds = self.sem.precondition_holds(info, g, self.state)
-        updates = self.sem.effects(g, self.state)
-        self.state = self.state.updated(updates, self.program.initial)
         self.result.exog_events += 1
+        try:
+            updates = self.sem.effects(g, self.state)
+        except GppRuntimeError as e:
+            # The event is named in the trace and in the diagnostic; the error record follows.
+            self.trace.emit(
+                ev.ExogEvent(t=t, action=g.text, precondition=holds, silent=self.quiet(event.action), failed=True)
+            )
+            e.notes = (f"in the effect of the exogenous event `{g.text}`, which arrived at {t:.3f} s", *e.notes)
+            raise
+        self.state = self.state.updated(updates, self.program.initial)
         self.trace.emit(
             ev.ExogEvent(
                 t=t, action=g.text, precondition=holds, silent=self.quiet(event.action), changes=self.changes(updates)

@@ -629,7 +629,7 @@ class Semantics:
             empty = Env(State(), frame.vars, self.ctx)
             values: tuple[Value, ...] = tuple(self.program.expr(v)(empty) for v in s.values)
         else:
-            values = domain_values(variable.type)
+            values = domain_values(variable.type, self.model)
         return [frame.bind(id(variable), v) for v in values]
 
     def condition(self, e: ast.Expr, state: State, frame: Frame) -> bool:

@@ -57,6 +57,32 @@ def to_json(v: Value) -> object:
     return {"compound": v.type_name, "fields": {n: to_json(x) for n, x in v.fields}}
 
 
+def from_json(obj: object) -> Value:
+    """The value `to_json` wrote; ValueError for anything it cannot have written."""
+    if obj is None or isinstance(obj, bool | int | float | str):
+        return obj
+    if isinstance(obj, list):
+        return tuple(from_json(x) for x in obj)
+    if isinstance(obj, dict):
+        if set(obj) == {"symbol"} and isinstance(obj["symbol"], str):
+            return Sym(obj["symbol"])
+        fields = obj.get("fields")
+        if set(obj) == {"compound", "fields"} and isinstance(obj["compound"], str) and isinstance(fields, dict):
+            return CompoundValue(obj["compound"], tuple((str(n), from_json(x)) for n, x in fields.items()))
+    raise ValueError(f"not a value of the trace: {obj!r}")
+
+
+def show_json(obj: object) -> str:
+    """A value of the trace (`to_json`'s form) as golog++ writes it (`show`); something that is
+    not such a value, from a damaged or foreign trace, as JSON text."""
+    try:
+        return show(from_json(obj))
+    except (ValueError, TypeError):
+        import json
+
+        return json.dumps(obj, ensure_ascii=False, default=str)
+
+
 def same(a: Value, b: Value) -> bool:
     """golog++ `==` (gpp.model.types.same_value, on runtime values)."""
     return same_value(a, b)

@@ -48,6 +48,10 @@ class LexError:
     start: int
     end: int
     label: str = ""
+    help: str = ""
+    # Whether the lexer dropped the text (the parser then sees a gap); a name with non-ASCII
+    # letters is kept as a NAME token.
+    dropped: bool = True
 
 
 KEYWORDS: dict[str, str] = {
@@ -167,7 +171,8 @@ _TOKEN_RE = re.compile(
       (?P<section>(?:"""
     + _SECTION_RE
     + r""")\b[ \t\r\n\f\v]*:)
-    | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
+    | (?P<name>[A-Za-z_][A-Za-z0-9_]*(?![^\W_]))
+    | (?P<wide_name>[^\W\d]\w*)
     | (?P<number>(?:[0-9]+\.[0-9]*|\.[0-9]+|[0-9]+)(?:[eE][+-]?[0-9]+)?)
     | (?P<string>"(?:[^"\\]|\\[\s\S])*")
     | (?P<include>\#include\b)
@@ -175,6 +180,7 @@ _TOKEN_RE = re.compile(
     | (?P<punct>"""
     + _PUNCT_RE
     + r""")
+    | (?P<sigil>[?$\u00a7](?=[A-Za-z]))
     | (?P<open_string>")
     | (?P<eof>\Z)
     | (?P<bad>.)
@@ -202,6 +208,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
     platform_depth = -1
     platform_pending = False
     prev_type = ""
+    wide_names: set[str] = set()
     pos = 0
     n = len(text)
     while pos < n:
@@ -243,6 +250,13 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             elif value == "=" and prev_type in _NAMEABLE_KEYWORDS:
                 # `start = x` in a mapping: the keyword is an argument name.
                 tokens[-1].type = "NAME"
+        elif kind == "wide_name":
+            # Letters beyond ASCII: one error per distinct name, and the name stays a name so
+            # that its declaration and its uses still fit together.
+            ttype = "NAME"
+            if value not in wide_names:
+                wide_names.add(value)
+                errors.append(_non_ascii_name(value, start, pos))
         elif kind == "number":
             ttype = "NUMBER"
             if literal_value(value) is None:
@@ -253,6 +267,8 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
         elif kind == "include":
             ttype = "INCLUDE"
+        elif kind == "sigil":
+            ttype = "SIGIL"  # legacy `?function`, `$domain`, `§room`: gpp.syntax.legacy rewrites it
         elif kind == "open_comment":
             errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
             break
@@ -276,6 +292,29 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
         append(Token(ttype, value, start, pos))
         prev_type = ttype
     return tokens, errors
+
+
+def _non_ascii_name(name: str, start: int, end: int) -> LexError:
+    ascii_name = ascii_spelling(name)
+    return LexError(
+        "E0005",
+        f"the name `{name}` has letters outside ASCII",
+        start,
+        end,
+        "names are written with the letters a-z, A-Z, digits and `_`",
+        f"rename it, for example to `{ascii_name}` (everywhere it is used)" if ascii_name else "",
+        dropped=False,
+    )
+
+
+def ascii_spelling(name: str) -> str:
+    """A spelling of `name` in ASCII letters (accents dropped, ß as ss), or "" when the name
+    has no ASCII letters left."""
+    import unicodedata
+
+    decomposed = unicodedata.normalize("NFKD", name.replace("ß", "ss").replace("ẞ", "SS"))
+    spelled = "".join(c for c in decomposed if c.isascii() and (c.isalnum() or c == "_"))
+    return spelled if spelled[:1].isalpha() else ""
 
 
 _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())

@@ -24,6 +24,7 @@ from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
 from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
+from gpp.syntax.legacy import modernize
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
 from gpp.syntax.tables import Tables, first_sets, load_tables
 
@@ -44,10 +45,14 @@ def parse(source: Source) -> ParseResult:
     most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014)."""
     with paused_gc():
         tokens, lex_errors = tokenize(source)
+        tokens, legacy_errors = modernize(source, tokens)
         parser = _Parser(source, tokens, load_tables())
-        parser.quiet_after_lex_errors([e.start for e in lex_errors])
+        parser.quiet_after_lex_errors([e.start for e in lex_errors if e.dropped])
         program, too_deep = limit_nesting(parser.run(), tokens)
-    diagnostics = [diag.error(e.code, e.message, Span(source, e.start, e.end), e.label) for e in lex_errors]
+    diagnostics = [
+        diag.error(e.code, e.message, Span(source, e.start, e.end), e.label, help=e.help or None) for e in lex_errors
+    ]
+    diagnostics.extend(legacy_errors)
     diagnostics.extend(parser.diagnostics)
     diagnostics.extend(parser.builder.diagnostics)
     diagnostics.extend(too_deep)
@@ -85,6 +90,8 @@ _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.valu
 _CLOSERS = {"LPAR": "RPAR", "LBRACKET": "RBRACKET", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE"}
 # What a repair may insert, in order of preference: a policy, not a fact of the grammar.
 _INSERTABLE = ("SEMI", "RPAR", "RBRACKET", "RBRACE", "COMMA")
+# Ways to finish an unfinished statement (an operand, a closing parenthesis, the `;`).
+_COMPLETIONS = (["NAME", "SEMI"], ["RPAR", "SEMI"], ["NAME", "RPAR", "SEMI"])
 # A keyword that starts a statement or declaration comes after one of these (or first), for
 # `did you mean` hints. Not derived: the grammar also lets `search`, `on_fail`, `on_cancel`
 # and the end of any expression (a function body) come before one, and hinting after names
@@ -496,11 +503,14 @@ class _Parser:
         ahead = self.lookahead(i, _PROBE)
 
         # A keyword where a name must stand (`action test() {}`): say so, and read it as the name.
+        # Not when the keyword reads as itself once the statement before it is completed
+        # (`stack(a,` then `pick (...) ...` on the next line: the error is the unfinished call).
         if (
             "NAME" in expected
             and tok.type in _KEYWORD_TYPES
-            and self.progress(ss, ["NAME", *ahead[1:]]) >= min(3, len(ahead))
+            and (as_name := self.progress(ss, ["NAME", *ahead[1:]])) >= min(3, len(ahead))
             and not any(self.simulate(ss, [c, *ahead[:2]]) for c in _INSERTABLE)
+            and not any(self.progress(ss, [*fill, *ahead]) - len(fill) >= as_name for fill in _COMPLETIONS)
         ):
             self.report(
                 i,
@@ -532,19 +542,31 @@ class _Parser:
 
         # Candidate repairs, scored by how far the parse then gets.
         new_line = prev is not None and self.source.line_col(prev.end)[0] < self.source.line_col(tok.start)[0]
-        candidates: list[tuple[int, int, str]] = []  # (progress, preference, repair)
+        # A keyword that starts a line after an unfinished statement (`stack(a,` then `pick ...`):
+        # the statement before is what is wrong. Finish it unseen, and suggest no edit of the
+        # keyword's line.
+        if new_line and prev is not None and tok.type in _KEYWORD_TYPES:
+            for fill in _COMPLETIONS:
+                if self.progress(ss, [*fill, *ahead]) == len(fill) + len(ahead):
+                    self.report_unfinished(i, expected)
+                    tokens[i:i] = [Token(t, "", prev.end, prev.end) for t in fill]
+                    return i
+        candidates: list[tuple[int, float, str]] = []  # (progress, preference, repair)
+        operand_start = self.sets.primary_start
         for order, inserted in enumerate(_INSERTABLE):
             if inserted in expected:
                 gain = self.progress(ss, [inserted, *ahead]) - 1
-                preference = 0 if inserted == "SEMI" and new_line else 1 + order
+                preference: float = 0 if inserted == "SEMI" and new_line else 1 + order
+                if inserted == "COMMA" and tok.type in operand_start and not new_line:
+                    # `stack(a b)`: a missing `,` between two operands, not an operand too many
+                    preference = 0.25
                 candidates.append((gain, -preference, inserted))
-        operand_start = self.sets.primary_start
         if expected & operand_start and tok.type not in operand_start:
             gain = self.progress(ss, ["NAME", *ahead]) - 1
             candidates.append((gain, -7, "OPERAND"))
         # The deleted token counts as read, so that deleting and inserting compare fairly.
         deletion = self.progress(ss, self.lookahead(i + 1, _PROBE - 1)) + 1
-        candidates.append((deletion, -0.5 if not new_line else -6, "DELETE"))  # type: ignore[arg-type]
+        candidates.append((deletion, -0.5 if not new_line else -6, "DELETE"))
         candidates.sort(reverse=True)
         gain, _, repair = candidates[0]
         if gain >= min(2, len(ahead)):
@@ -756,6 +778,21 @@ class _Parser:
                 secondary=secondary,
                 help=self.keyword_hint(i),
                 fix=fix,
+            ),
+        )
+
+    def report_unfinished(self, i: int, expected: set[str]) -> None:
+        tok = self.tokens[i]
+        prev = self.tokens[i - 1]
+        self.report(
+            i,
+            diag.error(
+                "E0010",
+                f"expected {describe_expected(expected, self.sets)}, found {describe_found(tok)}",
+                self.span(tok),
+                "unexpected token",
+                secondary=[diag.Label(Span(self.source, prev.end, prev.end), "the statement before is not finished")],
+                help="finish the statement on the line before",
             ),
         )
 

@@ -123,7 +123,8 @@ def page_data(model: RunModel, sources: Sources, *, trace_name: str, notes: Sequ
             for a in model.activities
         ],
         "exog": [
-            {"t": e.t, "action": e.action, "precondition": e.precondition, "silent": e.silent} for e in model.exog
+            {"t": e.t, "action": e.action, "precondition": e.precondition, "silent": e.silent, "failed": e.failed}
+            for e in model.exog
         ],
         "plans": [
             {

@@ -44,6 +44,7 @@ from gpp.runtime.events import (
     WaitingEvent,
     decode,
 )
+from gpp.runtime.values import show_json
 
 
 class TraceReadError(Exception):
@@ -495,29 +496,11 @@ def parse_location(at: str) -> tuple[str, int, int] | None:
 
 
 def show_value(value: JsonValue | Absent) -> str:
-    """A trace value as golog++ shows it: symbols bare, strings quoted, lists in brackets."""
+    """A trace value as golog++ writes it (gpp.runtime.values.show): symbols bare, strings
+    quoted, lists and compounds in literal form; "" when absent."""
     if value is ABSENT:
         return ""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if value is None:
-        return "null"
-    if isinstance(value, int | float):
-        return format_number(value)
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, list):
-        return "[" + ", ".join(show_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        if set(value) == {"symbol"}:
-            return str(value["symbol"])
-        if "compound" in value and isinstance(value.get("fields"), dict):
-            fields = value["fields"]
-            assert isinstance(fields, dict)
-            inner = ", ".join(f"{k}={show_value(v)}" for k, v in fields.items())
-            return f"{value['compound']}{{{inner}}}"
-        return json.dumps(value, ensure_ascii=False)
-    return str(value)
+    return show_json(value)
 
 
 def format_number(value: float) -> str:

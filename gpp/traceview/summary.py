@@ -422,6 +422,8 @@ def _exog(model: RunModel, width: int) -> list[RenderableType]:
                 note.append(" " + event.action[len(name) :], style="magenta")
             if event.precondition is False:
                 note.append(" (precondition false)", style="yellow")
+            if event.failed:
+                note.append(" (effect failed)", style="red")
         if len(events) > 6:
             note.append(f", … {len(events) - 6} more", style="dim")
         rows.append([events[0].action if same else name, f"×{len(events)}", note])

@@ -517,6 +517,7 @@
         table([
           ["at", esc(fmtTime(e.t))],
           ["precondition", e.precondition ? "" : "<b>false</b> (its effects were applied anyway)"],
+          ["effect", e.failed ? "<b>failed</b> (the run stopped: see the error)" : ""],
         ])
       );
     }

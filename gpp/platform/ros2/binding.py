@@ -41,6 +41,7 @@ from pathlib import Path
 from typing import Any
 
 from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
+from gpp.platform.values import show_plain
 from gpp.source import Source, Span
 from gpp.suggest import did_you_mean
 
@@ -243,7 +244,7 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
         for k, v in request.items():
             if not isinstance(v, str) or not v:
                 raise BindingError(
-                    f'{at} request: `{k}` must name a parameter of `{name}` (a string such as "x"), not {v!r}'
+                    f'{at} request: `{k}` must name a parameter of `{name}` (a string such as "x"), not {show_plain(v)}'
                 )
             entry.request[k] = v
     if "timeout" in table:
@@ -267,19 +268,19 @@ def _qos(value: Any, at: str) -> Qos:
             if v not in allowed:
                 hint = did_you_mean(str(v), allowed)
                 raise BindingError(
-                    f"{at}: {key} must be {' or '.join(repr(a) for a in allowed)}, not {v!r}"
+                    f"{at}: {key} must be {' or '.join(show_plain(a) for a in allowed)}, not {show_plain(v)}"
                     + (f"; {hint}" if hint else "")
                 )
             words[key] = v
     depth = table.get("depth")
     if depth is not None and (isinstance(depth, bool) or not isinstance(depth, int) or depth < 1):
-        raise BindingError(f"{at}: depth must be a whole number >= 1, not {depth!r}")
+        raise BindingError(f"{at}: depth must be a whole number >= 1, not {show_plain(depth)}")
     return Qos(words.get("reliability"), words.get("durability"), depth, words.get("history"))
 
 
 def _table(value: Any, at: str) -> dict[str, Any]:
     if not isinstance(value, dict):
-        raise BindingError(f"{at}: expected a table, not {value!r}")
+        raise BindingError(f"{at}: expected a table, not {show_plain(value)}")
     return value
 
 
@@ -294,7 +295,7 @@ def _check_keys(table: Mapping[str, Any], known: frozenset[str], at: str) -> Non
 
 def _text(value: Any, at: str) -> str:
     if not isinstance(value, str) or not value.strip():
-        raise BindingError(f"{at}: expected a non-empty string, not {value!r}")
+        raise BindingError(f"{at}: expected a non-empty string, not {show_plain(value)}")
     return value.strip()
 
 
@@ -302,7 +303,7 @@ def _seconds(value: Any, at: str, allow_zero: bool = False) -> float:
     ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
     if not ok or value < 0 or (value == 0 and not allow_zero):
         bound = ">= 0 (0: no limit)" if allow_zero else "> 0"
-        raise BindingError(f"{at}: expected a number of seconds {bound}, not {value!r}")
+        raise BindingError(f"{at}: expected a number of seconds {bound}, not {show_plain(value)}")
     return float(value)
 
 

@@ -1,0 +1,109 @@
+"""The typer app behind every `gpp` command but `check` (gpp.cli_check, which gpp.cli calls
+directly so that a check does not pay for typer): `explain` here, `run` and `test` in
+gpp.cli_run, `trace` in gpp.cli_trace, `fmt` in gpp.cli_fmt, `config` and `new` in
+gpp.cli_project."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from gpp import __version__
+from gpp.cli import EXIT_OK, _did_you_mean, _usage_error
+from gpp.cli_check import DESCRIPTION
+from gpp.cli_fmt import register as register_fmt
+from gpp.cli_project import register as register_project
+from gpp.cli_run import register
+from gpp.cli_trace import register as register_trace
+
+if TYPE_CHECKING:
+    from gpp.codes import CodeInfo
+
+app = typer.Typer(
+    name="gpp",
+    help="A toolchain for the golog++ agent language.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"gpp {__version__}")
+        raise typer.Exit(EXIT_OK)
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option("--version", help="Print the version and exit.", callback=_print_version, is_eager=True),
+    ] = False,
+) -> None:
+    """A toolchain for the golog++ agent language."""
+
+
+@app.command(
+    help=DESCRIPTION,
+    add_help_option=False,
+    context_settings={"allow_extra_args": True, "ignore_unknown_options": True},
+)
+def check(ctx: typer.Context) -> None:
+    # Listed here for `gpp --help`; gpp.cli.main runs `gpp check` without typer.
+    from gpp.cli_check import check as run_check
+
+    raise typer.Exit(run_check(ctx.args))
+
+
+# ---------------------------------------------------------------- gpp explain
+
+
+@app.command()
+def explain(
+    code: Annotated[
+        str | None, typer.Argument(metavar="CODE", help="A diagnostic code (E0011, W0101) or its name (unused).")
+    ] = None,
+    list_codes: Annotated[bool, typer.Option("--list", help="List every code: code, severity, name, summary.")] = False,
+) -> None:
+    """Explain a diagnostic code, with an example of the problem and its fix."""
+    from gpp import codes
+
+    if list_codes:
+        if code is not None:
+            _usage_error("give a CODE or --list, not both")
+        _print_codes()
+        raise typer.Exit(EXIT_OK)
+    if code is None:
+        _usage_error("give a CODE to explain (or --list for all of them)")
+
+    info = codes.lookup(code)
+    if info is None:
+        _usage_error(f"unknown code `{code}`" + _did_you_mean(codes.close_matches(code)))
+    print(f"{info.code} ({_kind(info)} `{info.name}`): {info.summary}")
+    if info.explanation:
+        print()
+        print(info.explanation)
+    raise typer.Exit(EXIT_OK)
+
+
+def _print_codes() -> None:
+    from gpp import codes
+
+    rows = [(c.code, _kind(c), c.name, c.summary) for c in codes.CODES.values()]
+    name_width = max(len(r[2]) for r in rows)
+    print(f"{'code':<7}{'severity':<10}{'name':<{name_width + 2}}summary")
+    for code, kind, name, summary in rows:
+        print(f"{code:<7}{kind:<10}{name:<{name_width + 2}}{summary}")
+
+
+def _kind(info: CodeInfo) -> str:
+    return "lint" if info.is_lint else "warning" if info.is_warning else "error"
+
+
+register(app)
+register_trace(app)
+register_project(app)
+register_fmt(app)
