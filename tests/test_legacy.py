@@ -145,3 +145,24 @@ def test_damaged_legacy_files_give_diagnostics_and_fixes_that_do_not_overlap(tmp
         diagnostics = merged_diagnostics(check_paths([path]))  # no internal error
         assert diagnostics, " ".join(parts)
         apply_fixes(path.read_text(), [d for d in diagnostics if d.code.startswith("E004")])
+
+
+def test_gpp_check_fix_upgrades_legacy_programs(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    for name in ("forms.gpp", "forms.toml", "sigils.gpp"):
+        shutil.copy(LEGACY / name, tmp_path / name)
+
+    def gpp(*args: str) -> subprocess.CompletedProcess[str]:
+        command = [sys.executable, "-m", "gpp", *args]
+        return subprocess.run(command, cwd=tmp_path, capture_output=True, text=True, timeout=60)
+
+    before = gpp("check", "--format", "concise", "forms.gpp", "sigils.gpp")
+    assert before.returncode == 1
+    assert {"E0040", "E0041", "E0042", "E0043", "E0044", "E0045"} <= {
+        line.split("[")[1].split("]")[0] for line in before.stdout.splitlines() if "error[" in line
+    }
+    fixed = gpp("check", "--fix", "forms.gpp", "sigils.gpp")
+    assert (fixed.returncode, fixed.stdout.splitlines()[-1]) == (0, "fixed 6 problems in 2 files, 0 remaining")
+    assert gpp("check", "forms.gpp", "sigils.gpp").returncode == 0

@@ -13,6 +13,10 @@ syntax errors; the rest of the file is checked as if it were modern. The forms:
 * E0044 a function with a block body of `return` statements;
 * E0045 an `exog_function` with a body.
 
+Every fix is safe (`gpp check --fix` applies it): its edits write exactly the modern program
+that the rewrite hands the parser, so the fixed file means what gpp already took the legacy one
+to mean.
+
 Everything here works on tokens (gpp.syntax.lexer.Token): the parser and the grammar do not
 know about legacy syntax.
 """
@@ -208,7 +212,7 @@ class _Rewriter:
                     + (f"; {more} more sigil{'s' if more > 1 else ''} in this file" if more else "")
                 ],
                 help="write the type names instead (`gpp explain E0040`)",
-                fix=diag.Fix("write the types as words", edits),
+                fix=diag.Fix("write the types as words", edits, diag.Applicability.SAFE),
             )
         )
 
@@ -311,7 +315,9 @@ class _Rewriter:
                 self.span(name.start, name.end),
                 "legacy unquoted mapping name",
                 help=f"write it as a string: `{quoted}` (`gpp explain E0041`)",
-                fix=diag.Fix(f"quote `{name.value}`", (self.edit(name.start, name.end, quoted),)),
+                fix=diag.Fix(
+                    f"quote `{name.value}`", (self.edit(name.start, name.end, quoted),), diag.Applicability.SAFE
+                ),
             )
         )
         return Token("STRING", quoted, name.start, name.end)
@@ -366,6 +372,7 @@ class _Rewriter:
                         self.edit(line_start, line_start, declaration),
                         self.edit(where.end, where.end, f" = {function}()"),
                     ),
+                    diag.Applicability.SAFE,
                 ),
             )
         )
@@ -454,7 +461,7 @@ class _Rewriter:
         if resolved:
             edits.append(self.edit(removal_start, removal_end, ""))
             self.replaced(removal_start, removal_end)  # the section's sigils go with it
-            fix = diag.Fix("type the parameters with their domains", tuple(edits))
+            fix = diag.Fix("type the parameters with their domains", tuple(edits), diag.Applicability.SAFE)
         self.diagnostics.append(
             diag.error(
                 "E0043",
@@ -494,7 +501,11 @@ class _Rewriter:
                 self.span(brace.start, brace.end),
                 "legacy function body",
                 help=f"write `= {text}` (`gpp explain E0044`)",
-                fix=diag.Fix("write the body as one expression", (self.edit(whole.start, whole.end, f"= {text}"),)),
+                fix=diag.Fix(
+                    "write the body as one expression",
+                    (self.edit(whole.start, whole.end, f"= {text}"),),
+                    diag.Applicability.SAFE,
+                ),
             )
         )
         return [_synthetic("EQ", "=", brace.start, brace.end), *new_tokens]
@@ -578,7 +589,7 @@ class _Rewriter:
                 "legacy body",
                 notes=["an exogenous function is answered by the platform: it is declared, never defined"],
                 help="end the declaration with `;` (`gpp explain E0045`)",
-                fix=diag.Fix("remove the body", (self.edit(whole.start, whole.end, ";"),)),
+                fix=diag.Fix("remove the body", (self.edit(whole.start, whole.end, ";"),), diag.Applicability.SAFE),
             )
         )
         return _synthetic("SEMI", ";", brace.start, brace.end)
