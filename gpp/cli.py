@@ -229,6 +229,48 @@ def _emit_diagnostics(
     sys.stdout.flush()
 
 
+# ---------------------------------------------------------------- gpp lsp
+
+
+@app.command()
+def lsp(
+    stdio: Annotated[bool, typer.Option("--stdio", help="Talk over stdin/stdout (the default).")] = False,
+    tcp: Annotated[
+        str | None,
+        typer.Option("--tcp", metavar="HOST:PORT", help="Listen on a loopback TCP port instead (for debugging)."),
+    ] = None,
+) -> None:
+    """Run the golog++ language server for editors (diagnostics as you type, quick fixes, ...)."""
+    if stdio and tcp is not None:
+        _usage_error("give either --stdio or --tcp, not both")
+    address = _loopback_address(tcp) if tcp is not None else None
+    # pygls and lsprotocol take half a second to import: only this command pays for them.
+    from lsp.server import serve_stdio, serve_tcp
+
+    if address is None:
+        serve_stdio()
+    else:
+        serve_tcp(*address)
+    raise typer.Exit(EXIT_OK)
+
+
+def _loopback_address(text: str) -> tuple[str, int]:
+    """HOST:PORT for --tcp; only loopback hosts: the server has no authentication."""
+    import ipaddress
+
+    host, sep, port = text.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
+        _usage_error(f"--tcp wants HOST:PORT with a port from 1 to 65535, not `{text}`")
+    try:
+        loopback = host == "localhost" or ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = False
+    if not loopback:
+        _usage_error(f"--tcp listens on loopback addresses only (127.0.0.1, ::1, localhost), not `{host}`")
+    return host, int(port)
+
+
 # `gpp run` and `gpp test` live in their own module, and so does `gpp trace`.
 from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
 from gpp.cli_trace import register as register_trace  # noqa: E402
