@@ -78,6 +78,15 @@ class _Protocol(LanguageServerProtocol):
     cost a second application of every edit, and it counts line breaks its own way (Python's
     `splitlines`, which also breaks at form feeds and U+2028)."""
 
+    @lsp_method(types.INITIALIZE)
+    def lsp_initialize(self, params: types.InitializeParams) -> Any:
+        # gpp counts positions in UTF-16 units, the protocol's default: a client that offers
+        # other encodings too (Neovim offers UTF-8 first) gets UTF-16 announced.
+        general = params.capabilities.general
+        if general is not None:
+            general.position_encodings = None
+        return (yield from super().lsp_initialize(params))
+
     @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
     def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams) -> Any:
         if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_OPEN)) is not None:
@@ -319,12 +328,7 @@ def make_server() -> GppServer:
     server = GppServer()
 
     @server.feature(types.INITIALIZE)
-    async def initialize(ls: GppServer, params: types.InitializeParams) -> None:
-        # gpp counts positions in UTF-16 units, the protocol's default: a client that offers
-        # other encodings (Neovim offers UTF-8 first) gets UTF-16 announced.
-        general = params.capabilities.general
-        if general is not None:
-            general.position_encodings = None
+    def initialize(ls: GppServer, params: types.InitializeParams) -> None:
         folders = [uri_to_path(f.uri) for f in params.workspace_folders or ()]
         if not folders and params.root_uri:
             folders = [uri_to_path(params.root_uri)]

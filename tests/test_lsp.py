@@ -1,0 +1,310 @@
+"""The language server end to end: `python -m gpp lsp` over stdio, driven by pytest-lsp.
+
+One server serves the whole module (its workspace folder is a temporary folder); each test
+opens documents of its own. The client profiles of real editors get a server each.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import subprocess
+import sys
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsp_client import CONFIG, SERVER, change, diagnostics, expected, keys, make_client, open_doc, published
+from lsprotocol import types
+from pygls.lsp.client import LanguageClient
+
+ROOT = Path(__file__).resolve().parent.parent
+
+# The async tests share the module's server, so they run in the module's event loop.
+in_module_loop = pytest.mark.asyncio(loop_scope="module")
+
+INIT: dict[str, types.InitializeResult] = {}
+
+
+@pytest_lsp.fixture(scope="module", config=CONFIG)
+@in_module_loop
+async def client(lsp_client: LanguageClient, request: pytest.FixtureRequest) -> AsyncIterator[None]:
+    folder: Path = request.getfixturevalue("workspace")
+    INIT["result"] = await lsp_client.initialize_session(
+        types.InitializeParams(
+            capabilities=types.ClientCapabilities(),
+            workspace_folders=[types.WorkspaceFolder(uri=folder.as_uri(), name="ws")],
+        )
+    )
+    yield
+    await lsp_client.shutdown_session()
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("ws")
+    (folder / "lib.gpp").write_text("action a() { }\nbool fluent f() { initially: () = true; }\n", encoding="utf-8")
+    (folder / "main.gpp").write_text('#include "lib.gpp"\nprocedure main() { a(); f() = false; }\n', encoding="utf-8")
+    return folder
+
+
+AGENT = """\
+// a comment with ünïcödé 😀
+symbol domain Loc = {kitchen, hall}
+Loc fluent at() { initially: () = kitchen; }
+string fluent msg() { initially: () = "😀 é"; }
+action go(Loc to) { effect: at() = to; }
+action unused_act() { }
+procedure main() {
+    msg() = "😀"; go(kitchn);
+    go(hall);
+}
+procedure main() { }
+"""
+
+
+def codes_page() -> str:
+    return (ROOT / "docs" / "codes.md").as_uri()
+
+
+# ---------------------------------------------------------------- start-up
+
+
+def test_importing_the_cli_does_not_import_the_language_server() -> None:
+    code = "import sys, gpp.cli; print(sorted(m for m in ('pygls', 'lsprotocol', 'lsp') if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60)
+    assert out.stdout.strip() == "[]"
+
+
+@in_module_loop
+async def test_the_server_announces_utf16_and_incremental_sync(client: LanguageClient) -> None:
+    caps = INIT["result"].capabilities
+    assert caps.position_encoding == types.PositionEncodingKind.Utf16
+    assert isinstance(caps.text_document_sync, types.TextDocumentSyncOptions)
+    assert caps.text_document_sync.change == types.TextDocumentSyncKind.Incremental
+    assert isinstance(caps.code_action_provider, types.CodeActionOptions)
+    assert list(caps.code_action_provider.code_action_kinds or ()) == [types.CodeActionKind.QuickFix]
+    assert INIT["result"].server_info is not None and INIT["result"].server_info.name == "gpp"
+
+
+# ---------------------------------------------------------------- diagnostics
+
+
+@in_module_loop
+async def test_diagnostics_have_exact_ranges_codes_links_and_related_places(
+    client: LanguageClient, workspace: Path
+) -> None:
+    path = workspace / "agent.gpp"
+    uri = open_doc(client, path, AGENT)
+    found = await diagnostics(client, uri, 1)
+    # `kitchn` comes after `"😀"` on its line: 21 UTF-16 units in (20 characters).
+    assert found == [
+        types.Diagnostic(
+            range=types.Range(types.Position(5, 7), types.Position(5, 17)),
+            message="action `unused_act` is never used",
+            severity=types.DiagnosticSeverity.Warning,
+            code="W0101",
+            code_description=types.CodeDescription(href=codes_page() + "#w0101"),
+            source="gpp",
+            tags=(types.DiagnosticTag.Unnecessary,),
+        ),
+        types.Diagnostic(
+            range=types.Range(types.Position(7, 21), types.Position(7, 27)),
+            message="unknown name `kitchn`\nhelp: did you mean `kitchen`?",
+            severity=types.DiagnosticSeverity.Error,
+            code="E0101",
+            code_description=types.CodeDescription(href=codes_page() + "#e0101"),
+            source="gpp",
+        ),
+        types.Diagnostic(
+            range=types.Range(types.Position(10, 10), types.Position(10, 14)),
+            message="`main` is defined twice\nhelp: remove one of the definitions, or rename one of them",
+            severity=types.DiagnosticSeverity.Error,
+            code="E0301",
+            code_description=types.CodeDescription(href=codes_page() + "#e0301"),
+            source="gpp",
+            related_information=(
+                types.DiagnosticRelatedInformation(
+                    location=types.Location(uri, types.Range(types.Position(6, 10), types.Position(6, 14))),
+                    message="first defined here",
+                ),
+            ),
+        ),
+    ]
+    assert keys(found) == expected(path, AGENT)
+    assert "## W0101" in (ROOT / "docs" / "codes.md").read_text(encoding="utf-8")
+
+
+@in_module_loop
+async def test_incremental_edits_with_crlf_lone_cr_and_astral_characters(
+    client: LanguageClient, workspace: Path
+) -> None:
+    text = (
+        "number fluent n() { initially: () = 0; }\r\n"
+        'string fluent s() { initially: () = "😀"; }\r'
+        'procedure main() { n() = 1; s() = "a";\n'
+        "}\n"
+    )
+    uri = open_doc(client, workspace / "edits.gpp", text)
+    assert await diagnostics(client, uri, 1) == []
+    # Line 1 ends with a lone `\r`; its `😀` takes UTF-16 units 37 and 38: replace the `"` after
+    # it (39..40) with `x"`, and call an unknown `q()` at the start of main (line 2, after `{`);
+    # then write `1` over the `0` of line 0 (which ends with `\r\n`).
+    change(client, uri, 2, [((1, 39, 1, 40), 'x"'), ((2, 18, 2, 18), " q();")])
+    change(client, uri, 3, [((0, 36, 0, 37), "1")])
+    final = (
+        "number fluent n() { initially: () = 1; }\r\n"
+        'string fluent s() { initially: () = "😀x"; }\r'
+        'procedure main() { q(); n() = 1; s() = "a";\n'
+        "}\n"
+    )
+    found = await diagnostics(client, uri, 3)
+    assert keys(found) == [("E0103", (2, 19, 2, 20), "unknown action or procedure `q`")]
+    assert keys(found) == expected(workspace / "edits.gpp", final)
+
+
+@in_module_loop
+async def test_a_quick_fix_for_each_diagnostic_with_a_fix(client: LanguageClient, workspace: Path) -> None:
+    uri = open_doc(client, workspace / "fix.gpp", "action a() { }\nprocedure main() {\n    a()\n}\n")
+    [missing] = await diagnostics(client, uri, 1)
+    assert (missing.code, missing.range) == ("E0011", types.Range(types.Position(2, 7), types.Position(2, 7)))
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=types.Range(types.Position(2, 0), types.Position(2, 7)),
+            context=types.CodeActionContext(diagnostics=[missing]),
+        )
+    )
+    assert actions == (
+        types.CodeAction(
+            title="insert `;`",
+            kind=types.CodeActionKind.QuickFix,
+            diagnostics=(missing,),
+            is_preferred=True,
+            edit=types.WorkspaceEdit(
+                changes={uri: (types.TextEdit(types.Range(types.Position(2, 7), types.Position(2, 7)), ";"),)}
+            ),
+        ),
+    )
+    # Away from the problem: no fix offered.
+    elsewhere = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=types.Range(types.Position(0, 0), types.Position(0, 3)),
+            context=types.CodeActionContext(diagnostics=[]),
+        )
+    )
+    assert elsewhere == ()
+
+
+@in_module_loop
+async def test_an_included_file_is_checked_under_its_program_and_its_buffer_wins(
+    client: LanguageClient, workspace: Path
+) -> None:
+    lib_uri = open_doc(client, workspace / "lib.gpp", (workspace / "lib.gpp").read_text(encoding="utf-8"))
+    # Alone, `a` and `f` would be unused (W0101); under main.gpp they are used.
+    assert await diagnostics(client, lib_uri, 1) == []
+    main_uri = open_doc(client, workspace / "main.gpp", (workspace / "main.gpp").read_text(encoding="utf-8"))
+    assert await diagnostics(client, main_uri, 1) == []
+    # The unsaved buffer of lib.gpp loses `f`: main.gpp, which includes it, now misses it.
+    change(client, lib_uri, 2, [((1, 0, 2, 0), "")])
+    await diagnostics(client, lib_uri, 2)
+    await _until(lambda: keys(list(client.diagnostics[main_uri])))  # type: ignore[attr-defined]
+    assert keys(list(client.diagnostics[main_uri])) == [  # type: ignore[attr-defined]
+        ("E0103", (1, 24, 1, 25), "unknown fluent or function `f`")
+    ]
+    client.text_document_did_close(types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(lib_uri)))
+    # Closed: main.gpp reads lib.gpp from the disk again.
+    await _until(lambda: not keys(list(client.diagnostics[main_uri])))  # type: ignore[attr-defined]
+
+
+async def _until(condition: object, timeout: float = 20.0) -> None:
+    assert callable(condition)
+    loop = asyncio.get_running_loop()
+    deadline = loop.time() + timeout
+    while not condition():
+        assert loop.time() < deadline, "timed out"
+        await asyncio.sleep(0.01)
+
+
+@in_module_loop
+async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published(
+    client: LanguageClient, workspace: Path
+) -> None:
+    body = "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(400))
+    text = body + "procedure main() {\n}\n"
+    uri = open_doc(client, workspace / "typing.gpp", text)
+    await diagnostics(client, uri, 1)
+    typed = "v1() = v2() + w;"
+    for k, ch in enumerate(typed):  # one keystroke each, at the start of the line of `}`
+        change(client, uri, k + 2, [((401, k, 401, k), ch)])
+    last = len(typed) + 1
+    found = await diagnostics(client, uri, last)
+    final = body + "procedure main() {\n" + typed + "}\n"
+    assert keys(found) == expected(workspace / "typing.gpp", final)
+    assert ("E0101", (401, 14, 401, 15), "unknown name `w`") in keys(found)
+    versions = [p.version for p in published(client).of(uri)]
+    assert versions == sorted(versions) and len(set(versions)) == len(versions)
+    assert versions[-1] == last
+    assert len(versions) < len(typed)  # coalesced: not one analysis per keystroke
+
+
+# ---------------------------------------------------------------- other ways to start it
+
+
+async def _profile_session(client: LanguageClient, profile: str, folder: Path) -> None:
+    """Initialize as the editor `profile` does, and see a diagnostic at a UTF-16 position."""
+    result = await client.initialize_session(  # type: ignore[attr-defined]
+        types.InitializeParams(capabilities=pytest_lsp.client_capabilities(profile))
+    )
+    # Neovim offers UTF-8 first; gpp answers in UTF-16, which every client supports.
+    assert result.capabilities.position_encoding == types.PositionEncodingKind.Utf16
+    text = 'string fluent s() { initially: () = ""; }\nprocedure main() {\n    s() = "é😀"\n}\n'
+    uri = open_doc(client, folder / f"{profile}.gpp", text)
+    found = await diagnostics(client, uri, 1)
+    # After `"é😀"`: 15 UTF-16 units (13 characters, 17 UTF-8 bytes).
+    assert keys(found) == [("E0011", (2, 15, 2, 15), "expected `;` after this statement")]
+    await client.shutdown_session()  # type: ignore[attr-defined]
+
+
+@in_module_loop
+async def test_neovim_over_stdio(tmp_path: Path) -> None:
+    c = make_client()
+    await c.start_io(*SERVER)  # type: ignore[attr-defined]
+    await _profile_session(c, "neovim", tmp_path)
+
+
+@in_module_loop
+async def test_visual_studio_code_over_tcp_on_loopback(tmp_path: Path) -> None:
+    bad = subprocess.run([*SERVER, "--tcp", "0.0.0.0:2087"], capture_output=True, text=True, timeout=60)
+    assert (bad.returncode, bad.stderr) == (
+        2,
+        "error: --tcp listens on loopback addresses only (127.0.0.1, ::1, localhost), not `0.0.0.0`\n",
+    )
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = subprocess.Popen([*SERVER, "--tcp", f"127.0.0.1:{port}"], stderr=subprocess.DEVNULL)
+    try:
+        c = make_client()
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + 30
+        while True:  # until the server listens (a probe connection would be its one client)
+            try:
+                await c.start_tcp("127.0.0.1", port)  # type: ignore[attr-defined]
+                break
+            except OSError:
+                assert loop.time() < deadline, "the server does not listen"
+                await asyncio.sleep(0.05)
+        await _profile_session(c, "visual_studio_code", tmp_path)
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+
+
+def test_the_codes_page_is_generated_from_the_registry() -> None:
+    from lsp.codes_doc import codes_markdown
+
+    page = (ROOT / "docs" / "codes.md").read_text(encoding="utf-8")
+    assert page == codes_markdown(), "docs/codes.md is out of date: regenerate it with `python -m lsp.codes_doc`"
