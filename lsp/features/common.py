@@ -146,7 +146,7 @@ def _doc_above(pf: ParsedFile, offset: int) -> str:
     by_line: dict[int, tuple[int, int]] = {}
     for start, end in comments(pf):
         first, last = source.line_col(start)[0], source.line_col(max(start, end - 1))[0]
-        if last < line - 1 or first >= line:
+        if last >= line:
             continue
         # Only a comment that is alone on its lines documents what follows.
         if source.line_text(first)[: source.line_col(start)[1] - 1].strip():

@@ -25,8 +25,8 @@ from lsp.features.info import CODE_LANGUAGE
 # Declaration snippets offered at the top level (label, detail, snippet).
 DECLARATION_SNIPPETS: list[tuple[str, str, str]] = [
     ("procedure", "procedure declaration", "procedure ${1:name}($2) {\n\t$0\n}"),
-    ("action", "action declaration", "action ${1:name}($2) {\nprecondition:\n\t${3:true}\neffect:\n\t$0\n}"),
-    ("exog_action", "exogenous action declaration", "exog_action ${1:name}($2) {\neffect:\n\t$0\n}"),
+    ("action", "action declaration", "action ${1:name}($2) {\nprecondition:\n\t${0:true}\n}"),
+    ("exog_action", "exogenous action declaration", "exog_action ${1:name}($2) {\n\t$0\n}"),
     ("fluent", "fluent declaration", "${1:bool} fluent ${2:name}($3) {\ninitially:\n\t($4) = ${5:false};\n}"),
     ("function", "function declaration", "${1:bool} function ${2:name}($3) =\n\t${0:true}"),
     ("exog_function", "exogenous function declaration", "${1:number} exog_function ${2:name}($3);"),
@@ -162,8 +162,9 @@ class _Completer:
             if symbol.kind in kinds:
                 self.symbol_item(symbol)
 
-    def locals(self) -> None:
-        # Inner scopes last, so that the innermost of several same-named variables wins.
+    def local_table(self) -> dict[str, Symbol | Binder]:
+        """The variables in scope at the cursor: the model's, and those only the tokens show
+        (in a statement the parser could not keep)."""
         known: dict[str, Symbol | Binder] = {}
         for s in self.model.visible_at(self.doc.source, self.offset):
             if s.kind in LOCAL_KINDS:
@@ -171,20 +172,27 @@ class _Completer:
         for b in self.ctx.binders:
             if b.name not in known or isinstance(known[b.name], Binder):
                 known[b.name] = b
-        for name, local in sorted(known.items()):
-            if isinstance(local, Symbol):
-                self.symbol_item(local, _LOCAL)
-            else:
-                what = "parameter" if local.parameter else "variable"
-                self.add(
-                    types.CompletionItem(
-                        label=name,
-                        kind=types.CompletionItemKind.Variable,
-                        detail=f"{local.type} {name}",
-                        documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=what),
-                    ),
-                    _LOCAL,
-                )
+        return known
+
+    def locals(self) -> None:
+        for name, local in sorted(self.local_table().items()):
+            self.local_item(name, local, _LOCAL)
+
+    def local_item(self, name: str, local: Symbol | Binder, rank: str) -> None:
+        if isinstance(local, Symbol):
+            self.symbol_item(local, rank)
+            return
+        what = "parameter" if local.parameter else "variable"
+        self.add(
+            types.CompletionItem(
+                label=name,
+                kind=types.CompletionItemKind.Variable,
+                detail=f"{local.type} {name}",
+                documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=what),
+                preselect=True if rank == _EXPECTED else None,
+            ),
+            rank,
+        )
 
     def elements(self, domain: DomainType | None, rank: str = _GLOBAL) -> None:
         """The elements of `domain`, or every symbol of every domain."""
@@ -216,12 +224,14 @@ class _Completer:
 
     def expected(self) -> None:
         t = self.expected_type()
-        if isinstance(t, DomainType):
-            self.elements(t, _EXPECTED)
-        if t is not None:
-            for s in self.model.visible_at(self.doc.source, self.offset):
-                if s.kind in LOCAL_KINDS and s.type is t:
-                    self.symbol_item(s, _EXPECTED)
+        if not isinstance(t, DomainType):
+            return
+        self.elements(t, _EXPECTED)
+        # Variables whose values all fit.
+        for name, local in self.local_table().items():
+            local_type = local.type if isinstance(local, Symbol) else self.named_type(local.type)
+            if isinstance(local_type, DomainType) and set(local_type.values) <= set(t.values):
+                self.local_item(name, local, _EXPECTED)
 
     def expected_type(self) -> Type | None:
         """The type a value at the cursor should have: the parameter's type in a call's

@@ -155,7 +155,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
     scopes: list[_Scope] = []
     params: list[Binder] = []
     header: _Open | None = None  # the declaration's parameter list while it is open
-    name_seen = False
+    name_seen = header_seen = False
     for i in range(first, n):
         t = tokens[i]
         tt = t.type
@@ -172,9 +172,9 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
                     s.braced = tt in ("LBRACE", "MAIN_LBRACE") and len(opens) == s.level
             o = _Open(t, i)
             opens.append(o)
-            first_paren = name_seen and header is None and not params and len(opens) == 1
+            first_paren = name_seen and not header_seen and len(opens) == 1
             if tt == "LPAR" and first_paren and ctx.decl_keyword in _HAS_PARAMETERS:
-                header = o
+                header, header_seen = o, True
             continue
         if tt in ("RPAR", "RBRACE", "RBRACKET"):
             # Pop to the matching opener (a stray closer pops nothing).
@@ -185,8 +185,9 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
                 closed = opens[k]
                 del opens[k:]
                 if closed is header:
-                    params.extend(_params(tokens, closed.index + 1, i, True))
                     header = None
+                    # (A fluent's parameters stand for every value in its `initially:` lines.)
+                    params.extend(_params(tokens, closed.index + 1, i, True))
             for s in scopes:
                 if not s.header_done and not s.quantifier and len(opens) == s.level and tt == "RPAR":
                     s.header_done = True
