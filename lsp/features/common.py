@@ -1,0 +1,214 @@
+"""What the editor features share: finding the document in a checked program, turning spans
+into LSP ranges and locations, the comments of a file (which the syntax tree leaves out), and
+the doc comment of a declaration."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from lsprotocol import types
+
+from gpp.check import CheckResult
+from gpp.model.model import Model
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.resources import stdlib_dir
+from gpp.source import Source, Span
+from gpp.syntax import ast
+from gpp.syntax.loader import ParsedFile
+
+
+@dataclass(frozen=True, slots=True)
+class Document:
+    """One file of a checked program, with the model that covers it."""
+
+    result: CheckResult
+    file: ParsedFile
+
+    @property
+    def model(self) -> Model:
+        return self.result.model
+
+    @property
+    def source(self) -> Source:
+        return self.file.source
+
+    @property
+    def text(self) -> str:
+        return self.file.source.text
+
+
+def document(result: CheckResult, path: Path) -> Document | None:
+    """The file `path` of `result`, or None when the program does not contain it."""
+    for f in result.loaded.files:
+        if f.path == path:
+            return Document(result, f)
+    try:
+        f2 = result.loaded.file(path)
+    except (OSError, ValueError, RuntimeError):
+        return None
+    return None if f2 is None else Document(result, f2)
+
+
+def clamp(offset: int, text: str) -> int:
+    return max(0, min(offset, len(text)))
+
+
+def position(source: Source, offset: int) -> types.Position:
+    line, character = source.lsp_position(clamp(offset, source.text))
+    return types.Position(line=line, character=character)
+
+
+def lsp_range(span: Span) -> types.Range:
+    return types.Range(start=position(span.source, span.start), end=position(span.source, span.end))
+
+
+def path_of(result: CheckResult, source: Source) -> Path | None:
+    for f in result.loaded.files:
+        if f.source is source:
+            return f.path
+    return None
+
+
+def uri_of(result: CheckResult, source: Source) -> str | None:
+    p = path_of(result, source)
+    return None if p is None else p.as_uri()
+
+
+def location(result: CheckResult, span: Span) -> types.Location | None:
+    uri = uri_of(result, span.source)
+    return None if uri is None else types.Location(uri=uri, range=lsp_range(span))
+
+
+def in_stdlib(path: Path) -> bool:
+    try:
+        return path.is_relative_to(stdlib_dir().resolve())
+    except (OSError, RuntimeError):
+        return False
+
+
+# ---------------------------------------------------------------- comments
+
+
+def comments(file: ParsedFile) -> list[tuple[int, int]]:
+    """The comments of a file as (start, end) offsets, in order. They lie in the gaps between
+    tokens, the only places the tokenizer skips."""
+    text = file.source.text
+    out: list[tuple[int, int]] = []
+    gap_start = 0
+    for tok in [*file.tokens, None]:
+        gap_end = len(text) if tok is None else tok.start
+        i = gap_start
+        while i < gap_end - 1:
+            if text.startswith("//", i):
+                j = text.find("\n", i)
+                j = gap_end if j < 0 or j > gap_end else j
+                out.append((i, j))
+                i = j
+            elif text.startswith("/*", i):
+                j = text.find("*/", i + 2)
+                j = gap_end if j < 0 or j + 2 > gap_end else j + 2
+                out.append((i, j))
+                i = j
+            else:
+                i += 1
+        if tok is not None:
+            gap_start = tok.end
+    return out
+
+
+def declaration_node(symbol: Symbol) -> ast.Decl | None:
+    decl = symbol.decl
+    return decl if isinstance(decl, ast.Decl) else None
+
+
+def doc_comment(result: CheckResult, symbol: Symbol) -> str:
+    """The `//` lines directly above the symbol's declaration (or a forward declaration), or a
+    `/* */` comment ending on the line above; '' when there is none."""
+    decl = declaration_node(symbol)
+    starts: list[Span] = []
+    if decl is not None:
+        starts.append(Span(decl.span.source, decl.span.start, decl.span.start))
+    starts.extend(symbol.other_spans)
+    for at in starts:
+        pf = next((f for f in result.loaded.files if f.source is at.source), None)
+        if pf is None:
+            continue
+        text = _doc_above(pf, at.start)
+        if text:
+            return text
+    return ""
+
+
+def _doc_above(pf: ParsedFile, offset: int) -> str:
+    source = pf.source
+    line = source.line_col(offset)[0]
+    by_line: dict[int, tuple[int, int]] = {}
+    for start, end in comments(pf):
+        first, last = source.line_col(start)[0], source.line_col(max(start, end - 1))[0]
+        if last >= line:
+            continue
+        # Only a comment that is alone on its lines documents what follows.
+        if source.line_text(first)[: source.line_col(start)[1] - 1].strip():
+            continue
+        by_line[last] = (start, end)
+    lines: list[str] = []
+    current = line - 1
+    while current in by_line:
+        start, end = by_line.pop(current)
+        body = source.text[start:end]
+        if body.startswith("//"):
+            lines.insert(0, _strip_line(body[2:]))
+            current = source.line_col(start)[0] - 1
+        else:
+            block = [_strip_line(s.strip().lstrip("*")) for s in body[2:-2].splitlines()]
+            lines[0:0] = block
+            break
+    return "\n".join(lines).strip("\n")
+
+
+def _strip_line(s: str) -> str:
+    return s[1:].rstrip() if s.startswith(" ") else s.rstrip()
+
+
+# ---------------------------------------------------------------- kinds
+
+COMPLETION_KIND: dict[SymbolKind, types.CompletionItemKind] = {
+    SymbolKind.DOMAIN: types.CompletionItemKind.Enum,
+    SymbolKind.COMPOUND: types.CompletionItemKind.Struct,
+    SymbolKind.BUILTIN_TYPE: types.CompletionItemKind.Keyword,
+    SymbolKind.FLUENT: types.CompletionItemKind.Property,
+    SymbolKind.ACTION: types.CompletionItemKind.Event,
+    SymbolKind.EXOG_ACTION: types.CompletionItemKind.Event,
+    SymbolKind.FUNCTION: types.CompletionItemKind.Function,
+    SymbolKind.EXOG_FUNCTION: types.CompletionItemKind.Function,
+    SymbolKind.PROCEDURE: types.CompletionItemKind.Method,
+    SymbolKind.COMPONENT: types.CompletionItemKind.Module,
+    SymbolKind.PARAMETER: types.CompletionItemKind.Variable,
+    SymbolKind.VARIABLE: types.CompletionItemKind.Variable,
+    SymbolKind.SYMBOL: types.CompletionItemKind.EnumMember,
+    SymbolKind.FIELD: types.CompletionItemKind.Field,
+    SymbolKind.CLOCK: types.CompletionItemKind.Constant,
+    SymbolKind.STATE: types.CompletionItemKind.EnumMember,
+}
+
+SYMBOL_KIND: dict[SymbolKind, types.SymbolKind] = {
+    SymbolKind.DOMAIN: types.SymbolKind.Enum,
+    SymbolKind.COMPOUND: types.SymbolKind.Struct,
+    SymbolKind.BUILTIN_TYPE: types.SymbolKind.TypeParameter,
+    SymbolKind.FLUENT: types.SymbolKind.Property,
+    SymbolKind.ACTION: types.SymbolKind.Event,
+    SymbolKind.EXOG_ACTION: types.SymbolKind.Event,
+    SymbolKind.FUNCTION: types.SymbolKind.Function,
+    SymbolKind.EXOG_FUNCTION: types.SymbolKind.Function,
+    SymbolKind.PROCEDURE: types.SymbolKind.Method,
+    SymbolKind.COMPONENT: types.SymbolKind.Module,
+    SymbolKind.PARAMETER: types.SymbolKind.Variable,
+    SymbolKind.VARIABLE: types.SymbolKind.Variable,
+    SymbolKind.SYMBOL: types.SymbolKind.EnumMember,
+    SymbolKind.FIELD: types.SymbolKind.Field,
+    SymbolKind.CLOCK: types.SymbolKind.Constant,
+    SymbolKind.STATE: types.SymbolKind.EnumMember,
+}
+
+LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})

@@ -1,0 +1,369 @@
+"""The cursor's context read from the token stream: which call's argument list it is in, which
+local variables are in scope, what kind of position it is (declaration, statement,
+expression, type). Completion and signature help work on half-typed code, where the parser's
+recovery may have dropped the statement under the cursor; the tokens are all still there.
+
+The scan runs over the tokens of the declaration around the cursor, up to the cursor, and
+tracks the open brackets, the declaration's parameters and the `pick`/`exists`/`forall`
+variables whose scope is still open.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+from gpp.syntax.lexer import Token
+
+# Tokens that start a top-level declaration (at brace depth 0).
+_DECL_KEYWORDS = {
+    "ACTION": "action",
+    "EXOG_ACTION": "exog_action",
+    "FLUENT": "fluent",
+    "FUNCTION": "function",
+    "EXOG_FUNCTION": "exog_function",
+    "PROCEDURE": "procedure",
+    "DOMAIN": "domain",
+    "COMPOUND": "compound",
+    "COMPONENT": "component",
+    "CONSTRAINTS": "constraints",
+    "INCLUDE": "include",
+    "MAIN_LBRACE": "main",
+}
+# Tokens after which an operand is complete: a name after one starts something new.
+OPERAND_ENDS = frozenset({"NAME", "RPAR", "RBRACKET", "NUMBER", "STRING", "TRUE", "FALSE", "NULL", "RBRACE"})
+_OPENERS = {"LPAR": "RPAR", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE", "LBRACKET": "RBRACKET"}
+_STATEMENT_HEADS = frozenset({"IF", "WHILE", "PICK", "SOLVE", "DURING"})
+_HAS_PARAMETERS = frozenset({"action", "exog_action", "fluent", "function", "exog_function", "procedure"})
+_SECTIONS = frozenset({"INITIALLY", "PRECONDITION", "EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"})
+
+
+class Position(Enum):
+    TOP_LEVEL = "top level"  # where a declaration may start
+    STATEMENT = "statement"  # where a statement may start
+    EFFECT = "effect"  # where an effect may start (its target is a fluent)
+    SECTION = "section"  # inside an action's braces, where a section keyword may come
+    EXPRESSION = "expression"
+    TYPE = "type"  # where a type name is expected (parameters, pick and quantifier variables)
+    NAME = "name"  # where a new name is being declared
+    FIELD = "field"  # after `.`
+    NONE = "none"  # inside a string or a comment, or nowhere completion helps
+
+
+@dataclass(frozen=True, slots=True)
+class Binder:
+    """A variable the tokens declare: a parameter, or a pick or quantifier variable."""
+
+    name: str
+    type: str
+    parameter: bool
+    start: int  # offset of the name
+
+
+@dataclass(frozen=True, slots=True)
+class CallSite:
+    name: str  # the called name ('' for the tuple of an `initially:` line)
+    name_start: int
+    open_paren: int  # offset of '('
+    argument: int  # 0-based index of the argument the cursor is in
+    argument_start: int  # offset where that argument begins
+
+
+@dataclass
+class Context:
+    position: Position
+    prefix_start: int  # where the word being typed begins (== offset when none)
+    decl_keyword: str  # 'procedure', 'action', 'fluent', ... ('' outside a declaration)
+    decl_name: str
+    section: str  # the last action/fluent section keyword seen ('' if none)
+    binders: list[Binder] = field(default_factory=list)
+    calls: list[CallSite] = field(default_factory=list)  # innermost last
+    previous_index: int = -1  # index of the token before the word being typed (-1: none)
+
+    @property
+    def call(self) -> CallSite | None:
+        return self.calls[-1] if self.calls else None
+
+
+@dataclass
+class _Open:
+    token: Token
+    index: int
+    commas: int = 0
+    last_comma: int = -1
+
+
+@dataclass
+class _Scope:
+    binder: Binder
+    level: int  # bracket depth at the binder's keyword
+    braced: bool | None = None  # None until the body starts
+    header_done: bool = False
+    quantifier: bool = False
+
+
+def _decl_starts(tokens: list[Token]) -> list[int]:
+    """Indexes of the tokens that begin top-level declarations (a type before `fluent` or
+    `function` belongs to it)."""
+    starts: list[int] = []
+    depth = 0
+    for i, t in enumerate(tokens):
+        if t.type in ("LBRACE", "MAIN_LBRACE"):
+            if depth == 0 and t.type == "MAIN_LBRACE":
+                starts.append(i)
+            depth += 1
+        elif t.type == "RBRACE":
+            depth = max(0, depth - 1)
+        elif depth == 0 and t.type in _DECL_KEYWORDS and t.type != "MAIN_LBRACE":
+            j = i
+            if t.type in ("FLUENT", "FUNCTION", "EXOG_FUNCTION", "DOMAIN"):
+                # `list[number] fluent`, `bool function`: back over the type.
+                while j > 0 and (starts == [] or j - 1 > starts[-1]) and tokens[j - 1].type not in _ENDERS:
+                    j -= 1
+            starts.append(j)
+    return starts
+
+
+_ENDERS = frozenset({"SEMI", "RBRACE", "RPAR", "NUMBER", "STRING", "TRUE", "FALSE", "NULL"})
+
+
+def context_at(tokens: list[Token], text: str, offset: int) -> Context:
+    # The word being typed: a name or keyword the cursor is inside or just after.
+    n = 0
+    while n < len(tokens) and tokens[n].end < offset:
+        n += 1
+    prefix_start = offset
+    if n < len(tokens):
+        t = tokens[n]
+        if t.start < offset <= t.end and (t.value[:1].isalpha() or t.value[:1] == "_"):
+            prefix_start = t.start
+        elif t.start < offset < t.end:
+            # Inside a string or a number.
+            return Context(Position.NONE, offset, "", "", "")
+        elif t.end <= offset:
+            n += 1
+    # tokens[:n] are before the word being typed.
+    starts = _decl_starts(tokens[:n])
+    first = starts[-1] if starts else 0
+    ctx = Context(Position.EXPRESSION, prefix_start, "", "", "")
+    _scan(tokens, first, n, ctx)
+    return ctx
+
+
+def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
+    opens: list[_Open] = []
+    scopes: list[_Scope] = []
+    params: list[Binder] = []
+    header: _Open | None = None  # the declaration's parameter list while it is open
+    name_seen = header_seen = False
+    for i in range(first, n):
+        t = tokens[i]
+        tt = t.type
+        if tt in _DECL_KEYWORDS and not opens and not ctx.decl_keyword:
+            ctx.decl_keyword = _DECL_KEYWORDS[tt]
+        elif tt == "NAME" and ctx.decl_keyword and not name_seen and not opens:
+            ctx.decl_name, name_seen = t.value, True
+        elif tt in _SECTIONS and len(opens) <= 1:
+            ctx.section = tt.lower()
+        if tt in _OPENERS:
+            # A scope's unbraced body that starts with '{' is braced after all.
+            for s in scopes:
+                if s.header_done and s.braced is None:
+                    s.braced = tt in ("LBRACE", "MAIN_LBRACE") and len(opens) == s.level
+            o = _Open(t, i)
+            opens.append(o)
+            first_paren = name_seen and not header_seen and len(opens) == 1
+            if tt == "LPAR" and first_paren and ctx.decl_keyword in _HAS_PARAMETERS:
+                header, header_seen = o, True
+            continue
+        if tt in ("RPAR", "RBRACE", "RBRACKET"):
+            # Pop to the matching opener (a stray closer pops nothing).
+            k = len(opens) - 1
+            while k >= 0 and _OPENERS[opens[k].token.type] != tt:
+                k -= 1
+            if k >= 0:
+                closed = opens[k]
+                del opens[k:]
+                if closed is header:
+                    header = None
+                    # (A fluent's parameters stand for every value in its `initially:` lines.)
+                    params.extend(_params(tokens, closed.index + 1, i, True))
+            for s in scopes:
+                if not s.header_done and not s.quantifier and len(opens) == s.level and tt == "RPAR":
+                    s.header_done = True
+            scopes = [s for s in scopes if len(opens) >= s.level]
+            if tt == "RBRACE":
+                scopes = [s for s in scopes if not (s.braced and len(opens) == s.level)]
+            continue
+        if tt == "COMMA" and opens:
+            opens[-1].commas += 1
+            opens[-1].last_comma = i
+            scopes = [s for s in scopes if not (s.quantifier and len(opens) == s.level)]
+        elif tt == "SEMI":
+            # A ';' ends the statement: brackets left open in it were never closed.
+            while opens and opens[-1].token.type in ("LPAR", "LBRACKET"):
+                opens.pop()
+            keep_if = i + 1 < len(tokens) and tokens[i + 1].type == "ELSE"
+            scopes = [
+                s
+                for s in scopes
+                if len(opens) > s.level or (len(opens) == s.level and (s.braced or keep_if) and not s.quantifier)
+            ]
+        elif tt in ("PICK", "QUANTIFIER"):
+            binder = _binder_after(tokens, i, n)
+            if binder is not None:
+                scopes.append(_Scope(binder, len(opens), quantifier=tt == "QUANTIFIER", header_done=False))
+    # Quantifier headers: `exists (T x) body`, the body starts after the ')'.
+    for s in scopes:
+        if s.quantifier:
+            s.header_done = True
+    ctx.binders = params + [s.binder for s in scopes]
+    if header is not None:
+        # The cursor is in the declaration's own parameter list.
+        ctx.position = _in_parameter_list(tokens, header.index + 1, n)
+        return
+    ctx.calls = _calls(tokens, opens, n, ctx)
+    ctx.previous_index = n - 1
+    ctx.position = _position(tokens, opens, n, ctx)
+
+
+def _binder_after(tokens: list[Token], i: int, n: int) -> Binder | None:
+    """The variable of `pick (T x ...)` or `exists (T x)` at tokens[i], if its name is typed."""
+    if i + 1 >= len(tokens) or tokens[i + 1].type != "LPAR":
+        return None
+    j = i + 2
+    depth = 0
+    while j < len(tokens) and j < n + 8:
+        t = tokens[j]
+        if t.type == "LBRACKET":
+            depth += 1
+        elif t.type == "RBRACKET":
+            depth -= 1
+        elif t.type == "NAME" and depth == 0 and j > i + 2:
+            # Only a name typed before the cursor (not the word being typed) declares.
+            if j >= n:
+                return None
+            return Binder(t.value, "".join(x.value for x in tokens[i + 2 : j]), False, t.start)
+        elif t.type in ("RPAR", "IN", "SEMI", "LBRACE", "RBRACE"):
+            return None
+        j += 1
+    return None
+
+
+def _params(tokens: list[Token], begin: int, end: int, parameter: bool) -> list[Binder]:
+    """`T a, T b` in tokens[begin:end]: the last name of each comma-separated group."""
+    out: list[Binder] = []
+    group: list[Token] = []
+    for t in [*tokens[begin:end], None]:
+        if t is None or t.type == "COMMA":
+            if len(group) >= 2 and group[-1].type == "NAME":
+                type_text = "".join(x.value for x in group[:-1])
+                out.append(Binder(group[-1].value, type_text, parameter, group[-1].start))
+            group = []
+        else:
+            group.append(t)
+    return out
+
+
+def _in_parameter_list(tokens: list[Token], begin: int, n: int) -> Position:
+    prev = tokens[n - 1] if n > begin else None
+    if prev is None or prev.type in ("LPAR", "COMMA", "LBRACKET"):
+        return Position.TYPE
+    return Position.NAME
+
+
+def _calls(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> list[CallSite]:
+    out: list[CallSite] = []
+    for o in opens:
+        if o.token.type in ("LBRACE", "MAIN_LBRACE"):
+            out = []  # a call cannot span a block
+            continue
+        if o.token.type != "LPAR":
+            continue
+        before = tokens[o.index - 1] if o.index > 0 else None
+        arg_start = tokens[o.last_comma].end if o.last_comma >= 0 else o.token.end
+        if before is not None and before.type == "NAME":
+            out.append(CallSite(before.value, before.start, o.token.start, o.commas, arg_start))
+        elif ctx.section == "initially" and before is not None and before.type in ("INITIALLY", "SEMI"):
+            out.append(CallSite("", o.token.start, o.token.start, o.commas, arg_start))
+    return out
+
+
+def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> Position:
+    prev = tokens[n - 1] if n > 0 else None
+    if prev is None:
+        return Position.TOP_LEVEL
+    pt = prev.type
+    braces = [o for o in opens if o.token.type in ("LBRACE", "MAIN_LBRACE")]
+    innermost = opens[-1] if opens else None
+    if pt == "DOT":
+        return Position.FIELD
+    if not opens:
+        if pt in ("SEMI", "RBRACE", "INCLUDE") or (pt in OPERAND_ENDS and ctx.decl_keyword not in ("", "include")):
+            return Position.TOP_LEVEL
+        if pt == "STRING" and ctx.decl_keyword == "include":
+            return Position.TOP_LEVEL
+        if pt in ("FLUENT", "FUNCTION", "EXOG_FUNCTION", "ACTION", "EXOG_ACTION", "PROCEDURE", "DOMAIN"):
+            return Position.NAME
+        if pt in ("COMPOUND", "COMPONENT"):
+            return Position.NAME
+        if pt in ("EQ",):
+            return Position.EXPRESSION
+        if pt == "NAME" and ctx.decl_keyword == "":
+            return Position.TOP_LEVEL
+        return (
+            Position.EXPRESSION
+            if pt not in ("BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "RBRACKET")
+            else (Position.TOP_LEVEL)
+        )
+    if innermost is not None and innermost.token.type == "LPAR":
+        before = tokens[innermost.index - 1] if innermost.index > 0 else None
+        if before is not None and before.type in ("PICK", "QUANTIFIER"):
+            if pt == "LPAR":
+                return Position.TYPE
+            if pt == "IN":
+                return Position.EXPRESSION
+            return (
+                Position.NAME
+                if pt in ("NAME", "RBRACKET", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL")
+                else (Position.EXPRESSION)
+            )
+        return Position.EXPRESSION
+    if innermost is not None and innermost.token.type == "LBRACKET":
+        return Position.TYPE if pt == "LBRACKET" and tokens[innermost.index - 1].type == "LIST" else Position.EXPRESSION
+    # Inside braces: of an action (sections), a fluent (initially), a procedure (statements).
+    statement_start = pt in ("LBRACE", "MAIN_LBRACE", "SEMI", "RBRACE", "ELSE", "ON_FAIL", "ON_CANCEL") or (
+        pt in _SECTIONS
+    )
+    if pt == "RPAR":
+        statement_start = _closes_statement_head(tokens, n - 1)
+    if ctx.decl_keyword in ("action", "exog_action") and len(braces) == 1:
+        if ctx.section == "effect" and statement_start:
+            return Position.EFFECT
+        if pt in ("LBRACE", "SEMI", "RBRACE"):
+            return Position.SECTION
+        return Position.EXPRESSION
+    if ctx.decl_keyword in ("procedure", "main"):
+        return Position.STATEMENT if statement_start else Position.EXPRESSION
+    if ctx.decl_keyword in ("fluent",) and pt in ("LBRACE", "SEMI"):
+        return Position.SECTION
+    return Position.EXPRESSION
+
+
+def _closes_statement_head(tokens: list[Token], i: int) -> bool:
+    """Does the ')' at tokens[i] close the head of `if (..)`, `while (..)`, `pick (..)`,
+    `solve (..)` or `during (..)`, so that a statement follows?"""
+    depth = 0
+    j = i
+    while j >= 0:
+        t = tokens[j].type
+        if t == "RPAR":
+            depth += 1
+        elif t == "LPAR":
+            depth -= 1
+            if depth == 0:
+                return j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
+        elif t in ("SEMI", "LBRACE", "RBRACE"):
+            return False
+        j -= 1
+    return False

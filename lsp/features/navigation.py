@@ -1,0 +1,217 @@
+"""Go to definition, find references, document highlight and rename: queries on the model's
+references (every occurrence of a name, with the symbol it means)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from lsprotocol import types
+
+from gpp.check import CheckResult
+from gpp.model.symbols import Reference, Symbol, SymbolKind
+from gpp.resources import stdlib_dir
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
+from gpp.syntax.walk import walk
+from lsp.features.common import LOCAL_KINDS, Document, document, in_stdlib, location, lsp_range, path_of
+
+
+class RenameError(Exception):
+    """A rename the server refuses; the message is shown to the user."""
+
+
+_IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+RESERVED = frozenset(KEYWORDS) | frozenset(PLATFORM_KEYWORDS) | frozenset(SECTION_WORDS)
+
+
+def definition(result: CheckResult, path: Path, offset: int) -> list[types.Location]:
+    doc = document(result, path)
+    if doc is None:
+        return []
+    included = _include_at(doc, offset)
+    if included is not None:
+        return [types.Location(uri=included.as_uri(), range=types.Range(start=_ZERO, end=_ZERO))]
+    symbol = doc.model.symbol_at(doc.source, offset)
+    if symbol is None or symbol.span is None:
+        return []
+    loc = location(result, symbol.span)
+    return [] if loc is None else [loc]
+
+
+_ZERO = types.Position(line=0, character=0)
+
+
+def _include_at(doc: Document, offset: int) -> Path | None:
+    """The file an `#include` under the cursor loads (as the loader finds it)."""
+    for decl in doc.file.program.declarations:
+        if isinstance(decl, ast.Include) and decl.span.contains(offset):
+            name = decl.path.value
+            loaded = {f.path for f in doc.result.loaded.files}
+            for candidate in (doc.file.path.parent / name, stdlib_dir() / name):
+                try:
+                    resolved = candidate.resolve()
+                except (OSError, RuntimeError, ValueError):
+                    continue
+                if resolved in loaded:
+                    return resolved
+    return None
+
+
+def references(result: CheckResult, path: Path, offset: int, include_declaration: bool) -> list[types.Location]:
+    doc = document(result, path)
+    if doc is None:
+        return []
+    symbol = doc.model.symbol_at(doc.source, offset)
+    if symbol is None:
+        return []
+    out: list[types.Location] = []
+    for ref in _sorted(result, doc.model.references_to(symbol, include_declaration)):
+        loc = location(result, ref.span)
+        if loc is not None:
+            out.append(loc)
+    return out
+
+
+def _sorted(result: CheckResult, refs: list[Reference]) -> list[Reference]:
+    order = {id(f.source): i for i, f in enumerate(result.loaded.files)}
+    return sorted(refs, key=lambda r: (order.get(id(r.span.source), -1), r.span.start))
+
+
+# ---------------------------------------------------------------- highlight
+
+_READ_WRITE = frozenset({SymbolKind.FLUENT, SymbolKind.PARAMETER, SymbolKind.VARIABLE, SymbolKind.FIELD})
+
+
+def document_highlight(result: CheckResult, path: Path, offset: int) -> list[types.DocumentHighlight]:
+    doc = document(result, path)
+    if doc is None:
+        return []
+    symbol = doc.model.symbol_at(doc.source, offset)
+    if symbol is None:
+        return []
+    written = written_names(doc.file.program) if symbol.kind in _READ_WRITE else set()
+    out: list[types.DocumentHighlight] = []
+    for ref in _sorted(result, doc.model.references_to(symbol)):
+        if ref.span.source is not doc.source:
+            continue
+        if ref.declaration or symbol.kind not in _READ_WRITE:
+            kind = types.DocumentHighlightKind.Text
+        elif ref.span.start in written:
+            kind = types.DocumentHighlightKind.Write
+        else:
+            kind = types.DocumentHighlightKind.Read
+        out.append(types.DocumentHighlight(range=lsp_range(ref.span), kind=kind))
+    return out
+
+
+def written_names(program: ast.Program) -> set[int]:
+    """Start offsets of the names that are assigned to: the fluent or variable at the root of
+    the target of an assignment, an effect, a `senses` section or a list operation."""
+    out: set[int] = set()
+    for node in walk(program):
+        target: ast.Expr | None = None
+        if isinstance(node, ast.Assign | ast.Effect | ast.SensesSection | ast.ListStmt):
+            target = node.target
+        while isinstance(target, ast.FieldAccess | ast.Index):
+            target = target.subject
+        if isinstance(target, ast.Call):
+            out.add(target.name.span.start)
+        elif isinstance(target, ast.Name):
+            out.add(target.span.start)
+    return out
+
+
+# ---------------------------------------------------------------- rename
+
+
+def prepare_rename(result: CheckResult, path: Path, offset: int) -> types.PrepareRenameResult | None:
+    doc = document(result, path)
+    if doc is None:
+        return None
+    ref, symbol = _renamable(doc, offset)
+    return types.PrepareRenamePlaceholder(range=lsp_range(ref.span), placeholder=symbol.name)
+
+
+def rename(result: CheckResult, path: Path, offset: int, new_name: str) -> types.WorkspaceEdit | None:
+    doc = document(result, path)
+    if doc is None:
+        return None
+    _, symbol = _renamable(doc, offset)
+    if new_name in RESERVED:
+        raise RenameError(f"`{new_name}` is a keyword of golog++")
+    if not _IDENTIFIER.match(new_name):
+        raise RenameError(f"`{new_name}` is not a valid name (a letter, then letters, digits or '_')")
+    refs = doc.model.references_to(symbol)
+    if new_name != symbol.name:
+        _check_clash(doc, symbol, refs, new_name)
+    changes: dict[str, list[types.TextEdit]] = {}
+    for ref in _sorted(result, refs):
+        p = path_of(result, ref.span.source)
+        if p is None:
+            continue
+        changes.setdefault(p.as_uri(), []).append(types.TextEdit(range=lsp_range(ref.span), new_text=new_name))
+    return types.WorkspaceEdit(changes=changes)
+
+
+def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:
+    ref = doc.model.reference_at(doc.source, offset)
+    if ref is None:
+        word = _word_at(doc.text, offset)
+        if word in RESERVED:
+            raise RenameError(f"`{word}` is a keyword of golog++ and cannot be renamed")
+        raise RenameError("there is no name to rename here")
+    symbol = ref.symbol
+    if symbol.predefined or symbol.span is None or symbol.kind is SymbolKind.BUILTIN_TYPE:
+        raise RenameError(f"`{symbol.name}` is predefined and cannot be renamed")
+    for r in doc.model.references_to(symbol):
+        p = path_of(doc.result, r.span.source)
+        if p is not None and in_stdlib(p):
+            raise RenameError(f"`{symbol.name}` is defined in the standard library and cannot be renamed")
+    return ref, symbol
+
+
+def _word_at(text: str, offset: int) -> str:
+    start = end = max(0, min(offset, len(text)))
+    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
+        start -= 1
+    while end < len(text) and (text[end].isalnum() or text[end] == "_"):
+        end += 1
+    return text[start:end]
+
+
+def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name: str) -> None:
+    model = doc.model
+    if symbol.kind in LOCAL_KINDS:
+        spots = [r.span for r in refs]
+    else:
+        existing = model.lookup(new_name)
+        if existing is not None and existing is not symbol:
+            raise RenameError(f"`{new_name}` is already declared as {existing.kind.article} {existing.kind.value}")
+        spots = [r.span for r in refs if not r.declaration]
+    owner = symbol.owner
+    if owner is not None and any(p.name == new_name for p in owner.params if p is not symbol):
+        raise RenameError(f"`{owner.name}` already has a parameter named `{new_name}`")
+    for span in spots:
+        other = _visible(doc, span, new_name)
+        if other is not None and other is not symbol:
+            where = f"{other.kind.value} `{new_name}`"
+            raise RenameError(f"renaming to `{new_name}` would clash with the {where} visible at line {span.line}")
+    if symbol.kind in LOCAL_KINDS:
+        # A use of a global symbol of the new name inside the local's scope would be captured.
+        for scope in model.scopes:
+            if symbol in scope.symbols:
+                for r in model.references_in(scope.span.source):
+                    if scope.span.start <= r.span.start <= scope.span.end and r.symbol.name == new_name:
+                        raise RenameError(
+                            f"renaming to `{new_name}` would hide the {r.symbol.kind.value} `{new_name}` "
+                            f"used at line {r.span.line}"
+                        )
+
+
+def _visible(doc: Document, span: Span, name: str) -> Symbol | None:
+    for s in doc.model.visible_at(span.source, span.start):
+        if s.name == name and s.kind in LOCAL_KINDS:
+            return s
+    return None

@@ -1,0 +1,140 @@
+"""Semantic tokens: every name classified by what the model resolved it to, plus keywords,
+literals and comments from the token stream.
+
+The legend (indexes are what the encoded tokens refer to):
+
+token types
+    fluent, action, procedure   custom types (gpp kinds with no LSP equivalent); editors that do
+                                not know them may map them to variable, function and function
+    function                    functions and exogenous functions
+    parameter                   parameters of actions, procedures, fluents and functions
+    variable                    `pick` and quantifier variables
+    enumMember                  elements of symbol domains, component states
+    type                        domains, compound types, `number`/`bool`/`string`/`symbol`/`void`
+    property                    compound fields and component clocks
+    namespace                   components
+    keyword, string, number, comment
+modifiers
+    declaration                 the name where it is declared
+    defaultLibrary              declared in the standard library, or predefined
+    exogenous                   exogenous actions and functions (custom)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lsprotocol import types
+
+from gpp.check import CheckResult
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.source import Source
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
+from lsp.features.common import comments, document, in_stdlib, path_of
+
+TOKEN_TYPES = [
+    "fluent",
+    "action",
+    "procedure",
+    "function",
+    "parameter",
+    "variable",
+    "enumMember",
+    "type",
+    "property",
+    "namespace",
+    "keyword",
+    "string",
+    "number",
+    "comment",
+]
+TOKEN_MODIFIERS = ["declaration", "defaultLibrary", "exogenous"]
+SEMANTIC_TOKENS_LEGEND = types.SemanticTokensLegend(token_types=TOKEN_TYPES, token_modifiers=TOKEN_MODIFIERS)
+
+_TYPE = {name: i for i, name in enumerate(TOKEN_TYPES)}
+_KIND_TYPE: dict[SymbolKind, int] = {
+    SymbolKind.FLUENT: _TYPE["fluent"],
+    SymbolKind.ACTION: _TYPE["action"],
+    SymbolKind.EXOG_ACTION: _TYPE["action"],
+    SymbolKind.PROCEDURE: _TYPE["procedure"],
+    SymbolKind.FUNCTION: _TYPE["function"],
+    SymbolKind.EXOG_FUNCTION: _TYPE["function"],
+    SymbolKind.PARAMETER: _TYPE["parameter"],
+    SymbolKind.VARIABLE: _TYPE["variable"],
+    SymbolKind.SYMBOL: _TYPE["enumMember"],
+    SymbolKind.STATE: _TYPE["enumMember"],
+    SymbolKind.DOMAIN: _TYPE["type"],
+    SymbolKind.COMPOUND: _TYPE["type"],
+    SymbolKind.BUILTIN_TYPE: _TYPE["type"],
+    SymbolKind.FIELD: _TYPE["property"],
+    SymbolKind.CLOCK: _TYPE["property"],
+    SymbolKind.COMPONENT: _TYPE["namespace"],
+}
+DECLARATION, DEFAULT_LIBRARY, EXOGENOUS = 1, 2, 4
+_KEYWORD_TYPES = (
+    frozenset(KEYWORDS.values())
+    | frozenset(PLATFORM_KEYWORDS.values())
+    | frozenset(SECTION_WORDS.values())
+    | {"INCLUDE"}
+)
+
+
+def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
+    doc = document(result, path)
+    if doc is None:
+        return []
+    source = doc.source
+    found: list[tuple[int, int, int, int]] = []  # start, end, type, modifiers
+    for ref in doc.model.references_in(source):
+        found.append((ref.span.start, ref.span.end, _KIND_TYPE[ref.symbol.kind], _modifiers(result, ref.symbol)))
+        if ref.declaration:
+            start, end, t, m = found[-1]
+            found[-1] = (start, end, t, m | DECLARATION)
+    for tok in doc.file.tokens:
+        if tok.type in _KEYWORD_TYPES:
+            word = len(tok.value) - len(tok.value.lstrip("#abcdefghijklmnopqrstuvwxyz_"))
+            found.append((tok.start, tok.start + word, _TYPE["keyword"], 0))
+        elif tok.type == "STRING":
+            found.append((tok.start, tok.end, _TYPE["string"], 0))
+        elif tok.type == "NUMBER":
+            found.append((tok.start, tok.end, _TYPE["number"], 0))
+    for start, end in comments(doc.file):
+        found.append((start, end, _TYPE["comment"], 0))
+    found.sort(key=lambda f: (f[0], -f[1]))
+    return encode(source, found)
+
+
+def _modifiers(result: CheckResult, symbol: Symbol) -> int:
+    m = 0
+    if symbol.kind in (SymbolKind.EXOG_ACTION, SymbolKind.EXOG_FUNCTION):
+        m |= EXOGENOUS
+    if symbol.predefined or symbol.kind is SymbolKind.BUILTIN_TYPE:
+        m |= DEFAULT_LIBRARY
+    elif symbol.span is not None:
+        p = path_of(result, symbol.span.source)
+        if p is not None and in_stdlib(p):
+            m |= DEFAULT_LIBRARY
+    return m
+
+
+def encode(source: Source, found: list[tuple[int, int, int, int]]) -> list[int]:
+    """The LSP relative encoding of sorted tokens: overlapping ones after the first are left
+    out, one that spans lines is cut at each line end, lengths count UTF-16 units."""
+    text = source.text
+    data: list[int] = []
+    last_line = last_char = 0
+    covered = 0
+    for start, end, t, m in found:
+        if start < covered or end <= start:
+            continue
+        covered = end
+        while start < end:
+            line_end = text.find("\n", start, end)
+            piece_end = end if line_end < 0 else line_end
+            line, char = source.lsp_position(start)
+            length = len(text[start:piece_end].rstrip("\r").encode("utf-16-le")) // 2
+            if length > 0:
+                data += [line - last_line, char - last_char if line == last_line else char, length, t, m]
+                last_line, last_char = line, char
+            start = piece_end + 1 if line_end >= 0 else end
+    return data
