@@ -271,12 +271,14 @@ def _loopback_address(text: str) -> tuple[str, int]:
     return host, int(port)
 
 
-# `gpp run` and `gpp test` live in their own module, and so does `gpp trace`.
+# `gpp run` and `gpp test` live in their own module, and so do `gpp trace` and `gpp fmt`.
+from gpp.cli_fmt import register as register_fmt  # noqa: E402
 from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
 from gpp.cli_trace import register as register_trace  # noqa: E402
 
 register(app)
 register_trace(app)
+register_fmt(app)
 
 # ---------------------------------------------------------------- entry point
 

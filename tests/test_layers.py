@@ -35,7 +35,7 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("runtime", {"gpp.runtime"}),
     ("planner and platforms", {"gpp.planner", "gpp.platform"}),
     ("runner", {"gpp.runner", "gpp.testing", "gpp.runview", "gpp.traceview"}),
-    ("commands", {"gpp.cli", "gpp.cli_run", "gpp.cli_trace", "gpp.__main__", "lsp"}),
+    ("commands", {"gpp.cli", "gpp.cli_run", "gpp.cli_trace", "gpp.cli_fmt", "gpp.__main__", "lsp"}),
 ]
 # Units of one layer that must not import each other.
 APART = {frozenset({"gpp.planner", "gpp.platform"})}
