@@ -25,10 +25,11 @@ import traceback
 from collections.abc import Awaitable, Callable, Sequence
 from concurrent.futures import Future
 from pathlib import Path
-from typing import Any, ParamSpec, TypeVar
+from typing import Any, ParamSpec, TypeVar, cast
 from urllib.parse import quote, unquote, urlparse
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcException
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 
@@ -230,6 +231,9 @@ class GppServer(LanguageServer):
     async def on_request_thread(self, fn: Callable[[], R]) -> R:
         return await asyncio.wrap_future(self.requests.submit(fn))
 
+    async def on_analysis_thread(self, fn: Callable[[], R]) -> R:
+        return await asyncio.wrap_future(self.analysis.submit(fn))
+
     # ------------------------------------------------------------ conversions
 
     def to_lsp(self, d: diag.Diagnostic) -> types.Diagnostic:
@@ -286,27 +290,26 @@ def _before(a: types.Position, b: types.Position) -> bool:
     return (a.line, a.character) < (b.line, b.character)
 
 
-def _guarded(default: Callable[[], R]) -> Callable[[Callable[P, Awaitable[R]]], Callable[P, Awaitable[R]]]:
-    """Catch and log whatever a handler raises, and answer with `default()` instead."""
+def guarded(default: Callable[[], object]) -> Callable[[Callable[P, Awaitable[R]]], Callable[P, Awaitable[R]]]:
+    """Catch and log whatever a handler raises, and answer with `default()` instead (an error
+    meant for the client, a JsonRpcException, is answered as such)."""
 
     def wrap(handler: Callable[P, Awaitable[R]]) -> Callable[P, Awaitable[R]]:
         @functools.wraps(handler)
         async def guarded(*args: P.args, **kwargs: P.kwargs) -> R:
             try:
                 return await handler(*args, **kwargs)
+            except JsonRpcException:
+                raise
             except Exception as e:
                 server = args[0]
                 if isinstance(server, GppServer):
                     server.log_exception(handler.__name__, e)
-                return default()
+                return cast(R, default())
 
         return guarded
 
     return wrap
-
-
-def _none() -> None:
-    return None
 
 
 def _empty() -> list[Any]:
@@ -395,7 +398,7 @@ def make_server() -> GppServer:
         types.TEXT_DOCUMENT_CODE_ACTION,
         types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
     )
-    @_guarded(_empty)
+    @guarded(_empty)
     async def code_action(ls: GppServer, params: types.CodeActionParams) -> list[types.CodeAction]:
         found = await ls.result_for(params.text_document.uri)
         if found is None:
@@ -403,6 +406,9 @@ def make_server() -> GppServer:
         result, path = found
         return await ls.on_request_thread(lambda: ls.quick_fixes(result, path, params.range))
 
+    from lsp.handlers import register_features
+
+    register_features(server)
     return server
 
 

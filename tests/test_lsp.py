@@ -7,6 +7,7 @@ opens documents of its own. The client profiles of real editors get a server eac
 from __future__ import annotations
 
 import asyncio
+import json
 import socket
 import subprocess
 import sys
@@ -16,8 +17,13 @@ from pathlib import Path
 import pytest
 import pytest_lsp
 from lsp_client import CONFIG, SERVER, change, diagnostics, expected, keys, make_client, open_doc, published
-from lsprotocol import types
+from lsprotocol import converters, types
+from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
+
+from gpp.check import CheckResult, check_program
+from gpp.syntax.format import format_text
+from lsp import features
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -308,3 +314,193 @@ def test_the_codes_page_is_generated_from_the_registry() -> None:
 
     page = (ROOT / "docs" / "codes.md").read_text(encoding="utf-8")
     assert page == codes_markdown(), "docs/codes.md is out of date: regenerate it with `python -m lsp.codes_doc`"
+
+
+# ---------------------------------------------------------------- the features, wired
+
+
+FEATURES = """\
+symbol domain Loc = {kitchen, hall}
+// Where the robot is.
+Loc fluent at() { initially: () = kitchen; }
+action go(Loc to) { effect: at() = to; }
+procedure main() {
+    /* é😀 */ go(hall);
+    go(kitchen);
+}
+"""
+# `go` in `go(hall)`: after `    /* é😀 */ ` (13 characters, 14 UTF-16 units).
+GO_LINE, GO_CHAR = 5, 14
+GO_OFFSET = FEATURES.index("go(hall)")
+
+
+def plain(value: object) -> object:
+    """An LSP value as JSON data (what the client received and what the function returned
+    compare equal whatever sequences they hold)."""
+    return json.loads(json.dumps(converters.get_converter().unstructure(value)))
+
+
+def direct(workspace: Path) -> tuple[CheckResult, Path]:
+    path = (workspace / "features.gpp").resolve()
+    return check_program(path, overrides={path: FEATURES}), path
+
+
+async def features_doc(client: LanguageClient, workspace: Path) -> str:
+    uri = (workspace / "features.gpp").as_uri()
+    if uri not in {p.uri for p in published(client).items}:
+        open_doc(client, workspace / "features.gpp", FEATURES)
+        assert await diagnostics(client, uri, 1) == []
+    return uri
+
+
+def at_go(uri: str) -> tuple[types.TextDocumentIdentifier, types.Position]:
+    return types.TextDocumentIdentifier(uri), types.Position(GO_LINE, GO_CHAR)
+
+
+def go_range(line: int, char: int) -> dict[str, dict[str, int]]:
+    return {"start": {"line": line, "character": char}, "end": {"line": line, "character": char + 2}}
+
+
+@in_module_loop
+async def test_hover(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    got = await client.text_document_hover_async(types.HoverParams(*at_go(uri)))
+    result, path = direct(workspace)
+    assert plain(got) == plain(features.hover(result, path, GO_OFFSET))
+    assert got is not None and isinstance(got.contents, types.MarkupContent)
+    assert got.contents.value == "```gpp\naction go(Loc to)\n```"
+    assert plain(got.range) == go_range(GO_LINE, GO_CHAR)
+
+
+@in_module_loop
+async def test_definition(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    got = await client.text_document_definition_async(types.DefinitionParams(*at_go(uri)))
+    assert plain(got) == [{"uri": uri, "range": go_range(3, 7)}]
+
+
+@in_module_loop
+async def test_references_and_highlight(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    doc, pos = at_go(uri)
+    refs = await client.text_document_references_async(
+        types.ReferenceParams(context=types.ReferenceContext(include_declaration=True), text_document=doc, position=pos)
+    )
+    assert plain(refs) == [{"uri": uri, "range": go_range(*at)} for at in ((3, 7), (GO_LINE, GO_CHAR), (6, 4))]
+    uses = await client.text_document_references_async(
+        types.ReferenceParams(
+            context=types.ReferenceContext(include_declaration=False), text_document=doc, position=pos
+        )
+    )
+    result, path = direct(workspace)
+    assert plain(uses) == plain(features.references(result, path, GO_OFFSET, False))
+    highlights = await client.text_document_document_highlight_async(
+        types.DocumentHighlightParams(text_document=doc, position=pos)
+    )
+    assert [h["range"] for h in plain(highlights)] == [r["range"] for r in plain(refs)]  # type: ignore[union-attr,index]
+
+
+@in_module_loop
+async def test_rename(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    doc, pos = at_go(uri)
+    prepared = await client.text_document_prepare_rename_async(
+        types.PrepareRenameParams(text_document=doc, position=pos)
+    )
+    assert plain(prepared) == {"range": go_range(GO_LINE, GO_CHAR), "placeholder": "go"}
+    edit = await client.text_document_rename_async(types.RenameParams(text_document=doc, position=pos, new_name="move"))
+    assert plain(edit) == {
+        "changes": {uri: [{"range": go_range(*at), "newText": "move"} for at in ((3, 7), (GO_LINE, GO_CHAR), (6, 4))]}
+    }
+    # A keyword cannot be renamed: the client is told why.
+    with pytest.raises(JsonRpcException, match="`procedure` is a keyword of golog\\+\\+ and cannot be renamed"):
+        await client.text_document_prepare_rename_async(
+            types.PrepareRenameParams(text_document=doc, position=types.Position(4, 2))
+        )
+
+
+@in_module_loop
+async def test_completion(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    got = await client.text_document_completion_async(
+        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(6, 5))
+    )
+    result, path = direct(workspace)
+    want = features.completion(result, path, FEATURES.index("go(kitchen)") + 1)
+    items = got.items if isinstance(got, types.CompletionList) else got
+    assert plain(items) == plain(want)
+    assert {"at", "go", "main", "while"} <= {i.label for i in items or ()}
+
+
+@in_module_loop
+async def test_signature_help(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    got = await client.text_document_signature_help_async(
+        types.SignatureHelpParams(types.TextDocumentIdentifier(uri), types.Position(GO_LINE, GO_CHAR + 3))
+    )
+    assert got is not None
+    assert [s.label for s in got.signatures] == ["action go(Loc to)"]
+    assert got.active_parameter == 0
+
+
+@in_module_loop
+async def test_document_and_workspace_symbols(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    symbols = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(types.TextDocumentIdentifier(uri))
+    )
+    result, path = direct(workspace)
+    assert plain(symbols) == plain(features.document_symbols(result, path))
+    assert [s.name for s in symbols or ()] == ["Loc", "at", "go", "main"]
+    found = await client.workspace_symbol_async(types.WorkspaceSymbolParams(query="go"))
+    # The open documents of the workspace: `go` is declared in agent.gpp too.
+    agent = (workspace / "agent.gpp").as_uri()
+    assert sorted((s.name, s.location.uri) for s in found or ()) == [("go", agent), ("go", uri)]  # type: ignore[union-attr]
+
+
+@in_module_loop
+async def test_semantic_tokens(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    legend = INIT["result"].capabilities.semantic_tokens_provider
+    assert isinstance(legend, types.SemanticTokensOptions)
+    assert plain(legend.legend) == plain(features.SEMANTIC_TOKENS_LEGEND)
+    got = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(types.TextDocumentIdentifier(uri))
+    )
+    result, path = direct(workspace)
+    assert got is not None and list(got.data) == features.semantic_tokens(result, path)
+    assert list(got.data[:5]) == [0, 0, 6, legend.legend.token_types.index("keyword"), 0]
+
+
+@in_module_loop
+async def test_folding_ranges_and_inlay_hints(client: LanguageClient, workspace: Path) -> None:
+    uri = await features_doc(client, workspace)
+    doc = types.TextDocumentIdentifier(uri)
+    folds = await client.text_document_folding_range_async(types.FoldingRangeParams(doc))
+    assert [(f.start_line, f.end_line) for f in folds or ()] == [(4, 6)]
+    hints = await client.text_document_inlay_hint_async(
+        types.InlayHintParams(doc, types.Range(types.Position(5, 0), types.Position(6, 0)))
+    )
+    # After `go(` on line 5: a parameter hint `to:` (only the first call is in the range).
+    assert [(h.position.line, h.position.character, h.label) for h in hints or ()] == [(5, 17, "to:")]
+
+
+@in_module_loop
+async def test_formatting(client: LanguageClient, workspace: Path) -> None:
+    messy = "procedure   main( ) {\r\n  /* 😀 */ test( true ) ;}\n"
+    uri = open_doc(client, workspace / "messy.gpp", messy)
+    await diagnostics(client, uri, 1)
+    edits = await client.text_document_formatting_async(
+        types.DocumentFormattingParams(types.TextDocumentIdentifier(uri), types.FormattingOptions(4, True))
+    )
+    assert plain(edits) == [
+        {
+            "range": {"start": {"line": 0, "character": 0}, "end": {"line": 2, "character": 0}},
+            "newText": format_text(messy),
+        }
+    ]
+    broken = open_doc(client, workspace / "broken.gpp", "procedure main( {\n")
+    none = await client.text_document_formatting_async(
+        types.DocumentFormattingParams(types.TextDocumentIdentifier(broken), types.FormattingOptions(4, True))
+    )
+    assert none == ()
