@@ -11,17 +11,20 @@ import json
 import socket
 import subprocess
 import sys
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Coroutine
 from pathlib import Path
 
 import pytest
 import pytest_lsp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from lsp_client import CONFIG, SERVER, change, diagnostics, expected, keys, make_client, open_doc, published
 from lsprotocol import converters, types
 from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
 
 from gpp.check import CheckResult, check_program
+from gpp.source import Source
 from gpp.syntax.format import format_text
 from lsp import features
 
@@ -504,3 +507,110 @@ async def test_formatting(client: LanguageClient, workspace: Path) -> None:
         types.DocumentFormattingParams(types.TextDocumentIdentifier(broken), types.FormattingOptions(4, True))
     )
     assert none == ()
+
+
+# ---------------------------------------------------------------- robustness
+
+
+CORPUS = [p.read_text(encoding="utf-8") for p in sorted((ROOT / "examples").glob("*.gpp"))]
+# Some text editors produce and no program has: other line ends, characters beyond U+FFFF.
+CORPUS.append('\r\nstring fluent s() { initially: () = "😀\r"; }\r/* é */ procedure main() { s() = "x"; }\u2028\x0c')
+
+
+@st.composite
+def edits(draw: st.DrawFn) -> tuple[str, list[tuple[float, float, str]]]:
+    """A starting text and edits: (where, how much of the text after it to delete, what to
+    insert), as fractions of the text at the time of the edit."""
+    base = draw(st.sampled_from(CORPUS))
+    a = draw(st.integers(0, len(base)))
+    start_text = base[a : a + draw(st.integers(0, 1500))]
+    steps: list[tuple[float, float, str]] = []
+    for _ in range(draw(st.integers(1, 4))):
+        where = draw(st.floats(0, 1))
+        delete = draw(st.sampled_from([0.0, 0.0, 0.01, 0.05, 0.3]))
+        kind = draw(st.sampled_from(["paste", "type", "delete"]))
+        if kind == "paste":
+            other = draw(st.sampled_from(CORPUS))
+            i = draw(st.integers(0, len(other)))
+            insert = other[i : i + draw(st.integers(1, 300))]
+        elif kind == "type":
+            insert = draw(st.text(alphabet='(){};,.=!<>&|+- \n"abcxyz019é😀\r', max_size=8))
+        else:
+            insert = ""
+        steps.append((where, delete, insert))
+    return start_text, steps
+
+
+@in_module_loop
+async def test_random_edits_never_break_the_server(client: LanguageClient, workspace: Path) -> None:
+    """Random edit sequences (slices of other programs pasted in, text typed, text deleted):
+    every request answers without an error response and without an internal error logged, and
+    the final diagnostics are what `gpp check` says of the final text."""
+    loop = asyncio.get_running_loop()
+    counter = iter(range(10**6))
+    path = workspace / "random.gpp"
+
+    def run(coro: Coroutine[object, object, None]) -> None:
+        asyncio.run_coroutine_threadsafe(coro, loop).result(timeout=120)
+
+    @settings(
+        max_examples=25,
+        deadline=None,
+        derandomize=True,
+        database=None,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    )
+    @given(edits())
+    def example(case: tuple[str, list[tuple[float, float, str]]]) -> None:
+        run(_replay(client, path, next(counter), *case))
+
+    await asyncio.to_thread(example)
+    errors = [m.message for m in client.log_messages if m.type == types.MessageType.Error]
+    assert errors == []
+
+
+async def _replay(client: LanguageClient, path: Path, n: int, text: str, steps: list[tuple[float, float, str]]) -> None:
+    uri = path.with_name(f"random{n}.gpp").as_uri()
+    open_doc(client, Path(uri.removeprefix("file://")), text)
+    version = 1
+    for where, delete, insert in steps:
+        source = Source(text)
+        start = round(where * len(text))
+        end = min(len(text), start + round(delete * (len(text) - start)))
+        (l1, c1), (l2, c2) = source.lsp_position(start), source.lsp_position(end)
+        # A position inside `\r\n` or a surrogate pair is not one an editor sends.
+        start, end = source.lsp_offset(l1, c1), source.lsp_offset(l2, c2)
+        (l1, c1), (l2, c2) = source.lsp_position(start), source.lsp_position(end)
+        text = text[:start] + insert + text[end:]
+        version += 1
+        change(client, uri, version, [((l1, c1, l2, c2), insert)])
+        await _ask_everything(client, uri, Source(text), start + len(insert))
+    found = await diagnostics(client, uri, version)
+    assert keys(found) == expected(Path(uri.removeprefix("file://")), text)
+    client.text_document_did_close(types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri)))
+
+
+async def _ask_everything(client: LanguageClient, uri: str, source: Source, offset: int) -> None:
+    doc = types.TextDocumentIdentifier(uri)
+    line, char = source.lsp_position(min(offset, len(source.text)))
+    pos = types.Position(line, char)
+    end = types.Position(*source.lsp_position(len(source.text)))
+    whole = types.Range(types.Position(0, 0), end)
+    await asyncio.gather(
+        client.text_document_completion_async(types.CompletionParams(doc, pos)),
+        client.text_document_hover_async(types.HoverParams(doc, pos)),
+        client.text_document_definition_async(types.DefinitionParams(doc, pos)),
+        client.text_document_references_async(
+            types.ReferenceParams(context=types.ReferenceContext(True), text_document=doc, position=pos)
+        ),
+        client.text_document_document_highlight_async(types.DocumentHighlightParams(text_document=doc, position=pos)),
+        client.text_document_signature_help_async(types.SignatureHelpParams(doc, pos)),
+        client.text_document_document_symbol_async(types.DocumentSymbolParams(doc)),
+        client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(doc)),
+        client.text_document_folding_range_async(types.FoldingRangeParams(doc)),
+        client.text_document_inlay_hint_async(types.InlayHintParams(doc, whole)),
+        client.text_document_code_action_async(
+            types.CodeActionParams(doc, whole, types.CodeActionContext(diagnostics=[]))
+        ),
+        client.text_document_formatting_async(types.DocumentFormattingParams(doc, types.FormattingOptions(4, True))),
+    )
