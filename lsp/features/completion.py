@@ -113,7 +113,8 @@ class _Completer:
     # ---------------------------------------------------------------- sources of items
 
     def add(self, item: types.CompletionItem, rank: str = _GLOBAL) -> None:
-        if item.label not in self.out:
+        # (The parser's recovery may invent a declaration without a name.)
+        if item.label and item.label not in self.out:
             if item.sort_text is None:
                 item.sort_text = f"{rank}{item.label}"
             self.out[item.label] = item

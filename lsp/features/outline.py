@@ -19,7 +19,7 @@ def document_symbols(result: CheckResult, path: Path) -> list[types.DocumentSymb
     doc = document(result, path)
     if doc is None:
         return []
-    return [_symbol(item) for item in doc.model.outline(doc.source)]
+    return [_symbol(item) for item in doc.model.outline(doc.source) if item.name]
 
 
 def _symbol(item: OutlineItem) -> types.DocumentSymbol:
@@ -32,7 +32,7 @@ def _symbol(item: OutlineItem) -> types.DocumentSymbol:
         range=lsp_range(item.span),
         selection_range=lsp_range(selection),
         detail=item.detail,
-        children=[_symbol(c) for c in item.children],
+        children=[_symbol(c) for c in item.children if c.name],
     )
 
 
@@ -54,7 +54,7 @@ def workspace_symbols(results: Sequence[CheckResult], query: str) -> list[types.
                 candidates.append((s, t.name))
         for symbol, container in candidates:
             rank = match_rank(query, symbol.name)
-            if rank is None or symbol.span is None:
+            if rank is None or symbol.span is None or not symbol.name:
                 continue
             loc = location(result, symbol.span)
             if loc is None or (loc.uri, symbol.span.start) in seen:
