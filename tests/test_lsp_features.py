@@ -555,3 +555,28 @@ def test_each_declaration_snippet_expands_to_valid_golog(tmp_path: Path, label: 
         (tmp_path / "file.gpp").write_text("")
     result = check_text(text, tmp_path / "snippet.gpp", lint=False)
     assert [d.message for d in result.diagnostics if d.is_error] == []
+
+
+def test_completion_after_a_dot_offers_the_fields_of_the_subjects_compound(tmp_path: Path) -> None:
+    example = (ROOT / "examples" / "lists_and_compounds.gpp").read_text(encoding="utf-8")
+    at = example.index("procedure main")
+
+    def fields(expression: str) -> list[str]:
+        text = example[:at] + f"bool function zz(Order o) = {expression}@\n" + example[at:]
+        return [i.label for i in complete(text, tmp_path) if i.kind is types.CompletionItemKind.Field]
+
+    assert fields("o.") == ["item", "customer", "place", "priority"]
+    assert fields("o.place.") == ["x", "y", "theta"]
+    assert fields("queue()[0].place.") == ["x", "y", "theta"]
+    assert fields("o.place.x.") == []  # a number has no fields
+
+
+def test_signature_help_and_completion_in_an_initially_line(tmp_path: Path) -> None:
+    text = "symbol domain block = {a, b}\nbool fluent on(block x, block y) {\ninitially:\n    (a, b) = true;\n}\n"
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    h = F.signature_help(doc.result, doc.path, doc.at("b) = true"))
+    assert h is not None
+    assert (h.signatures[0].label, h.active_parameter) == ("bool fluent on(block x, block y)", 1)
+    items = F.completion(doc.result, doc.path, doc.at("b) = true"))
+    # A fluent's parameters stand for all values of their type in `initially:`.
+    assert [i.label for i in items if i.preselect] == ["a", "b", "x", "y"]

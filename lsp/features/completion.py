@@ -16,7 +16,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.model import Model
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, SymbolKind
-from gpp.model.types import CompoundType, DomainType, Sym, Type, show_value
+from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.syntax.lexer import Token
 from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, comments, doc_comment, document
 from lsp.features.context import Binder, Context, Position, context_at
@@ -216,9 +216,13 @@ class _Completer:
                 )
 
     def fields(self) -> None:
-        for symbol in self.model.types.values():
-            if isinstance(symbol.type, CompoundType):
-                for member in symbol.members.values():
+        """The fields of the compound before the `.` (none if it is no compound), or of every
+        compound when its type is not known."""
+        subject = self.operand_type(self.doc.file.tokens, self.ctx.previous_index - 1)
+        compounds = [subject] if subject is not None else [s.type for s in self.model.types.values()]
+        for t in compounds:
+            if isinstance(t, CompoundType) and t.symbol is not None:
+                for member in t.symbol.members.values():
                     self.symbol_item(member)
 
     # ---------------------------------------------------------------- the expected type
@@ -250,38 +254,54 @@ class _Completer:
         return None
 
     def operand_type(self, tokens: list[Token], i: int) -> Type | None:
-        """The type of the operand that ends at tokens[i]: a call `f(..)` or a name."""
+        """The type of the operand that ends at tokens[i]: a name, a call `f(..)`, a field
+        access `e.f` or an index `e[..]`."""
         if i < 0:
             return None
         t = tokens[i]
+        if t.type == "NAME" and i > 0 and tokens[i - 1].type == "DOT":
+            subject = self.operand_type(tokens, i - 2)
+            return subject.fields.get(t.value) if isinstance(subject, CompoundType) else None
         if t.type == "NAME":
             for b in reversed(self.ctx.binders):
                 if b.name == t.value:
                     return self.named_type(b.type)
             found = self.model.symbol_at(self.doc.source, t.end) or self.model.lookup(t.value)
             return found.type if found is not None and found.kind in LOCAL_KINDS | EXPRESSION_CALLABLE else None
-        if t.type == "RPAR":
-            depth = 0
-            for j in range(i, -1, -1):
-                if tokens[j].type == "RPAR":
-                    depth += 1
-                elif tokens[j].type == "LPAR":
-                    depth -= 1
-                    if depth == 0:
-                        before = tokens[j - 1] if j > 0 else None
-                        symbol: Symbol | None
-                        if before is not None and before.type == "NAME":
-                            symbol = self.model.globals.get(before.value)
-                        elif self.ctx.section == "initially":
-                            symbol = self.model.globals.get(self.ctx.decl_name)
-                        else:
-                            return None
-                        return symbol.type if symbol is not None else None
+        if t.type in ("RPAR", "RBRACKET"):
+            j = _opening(tokens, i)
+            if j is None or j == 0:
+                return None
+            before = tokens[j - 1]
+            if t.type == "RBRACKET":
+                subject = self.operand_type(tokens, j - 1)
+                return subject.element if isinstance(subject, ListType) else None
+            symbol: Symbol | None = None
+            if before.type == "NAME":
+                symbol = self.model.globals.get(before.value)
+            elif self.ctx.section == "initially" and before.type in ("INITIALLY", "SEMI"):
+                symbol = self.model.globals.get(self.ctx.decl_name)
+            return symbol.type if symbol is not None else None
         return None
 
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
+
+
+def _opening(tokens: list[Token], i: int) -> int | None:
+    """The index of the bracket that tokens[i] closes."""
+    closer = tokens[i].type
+    opener = "LPAR" if closer == "RPAR" else "LBRACKET"
+    depth = 0
+    for j in range(i, -1, -1):
+        if tokens[j].type == closer:
+            depth += 1
+        elif tokens[j].type == opener:
+            depth -= 1
+            if depth == 0:
+                return j
+    return None
 
 
 def _plain(snippet: str) -> str:
