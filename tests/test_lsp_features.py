@@ -580,3 +580,23 @@ def test_signature_help_and_completion_in_an_initially_line(tmp_path: Path) -> N
     items = F.completion(doc.result, doc.path, doc.at("b) = true"))
     # A fluent's parameters stand for all values of their type in `initially:`.
     assert [i.label for i in items if i.preselect] == ["a", "b", "x", "y"]
+
+
+def test_completion_of_the_action_in_a_hook_and_of_the_next_section(tmp_path: Path) -> None:
+    hooked = BLOCKS.replace("    build(a);\n", "    start(@\n")
+    assert labels(complete(hooked, tmp_path)) == ["stack", "switch_state"]
+    # After a precondition's expression, the next section may start.
+    items = labels(complete(BLOCKS.replace("x != y\n", "x != y\n@"), tmp_path))
+    assert ["duration", "effect", "mapping", "precondition", "senses", "silent"] == [
+        w for w in items if w in ("duration", "effect", "mapping", "precondition", "senses", "silent")
+    ]
+    assert "clear" in items
+
+
+def test_rename_refuses_the_name_of_a_sibling_field(tmp_path: Path) -> None:
+    doc = Doc.check("compound Pose { number x, number y }\nnumber function f(Pose p) = p.x\n", tmp_path / "m.gpp")
+    with pytest.raises(F.RenameError, match="`Pose` already has a field named `y`"):
+        F.rename(doc.result, doc.path, doc.at("p.x", delta=2), "y")
+    assert edits(F.rename(doc.result, doc.path, doc.at("p.x", delta=2), "z")) == {
+        "m.gpp": [(doc.rng("x,", length=1), "z"), (doc.rng("x\n", length=1), "z")]
+    }

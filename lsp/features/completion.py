@@ -19,7 +19,7 @@ from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, S
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.syntax.lexer import Token
 from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, comments, doc_comment, document
-from lsp.features.context import Binder, Context, Position, context_at
+from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at
 from lsp.features.info import CODE_LANGUAGE
 
 # Declaration snippets offered at the top level (label, detail, snippet).
@@ -91,9 +91,7 @@ class _Completer:
         elif p is Position.FIELD:
             self.fields()
         elif p is Position.SECTION:
-            words = ACTION_SECTIONS if self.ctx.decl_keyword in ("action", "exog_action") else ["initially"]
-            for w in words:
-                self.add(types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword, insert_text=f"{w}:"))
+            self.sections(ACTION_SECTIONS if self.in_action_body() else ["initially"])
         elif p is Position.STATEMENT:
             self.expected()
             self.locals()
@@ -102,12 +100,17 @@ class _Completer:
         elif p is Position.EFFECT:
             self.globals({SymbolKind.FLUENT})
             self.keywords(["if"])
+        elif p is Position.ACTION:
+            self.globals({SymbolKind.ACTION})
         elif p is Position.EXPRESSION:
             self.expected()
             self.locals()
             self.globals(EXPRESSION_CALLABLE)
             self.elements(None)
             self.keywords(EXPRESSION_KEYWORDS)
+            if self.in_action_body() and self.after_operand():
+                # A section's expression may be complete: the next section may start here.
+                self.sections(ACTION_SECTIONS)
         return list(self.out.values())
 
     # ---------------------------------------------------------------- sources of items
@@ -131,6 +134,18 @@ class _Completer:
             ),
             rank,
         )
+
+    def in_action_body(self) -> bool:
+        return self.ctx.decl_keyword in ("action", "exog_action") and self.ctx.braces == 1
+
+    def after_operand(self) -> bool:
+        i = self.ctx.previous_index
+        return i >= 0 and self.doc.file.tokens[i].type in OPERAND_ENDS
+
+    def sections(self, words: list[str]) -> None:
+        for w in words:
+            item = types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword, insert_text=f"{w}:")
+            self.add(item, _KEYWORD)
 
     def keywords(self, words: list[str]) -> None:
         for w in words:

@@ -44,6 +44,7 @@ class Position(Enum):
     EFFECT = "effect"  # where an effect may start (its target is a fluent)
     SECTION = "section"  # inside an action's braces, where a section keyword may come
     EXPRESSION = "expression"
+    ACTION = "action"  # the action of `start(`, `end(`, ..., `during (`
     TYPE = "type"  # where a type name is expected (parameters, pick and quantifier variables)
     NAME = "name"  # where a new name is being declared
     FIELD = "field"  # after `.`
@@ -79,6 +80,7 @@ class Context:
     binders: list[Binder] = field(default_factory=list)
     calls: list[CallSite] = field(default_factory=list)  # innermost last
     previous_index: int = -1  # index of the token before the word being typed (-1: none)
+    braces: int = 0  # how many braces are open at the cursor
 
     @property
     def call(self) -> CallSite | None:
@@ -224,6 +226,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
         return
     ctx.calls = _calls(tokens, opens, n, ctx)
     ctx.previous_index = n - 1
+    ctx.braces = sum(1 for o in opens if o.token.type in ("LBRACE", "MAIN_LBRACE"))
     ctx.position = _position(tokens, opens, n, ctx)
 
 
@@ -318,6 +321,8 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
         )
     if innermost is not None and innermost.token.type == "LPAR":
         before = tokens[innermost.index - 1] if innermost.index > 0 else None
+        if before is not None and before.type in ("HOOK", "DURING") and pt == "LPAR":
+            return Position.ACTION
         if before is not None and before.type in ("PICK", "QUANTIFIER"):
             if pt == "LPAR":
                 return Position.TYPE

@@ -191,8 +191,11 @@ def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name:
             raise RenameError(f"`{new_name}` is already declared as {existing.kind.article} {existing.kind.value}")
         spots = [r.span for r in refs if not r.declaration]
     owner = symbol.owner
-    if owner is not None and any(p.name == new_name for p in owner.params if p is not symbol):
-        raise RenameError(f"`{owner.name}` already has a parameter named `{new_name}`")
+    if owner is not None:
+        siblings = [*owner.params, *owner.members.values()]
+        clash = next((s for s in siblings if s.name == new_name and s is not symbol), None)
+        if clash is not None:
+            raise RenameError(f"`{owner.name}` already has a {clash.kind.value} named `{new_name}`")
     for span in spots:
         other = _visible(doc, span, new_name)
         if other is not None and other is not symbol:
