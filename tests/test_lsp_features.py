@@ -587,8 +587,13 @@ def test_completion_of_the_action_in_a_hook_and_of_the_next_section(tmp_path: Pa
     assert labels(complete(hooked, tmp_path)) == ["stack", "switch_state"]
     # After a precondition's expression, the next section may start.
     items = labels(complete(BLOCKS.replace("x != y\n", "x != y\n@"), tmp_path))
-    assert ["duration", "effect", "mapping", "precondition", "senses", "silent"] == [
-        w for w in items if w in ("duration", "effect", "mapping", "precondition", "senses", "silent")
+    assert [w for w in items if w in ("duration", "effect", "mapping", "precondition", "senses", "silent")] == [
+        "duration",
+        "effect",
+        "mapping",
+        "precondition",
+        "senses",
+        "silent",
     ]
     assert "clear" in items
 
