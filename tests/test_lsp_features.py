@@ -605,3 +605,35 @@ def test_rename_refuses_the_name_of_a_sibling_field(tmp_path: Path) -> None:
     assert edits(F.rename(doc.result, doc.path, doc.at("p.x", delta=2), "z")) == {
         "m.gpp": [(doc.rng("x,", length=1), "z"), (doc.rng("x\n", length=1), "z")]
     }
+
+
+@pytest.mark.parametrize(
+    ("edit", "expected"),
+    [
+        # The values of a pick: of the variable's type, without the variable itself.
+        (("    build(a);", "    pick (place p in {a, @"), ["a", "b", "c", "table"]),
+        # After a type at the top level, what can be declared with it.
+        (("procedure main", "bool @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        (("procedure main", "place @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        (("procedure main", "list[place] @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        # A domain's definition: domains between the operators, elements inside braces.
+        (("procedure main", "symbol domain d = block | @\nprocedure main"), ["block", "d", "place"]),
+        (("procedure main", "symbol domain d = {table, @}\nprocedure main"), ["a", "b", "c", "table"]),
+    ],
+)
+def test_completion_positions(tmp_path: Path, edit: tuple[str, str], expected: list[str]) -> None:
+    items = complete(BLOCKS.replace(*edit), tmp_path)
+    assert labels(items)[: len(expected)] == expected
+    if edit[1].startswith("    pick"):
+        assert sorted(i.label for i in items if i.preselect) == expected
+    else:
+        assert len(items) == len(expected)
+
+
+def test_completion_of_the_fields_of_a_compound_literal(tmp_path: Path) -> None:
+    text = "compound Pose { number x, number theta }\nPose function origin() = Pose{x = 0, @}\n"
+    items = complete(text, tmp_path)
+    assert [(i.label, i.kind, i.detail) for i in items] == [
+        ("x", types.CompletionItemKind.Field, "number x"),
+        ("theta", types.CompletionItemKind.Field, "number theta"),
+    ]

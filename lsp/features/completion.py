@@ -90,6 +90,16 @@ class _Completer:
             self.types()
         elif p is Position.FIELD:
             self.fields()
+        elif p is Position.FIELD_INIT:
+            self.literal_fields()
+        elif p is Position.DOMAIN:
+            for symbol in self.model.types.values():
+                if symbol.kind is SymbolKind.DOMAIN:
+                    self.symbol_item(symbol)
+        elif p is Position.ELEMENT:
+            self.elements(None)
+        elif p is Position.AFTER_TYPE:
+            self.keywords(["fluent", "function", "exog_function", "domain"])
         elif p is Position.SECTION:
             self.sections(ACTION_SECTIONS if self.in_action_body() else ["initially"])
         elif p is Position.STATEMENT:
@@ -182,8 +192,9 @@ class _Completer:
         """The variables in scope at the cursor: the model's, and those only the tokens show
         (in a statement the parser could not keep)."""
         known: dict[str, Symbol | Binder] = {}
+        pending = {b.start for b in self.ctx.pending_binders}
         for s in self.model.visible_at(self.doc.source, self.offset):
-            if s.kind in LOCAL_KINDS:
+            if s.kind in LOCAL_KINDS and (s.span is None or s.span.start not in pending):
                 known[s.name] = s
         for b in self.ctx.binders:
             if b.name not in known or isinstance(known[b.name], Binder):
@@ -240,6 +251,13 @@ class _Completer:
                 for member in t.symbol.members.values():
                     self.symbol_item(member)
 
+    def literal_fields(self) -> None:
+        before = self.ctx.bracket_before
+        compound = self.model.types.get(before.value) if before is not None else None
+        if compound is not None:
+            for member in compound.members.values():
+                self.symbol_item(member)
+
     # ---------------------------------------------------------------- the expected type
 
     def expected(self) -> None:
@@ -261,6 +279,11 @@ class _Completer:
         prev = tokens[i] if i >= 0 else None
         if prev is not None and (prev.type == "EQ" or (prev.type == "CMP_OP" and prev.value in ("==", "!="))):
             return self.operand_type(tokens, i - 1)
+        before = self.ctx.bracket_before
+        if before is not None and before.type == "IN" and prev is not None and prev.type in ("LBRACE", "COMMA"):
+            # The values of `pick (T x in {...})`: of the pick variable's type.
+            pick = self.ctx.pending_binders[-1] if self.ctx.pending_binders else None
+            return self.named_type(pick.type) if pick is not None else None
         call = self.ctx.call
         if call is not None and (prev is None or prev.type in ("LPAR", "COMMA")):
             symbol = self.model.globals.get(call.name or self.ctx.decl_name)

@@ -48,6 +48,10 @@ class Position(Enum):
     TYPE = "type"  # where a type name is expected (parameters, pick and quantifier variables)
     NAME = "name"  # where a new name is being declared
     FIELD = "field"  # after `.`
+    FIELD_INIT = "field initialiser"  # a field's name in a compound literal `Pose{x = 1, ...}`
+    DOMAIN = "domain"  # a domain's name in a domain's definition
+    ELEMENT = "element"  # an element in a domain's definition
+    AFTER_TYPE = "after a type"  # at the top level after a type: `fluent`, `function`, ... follow
     NONE = "none"  # inside a string or a comment, or nowhere completion helps
 
 
@@ -78,9 +82,12 @@ class Context:
     decl_name: str
     section: str  # the last action/fluent section keyword seen ('' if none)
     binders: list[Binder] = field(default_factory=list)
+    # Where the variables whose header the cursor is in are declared (not in scope yet).
+    pending_binders: list[Binder] = field(default_factory=list)
     calls: list[CallSite] = field(default_factory=list)  # innermost last
     previous_index: int = -1  # index of the token before the word being typed (-1: none)
     braces: int = 0  # how many braces are open at the cursor
+    bracket_before: Token | None = None  # the token before the innermost open bracket
 
     @property
     def call(self) -> CallSite | None:
@@ -170,7 +177,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
         if tt in _OPENERS:
             # A scope's unbraced body that starts with '{' is braced after all.
             for s in scopes:
-                if s.header_done and s.braced is None:
+                if s.header_done and s.braced is None and not s.quantifier:
                     s.braced = tt in ("LBRACE", "MAIN_LBRACE") and len(opens) == s.level
             o = _Open(t, i)
             opens.append(o)
@@ -191,7 +198,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
                     # (A fluent's parameters stand for every value in its `initially:` lines.)
                     params.extend(_params(tokens, closed.index + 1, i, True))
             for s in scopes:
-                if not s.header_done and not s.quantifier and len(opens) == s.level and tt == "RPAR":
+                if not s.header_done and len(opens) == s.level and tt == "RPAR":
                     s.header_done = True
             scopes = [s for s in scopes if len(opens) >= s.level]
             if tt == "RBRACE":
@@ -215,11 +222,9 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
             binder = _binder_after(tokens, i, n)
             if binder is not None:
                 scopes.append(_Scope(binder, len(opens), quantifier=tt == "QUANTIFIER", header_done=False))
-    # Quantifier headers: `exists (T x) body`, the body starts after the ')'.
-    for s in scopes:
-        if s.quantifier:
-            s.header_done = True
-    ctx.binders = params + [s.binder for s in scopes]
+    # A variable is in scope in the body, after its header (`pick (T x in {..})`, `exists (T x)`).
+    ctx.binders = params + [s.binder for s in scopes if s.header_done]
+    ctx.pending_binders = [s.binder for s in scopes if not s.header_done]
     if header is not None:
         # The cursor is in the declaration's own parameter list.
         ctx.position = _in_parameter_list(tokens, header.index + 1, n)
@@ -227,6 +232,8 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
     ctx.calls = _calls(tokens, opens, n, ctx)
     ctx.previous_index = n - 1
     ctx.braces = sum(1 for o in opens if o.token.type in ("LBRACE", "MAIN_LBRACE"))
+    if opens and opens[-1].index > 0:
+        ctx.bracket_before = tokens[opens[-1].index - 1]
     ctx.position = _position(tokens, opens, n, ctx)
 
 
@@ -302,23 +309,7 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     if pt == "DOT":
         return Position.FIELD
     if not opens:
-        if pt in ("SEMI", "RBRACE", "INCLUDE") or (pt in OPERAND_ENDS and ctx.decl_keyword not in ("", "include")):
-            return Position.TOP_LEVEL
-        if pt == "STRING" and ctx.decl_keyword == "include":
-            return Position.TOP_LEVEL
-        if pt in ("FLUENT", "FUNCTION", "EXOG_FUNCTION", "ACTION", "EXOG_ACTION", "PROCEDURE", "DOMAIN"):
-            return Position.NAME
-        if pt in ("COMPOUND", "COMPONENT"):
-            return Position.NAME
-        if pt in ("EQ",):
-            return Position.EXPRESSION
-        if pt == "NAME" and ctx.decl_keyword == "":
-            return Position.TOP_LEVEL
-        return (
-            Position.EXPRESSION
-            if pt not in ("BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "RBRACKET")
-            else (Position.TOP_LEVEL)
-        )
+        return _top_level(tokens, n, ctx)
     if innermost is not None and innermost.token.type == "LPAR":
         before = tokens[innermost.index - 1] if innermost.index > 0 else None
         if before is not None and before.type in ("HOOK", "DURING") and pt == "LPAR":
@@ -336,6 +327,17 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
         return Position.EXPRESSION
     if innermost is not None and innermost.token.type == "LBRACKET":
         return Position.TYPE if pt == "LBRACKET" and tokens[innermost.index - 1].type == "LIST" else Position.EXPRESSION
+    if innermost is not None and innermost.token.type == "LBRACE" and innermost.index > 0:
+        before = tokens[innermost.index - 1]
+        if ctx.decl_keyword == "compound" and len(braces) == 1:
+            return Position.TYPE if pt in ("LBRACE", "COMMA") else Position.NAME
+        if before.type == "NAME" and ctx.decl_keyword != "component":
+            # A compound literal `Pose{x = 1, ...}`.
+            return Position.FIELD_INIT if pt in ("LBRACE", "COMMA") else Position.EXPRESSION
+        if ctx.decl_keyword == "domain":
+            return Position.ELEMENT
+        if before.type == "IN":
+            return Position.EXPRESSION  # the values of a pick
     # Inside braces: of an action (sections), a fluent (initially), a procedure (statements).
     statement_start = pt in ("LBRACE", "MAIN_LBRACE", "SEMI", "RBRACE", "ELSE", "ON_FAIL", "ON_CANCEL") or (
         pt in _SECTIONS
@@ -353,6 +355,40 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     if ctx.decl_keyword in ("fluent",) and pt in ("LBRACE", "SEMI"):
         return Position.SECTION
     return Position.EXPRESSION
+
+
+def _top_level(tokens: list[Token], n: int, ctx: Context) -> Position:
+    """The position outside any bracket, after tokens[n - 1]."""
+    pt = tokens[n - 1].type
+    if pt in _DECLARATION_WORDS:
+        return Position.NAME
+    if ctx.decl_keyword == "domain" and pt in ("EQ", "BAR", "AMP", "DOMAIN_OP"):
+        return Position.DOMAIN
+    if pt in _TYPE_WORDS or (pt in ("NAME", "RBRACKET") and _starts_declaration(tokens, n - 1, ctx)):
+        return Position.AFTER_TYPE
+    if pt == "INCLUDE":
+        return Position.NONE
+    if pt in ("SEMI", "RBRACE") or ctx.decl_keyword in ("", "include"):
+        return Position.TOP_LEVEL
+    # A function's body: an identifier after a complete operand starts the next declaration.
+    return Position.TOP_LEVEL if pt in OPERAND_ENDS else Position.EXPRESSION
+
+
+def _starts_declaration(tokens: list[Token], i: int, ctx: Context) -> bool:
+    """Is tokens[i] (a name or the `]` of `list[T]`) a type at the start of a declaration?"""
+    if tokens[i].type == "RBRACKET":
+        while i > 0 and tokens[i].type != "LBRACKET":
+            i -= 1
+        i -= 1
+        if i < 0 or tokens[i].type != "LIST":
+            return False
+    return ctx.decl_keyword == "" or i == 0 or tokens[i - 1].type in ("SEMI", "RBRACE", "STRING")
+
+
+_DECLARATION_WORDS = frozenset(
+    {"FLUENT", "FUNCTION", "EXOG_FUNCTION", "ACTION", "EXOG_ACTION", "PROCEDURE", "DOMAIN", "COMPOUND", "COMPONENT"}
+)
+_TYPE_WORDS = frozenset({"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID"})
 
 
 def _closes_statement_head(tokens: list[Token], i: int) -> bool:
