@@ -15,6 +15,7 @@ from gpp.model.symbols import Symbol, SymbolKind
 from gpp.resources import stdlib_dir
 from gpp.source import Source, Span
 from gpp.syntax import ast
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.loader import ParsedFile
 
 
@@ -212,3 +213,11 @@ SYMBOL_KIND: dict[SymbolKind, types.SymbolKind] = {
 }
 
 LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})
+
+# The token types of keywords (in every context) and of `#include`.
+KEYWORD_TYPES = (
+    frozenset(KEYWORDS.values())
+    | frozenset(PLATFORM_KEYWORDS.values())
+    | frozenset(SECTION_WORDS.values())
+    | {"INCLUDE"}
+)

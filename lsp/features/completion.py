@@ -19,7 +19,7 @@ from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, S
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.syntax.lexer import Token
 from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, comments, doc_comment, document
-from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at
+from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
 # Declaration snippets offered at the top level (label, detail, snippet).
@@ -307,7 +307,7 @@ class _Completer:
             found = self.model.symbol_at(self.doc.source, t.end) or self.model.lookup(t.value)
             return found.type if found is not None and found.kind in LOCAL_KINDS | EXPRESSION_CALLABLE else None
         if t.type in ("RPAR", "RBRACKET"):
-            j = _opening(tokens, i)
+            j = opening(tokens, i)
             if j is None or j == 0:
                 return None
             before = tokens[j - 1]
@@ -325,21 +325,6 @@ class _Completer:
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
-
-
-def _opening(tokens: list[Token], i: int) -> int | None:
-    """The index of the bracket that tokens[i] closes."""
-    closer = tokens[i].type
-    opener = "LPAR" if closer == "RPAR" else "LBRACKET"
-    depth = 0
-    for j in range(i, -1, -1):
-        if tokens[j].type == closer:
-            depth += 1
-        elif tokens[j].type == opener:
-            depth -= 1
-            if depth == 0:
-                return j
-    return None
 
 
 def _plain(snippet: str) -> str:

@@ -394,17 +394,24 @@ _TYPE_WORDS = frozenset({"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID"})
 def _closes_statement_head(tokens: list[Token], i: int) -> bool:
     """Does the ')' at tokens[i] close the head of `if (..)`, `while (..)`, `pick (..)`,
     `solve (..)` or `during (..)`, so that a statement follows?"""
+    j = opening(tokens, i)
+    return j is not None and j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
+
+
+def opening(tokens: list[Token], i: int) -> int | None:
+    """The index of the '(' or '[' that the ')' or ']' at tokens[i] closes, within the
+    statement (None if there is none)."""
+    closer = tokens[i].type
+    opener = "LPAR" if closer == "RPAR" else "LBRACKET"
     depth = 0
-    j = i
-    while j >= 0:
+    for j in range(i, -1, -1):
         t = tokens[j].type
-        if t == "RPAR":
+        if t == closer:
             depth += 1
-        elif t == "LPAR":
+        elif t == opener:
             depth -= 1
             if depth == 0:
-                return j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
-        elif t in ("SEMI", "LBRACE", "RBRACE"):
-            return False
-        j -= 1
-    return False
+                return j
+        elif t in ("SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE"):
+            return None
+    return None

@@ -9,7 +9,7 @@ from lsprotocol import types
 
 from gpp.check import CheckResult
 from gpp.model.model import Model
-from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.symbols import GLOBAL_KINDS, Symbol, SymbolKind
 from gpp.model.types import DomainType, Sym, show_value
 from gpp.syntax import ast
 from gpp.syntax.printer import format_expr
@@ -85,16 +85,8 @@ def _belongs_to(model: Model, symbol: Symbol) -> str:
 
 # ---------------------------------------------------------------- signature help
 
-_CALLABLE = frozenset(
-    {
-        SymbolKind.FLUENT,
-        SymbolKind.ACTION,
-        SymbolKind.EXOG_ACTION,
-        SymbolKind.FUNCTION,
-        SymbolKind.EXOG_FUNCTION,
-        SymbolKind.PROCEDURE,
-    }
-)
+# What a call can name (a component is a global too, but not callable).
+_CALLABLE = GLOBAL_KINDS - {SymbolKind.COMPONENT}
 
 
 def signature_help(result: CheckResult, path: Path, offset: int) -> types.SignatureHelp | None:

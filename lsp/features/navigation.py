@@ -15,7 +15,7 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.walk import walk
-from lsp.features.common import LOCAL_KINDS, Document, document, in_stdlib, location, lsp_range, path_of
+from lsp.features.common import KEYWORD_TYPES, LOCAL_KINDS, Document, document, in_stdlib, location, lsp_range, path_of
 
 
 class RenameError(Exception):
@@ -60,18 +60,22 @@ def _include_at(doc: Document, offset: int) -> Path | None:
 
 
 def references(result: CheckResult, path: Path, offset: int, include_declaration: bool) -> list[types.Location]:
-    doc = document(result, path)
-    if doc is None:
+    found = _symbol_under(result, path, offset)
+    if found is None:
         return []
-    symbol = doc.model.symbol_at(doc.source, offset)
-    if symbol is None:
-        return []
+    doc, symbol = found
     out: list[types.Location] = []
     for ref in _sorted(result, doc.model.references_to(symbol, include_declaration)):
         loc = location(result, ref.span)
         if loc is not None:
             out.append(loc)
     return out
+
+
+def _symbol_under(result: CheckResult, path: Path, offset: int) -> tuple[Document, Symbol] | None:
+    doc = document(result, path)
+    symbol = None if doc is None else doc.model.symbol_at(doc.source, offset)
+    return None if doc is None or symbol is None else (doc, symbol)
 
 
 def _sorted(result: CheckResult, refs: list[Reference]) -> list[Reference]:
@@ -85,12 +89,10 @@ _READ_WRITE = frozenset({SymbolKind.FLUENT, SymbolKind.PARAMETER, SymbolKind.VAR
 
 
 def document_highlight(result: CheckResult, path: Path, offset: int) -> list[types.DocumentHighlight]:
-    doc = document(result, path)
-    if doc is None:
+    found = _symbol_under(result, path, offset)
+    if found is None:
         return []
-    symbol = doc.model.symbol_at(doc.source, offset)
-    if symbol is None:
-        return []
+    doc, symbol = found
     written = written_names(doc.file.program) if symbol.kind in _READ_WRITE else set()
     out: list[types.DocumentHighlight] = []
     for ref in _sorted(result, doc.model.references_to(symbol)):
@@ -158,8 +160,9 @@ def rename(result: CheckResult, path: Path, offset: int, new_name: str) -> types
 def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
-        word = _word_at(doc.text, offset)
-        if word in RESERVED:
+        token = next((t for t in doc.file.tokens if t.start <= offset <= t.end and t.type in KEYWORD_TYPES), None)
+        if token is not None:
+            word = token.value.rstrip(": \t\r\n")
             raise RenameError(f"`{word}` is a keyword of golog++ and cannot be renamed")
         raise RenameError("there is no name to rename here")
     symbol = ref.symbol
@@ -170,15 +173,6 @@ def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:
         if p is not None and in_stdlib(p):
             raise RenameError(f"`{symbol.name}` is defined in the standard library and cannot be renamed")
     return ref, symbol
-
-
-def _word_at(text: str, offset: int) -> str:
-    start = end = max(0, min(offset, len(text)))
-    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
-        start -= 1
-    while end < len(text) and (text[end].isalnum() or text[end] == "_"):
-        end += 1
-    return text[start:end]
 
 
 def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name: str) -> None:

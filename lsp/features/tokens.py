@@ -29,8 +29,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.source import Source
-from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
-from lsp.features.common import comments, document, in_stdlib, path_of
+from lsp.features.common import KEYWORD_TYPES, comments, document, in_stdlib, path_of
 
 TOKEN_TYPES = [
     "fluent",
@@ -71,12 +70,6 @@ _KIND_TYPE: dict[SymbolKind, int] = {
     SymbolKind.COMPONENT: _TYPE["namespace"],
 }
 DECLARATION, DEFAULT_LIBRARY, EXOGENOUS = 1, 2, 4
-_KEYWORD_TYPES = (
-    frozenset(KEYWORDS.values())
-    | frozenset(PLATFORM_KEYWORDS.values())
-    | frozenset(SECTION_WORDS.values())
-    | {"INCLUDE"}
-)
 
 
 def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
@@ -91,7 +84,7 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
             start, end, t, m = found[-1]
             found[-1] = (start, end, t, m | DECLARATION)
     for tok in doc.file.tokens:
-        if tok.type in _KEYWORD_TYPES:
+        if tok.type in KEYWORD_TYPES:
             word = len(tok.value) - len(tok.value.lstrip("#abcdefghijklmnopqrstuvwxyz_"))
             found.append((tok.start, tok.start + word, _TYPE["keyword"], 0))
         elif tok.type == "STRING":
