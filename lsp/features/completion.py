@@ -69,7 +69,7 @@ def completion(result: CheckResult, path: Path, offset: int) -> list[types.Compl
     offset = max(0, min(offset, len(doc.text)))
     if any(start < offset <= end for start, end in comments(doc.file)):
         return []
-    ctx = context_at(doc.file.tokens, doc.text, offset)
+    ctx = context_at(doc.file.tokens, offset)
     return _Completer(doc, ctx, offset).items()
 
 

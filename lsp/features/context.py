@@ -68,16 +68,12 @@ class Binder:
 @dataclass(frozen=True, slots=True)
 class CallSite:
     name: str  # the called name ('' for the tuple of an `initially:` line)
-    name_start: int
-    open_paren: int  # offset of '('
     argument: int  # 0-based index of the argument the cursor is in
-    argument_start: int  # offset where that argument begins
 
 
 @dataclass
 class Context:
     position: Position
-    prefix_start: int  # where the word being typed begins (== offset when none)
     decl_keyword: str  # 'procedure', 'action', 'fluent', ... ('' outside a declaration)
     decl_name: str
     section: str  # the last action/fluent section keyword seen ('' if none)
@@ -99,7 +95,6 @@ class _Open:
     token: Token
     index: int
     commas: int = 0
-    last_comma: int = -1
 
 
 @dataclass
@@ -136,25 +131,24 @@ def _decl_starts(tokens: list[Token]) -> list[int]:
 _ENDERS = frozenset({"SEMI", "RBRACE", "RPAR", "NUMBER", "STRING", "TRUE", "FALSE", "NULL"})
 
 
-def context_at(tokens: list[Token], text: str, offset: int) -> Context:
+def context_at(tokens: list[Token], offset: int) -> Context:
+    """The context of the cursor at `offset` in the file of `tokens`."""
     # The word being typed: a name or keyword the cursor is inside or just after.
     n = 0
     while n < len(tokens) and tokens[n].end < offset:
         n += 1
-    prefix_start = offset
     if n < len(tokens):
         t = tokens[n]
-        if t.start < offset <= t.end and (t.value[:1].isalpha() or t.value[:1] == "_"):
-            prefix_start = t.start
-        elif t.start < offset < t.end:
+        word = t.value[:1].isalpha() or t.value[:1] == "_"
+        if t.start < offset < t.end and not word:
             # Inside a string or a number.
-            return Context(Position.NONE, offset, "", "", "")
-        elif t.end <= offset:
+            return Context(Position.NONE, "", "", "")
+        if t.end <= offset and not (word and t.start < offset):
             n += 1
     # tokens[:n] are before the word being typed.
     starts = _decl_starts(tokens[:n])
     first = starts[-1] if starts else 0
-    ctx = Context(Position.EXPRESSION, prefix_start, "", "", "")
+    ctx = Context(Position.EXPRESSION, "", "", "")
     _scan(tokens, first, n, ctx)
     return ctx
 
@@ -196,7 +190,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
                 if closed is header:
                     header = None
                     # (A fluent's parameters stand for every value in its `initially:` lines.)
-                    params.extend(_params(tokens, closed.index + 1, i, True))
+                    params.extend(_params(tokens, closed.index + 1, i))
             for s in scopes:
                 if not s.header_done and len(opens) == s.level and tt == "RPAR":
                     s.header_done = True
@@ -206,7 +200,6 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
             continue
         if tt == "COMMA" and opens:
             opens[-1].commas += 1
-            opens[-1].last_comma = i
             scopes = [s for s in scopes if not (s.quantifier and len(opens) == s.level)]
         elif tt == "SEMI":
             # A ';' ends the statement: brackets left open in it were never closed.
@@ -260,7 +253,7 @@ def _binder_after(tokens: list[Token], i: int, n: int) -> Binder | None:
     return None
 
 
-def _params(tokens: list[Token], begin: int, end: int, parameter: bool) -> list[Binder]:
+def _params(tokens: list[Token], begin: int, end: int) -> list[Binder]:
     """`T a, T b` in tokens[begin:end]: the last name of each comma-separated group."""
     out: list[Binder] = []
     group: list[Token] = []
@@ -268,7 +261,7 @@ def _params(tokens: list[Token], begin: int, end: int, parameter: bool) -> list[
         if t is None or t.type == "COMMA":
             if len(group) >= 2 and group[-1].type == "NAME":
                 type_text = "".join(x.value for x in group[:-1])
-                out.append(Binder(group[-1].value, type_text, parameter, group[-1].start))
+                out.append(Binder(group[-1].value, type_text, True, group[-1].start))
             group = []
         else:
             group.append(t)
@@ -291,11 +284,10 @@ def _calls(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> lis
         if o.token.type != "LPAR":
             continue
         before = tokens[o.index - 1] if o.index > 0 else None
-        arg_start = tokens[o.last_comma].end if o.last_comma >= 0 else o.token.end
         if before is not None and before.type == "NAME":
-            out.append(CallSite(before.value, before.start, o.token.start, o.commas, arg_start))
+            out.append(CallSite(before.value, o.commas))
         elif ctx.section == "initially" and before is not None and before.type in ("INITIALLY", "SEMI"):
-            out.append(CallSite("", o.token.start, o.token.start, o.commas, arg_start))
+            out.append(CallSite("", o.commas))
     return out
 
 

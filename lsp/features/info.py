@@ -94,7 +94,7 @@ def signature_help(result: CheckResult, path: Path, offset: int) -> types.Signat
     if doc is None:
         return None
     offset = max(0, min(offset, len(doc.text)))
-    ctx = context_at(doc.file.tokens, doc.text, offset)
+    ctx = context_at(doc.file.tokens, offset)
     for call in reversed(ctx.calls):
         name = call.name or ctx.decl_name
         symbol = doc.model.globals.get(name)
