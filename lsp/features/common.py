@@ -88,6 +88,11 @@ def in_stdlib(path: Path) -> bool:
         return False
 
 
+def stdlib_sources(result: CheckResult) -> set[int]:
+    """The ids of the Sources of the program's standard library files."""
+    return {id(f.source) for f in result.loaded.files if in_stdlib(f.path)}
+
+
 # ---------------------------------------------------------------- comments
 
 
@@ -118,54 +123,57 @@ def comments(file: ParsedFile) -> list[tuple[int, int]]:
     return out
 
 
-def declaration_node(symbol: Symbol) -> ast.Decl | None:
-    decl = symbol.decl
-    return decl if isinstance(decl, ast.Decl) else None
+class DocComments:
+    """Finds the doc comments of declarations: the comments that stand alone on their lines,
+    by the line they end on. One per request, so that each file is scanned once."""
+
+    def __init__(self, result: CheckResult) -> None:
+        self.result = result
+        self.files: dict[int, dict[int, tuple[int, int]]] = {}
+
+    def of(self, symbol: Symbol) -> str:
+        """The `//` lines directly above the symbol's declaration (or a forward declaration),
+        or a `/* */` comment ending on the line above; '' when there is none."""
+        decl = symbol.decl
+        starts: list[Span] = []
+        if isinstance(decl, ast.Decl):
+            starts.append(Span(decl.span.source, decl.span.start, decl.span.start))
+        starts.extend(symbol.other_spans)
+        for at in starts:
+            text = self._above(at.source, at.start)
+            if text:
+                return text
+        return ""
+
+    def _alone(self, source: Source) -> dict[int, tuple[int, int]]:
+        found = self.files.get(id(source))
+        if found is None:
+            found = {}
+            pf = next((f for f in self.result.loaded.files if f.source is source), None)
+            for start, end in comments(pf) if pf is not None else []:
+                first, col = source.line_col(start)
+                if not source.line_text(first)[: col - 1].strip():
+                    found[source.line_col(max(start, end - 1))[0]] = (start, end)
+            self.files[id(source)] = found
+        return found
+
+    def _above(self, source: Source, offset: int) -> str:
+        alone = self._alone(source)
+        lines: list[str] = []
+        current = source.line_col(offset)[0] - 1
+        while current in alone:
+            start, end = alone[current]
+            body = source.text[start:end]
+            if not body.startswith("//"):
+                lines[0:0] = [_strip_line(s.strip().lstrip("*")) for s in body[2:-2].splitlines()]
+                break
+            lines.insert(0, _strip_line(body[2:]))
+            current -= 1
+        return "\n".join(lines).strip("\n")
 
 
 def doc_comment(result: CheckResult, symbol: Symbol) -> str:
-    """The `//` lines directly above the symbol's declaration (or a forward declaration), or a
-    `/* */` comment ending on the line above; '' when there is none."""
-    decl = declaration_node(symbol)
-    starts: list[Span] = []
-    if decl is not None:
-        starts.append(Span(decl.span.source, decl.span.start, decl.span.start))
-    starts.extend(symbol.other_spans)
-    for at in starts:
-        pf = next((f for f in result.loaded.files if f.source is at.source), None)
-        if pf is None:
-            continue
-        text = _doc_above(pf, at.start)
-        if text:
-            return text
-    return ""
-
-
-def _doc_above(pf: ParsedFile, offset: int) -> str:
-    source = pf.source
-    line = source.line_col(offset)[0]
-    by_line: dict[int, tuple[int, int]] = {}
-    for start, end in comments(pf):
-        first, last = source.line_col(start)[0], source.line_col(max(start, end - 1))[0]
-        if last >= line:
-            continue
-        # Only a comment that is alone on its lines documents what follows.
-        if source.line_text(first)[: source.line_col(start)[1] - 1].strip():
-            continue
-        by_line[last] = (start, end)
-    lines: list[str] = []
-    current = line - 1
-    while current in by_line:
-        start, end = by_line.pop(current)
-        body = source.text[start:end]
-        if body.startswith("//"):
-            lines.insert(0, _strip_line(body[2:]))
-            current = source.line_col(start)[0] - 1
-        else:
-            block = [_strip_line(s.strip().lstrip("*")) for s in body[2:-2].splitlines()]
-            lines[0:0] = block
-            break
-    return "\n".join(lines).strip("\n")
+    return DocComments(result).of(symbol)
 
 
 def _strip_line(s: str) -> str:

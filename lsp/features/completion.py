@@ -18,7 +18,7 @@ from gpp.model.model import Model
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, SymbolKind
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.syntax.lexer import Token
-from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, comments, doc_comment, document
+from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Document, comments, document
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
@@ -80,6 +80,7 @@ class _Completer:
         self.ctx = ctx
         self.offset = offset
         self.out: dict[str, types.CompletionItem] = {}
+        self.docs = DocComments(doc.result)
 
     def items(self) -> list[types.CompletionItem]:
         p = self.ctx.position
@@ -133,7 +134,7 @@ class _Completer:
             self.out[item.label] = item
 
     def symbol_item(self, symbol: Symbol, rank: str = _GLOBAL) -> None:
-        text = doc_comment(self.doc.result, symbol)
+        text = self.docs.of(symbol)
         self.add(
             types.CompletionItem(
                 label=symbol.name,

@@ -15,7 +15,16 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.walk import walk
-from lsp.features.common import KEYWORD_TYPES, LOCAL_KINDS, Document, document, in_stdlib, location, lsp_range, path_of
+from lsp.features.common import (
+    KEYWORD_TYPES,
+    LOCAL_KINDS,
+    Document,
+    document,
+    location,
+    lsp_range,
+    path_of,
+    stdlib_sources,
+)
 
 
 class RenameError(Exception):
@@ -168,9 +177,9 @@ def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:
     symbol = ref.symbol
     if symbol.predefined or symbol.span is None or symbol.kind is SymbolKind.BUILTIN_TYPE:
         raise RenameError(f"`{symbol.name}` is predefined and cannot be renamed")
+    stdlib = stdlib_sources(doc.result)
     for r in doc.model.references_to(symbol):
-        p = path_of(doc.result, r.span.source)
-        if p is not None and in_stdlib(p):
+        if id(r.span.source) in stdlib:
             raise RenameError(f"`{symbol.name}` is defined in the standard library and cannot be renamed")
     return ref, symbol
 

@@ -29,7 +29,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.source import Source
-from lsp.features.common import KEYWORD_TYPES, comments, document, in_stdlib, path_of
+from lsp.features.common import KEYWORD_TYPES, comments, document, stdlib_sources
 
 TOKEN_TYPES = [
     "fluent",
@@ -78,8 +78,9 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
         return []
     source = doc.source
     found: list[tuple[int, int, int, int]] = []  # start, end, type, modifiers
+    stdlib = stdlib_sources(result)
     for ref in doc.model.references_in(source):
-        found.append((ref.span.start, ref.span.end, _KIND_TYPE[ref.symbol.kind], _modifiers(result, ref.symbol)))
+        found.append((ref.span.start, ref.span.end, _KIND_TYPE[ref.symbol.kind], _modifiers(ref.symbol, stdlib)))
         if ref.declaration:
             start, end, t, m = found[-1]
             found[-1] = (start, end, t, m | DECLARATION)
@@ -97,16 +98,16 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
     return encode(source, found)
 
 
-def _modifiers(result: CheckResult, symbol: Symbol) -> int:
+def _modifiers(symbol: Symbol, stdlib: set[int]) -> int:
     m = 0
     if symbol.kind in (SymbolKind.EXOG_ACTION, SymbolKind.EXOG_FUNCTION):
         m |= EXOGENOUS
-    if symbol.predefined or symbol.kind is SymbolKind.BUILTIN_TYPE:
+    if (
+        symbol.predefined
+        or symbol.kind is SymbolKind.BUILTIN_TYPE
+        or (symbol.span is not None and id(symbol.span.source) in stdlib)
+    ):
         m |= DEFAULT_LIBRARY
-    elif symbol.span is not None:
-        p = path_of(result, symbol.span.source)
-        if p is not None and in_stdlib(p):
-            m |= DEFAULT_LIBRARY
     return m
 
 
