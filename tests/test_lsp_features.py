@@ -637,3 +637,24 @@ def test_completion_of_the_fields_of_a_compound_literal(tmp_path: Path) -> None:
         ("x", types.CompletionItemKind.Field, "number x"),
         ("theta", types.CompletionItemKind.Field, "number theta"),
     ]
+
+
+def test_completion_of_an_include_path_offers_files_beside_then_in_the_standard_library(tmp_path: Path) -> None:
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "util.gpp").write_text("")
+    (tmp_path / "other.gpp").write_text("")
+    (tmp_path / "notes.txt").write_text("")
+    text = '#include "li@\nprocedure main() {}\n'
+    items = complete(text, tmp_path)
+    found = labels(items)
+    assert found[:2] == ["lib/util.gpp", "other.gpp"]  # not c.gpp itself, not notes.txt
+    assert {"time.gpp", "sim/blocksworld.gpp"} <= set(found[2:])
+    assert all(i.kind is types.CompletionItemKind.File for i in items)
+    # The item replaces what is typed of the path (the string is not closed yet).
+    edit = items[0].text_edit
+    assert isinstance(edit, types.TextEdit)
+    assert rng(edit.range) == ((0, 10), (0, 12))
+    # In a closed string, up to the closing quote.
+    items = complete('#include "o@ther.gpp"\n', tmp_path)
+    edit = items[0].text_edit
+    assert isinstance(edit, types.TextEdit) and rng(edit.range) == ((0, 10), (0, 19))

@@ -17,8 +17,9 @@ from gpp.check import CheckResult
 from gpp.model.model import Model
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, SymbolKind
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
+from gpp.resources import stdlib_dir
 from gpp.syntax.lexer import Token
-from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Document, comments, document
+from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Document, comments, document, position
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
@@ -87,6 +88,8 @@ class _Completer:
         if p is Position.TOP_LEVEL:
             self.snippets()
             self.types()
+        elif p is Position.INCLUDE:
+            self.include_paths()
         elif p is Position.TYPE:
             self.types()
         elif p is Position.FIELD:
@@ -252,6 +255,24 @@ class _Completer:
                 for member in t.symbol.members.values():
                     self.symbol_item(member)
 
+    def include_paths(self) -> None:
+        """The .gpp files an `#include` can name: beside the file (first) and in the standard
+        library; the item replaces the path typed so far."""
+        string = self.ctx.string
+        if string is None:
+            return
+        source = self.doc.source
+        closed = len(string.value) == string.end - string.start
+        start, end = string.start + 1, string.end - 1 if closed else string.end
+        if not start <= self.offset <= end:
+            return
+        edit_range = types.Range(start=position(source, start), end=position(source, end))
+        for rank, folder in ((_LOCAL, self.doc.file.path.parent), (_GLOBAL, stdlib_dir())):
+            for name in _gpp_files(folder):
+                if folder / name != self.doc.file.path:
+                    edit = types.TextEdit(range=edit_range, new_text=name)
+                    self.add(types.CompletionItem(label=name, kind=types.CompletionItemKind.File, text_edit=edit), rank)
+
     def literal_fields(self) -> None:
         before = self.ctx.bracket_before
         compound = self.model.types.get(before.value) if before is not None else None
@@ -326,6 +347,17 @@ class _Completer:
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
+
+
+def _gpp_files(folder: Path, limit: int = 200) -> list[str]:
+    """The .gpp files in `folder` and its subfolders (two levels), as relative paths."""
+    found: list[str] = []
+    try:
+        for pattern in ("*.gpp", "*/*.gpp", "*/*/*.gpp"):
+            found.extend(sorted(p.relative_to(folder).as_posix() for p in folder.glob(pattern)))
+    except OSError:
+        pass
+    return found[:limit]
 
 
 def _plain(snippet: str) -> str:

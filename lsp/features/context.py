@@ -52,6 +52,7 @@ class Position(Enum):
     DOMAIN = "domain"  # a domain's name in a domain's definition
     ELEMENT = "element"  # an element in a domain's definition
     AFTER_TYPE = "after a type"  # at the top level after a type: `fluent`, `function`, ... follow
+    INCLUDE = "include"  # inside the path of an `#include`
     NONE = "none"  # inside a string or a comment, or nowhere completion helps
 
 
@@ -84,6 +85,7 @@ class Context:
     previous_index: int = -1  # index of the token before the word being typed (-1: none)
     braces: int = 0  # how many braces are open at the cursor
     bracket_before: Token | None = None  # the token before the innermost open bracket
+    string: Token | None = None  # the string literal the cursor is in
 
     @property
     def call(self) -> CallSite | None:
@@ -140,9 +142,14 @@ def context_at(tokens: list[Token], offset: int) -> Context:
     if n < len(tokens):
         t = tokens[n]
         word = t.value[:1].isalpha() or t.value[:1] == "_"
-        if t.start < offset < t.end and not word:
-            # Inside a string or a number.
-            return Context(Position.NONE, "", "", "")
+        # (The tokenizer closes an unterminated string at the end of its line.)
+        unterminated = t.type == "STRING" and len(t.value) != t.end - t.start
+        if t.start < offset and (offset < t.end or (unterminated and offset == t.end)) and not word:
+            # Inside a string (the path of an `#include`?) or a number.
+            including = t.type == "STRING" and n > 0 and tokens[n - 1].type == "INCLUDE"
+            ctx = Context(Position.INCLUDE if including else Position.NONE, "", "", "")
+            ctx.string = t
+            return ctx
         if t.end <= offset and not (word and t.start < offset):
             n += 1
     # tokens[:n] are before the word being typed.
