@@ -658,3 +658,20 @@ def test_completion_of_an_include_path_offers_files_beside_then_in_the_standard_
     items = complete('#include "o@ther.gpp"\n', tmp_path)
     edit = items[0].text_edit
     assert isinstance(edit, types.TextEdit) and rng(edit.range) == ((0, 10), (0, 19))
+
+
+def test_rename_of_a_variable_sees_inner_and_outer_variables_of_the_new_name(tmp_path: Path) -> None:
+    text = (
+        "symbol domain block = {a, b}\naction go(block o) {}\n"
+        "procedure p(block x) {\n    go(x);\n    pick (block y) go(y);\n}\n"
+        "procedure q(block x) {\n    pick (block y) go(x);\n}\n"
+    )
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    # p's `x` is not used inside the pick: the pick's own `y` shadows the renamed one there.
+    assert edits(F.rename(doc.result, doc.path, doc.at("x) {\n    go"), "y")) == {
+        "m.gpp": [(doc.rng("x) {\n    go", length=1), "y"), (doc.rng("x);\n    pick", length=1), "y")]
+    }
+    # q's pick variable renamed to `x` would capture the use of the parameter `x` inside it.
+    with pytest.raises(F.RenameError) as e:
+        F.rename(doc.result, doc.path, doc.at("y) go(x)"), "x")
+    assert str(e.value) == "renaming to `x` would clash with the parameter `x` visible at line 8"

@@ -202,18 +202,24 @@ def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name:
     for span in spots:
         other = _visible(doc, span, new_name)
         if other is not None and other is not symbol:
-            where = f"{other.kind.value} `{new_name}`"
-            raise RenameError(f"renaming to `{new_name}` would clash with the {where} visible at line {span.line}")
+            what = f"{other.kind.value} `{new_name}`"
+            raise RenameError(f"renaming to `{new_name}` would clash with the {what} visible at {_at(doc, span)}")
     if symbol.kind in LOCAL_KINDS:
-        # A use of a global symbol of the new name inside the local's scope would be captured.
+        # A use of another symbol of the new name inside the local's scope would now mean the
+        # local (unless it is a variable of an inner scope, which shadows the local).
         for scope in model.scopes:
-            if symbol in scope.symbols:
-                for r in model.references_in(scope.span.source):
-                    if scope.span.start <= r.span.start <= scope.span.end and r.symbol.name == new_name:
-                        raise RenameError(
-                            f"renaming to `{new_name}` would hide the {r.symbol.kind.value} `{new_name}` "
-                            f"used at line {r.span.line}"
-                        )
+            if symbol not in scope.symbols:
+                continue
+            for r in model.references_in(scope.span.source):
+                inner = r.symbol.span is not None and scope.span.contains(r.symbol.span.start)
+                if scope.span.contains(r.span.start) and r.symbol.name == new_name and not inner:
+                    what = f"{r.symbol.kind.value} `{new_name}`"
+                    raise RenameError(f"renaming to `{new_name}` would hide the {what} used at {_at(doc, r.span)}")
+
+
+def _at(doc: Document, span: Span) -> str:
+    """Where `span` is, for a message: its line, and its file when that is another one."""
+    return f"line {span.line}" if span.source is doc.source else f"{Path(span.source.path).name}:{span.line}"
 
 
 def _visible(doc: Document, span: Span, name: str) -> Symbol | None:
