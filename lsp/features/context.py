@@ -314,15 +314,11 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
         if before is not None and before.type in ("HOOK", "DURING") and pt == "LPAR":
             return Position.ACTION
         if before is not None and before.type in ("PICK", "QUANTIFIER"):
+            # `pick (T x in {..})`, `exists (T x)`: a type, then the variable's new name.
             if pt == "LPAR":
                 return Position.TYPE
-            if pt == "IN":
-                return Position.EXPRESSION
-            return (
-                Position.NAME
-                if pt in ("NAME", "RBRACKET", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL")
-                else (Position.EXPRESSION)
-            )
+            if pt in _TYPE_WORDS or pt in ("NAME", "RBRACKET"):
+                return Position.NAME
         return Position.EXPRESSION
     if innermost is not None and innermost.token.type == "LBRACKET":
         return Position.TYPE if pt == "LBRACKET" and tokens[innermost.index - 1].type == "LIST" else Position.EXPRESSION
@@ -402,7 +398,7 @@ def opening(tokens: list[Token], i: int) -> int | None:
     statement (None if there is none)."""
     closer = tokens[i].type
     opener = "LPAR" if closer == "RPAR" else "LBRACKET"
-    depth = 0
+    depth = braces = 0
     for j in range(i, -1, -1):
         t = tokens[j].type
         if t == closer:
@@ -411,6 +407,12 @@ def opening(tokens: list[Token], i: int) -> int | None:
             depth -= 1
             if depth == 0:
                 return j
-        elif t in ("SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE"):
+        elif t == "RBRACE":
+            braces += 1  # a compound literal inside the brackets
+        elif t in ("LBRACE", "MAIN_LBRACE"):
+            braces -= 1
+            if braces < 0:
+                return None
+        elif t == "SEMI" and braces == 0:
             return None
     return None
