@@ -31,11 +31,32 @@ def check_ranges(text: str, ranges: list[types.Range]) -> None:
             assert 0 <= p.character <= len(lines[p.line].encode("utf-16-le")) // 2, r
 
 
+def check_semantic_tokens(lines: list[str], data: list[int]) -> None:
+    """In order, not overlapping, each inside one line, types and modifiers in the legend."""
+    assert len(data) % 5 == 0
+    legend = F.SEMANTIC_TOKENS_LEGEND
+    line = char = 0
+    end = -1
+    for i in range(0, len(data), 5):
+        dl, dc, length, t, m = data[i : i + 5]
+        assert dl >= 0 and length > 0
+        if dl > 0:
+            line, char, end = line + dl, dc, -1
+        else:
+            char += dc
+        assert char >= end, "tokens overlap"
+        end = char + length
+        assert line < len(lines) and end <= len(lines[line].encode("utf-16-le")) // 2
+        assert 0 <= t < len(legend.token_types) and 0 <= m < 1 << len(legend.token_modifiers)
+
+
 def every_feature(result: CheckResult, path: Path, text: str, offsets: list[int]) -> None:
     for offset in offsets:
         ranges: list[types.Range] = []
         for item in F.completion(result, path, offset):
             assert item.label
+            if isinstance(item.text_edit, types.TextEdit):
+                ranges.append(item.text_edit.range)
         h = F.hover(result, path, offset)
         if h is not None and h.range is not None:
             ranges.append(h.range)
@@ -56,10 +77,10 @@ def every_feature(result: CheckResult, path: Path, text: str, offsets: list[int]
     symbols = F.document_symbols(result, path)
     assert all(s.name for s in symbols)
     check_ranges(text, [s.range for s in symbols] + [s.selection_range for s in symbols])
+    lines = text.split("\n")
     for fold in F.folding_ranges(result, path):
-        assert fold.start_line < fold.end_line
-    data = F.semantic_tokens(result, path)
-    assert len(data) % 5 == 0
+        assert 0 <= fold.start_line < fold.end_line < len(lines)
+    check_semantic_tokens(lines, F.semantic_tokens(result, path))
     for hint in F.inlay_hints(result, path, 0, len(text)):
         assert isinstance(hint.position, types.Position)
     assert all(s.name for s in F.workspace_symbols([result], ""))
