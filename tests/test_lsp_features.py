@@ -675,3 +675,23 @@ def test_rename_of_a_variable_sees_inner_and_outer_variables_of_the_new_name(tmp
     with pytest.raises(F.RenameError) as e:
         F.rename(doc.result, doc.path, doc.at("y) go(x)"), "x")
     assert str(e.value) == "renaming to `x` would clash with the parameter `x` visible at line 8"
+
+
+def test_folding_of_comment_runs_block_comments_and_includes(tmp_path: Path) -> None:
+    (tmp_path / "a.gpp").write_text("")
+    (tmp_path / "b.gpp").write_text("")
+    text = (
+        '#include "a.gpp"\n'  # 0
+        '#include "b.gpp"\n'  # 1
+        "/* one\n"  # 2
+        "   two */\n"  # 3
+        "action go() {} // trailing\n"  # 4
+        "// not joined to the trailing comment above\n"  # 5
+        "procedure main() { go(); }\n"  # 6
+    )
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    found = F.folding_ranges(doc.result, doc.path)
+    assert [(r.start_line, r.end_line, r.kind) for r in found] == [
+        (0, 1, types.FoldingRangeKind.Imports),
+        (2, 3, types.FoldingRangeKind.Comment),
+    ]

@@ -123,6 +123,17 @@ def comments(file: ParsedFile) -> list[tuple[int, int]]:
     return out
 
 
+def comments_alone(file: ParsedFile) -> list[tuple[int, int]]:
+    """The comments that begin their line (no code before them)."""
+    source = file.source
+    out: list[tuple[int, int]] = []
+    for start, end in comments(file):
+        line, col = source.line_col(start)
+        if not source.line_text(line)[: col - 1].strip():
+            out.append((start, end))
+    return out
+
+
 class DocComments:
     """Finds the doc comments of declarations: the comments that stand alone on their lines,
     by the line they end on. One per request, so that each file is scanned once."""
@@ -148,12 +159,9 @@ class DocComments:
     def _alone(self, source: Source) -> dict[int, tuple[int, int]]:
         found = self.files.get(id(source))
         if found is None:
-            found = {}
             pf = next((f for f in self.result.loaded.files if f.source is source), None)
-            for start, end in comments(pf) if pf is not None else []:
-                first, col = source.line_col(start)
-                if not source.line_text(first)[: col - 1].strip():
-                    found[source.line_col(max(start, end - 1))[0]] = (start, end)
+            alone = comments_alone(pf) if pf is not None else []
+            found = {source.line_col(max(start, end - 1))[0]: (start, end) for start, end in alone}
             self.files[id(source)] = found
         return found
 

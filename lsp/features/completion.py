@@ -23,6 +23,11 @@ from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Docum
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
+# Characters after which an editor should ask for completion without being told: a field
+# after '.', an argument after '(' or ',', a field of a compound literal after '{', an include
+# path after '"' or '/'.
+COMPLETION_TRIGGER_CHARACTERS = [".", "(", ",", "{", '"', "/"]
+
 # Declaration snippets offered at the top level (label, detail, snippet).
 DECLARATION_SNIPPETS: list[tuple[str, str, str]] = [
     ("procedure", "procedure declaration", "procedure ${1:name}($2) {\n\t$0\n}"),

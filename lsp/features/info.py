@@ -89,6 +89,10 @@ def _belongs_to(model: Model, symbol: Symbol) -> str:
 _CALLABLE = GLOBAL_KINDS - {SymbolKind.COMPONENT}
 
 
+# Characters after which an editor should show signature help (and update it).
+SIGNATURE_TRIGGER_CHARACTERS = ["(", ","]
+
+
 def signature_help(result: CheckResult, path: Path, offset: int) -> types.SignatureHelp | None:
     doc = document(result, path)
     if doc is None:

@@ -12,7 +12,7 @@ from gpp.model.model import OutlineItem
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
-from lsp.features.common import SYMBOL_KIND, comments, document, location, lsp_range
+from lsp.features.common import SYMBOL_KIND, comments_alone, document, location, lsp_range
 
 
 def document_symbols(result: CheckResult, path: Path) -> list[types.DocumentSymbol]:
@@ -121,7 +121,7 @@ def folding_ranges(result: CheckResult, path: Path) -> list[types.FoldingRange]:
     program = doc.file.program
     # Runs of comments (a block comment or comments on adjacent lines), and runs of includes.
     groups: list[list[tuple[int, int]]] = []
-    for start, end in comments(doc.file):
+    for start, end in comments_alone(doc.file):
         if groups and source.line_col(start)[0] <= source.line_col(groups[-1][-1][1])[0] + 1:
             groups[-1].append((start, end))
         else:
