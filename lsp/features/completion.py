@@ -24,9 +24,8 @@ from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, contex
 from lsp.features.info import CODE_LANGUAGE
 
 # Characters after which an editor should ask for completion without being told: a field
-# after '.', an argument after '(' or ',', a field of a compound literal after '{', an include
-# path after '"' or '/'.
-COMPLETION_TRIGGER_CHARACTERS = [".", "(", ",", "{", '"', "/"]
+# after '.', an argument after '(' or ',', an include path after '"' or '/'.
+COMPLETION_TRIGGER_CHARACTERS = [".", "(", ",", '"', "/"]
 
 # Declaration snippets offered at the top level (label, detail, snippet).
 DECLARATION_SNIPPETS: list[tuple[str, str, str]] = [
