@@ -10,6 +10,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.model import OutlineItem
 from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import DomainType, Sym
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 from lsp.features.common import SYMBOL_KIND, comments_alone, document, location, lsp_range
@@ -69,8 +70,6 @@ def workspace_symbols(results: Sequence[CheckResult], query: str) -> list[types.
 
 
 def _elements(result: CheckResult, domain: Symbol) -> list[Symbol]:
-    from gpp.model.types import DomainType, Sym
-
     t = domain.type
     if domain.kind is not SymbolKind.DOMAIN or not isinstance(t, DomainType):
         return []
