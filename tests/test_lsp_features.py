@@ -695,3 +695,11 @@ def test_folding_of_comment_runs_block_comments_and_includes(tmp_path: Path) -> 
         (0, 1, types.FoldingRangeKind.Imports),
         (2, 3, types.FoldingRangeKind.Comment),
     ]
+
+
+def test_hover_on_an_include_shows_the_file_and_its_header_comment(tmp_path: Path) -> None:
+    (tmp_path / "sub.gpp").write_text("// sub.gpp — helpers.\n//\n// More.\n\naction go() {}\n")
+    doc = Doc.check('#include "sub.gpp"\nprocedure main() { go(); }\n', tmp_path / "main.gpp")
+    h = F.hover(doc.result, doc.path, doc.at("sub.gpp"))
+    assert h is not None and isinstance(h.contents, types.MarkupContent)
+    assert h.contents.value == f"`{(tmp_path / 'sub.gpp').resolve()}`\n\nsub.gpp — helpers.\n\nMore."

@@ -93,6 +93,22 @@ def stdlib_sources(result: CheckResult) -> set[int]:
     return {id(f.source) for f in result.loaded.files if in_stdlib(f.path)}
 
 
+def included_at(doc: Document, offset: int) -> ParsedFile | None:
+    """The file that the `#include` under the cursor loads (found as the loader finds it)."""
+    for decl in doc.file.program.declarations:
+        if isinstance(decl, ast.Include) and decl.span.contains(offset):
+            name = decl.path.value
+            for candidate in (doc.file.path.parent / name, stdlib_dir() / name):
+                try:
+                    resolved = candidate.resolve()
+                except (OSError, RuntimeError, ValueError):
+                    continue
+                found = next((f for f in doc.result.loaded.files if f.path == resolved), None)
+                if found is not None:
+                    return found
+    return None
+
+
 # ---------------------------------------------------------------- comments
 
 
@@ -178,6 +194,17 @@ class DocComments:
             lines.insert(0, _strip_line(body[2:]))
             current -= 1
         return "\n".join(lines).strip("\n")
+
+
+def header_comment(file: ParsedFile) -> str:
+    """The comment lines a file begins with."""
+    source = file.source
+    lines: list[str] = []
+    for start, end in comments_alone(file):
+        if source.line_col(start)[0] != len(lines) + 1 or not source.text.startswith("//", start):
+            break
+        lines.append(_strip_line(source.text[start + 2 : end]))
+    return "\n".join(lines).strip("\n")
 
 
 def doc_comment(result: CheckResult, symbol: Symbol) -> str:

@@ -14,7 +14,7 @@ from gpp.model.types import DomainType, Sym, show_value
 from gpp.syntax import ast
 from gpp.syntax.printer import format_expr
 from gpp.syntax.walk import walk
-from lsp.features.common import doc_comment, document, lsp_range, position
+from lsp.features.common import doc_comment, document, header_comment, included_at, lsp_range, position
 from lsp.features.context import context_at
 
 # The language of code blocks in hover and completion documentation.
@@ -29,7 +29,13 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         return None
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
-        return None
+        included = included_at(doc, offset)
+        if included is None:
+            return None
+        # An `#include`: the file it loads, and what the file says about itself.
+        header = header_comment(included)
+        text = f"`{included.path}`" + (f"\n\n{header}" if header else "")
+        return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
     return types.Hover(
         contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=describe(result, ref.symbol)),
         range=lsp_range(ref.span),

@@ -10,7 +10,6 @@ from lsprotocol import types
 
 from gpp.check import CheckResult
 from gpp.model.symbols import Reference, Symbol, SymbolKind
-from gpp.resources import stdlib_dir
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
@@ -20,6 +19,7 @@ from lsp.features.common import (
     LOCAL_KINDS,
     Document,
     document,
+    included_at,
     location,
     lsp_range,
     path_of,
@@ -39,9 +39,9 @@ def definition(result: CheckResult, path: Path, offset: int) -> list[types.Locat
     doc = document(result, path)
     if doc is None:
         return []
-    included = _include_at(doc, offset)
+    included = included_at(doc, offset)
     if included is not None:
-        return [types.Location(uri=included.as_uri(), range=types.Range(start=_ZERO, end=_ZERO))]
+        return [types.Location(uri=included.path.as_uri(), range=types.Range(start=_ZERO, end=_ZERO))]
     symbol = doc.model.symbol_at(doc.source, offset)
     if symbol is None or symbol.span is None:
         return []
@@ -50,22 +50,6 @@ def definition(result: CheckResult, path: Path, offset: int) -> list[types.Locat
 
 
 _ZERO = types.Position(line=0, character=0)
-
-
-def _include_at(doc: Document, offset: int) -> Path | None:
-    """The file an `#include` under the cursor loads (as the loader finds it)."""
-    for decl in doc.file.program.declarations:
-        if isinstance(decl, ast.Include) and decl.span.contains(offset):
-            name = decl.path.value
-            loaded = {f.path for f in doc.result.loaded.files}
-            for candidate in (doc.file.path.parent / name, stdlib_dir() / name):
-                try:
-                    resolved = candidate.resolve()
-                except (OSError, RuntimeError, ValueError):
-                    continue
-                if resolved in loaded:
-                    return resolved
-    return None
 
 
 def references(result: CheckResult, path: Path, offset: int, include_declaration: bool) -> list[types.Location]:
