@@ -10,10 +10,10 @@ token types
     parameter                   parameters of actions, procedures, fluents and functions
     variable                    `pick` and quantifier variables
     enumMember                  elements of symbol domains, component states
-    type                        domains, compound types, `number`/`bool`/`string`/`symbol`/`void`
+    type                        domains and compound types
     property                    compound fields and component clocks
     namespace                   components
-    keyword, string, number, comment
+    keyword, string, number, comment  (`number`, `bool`, ... are keywords)
 modifiers
     declaration                 the name where it is declared
     defaultLibrary              declared in the standard library, or predefined
