@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 from lsprotocol import types
@@ -86,15 +87,13 @@ def every_feature(result: CheckResult, path: Path, text: str, offsets: list[int]
     assert all(s.name for s in F.workspace_symbols([result], ""))
 
 
-BLOCKS = (ROOT / "examples" / "blocksworld.gpp").resolve()
-
-
-def test_no_feature_raises_at_any_offset_of_an_example() -> None:
-    text = BLOCKS.read_text(encoding="utf-8")
-    result = check_program(BLOCKS)
-    # Every offset of the procedures (the densest part), and every 5th elsewhere.
-    dense = range(text.index("procedure sense_all"), len(text) + 1)
-    every_feature(result, BLOCKS, text, sorted({*dense, *range(0, len(text), 5)}))
+@pytest.mark.parametrize("path", PROGRAMS, ids=lambda p: p.name)
+def test_no_feature_raises_across_an_example_or_test_program(path: Path) -> None:
+    path = path.resolve()
+    text = path.read_text(encoding="utf-8")
+    result = check_program(path)
+    # Every 53rd offset (a prime, so that the offsets fall on every kind of place), and the end.
+    every_feature(result, path, text, [*range(0, len(text), 53), len(text)])
 
 
 @st.composite
@@ -113,7 +112,7 @@ def damaged_programs(draw: st.DrawFn) -> tuple[Path, str]:
     return path, text
 
 
-@settings(max_examples=70, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(damaged_programs(), st.data())
 def test_no_feature_raises_on_damaged_programs(damaged: tuple[Path, str], data: st.DataObject) -> None:
     path, text = damaged
