@@ -703,3 +703,12 @@ def test_hover_on_an_include_shows_the_file_and_its_header_comment(tmp_path: Pat
     h = F.hover(doc.result, doc.path, doc.at("sub.gpp"))
     assert h is not None and isinstance(h.contents, types.MarkupContent)
     assert h.contents.value == f"`{(tmp_path / 'sub.gpp').resolve()}`\n\nsub.gpp — helpers.\n\nMore."
+
+
+def test_inlay_hint_for_a_domain_element_named_like_the_parameter(tmp_path: Path) -> None:
+    # Only a variable of the parameter's name makes the hint redundant, not an element.
+    doc = Doc.check(
+        "symbol domain d = {x, z}\naction go(d x) {}\nprocedure main() { go(x); go(z); }\n", tmp_path / "m.gpp"
+    )
+    found = F.inlay_hints(doc.result, doc.path, 0, len(doc.text))
+    assert [(h.position.line, h.position.character, h.label) for h in found] == [(2, 22, "x:"), (2, 29, "x:")]

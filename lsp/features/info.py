@@ -14,7 +14,7 @@ from gpp.model.types import DomainType, Sym, show_value
 from gpp.syntax import ast
 from gpp.syntax.printer import format_expr
 from gpp.syntax.walk import walk
-from lsp.features.common import doc_comment, document, header_comment, included_at, lsp_range, position
+from lsp.features.common import LOCAL_KINDS, doc_comment, document, header_comment, included_at, lsp_range, position
 from lsp.features.context import context_at
 
 # The language of code blocks in hover and completion documentation.
@@ -159,7 +159,8 @@ def inlay_hints(result: CheckResult, path: Path, start: int, end: int) -> list[t
         if symbol is None or not args:
             continue
         for arg, param in zip(args, symbol.params, strict=False):
-            if isinstance(arg, ast.Name) and arg.name == param.name:
+            named = model.target(arg) if isinstance(arg, ast.Name) else None
+            if named is not None and named.kind in LOCAL_KINDS and named.name == param.name:
                 continue
             if isinstance(arg, ast.Wildcard) or not (start <= arg.span.start <= end):
                 continue
