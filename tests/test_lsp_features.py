@@ -712,3 +712,13 @@ def test_inlay_hint_for_a_domain_element_named_like_the_parameter(tmp_path: Path
     )
     found = F.inlay_hints(doc.result, doc.path, 0, len(doc.text))
     assert [(h.position.line, h.position.character, h.label) for h in found] == [(2, 22, "x:"), (2, 29, "x:")]
+
+
+def test_hover_on_a_long_domain_lists_its_elements(tmp_path: Path) -> None:
+    doc = Doc.check("number domain n = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}\n", tmp_path / "m.gpp")
+    h = F.hover(doc.result, doc.path, doc.at("n ="))
+    assert h is not None and isinstance(h.contents, types.MarkupContent)
+    assert h.contents.value == (
+        "```gpp\nnumber domain n = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, ...}\n```\n\n"
+        "14 elements: `{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}`"
+    )

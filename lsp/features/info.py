@@ -21,6 +21,8 @@ from lsp.features.context import context_at
 CODE_LANGUAGE = "gpp"
 # At most this many initial values and domain elements are listed in a hover.
 _LISTED = 20
+# Symbol.signature() shows this many elements of a domain; a hover lists more.
+_IN_SIGNATURE = 12
 
 
 def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
@@ -60,7 +62,7 @@ def describe(result: CheckResult, symbol: Symbol) -> str:
             parts.append(f"Initially:\n```{CODE_LANGUAGE}\n{body}\n```")
     if symbol.kind is SymbolKind.DOMAIN and isinstance(symbol.type, DomainType):
         values = symbol.type.values
-        if len(values) > 12:
+        if len(values) > _IN_SIGNATURE:
             shown = ", ".join(show_value(v) for v in values[: _LISTED * 5])
             more = ", ..." if len(values) > _LISTED * 5 else ""
             parts.append(f"{len(values)} elements: `{{{shown}{more}}}`")
