@@ -722,3 +722,11 @@ def test_hover_on_a_long_domain_lists_its_elements(tmp_path: Path) -> None:
         "```gpp\nnumber domain n = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, ...}\n```\n\n"
         "14 elements: `{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}`"
     )
+
+
+def test_every_kind_of_symbol_has_a_completion_kind_a_symbol_kind_and_a_token_type() -> None:
+    from gpp.model.symbols import SymbolKind
+    from lsp.features.common import COMPLETION_KIND, SYMBOL_KIND
+    from lsp.features.tokens import _KIND_TYPE
+
+    assert set(COMPLETION_KIND) == set(SYMBOL_KIND) == set(_KIND_TYPE) == set(SymbolKind)
