@@ -115,20 +115,31 @@ def encode(source: Source, found: list[tuple[int, int, int, int]]) -> list[int]:
     """The LSP relative encoding of sorted tokens: overlapping ones after the first are left
     out, one that spans lines is cut at each line end, lengths count UTF-16 units."""
     text = source.text
+    starts = source.line_starts
     data: list[int] = []
     last_line = last_char = 0
-    covered = 0
+    covered = line = 0
     for start, end, t, m in found:
         if start < covered or end <= start:
             continue
         covered = end
         while start < end:
+            # Tokens come in order: the line only moves forward.
+            while line + 1 < len(starts) and starts[line + 1] <= start:
+                line += 1
             line_end = text.find("\n", start, end)
             piece_end = end if line_end < 0 else line_end
-            line, char = source.lsp_position(start)
-            length = len(text[start:piece_end].rstrip("\r").encode("utf-16-le")) // 2
+            piece = text[start:piece_end].rstrip("\r")
+            char = _utf16(text, starts[line], start)
+            length = _utf16(piece, 0, len(piece))
             if length > 0:
                 data += [line - last_line, char - last_char if line == last_line else char, length, t, m]
                 last_line, last_char = line, char
             start = piece_end + 1 if line_end >= 0 else end
     return data
+
+
+def _utf16(text: str, start: int, end: int) -> int:
+    """How many UTF-16 units text[start:end] takes."""
+    piece = text[start:end]
+    return len(piece) if piece.isascii() else len(piece.encode("utf-16-le")) // 2
