@@ -730,3 +730,28 @@ def test_every_kind_of_symbol_has_a_completion_kind_a_symbol_kind_and_a_token_ty
     from lsp.features.tokens import _KIND_TYPE
 
     assert set(COMPLETION_KIND) == set(SYMBOL_KIND) == set(_KIND_TYPE) == set(SymbolKind)
+
+
+def test_completion_in_a_platform_model() -> None:
+    doc = Doc.load(ROOT / "examples" / "platform_model.gpp")
+
+    def at(needle: str, delta: int) -> list[str]:
+        return [i.label for i in F.completion(doc.result, doc.path, doc.at(needle, delta=delta))]
+
+    # In a component: its clocks and states (the implicit `error` too), the section keywords.
+    assert at("booting resets", 0) == [
+        "boot_time",
+        "off",
+        "booting",
+        "on",
+        "error",
+        "clocks",
+        "states",
+        "transitions",
+        "resets",
+    ]
+    # In constraints: the components of `state(`, then the states of the one named.
+    assert at("state(depth_cam) = on", 6) == ["depth_cam", "arm"]
+    assert at("state(depth_cam) = on", 19) == ["off", "booting", "on", "error"]
+    assert at("during(grasp", 7) == ["switch_state", "go_to", "grasp", "put_down"]
+    assert at("state(depth_cam) = on", 0)[:3] == ["state", "during", "start"]

@@ -62,6 +62,8 @@ STATEMENT_KEYWORDS = [
     "pop_front",
 ]
 EXPRESSION_KEYWORDS = ["true", "false", "null", "exists", "forall", "if", "length", "to_string"]
+CONSTRAINT_KEYWORDS = ["state", "during", "start", "end", "finish", "fail", "cancel", "next", "previous", "future"]
+CONSTRAINT_KEYWORDS += ["past", "until", "since"]
 ACTION_SECTIONS = ["precondition", "effect", "senses", "mapping", "silent", "duration"]
 
 _EXPECTED, _LOCAL, _GLOBAL, _KEYWORD = "0", "1", "2", "3"
@@ -106,6 +108,16 @@ class _Completer:
                     self.symbol_item(symbol)
         elif p is Position.ELEMENT:
             self.elements(None)
+        elif p is Position.COMPONENT_BODY:
+            self.members(self.ctx.decl_name)
+            self.sections(["clocks", "states", "transitions"])
+            self.keywords(["resets"])
+        elif p is Position.COMPONENT:
+            self.globals({SymbolKind.COMPONENT})
+        elif p is Position.STATE:
+            self.members(self.ctx.component, {SymbolKind.STATE})
+        elif p is Position.CONSTRAINT:
+            self.keywords(CONSTRAINT_KEYWORDS)
         elif p is Position.AFTER_TYPE:
             self.keywords(["fluent", "function", "exog_function", "domain"])
         elif p is Position.SECTION:
@@ -276,6 +288,14 @@ class _Completer:
                 if folder / name != self.doc.file.path:
                     edit = types.TextEdit(range=edit_range, new_text=name)
                     self.add(types.CompletionItem(label=name, kind=types.CompletionItemKind.File, text_edit=edit), rank)
+
+    def members(self, component: str, kinds: frozenset[SymbolKind] | set[SymbolKind] | None = None) -> None:
+        """The states and clocks of a component (its implicit `error` state among them)."""
+        symbol = self.model.globals.get(component)
+        if symbol is not None and symbol.kind is SymbolKind.COMPONENT:
+            for member in symbol.members.values():
+                if kinds is None or member.kind in kinds:
+                    self.symbol_item(member)
 
     def literal_fields(self) -> None:
         before = self.ctx.bracket_before

@@ -51,6 +51,10 @@ class Position(Enum):
     FIELD_INIT = "field initialiser"  # a field's name in a compound literal `Pose{x = 1, ...}`
     DOMAIN = "domain"  # a domain's name in a domain's definition
     ELEMENT = "element"  # an element in a domain's definition
+    COMPONENT_BODY = "component body"  # the states, clocks and transitions of a component
+    COMPONENT = "component"  # the component of `state(`
+    STATE = "state"  # a state of the component in `state(c) =`
+    CONSTRAINT = "constraint"  # where a temporal formula of `constraints` goes on
     AFTER_TYPE = "after a type"  # at the top level after a type: `fluent`, `function`, ... follow
     INCLUDE = "include"  # inside the path of an `#include`
     NONE = "none"  # inside a string or a comment, or nowhere completion helps
@@ -86,6 +90,7 @@ class Context:
     braces: int = 0  # how many braces are open at the cursor
     bracket_before: Token | None = None  # the token before the innermost open bracket
     string: Token | None = None  # the string literal the cursor is in
+    component: str = ""  # the component whose state is asked for (Position.STATE)
 
     @property
     def call(self) -> CallSite | None:
@@ -309,6 +314,8 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
         return Position.FIELD
     if not opens:
         return _top_level(tokens, n, ctx)
+    if ctx.decl_keyword in ("component", "constraints"):
+        return _platform_model(tokens, opens, n, ctx)
     if innermost is not None and innermost.token.type == "LPAR":
         before = tokens[innermost.index - 1] if innermost.index > 0 else None
         if before is not None and before.type in ("HOOK", "DURING") and pt == "LPAR":
@@ -350,6 +357,27 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     if ctx.decl_keyword in ("fluent",) and pt in ("LBRACE", "SEMI"):
         return Position.SECTION
     return Position.EXPRESSION
+
+
+def _platform_model(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> Position:
+    """In the braces of a `component` (its states and clocks) or of `constraints`."""
+    if ctx.decl_keyword == "component":
+        return Position.COMPONENT_BODY
+    innermost = opens[-1]
+    before = tokens[innermost.index - 1] if innermost.index > 0 else None
+    pt = tokens[n - 1].type
+    if innermost.token.type == "LPAR" and before is not None:
+        if before.type == "STATE":
+            return Position.COMPONENT if pt == "LPAR" else Position.NONE
+        if before.type in ("HOOK", "DURING"):
+            return Position.ACTION if pt == "LPAR" else Position.NONE
+        if before.type == "NAME":
+            return Position.EXPRESSION  # an argument of an action
+    # `state(c) = s`: a state of c.
+    if pt == "EQ" and n >= 5 and [t.type for t in tokens[n - 5 : n - 1]] == ["STATE", "LPAR", "NAME", "RPAR"]:
+        ctx.component = tokens[n - 3].value
+        return Position.STATE
+    return Position.CONSTRAINT
 
 
 def _top_level(tokens: list[Token], n: int, ctx: Context) -> Position:
