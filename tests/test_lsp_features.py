@@ -755,3 +755,12 @@ def test_completion_in_a_platform_model() -> None:
     assert at("state(depth_cam) = on", 19) == ["off", "booting", "on", "error"]
     assert at("during(grasp", 7) == ["switch_state", "go_to", "grasp", "put_down"]
     assert at("state(depth_cam) = on", 0)[:3] == ["state", "during", "start"]
+
+
+def test_completion_items_show_parameters_and_type_beside_the_name(tmp_path: Path) -> None:
+    items = {i.label: i for i in complete(BLOCKS.replace("clear(x) &", "clear(@x) &"), tmp_path)}
+    details = {k: (v.label_details.detail, v.label_details.description) for k, v in items.items() if v.label_details}
+    assert details["clear"] == ("(block x)", "bool")
+    assert details["loc"] == ("(block x)", "place")
+    assert details["x"] == (None, "block")
+    assert details["table"] == (None, "symbol")

@@ -159,6 +159,7 @@ class _Completer:
                 label=symbol.name,
                 kind=COMPLETION_KIND[symbol.kind],
                 detail=symbol.signature(),
+                label_details=_label_details(symbol),
                 documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if text else None,
                 preselect=True if rank == _EXPECTED else None,
             ),
@@ -371,6 +372,18 @@ class _Completer:
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
+
+
+def _label_details(symbol: Symbol) -> types.CompletionItemLabelDetails:
+    """Shown beside the name in the list: a callable's parameters, and what the symbol is."""
+    params = f"({', '.join(f'{p.type} {p.name}' for p in symbol.params)})" if symbol.kind in _CALLABLE else None
+    shown = symbol.type if symbol.kind in _TYPED else None
+    return types.CompletionItemLabelDetails(detail=params, description=str(shown) if shown else symbol.kind.value)
+
+
+_CALLABLE = EXPRESSION_CALLABLE | STATEMENT_CALLABLE | {SymbolKind.EXOG_ACTION}
+# Kinds whose description in the list is their value type.
+_TYPED = EXPRESSION_CALLABLE | LOCAL_KINDS | {SymbolKind.FIELD}
 
 
 def _gpp_files(folder: Path, limit: int = 200) -> list[str]:
