@@ -555,3 +555,212 @@ def test_each_declaration_snippet_expands_to_valid_golog(tmp_path: Path, label: 
         (tmp_path / "file.gpp").write_text("")
     result = check_text(text, tmp_path / "snippet.gpp", lint=False)
     assert [d.message for d in result.diagnostics if d.is_error] == []
+
+
+def test_completion_after_a_dot_offers_the_fields_of_the_subjects_compound(tmp_path: Path) -> None:
+    example = (ROOT / "examples" / "lists_and_compounds.gpp").read_text(encoding="utf-8")
+    at = example.index("procedure main")
+
+    def fields(expression: str) -> list[str]:
+        text = example[:at] + f"bool function zz(Order o) = {expression}@\n" + example[at:]
+        return [i.label for i in complete(text, tmp_path) if i.kind is types.CompletionItemKind.Field]
+
+    assert fields("o.") == ["item", "customer", "place", "priority"]
+    assert fields("o.place.") == ["x", "y", "theta"]
+    assert fields("queue()[0].place.") == ["x", "y", "theta"]
+    assert fields("o.place.x.") == []  # a number has no fields
+
+
+def test_signature_help_and_completion_in_an_initially_line(tmp_path: Path) -> None:
+    text = "symbol domain block = {a, b}\nbool fluent on(block x, block y) {\ninitially:\n    (a, b) = true;\n}\n"
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    h = F.signature_help(doc.result, doc.path, doc.at("b) = true"))
+    assert h is not None
+    assert (h.signatures[0].label, h.active_parameter) == ("bool fluent on(block x, block y)", 1)
+    items = F.completion(doc.result, doc.path, doc.at("b) = true"))
+    # A fluent's parameters stand for all values of their type in `initially:`.
+    assert [i.label for i in items if i.preselect] == ["a", "b", "x", "y"]
+
+
+def test_completion_of_the_action_in_a_hook_and_of_the_next_section(tmp_path: Path) -> None:
+    hooked = BLOCKS.replace("    build(a);\n", "    start(@\n")
+    assert labels(complete(hooked, tmp_path)) == ["stack", "switch_state"]
+    # After a precondition's expression, the next section may start.
+    items = labels(complete(BLOCKS.replace("x != y\n", "x != y\n@"), tmp_path))
+    assert [w for w in items if w in ("duration", "effect", "mapping", "precondition", "senses", "silent")] == [
+        "duration",
+        "effect",
+        "mapping",
+        "precondition",
+        "senses",
+        "silent",
+    ]
+    assert "clear" in items
+
+
+def test_rename_refuses_the_name_of_a_sibling_field(tmp_path: Path) -> None:
+    doc = Doc.check("compound Pose { number x, number y }\nnumber function f(Pose p) = p.x\n", tmp_path / "m.gpp")
+    with pytest.raises(F.RenameError, match="`Pose` already has a field named `y`"):
+        F.rename(doc.result, doc.path, doc.at("p.x", delta=2), "y")
+    assert edits(F.rename(doc.result, doc.path, doc.at("p.x", delta=2), "z")) == {
+        "m.gpp": [(doc.rng("x,", length=1), "z"), (doc.rng("x\n", length=1), "z")]
+    }
+
+
+@pytest.mark.parametrize(
+    ("edit", "expected"),
+    [
+        # The values of a pick: of the variable's type, without the variable itself.
+        (("    build(a);", "    pick (place p in {a, @"), ["a", "b", "c", "table"]),
+        # After a type at the top level, what can be declared with it.
+        (("procedure main", "bool @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        (("procedure main", "place @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        (("procedure main", "list[place] @\nprocedure main"), ["domain", "exog_function", "fluent", "function"]),
+        # A domain's definition: domains between the operators, elements inside braces.
+        (("procedure main", "symbol domain d = block | @\nprocedure main"), ["block", "d", "place"]),
+        (("procedure main", "symbol domain d = {table, @}\nprocedure main"), ["a", "b", "c", "table"]),
+    ],
+)
+def test_completion_positions(tmp_path: Path, edit: tuple[str, str], expected: list[str]) -> None:
+    items = complete(BLOCKS.replace(*edit), tmp_path)
+    assert labels(items)[: len(expected)] == expected
+    if edit[1].startswith("    pick"):
+        assert sorted(i.label for i in items if i.preselect) == expected
+    else:
+        assert len(items) == len(expected)
+
+
+def test_completion_of_the_fields_of_a_compound_literal(tmp_path: Path) -> None:
+    text = "compound Pose { number x, number theta }\nPose function origin() = Pose{x = 0, @}\n"
+    items = complete(text, tmp_path)
+    assert [(i.label, i.kind, i.detail) for i in items] == [
+        ("x", types.CompletionItemKind.Field, "number x"),
+        ("theta", types.CompletionItemKind.Field, "number theta"),
+    ]
+
+
+def test_completion_of_an_include_path_offers_files_beside_then_in_the_standard_library(tmp_path: Path) -> None:
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "util.gpp").write_text("")
+    (tmp_path / "other.gpp").write_text("")
+    (tmp_path / "notes.txt").write_text("")
+    text = '#include "li@\nprocedure main() {}\n'
+    items = complete(text, tmp_path)
+    found = labels(items)
+    assert found[:2] == ["lib/util.gpp", "other.gpp"]  # not c.gpp itself, not notes.txt
+    assert {"time.gpp", "sim/blocksworld.gpp"} <= set(found[2:])
+    assert all(i.kind is types.CompletionItemKind.File for i in items)
+    # The item replaces what is typed of the path (the string is not closed yet).
+    edit = items[0].text_edit
+    assert isinstance(edit, types.TextEdit)
+    assert rng(edit.range) == ((0, 10), (0, 12))
+    # In a closed string, up to the closing quote.
+    items = complete('#include "o@ther.gpp"\n', tmp_path)
+    edit = items[0].text_edit
+    assert isinstance(edit, types.TextEdit) and rng(edit.range) == ((0, 10), (0, 19))
+
+
+def test_rename_of_a_variable_sees_inner_and_outer_variables_of_the_new_name(tmp_path: Path) -> None:
+    text = (
+        "symbol domain block = {a, b}\naction go(block o) {}\n"
+        "procedure p(block x) {\n    go(x);\n    pick (block y) go(y);\n}\n"
+        "procedure q(block x) {\n    pick (block y) go(x);\n}\n"
+    )
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    # p's `x` is not used inside the pick: the pick's own `y` shadows the renamed one there.
+    assert edits(F.rename(doc.result, doc.path, doc.at("x) {\n    go"), "y")) == {
+        "m.gpp": [(doc.rng("x) {\n    go", length=1), "y"), (doc.rng("x);\n    pick", length=1), "y")]
+    }
+    # q's pick variable renamed to `x` would capture the use of the parameter `x` inside it.
+    with pytest.raises(F.RenameError) as e:
+        F.rename(doc.result, doc.path, doc.at("y) go(x)"), "x")
+    assert str(e.value) == "renaming to `x` would clash with the parameter `x` visible at line 8"
+
+
+def test_folding_of_comment_runs_block_comments_and_includes(tmp_path: Path) -> None:
+    (tmp_path / "a.gpp").write_text("")
+    (tmp_path / "b.gpp").write_text("")
+    text = (
+        '#include "a.gpp"\n'  # 0
+        '#include "b.gpp"\n'  # 1
+        "/* one\n"  # 2
+        "   two */\n"  # 3
+        "action go() {} // trailing\n"  # 4
+        "// not joined to the trailing comment above\n"  # 5
+        "procedure main() { go(); }\n"  # 6
+    )
+    doc = Doc.check(text, tmp_path / "m.gpp")
+    found = F.folding_ranges(doc.result, doc.path)
+    assert [(r.start_line, r.end_line, r.kind) for r in found] == [
+        (0, 1, types.FoldingRangeKind.Imports),
+        (2, 3, types.FoldingRangeKind.Comment),
+    ]
+
+
+def test_hover_on_an_include_shows_the_file_and_its_header_comment(tmp_path: Path) -> None:
+    (tmp_path / "sub.gpp").write_text("// sub.gpp — helpers.\n//\n// More.\n\naction go() {}\n")
+    doc = Doc.check('#include "sub.gpp"\nprocedure main() { go(); }\n', tmp_path / "main.gpp")
+    h = F.hover(doc.result, doc.path, doc.at("sub.gpp"))
+    assert h is not None and isinstance(h.contents, types.MarkupContent)
+    assert h.contents.value == f"`{(tmp_path / 'sub.gpp').resolve()}`\n\nsub.gpp — helpers.\n\nMore."
+
+
+def test_inlay_hint_for_a_domain_element_named_like_the_parameter(tmp_path: Path) -> None:
+    # Only a variable of the parameter's name makes the hint redundant, not an element.
+    doc = Doc.check(
+        "symbol domain d = {x, z}\naction go(d x) {}\nprocedure main() { go(x); go(z); }\n", tmp_path / "m.gpp"
+    )
+    found = F.inlay_hints(doc.result, doc.path, 0, len(doc.text))
+    assert [(h.position.line, h.position.character, h.label) for h in found] == [(2, 22, "x:"), (2, 29, "x:")]
+
+
+def test_hover_on_a_long_domain_lists_its_elements(tmp_path: Path) -> None:
+    doc = Doc.check("number domain n = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}\n", tmp_path / "m.gpp")
+    h = F.hover(doc.result, doc.path, doc.at("n ="))
+    assert h is not None and isinstance(h.contents, types.MarkupContent)
+    assert h.contents.value == (
+        "```gpp\nnumber domain n = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, ...}\n```\n\n"
+        "14 elements: `{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}`"
+    )
+
+
+def test_every_kind_of_symbol_has_a_completion_kind_a_symbol_kind_and_a_token_type() -> None:
+    from gpp.model.symbols import SymbolKind
+    from lsp.features.common import COMPLETION_KIND, SYMBOL_KIND
+    from lsp.features.tokens import _KIND_TYPE
+
+    assert set(COMPLETION_KIND) == set(SYMBOL_KIND) == set(_KIND_TYPE) == set(SymbolKind)
+
+
+def test_completion_in_a_platform_model() -> None:
+    doc = Doc.load(ROOT / "examples" / "platform_model.gpp")
+
+    def at(needle: str, delta: int) -> list[str]:
+        return [i.label for i in F.completion(doc.result, doc.path, doc.at(needle, delta=delta))]
+
+    # In a component: its clocks and states (the implicit `error` too), the section keywords.
+    assert at("booting resets", 0) == [
+        "boot_time",
+        "off",
+        "booting",
+        "on",
+        "error",
+        "clocks",
+        "states",
+        "transitions",
+        "resets",
+    ]
+    # In constraints: the components of `state(`, then the states of the one named.
+    assert at("state(depth_cam) = on", 6) == ["depth_cam", "arm"]
+    assert at("state(depth_cam) = on", 19) == ["off", "booting", "on", "error"]
+    assert at("during(grasp", 7) == ["switch_state", "go_to", "grasp", "put_down"]
+    assert at("state(depth_cam) = on", 0)[:3] == ["state", "during", "start"]
+
+
+def test_completion_items_show_parameters_and_type_beside_the_name(tmp_path: Path) -> None:
+    items = {i.label: i for i in complete(BLOCKS.replace("clear(x) &", "clear(@x) &"), tmp_path)}
+    details = {k: (v.label_details.detail, v.label_details.description) for k, v in items.items() if v.label_details}
+    assert details["clear"] == ("(block x)", "bool")
+    assert details["loc"] == ("(block x)", "place")
+    assert details["x"] == (None, "block")
+    assert details["table"] == (None, "symbol")

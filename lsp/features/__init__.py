@@ -3,8 +3,8 @@
 character offsets into the file's text; ranges and positions are LSP ones (0-based lines,
 UTF-16 columns). None of them raises, except `rename`/`prepare_rename` with RenameError."""
 
-from lsp.features.completion import completion
-from lsp.features.info import hover, inlay_hints, signature_help
+from lsp.features.completion import COMPLETION_TRIGGER_CHARACTERS, completion
+from lsp.features.info import SIGNATURE_TRIGGER_CHARACTERS, hover, inlay_hints, signature_help
 from lsp.features.navigation import (
     RenameError,
     definition,
@@ -17,7 +17,9 @@ from lsp.features.outline import document_symbols, folding_ranges, workspace_sym
 from lsp.features.tokens import SEMANTIC_TOKENS_LEGEND, semantic_tokens
 
 __all__ = [
+    "COMPLETION_TRIGGER_CHARACTERS",
     "SEMANTIC_TOKENS_LEGEND",
+    "SIGNATURE_TRIGGER_CHARACTERS",
     "RenameError",
     "completion",
     "definition",

@@ -15,6 +15,7 @@ from gpp.model.symbols import Symbol, SymbolKind
 from gpp.resources import stdlib_dir
 from gpp.source import Source, Span
 from gpp.syntax import ast
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.loader import ParsedFile
 
 
@@ -87,6 +88,27 @@ def in_stdlib(path: Path) -> bool:
         return False
 
 
+def stdlib_sources(result: CheckResult) -> set[int]:
+    """The ids of the Sources of the program's standard library files."""
+    return {id(f.source) for f in result.loaded.files if in_stdlib(f.path)}
+
+
+def included_at(doc: Document, offset: int) -> ParsedFile | None:
+    """The file that the `#include` under the cursor loads (found as the loader finds it)."""
+    for decl in doc.file.program.declarations:
+        if isinstance(decl, ast.Include) and decl.span.contains(offset):
+            name = decl.path.value
+            for candidate in (doc.file.path.parent / name, stdlib_dir() / name):
+                try:
+                    resolved = candidate.resolve()
+                except (OSError, RuntimeError, ValueError):
+                    continue
+                found = next((f for f in doc.result.loaded.files if f.path == resolved), None)
+                if found is not None:
+                    return found
+    return None
+
+
 # ---------------------------------------------------------------- comments
 
 
@@ -117,54 +139,76 @@ def comments(file: ParsedFile) -> list[tuple[int, int]]:
     return out
 
 
-def declaration_node(symbol: Symbol) -> ast.Decl | None:
-    decl = symbol.decl
-    return decl if isinstance(decl, ast.Decl) else None
+def comments_alone(file: ParsedFile) -> list[tuple[int, int]]:
+    """The comments that begin their line (no code before them)."""
+    source = file.source
+    out: list[tuple[int, int]] = []
+    for start, end in comments(file):
+        line, col = source.line_col(start)
+        if not source.line_text(line)[: col - 1].strip():
+            out.append((start, end))
+    return out
+
+
+class DocComments:
+    """Finds the doc comments of declarations: the comments that stand alone on their lines,
+    by the line they end on. One per request, so that each file is scanned once."""
+
+    def __init__(self, result: CheckResult) -> None:
+        self.result = result
+        self.files: dict[int, dict[int, tuple[int, int]]] = {}
+
+    def of(self, symbol: Symbol) -> str:
+        """The `//` lines directly above the symbol's declaration (or a forward declaration),
+        or a `/* */` comment ending on the line above; '' when there is none."""
+        decl = symbol.decl
+        starts: list[Span] = []
+        if isinstance(decl, ast.Decl):
+            starts.append(Span(decl.span.source, decl.span.start, decl.span.start))
+        starts.extend(symbol.other_spans)
+        for at in starts:
+            text = self._above(at.source, at.start)
+            if text:
+                return text
+        return ""
+
+    def _alone(self, source: Source) -> dict[int, tuple[int, int]]:
+        found = self.files.get(id(source))
+        if found is None:
+            pf = next((f for f in self.result.loaded.files if f.source is source), None)
+            alone = comments_alone(pf) if pf is not None else []
+            found = {source.line_col(max(start, end - 1))[0]: (start, end) for start, end in alone}
+            self.files[id(source)] = found
+        return found
+
+    def _above(self, source: Source, offset: int) -> str:
+        alone = self._alone(source)
+        lines: list[str] = []
+        current = source.line_col(offset)[0] - 1
+        while current in alone:
+            start, end = alone[current]
+            body = source.text[start:end]
+            if not body.startswith("//"):
+                lines[0:0] = [_strip_line(s.strip().lstrip("*")) for s in body[2:-2].splitlines()]
+                break
+            lines.insert(0, _strip_line(body[2:]))
+            current -= 1
+        return "\n".join(lines).strip("\n")
+
+
+def header_comment(file: ParsedFile) -> str:
+    """The comment lines a file begins with."""
+    source = file.source
+    lines: list[str] = []
+    for start, end in comments_alone(file):
+        if source.line_col(start)[0] != len(lines) + 1 or not source.text.startswith("//", start):
+            break
+        lines.append(_strip_line(source.text[start + 2 : end]))
+    return "\n".join(lines).strip("\n")
 
 
 def doc_comment(result: CheckResult, symbol: Symbol) -> str:
-    """The `//` lines directly above the symbol's declaration (or a forward declaration), or a
-    `/* */` comment ending on the line above; '' when there is none."""
-    decl = declaration_node(symbol)
-    starts: list[Span] = []
-    if decl is not None:
-        starts.append(Span(decl.span.source, decl.span.start, decl.span.start))
-    starts.extend(symbol.other_spans)
-    for at in starts:
-        pf = next((f for f in result.loaded.files if f.source is at.source), None)
-        if pf is None:
-            continue
-        text = _doc_above(pf, at.start)
-        if text:
-            return text
-    return ""
-
-
-def _doc_above(pf: ParsedFile, offset: int) -> str:
-    source = pf.source
-    line = source.line_col(offset)[0]
-    by_line: dict[int, tuple[int, int]] = {}
-    for start, end in comments(pf):
-        first, last = source.line_col(start)[0], source.line_col(max(start, end - 1))[0]
-        if last >= line:
-            continue
-        # Only a comment that is alone on its lines documents what follows.
-        if source.line_text(first)[: source.line_col(start)[1] - 1].strip():
-            continue
-        by_line[last] = (start, end)
-    lines: list[str] = []
-    current = line - 1
-    while current in by_line:
-        start, end = by_line.pop(current)
-        body = source.text[start:end]
-        if body.startswith("//"):
-            lines.insert(0, _strip_line(body[2:]))
-            current = source.line_col(start)[0] - 1
-        else:
-            block = [_strip_line(s.strip().lstrip("*")) for s in body[2:-2].splitlines()]
-            lines[0:0] = block
-            break
-    return "\n".join(lines).strip("\n")
+    return DocComments(result).of(symbol)
 
 
 def _strip_line(s: str) -> str:
@@ -212,3 +256,11 @@ SYMBOL_KIND: dict[SymbolKind, types.SymbolKind] = {
 }
 
 LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})
+
+# The token types of keywords (in every context) and of `#include`.
+KEYWORD_TYPES = (
+    frozenset(KEYWORDS.values())
+    | frozenset(PLATFORM_KEYWORDS.values())
+    | frozenset(SECTION_WORDS.values())
+    | {"INCLUDE"}
+)

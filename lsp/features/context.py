@@ -44,9 +44,19 @@ class Position(Enum):
     EFFECT = "effect"  # where an effect may start (its target is a fluent)
     SECTION = "section"  # inside an action's braces, where a section keyword may come
     EXPRESSION = "expression"
+    ACTION = "action"  # the action of `start(`, `end(`, ..., `during (`
     TYPE = "type"  # where a type name is expected (parameters, pick and quantifier variables)
     NAME = "name"  # where a new name is being declared
     FIELD = "field"  # after `.`
+    FIELD_INIT = "field initialiser"  # a field's name in a compound literal `Pose{x = 1, ...}`
+    DOMAIN = "domain"  # a domain's name in a domain's definition
+    ELEMENT = "element"  # an element in a domain's definition
+    COMPONENT_BODY = "component body"  # the states, clocks and transitions of a component
+    COMPONENT = "component"  # the component of `state(`
+    STATE = "state"  # a state of the component in `state(c) =`
+    CONSTRAINT = "constraint"  # where a temporal formula of `constraints` goes on
+    AFTER_TYPE = "after a type"  # at the top level after a type: `fluent`, `function`, ... follow
+    INCLUDE = "include"  # inside the path of an `#include`
     NONE = "none"  # inside a string or a comment, or nowhere completion helps
 
 
@@ -63,22 +73,24 @@ class Binder:
 @dataclass(frozen=True, slots=True)
 class CallSite:
     name: str  # the called name ('' for the tuple of an `initially:` line)
-    name_start: int
-    open_paren: int  # offset of '('
     argument: int  # 0-based index of the argument the cursor is in
-    argument_start: int  # offset where that argument begins
 
 
 @dataclass
 class Context:
     position: Position
-    prefix_start: int  # where the word being typed begins (== offset when none)
     decl_keyword: str  # 'procedure', 'action', 'fluent', ... ('' outside a declaration)
     decl_name: str
     section: str  # the last action/fluent section keyword seen ('' if none)
     binders: list[Binder] = field(default_factory=list)
+    # Where the variables whose header the cursor is in are declared (not in scope yet).
+    pending_binders: list[Binder] = field(default_factory=list)
     calls: list[CallSite] = field(default_factory=list)  # innermost last
     previous_index: int = -1  # index of the token before the word being typed (-1: none)
+    braces: int = 0  # how many braces are open at the cursor
+    bracket_before: Token | None = None  # the token before the innermost open bracket
+    string: Token | None = None  # the string literal the cursor is in
+    component: str = ""  # the component whose state is asked for (Position.STATE)
 
     @property
     def call(self) -> CallSite | None:
@@ -90,7 +102,6 @@ class _Open:
     token: Token
     index: int
     commas: int = 0
-    last_comma: int = -1
 
 
 @dataclass
@@ -127,25 +138,29 @@ def _decl_starts(tokens: list[Token]) -> list[int]:
 _ENDERS = frozenset({"SEMI", "RBRACE", "RPAR", "NUMBER", "STRING", "TRUE", "FALSE", "NULL"})
 
 
-def context_at(tokens: list[Token], text: str, offset: int) -> Context:
+def context_at(tokens: list[Token], offset: int) -> Context:
+    """The context of the cursor at `offset` in the file of `tokens`."""
     # The word being typed: a name or keyword the cursor is inside or just after.
     n = 0
     while n < len(tokens) and tokens[n].end < offset:
         n += 1
-    prefix_start = offset
     if n < len(tokens):
         t = tokens[n]
-        if t.start < offset <= t.end and (t.value[:1].isalpha() or t.value[:1] == "_"):
-            prefix_start = t.start
-        elif t.start < offset < t.end:
-            # Inside a string or a number.
-            return Context(Position.NONE, offset, "", "", "")
-        elif t.end <= offset:
+        word = t.value[:1].isalpha() or t.value[:1] == "_"
+        # (The tokenizer closes an unterminated string at the end of its line.)
+        unterminated = t.type == "STRING" and len(t.value) != t.end - t.start
+        if t.start < offset and (offset < t.end or (unterminated and offset == t.end)) and not word:
+            # Inside a string (the path of an `#include`?) or a number.
+            including = t.type == "STRING" and n > 0 and tokens[n - 1].type == "INCLUDE"
+            ctx = Context(Position.INCLUDE if including else Position.NONE, "", "", "")
+            ctx.string = t
+            return ctx
+        if t.end <= offset and not (word and t.start < offset):
             n += 1
     # tokens[:n] are before the word being typed.
     starts = _decl_starts(tokens[:n])
     first = starts[-1] if starts else 0
-    ctx = Context(Position.EXPRESSION, prefix_start, "", "", "")
+    ctx = Context(Position.EXPRESSION, "", "", "")
     _scan(tokens, first, n, ctx)
     return ctx
 
@@ -168,7 +183,7 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
         if tt in _OPENERS:
             # A scope's unbraced body that starts with '{' is braced after all.
             for s in scopes:
-                if s.header_done and s.braced is None:
+                if s.header_done and s.braced is None and not s.quantifier:
                     s.braced = tt in ("LBRACE", "MAIN_LBRACE") and len(opens) == s.level
             o = _Open(t, i)
             opens.append(o)
@@ -187,9 +202,9 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
                 if closed is header:
                     header = None
                     # (A fluent's parameters stand for every value in its `initially:` lines.)
-                    params.extend(_params(tokens, closed.index + 1, i, True))
+                    params.extend(_params(tokens, closed.index + 1, i))
             for s in scopes:
-                if not s.header_done and not s.quantifier and len(opens) == s.level and tt == "RPAR":
+                if not s.header_done and len(opens) == s.level and tt == "RPAR":
                     s.header_done = True
             scopes = [s for s in scopes if len(opens) >= s.level]
             if tt == "RBRACE":
@@ -197,7 +212,6 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
             continue
         if tt == "COMMA" and opens:
             opens[-1].commas += 1
-            opens[-1].last_comma = i
             scopes = [s for s in scopes if not (s.quantifier and len(opens) == s.level)]
         elif tt == "SEMI":
             # A ';' ends the statement: brackets left open in it were never closed.
@@ -213,17 +227,18 @@ def _scan(tokens: list[Token], first: int, n: int, ctx: Context) -> None:
             binder = _binder_after(tokens, i, n)
             if binder is not None:
                 scopes.append(_Scope(binder, len(opens), quantifier=tt == "QUANTIFIER", header_done=False))
-    # Quantifier headers: `exists (T x) body`, the body starts after the ')'.
-    for s in scopes:
-        if s.quantifier:
-            s.header_done = True
-    ctx.binders = params + [s.binder for s in scopes]
+    # A variable is in scope in the body, after its header (`pick (T x in {..})`, `exists (T x)`).
+    ctx.binders = params + [s.binder for s in scopes if s.header_done]
+    ctx.pending_binders = [s.binder for s in scopes if not s.header_done]
     if header is not None:
         # The cursor is in the declaration's own parameter list.
         ctx.position = _in_parameter_list(tokens, header.index + 1, n)
         return
     ctx.calls = _calls(tokens, opens, n, ctx)
     ctx.previous_index = n - 1
+    ctx.braces = sum(1 for o in opens if o.token.type in ("LBRACE", "MAIN_LBRACE"))
+    if opens and opens[-1].index > 0:
+        ctx.bracket_before = tokens[opens[-1].index - 1]
     ctx.position = _position(tokens, opens, n, ctx)
 
 
@@ -250,7 +265,7 @@ def _binder_after(tokens: list[Token], i: int, n: int) -> Binder | None:
     return None
 
 
-def _params(tokens: list[Token], begin: int, end: int, parameter: bool) -> list[Binder]:
+def _params(tokens: list[Token], begin: int, end: int) -> list[Binder]:
     """`T a, T b` in tokens[begin:end]: the last name of each comma-separated group."""
     out: list[Binder] = []
     group: list[Token] = []
@@ -258,7 +273,7 @@ def _params(tokens: list[Token], begin: int, end: int, parameter: bool) -> list[
         if t is None or t.type == "COMMA":
             if len(group) >= 2 and group[-1].type == "NAME":
                 type_text = "".join(x.value for x in group[:-1])
-                out.append(Binder(group[-1].value, type_text, parameter, group[-1].start))
+                out.append(Binder(group[-1].value, type_text, True, group[-1].start))
             group = []
         else:
             group.append(t)
@@ -281,11 +296,10 @@ def _calls(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> lis
         if o.token.type != "LPAR":
             continue
         before = tokens[o.index - 1] if o.index > 0 else None
-        arg_start = tokens[o.last_comma].end if o.last_comma >= 0 else o.token.end
         if before is not None and before.type == "NAME":
-            out.append(CallSite(before.value, before.start, o.token.start, o.commas, arg_start))
+            out.append(CallSite(before.value, o.commas))
         elif ctx.section == "initially" and before is not None and before.type in ("INITIALLY", "SEMI"):
-            out.append(CallSite("", o.token.start, o.token.start, o.commas, arg_start))
+            out.append(CallSite("", o.commas))
     return out
 
 
@@ -299,38 +313,33 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     if pt == "DOT":
         return Position.FIELD
     if not opens:
-        if pt in ("SEMI", "RBRACE", "INCLUDE") or (pt in OPERAND_ENDS and ctx.decl_keyword not in ("", "include")):
-            return Position.TOP_LEVEL
-        if pt == "STRING" and ctx.decl_keyword == "include":
-            return Position.TOP_LEVEL
-        if pt in ("FLUENT", "FUNCTION", "EXOG_FUNCTION", "ACTION", "EXOG_ACTION", "PROCEDURE", "DOMAIN"):
-            return Position.NAME
-        if pt in ("COMPOUND", "COMPONENT"):
-            return Position.NAME
-        if pt in ("EQ",):
-            return Position.EXPRESSION
-        if pt == "NAME" and ctx.decl_keyword == "":
-            return Position.TOP_LEVEL
-        return (
-            Position.EXPRESSION
-            if pt not in ("BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "RBRACKET")
-            else (Position.TOP_LEVEL)
-        )
+        return _top_level(tokens, n, ctx)
+    if ctx.decl_keyword in ("component", "constraints"):
+        return _platform_model(tokens, opens, n, ctx)
     if innermost is not None and innermost.token.type == "LPAR":
         before = tokens[innermost.index - 1] if innermost.index > 0 else None
+        if before is not None and before.type in ("HOOK", "DURING") and pt == "LPAR":
+            return Position.ACTION
         if before is not None and before.type in ("PICK", "QUANTIFIER"):
+            # `pick (T x in {..})`, `exists (T x)`: a type, then the variable's new name.
             if pt == "LPAR":
                 return Position.TYPE
-            if pt == "IN":
-                return Position.EXPRESSION
-            return (
-                Position.NAME
-                if pt in ("NAME", "RBRACKET", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL")
-                else (Position.EXPRESSION)
-            )
+            if pt in _TYPE_WORDS or pt in ("NAME", "RBRACKET"):
+                return Position.NAME
         return Position.EXPRESSION
     if innermost is not None and innermost.token.type == "LBRACKET":
         return Position.TYPE if pt == "LBRACKET" and tokens[innermost.index - 1].type == "LIST" else Position.EXPRESSION
+    if innermost is not None and innermost.token.type == "LBRACE" and innermost.index > 0:
+        before = tokens[innermost.index - 1]
+        if ctx.decl_keyword == "compound" and len(braces) == 1:
+            return Position.TYPE if pt in ("LBRACE", "COMMA") else Position.NAME
+        if before.type == "NAME" and ctx.decl_keyword != "component":
+            # A compound literal `Pose{x = 1, ...}`.
+            return Position.FIELD_INIT if pt in ("LBRACE", "COMMA") else Position.EXPRESSION
+        if ctx.decl_keyword == "domain":
+            return Position.ELEMENT
+        if before.type == "IN":
+            return Position.EXPRESSION  # the values of a pick
     # Inside braces: of an action (sections), a fluent (initially), a procedure (statements).
     statement_start = pt in ("LBRACE", "MAIN_LBRACE", "SEMI", "RBRACE", "ELSE", "ON_FAIL", "ON_CANCEL") or (
         pt in _SECTIONS
@@ -350,20 +359,88 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     return Position.EXPRESSION
 
 
+def _platform_model(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> Position:
+    """In the braces of a `component` (its states and clocks) or of `constraints`."""
+    if ctx.decl_keyword == "component":
+        return Position.COMPONENT_BODY
+    innermost = opens[-1]
+    before = tokens[innermost.index - 1] if innermost.index > 0 else None
+    pt = tokens[n - 1].type
+    if innermost.token.type == "LPAR" and before is not None:
+        if before.type == "STATE":
+            return Position.COMPONENT if pt == "LPAR" else Position.NONE
+        if before.type in ("HOOK", "DURING"):
+            return Position.ACTION if pt == "LPAR" else Position.NONE
+        if before.type == "NAME":
+            return Position.EXPRESSION  # an argument of an action
+    # `state(c) = s`: a state of c.
+    if pt == "EQ" and n >= 5 and [t.type for t in tokens[n - 5 : n - 1]] == ["STATE", "LPAR", "NAME", "RPAR"]:
+        ctx.component = tokens[n - 3].value
+        return Position.STATE
+    return Position.CONSTRAINT
+
+
+def _top_level(tokens: list[Token], n: int, ctx: Context) -> Position:
+    """The position outside any bracket, after tokens[n - 1]."""
+    pt = tokens[n - 1].type
+    if pt in _DECLARATION_WORDS:
+        return Position.NAME
+    if ctx.decl_keyword == "domain" and pt in ("EQ", "BAR", "AMP", "DOMAIN_OP"):
+        return Position.DOMAIN
+    if pt in _TYPE_WORDS or (pt in ("NAME", "RBRACKET") and _starts_declaration(tokens, n - 1, ctx)):
+        return Position.AFTER_TYPE
+    if pt == "INCLUDE":
+        return Position.NONE
+    if pt in ("SEMI", "RBRACE") or ctx.decl_keyword in ("", "include"):
+        return Position.TOP_LEVEL
+    # A function's body: an identifier after a complete operand starts the next declaration.
+    return Position.TOP_LEVEL if pt in OPERAND_ENDS else Position.EXPRESSION
+
+
+def _starts_declaration(tokens: list[Token], i: int, ctx: Context) -> bool:
+    """Is tokens[i] (a name or the `]` of `list[T]`) a type at the start of a declaration?"""
+    if tokens[i].type == "RBRACKET":
+        while i > 0 and tokens[i].type != "LBRACKET":
+            i -= 1
+        i -= 1
+        if i < 0 or tokens[i].type != "LIST":
+            return False
+    return ctx.decl_keyword == "" or i == 0 or tokens[i - 1].type in ("SEMI", "RBRACE", "STRING")
+
+
+_DECLARATION_WORDS = frozenset(
+    {"FLUENT", "FUNCTION", "EXOG_FUNCTION", "ACTION", "EXOG_ACTION", "PROCEDURE", "DOMAIN", "COMPOUND", "COMPONENT"}
+)
+_TYPE_WORDS = frozenset({"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID"})
+
+
 def _closes_statement_head(tokens: list[Token], i: int) -> bool:
     """Does the ')' at tokens[i] close the head of `if (..)`, `while (..)`, `pick (..)`,
     `solve (..)` or `during (..)`, so that a statement follows?"""
-    depth = 0
-    j = i
-    while j >= 0:
+    j = opening(tokens, i)
+    return j is not None and j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
+
+
+def opening(tokens: list[Token], i: int) -> int | None:
+    """The index of the '(' or '[' that the ')' or ']' at tokens[i] closes, within the
+    statement (None if there is none)."""
+    closer = tokens[i].type
+    opener = "LPAR" if closer == "RPAR" else "LBRACKET"
+    depth = braces = 0
+    for j in range(i, -1, -1):
         t = tokens[j].type
-        if t == "RPAR":
+        if t == closer:
             depth += 1
-        elif t == "LPAR":
+        elif t == opener:
             depth -= 1
             if depth == 0:
-                return j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
-        elif t in ("SEMI", "LBRACE", "RBRACE"):
-            return False
-        j -= 1
-    return False
+                return j
+        elif t == "RBRACE":
+            braces += 1  # a compound literal inside the brackets
+        elif t in ("LBRACE", "MAIN_LBRACE"):
+            braces -= 1
+            if braces < 0:
+                return None
+        elif t == "SEMI" and braces == 0:
+            return None
+    return None

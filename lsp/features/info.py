@@ -9,18 +9,20 @@ from lsprotocol import types
 
 from gpp.check import CheckResult
 from gpp.model.model import Model
-from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.symbols import GLOBAL_KINDS, Symbol, SymbolKind
 from gpp.model.types import DomainType, Sym, show_value
 from gpp.syntax import ast
 from gpp.syntax.printer import format_expr
 from gpp.syntax.walk import walk
-from lsp.features.common import doc_comment, document, lsp_range, position
+from lsp.features.common import LOCAL_KINDS, doc_comment, document, header_comment, included_at, lsp_range, position
 from lsp.features.context import context_at
 
 # The language of code blocks in hover and completion documentation.
 CODE_LANGUAGE = "gpp"
 # At most this many initial values and domain elements are listed in a hover.
 _LISTED = 20
+# Symbol.signature() shows this many elements of a domain; a hover lists more.
+_IN_SIGNATURE = 12
 
 
 def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
@@ -29,7 +31,13 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         return None
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
-        return None
+        included = included_at(doc, offset)
+        if included is None:
+            return None
+        # An `#include`: the file it loads, and what the file says about itself.
+        header = header_comment(included)
+        text = f"`{included.path}`" + (f"\n\n{header}" if header else "")
+        return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
     return types.Hover(
         contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=describe(result, ref.symbol)),
         range=lsp_range(ref.span),
@@ -54,7 +62,7 @@ def describe(result: CheckResult, symbol: Symbol) -> str:
             parts.append(f"Initially:\n```{CODE_LANGUAGE}\n{body}\n```")
     if symbol.kind is SymbolKind.DOMAIN and isinstance(symbol.type, DomainType):
         values = symbol.type.values
-        if len(values) > 12:
+        if len(values) > _IN_SIGNATURE:
             shown = ", ".join(show_value(v) for v in values[: _LISTED * 5])
             more = ", ..." if len(values) > _LISTED * 5 else ""
             parts.append(f"{len(values)} elements: `{{{shown}{more}}}`")
@@ -85,16 +93,12 @@ def _belongs_to(model: Model, symbol: Symbol) -> str:
 
 # ---------------------------------------------------------------- signature help
 
-_CALLABLE = frozenset(
-    {
-        SymbolKind.FLUENT,
-        SymbolKind.ACTION,
-        SymbolKind.EXOG_ACTION,
-        SymbolKind.FUNCTION,
-        SymbolKind.EXOG_FUNCTION,
-        SymbolKind.PROCEDURE,
-    }
-)
+# What a call can name (a component is a global too, but not callable).
+_CALLABLE = GLOBAL_KINDS - {SymbolKind.COMPONENT}
+
+
+# Characters after which an editor should show signature help (and update it).
+SIGNATURE_TRIGGER_CHARACTERS = ["(", ","]
 
 
 def signature_help(result: CheckResult, path: Path, offset: int) -> types.SignatureHelp | None:
@@ -102,7 +106,7 @@ def signature_help(result: CheckResult, path: Path, offset: int) -> types.Signat
     if doc is None:
         return None
     offset = max(0, min(offset, len(doc.text)))
-    ctx = context_at(doc.file.tokens, doc.text, offset)
+    ctx = context_at(doc.file.tokens, offset)
     for call in reversed(ctx.calls):
         name = call.name or ctx.decl_name
         symbol = doc.model.globals.get(name)
@@ -157,7 +161,8 @@ def inlay_hints(result: CheckResult, path: Path, start: int, end: int) -> list[t
         if symbol is None or not args:
             continue
         for arg, param in zip(args, symbol.params, strict=False):
-            if isinstance(arg, ast.Name) and arg.name == param.name:
+            named = model.target(arg) if isinstance(arg, ast.Name) else None
+            if named is not None and named.kind in LOCAL_KINDS and named.name == param.name:
                 continue
             if isinstance(arg, ast.Wildcard) or not (start <= arg.span.start <= end):
                 continue

@@ -10,12 +10,21 @@ from lsprotocol import types
 
 from gpp.check import CheckResult
 from gpp.model.symbols import Reference, Symbol, SymbolKind
-from gpp.resources import stdlib_dir
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.walk import walk
-from lsp.features.common import LOCAL_KINDS, Document, document, in_stdlib, location, lsp_range, path_of
+from lsp.features.common import (
+    KEYWORD_TYPES,
+    LOCAL_KINDS,
+    Document,
+    document,
+    included_at,
+    location,
+    lsp_range,
+    path_of,
+    stdlib_sources,
+)
 
 
 class RenameError(Exception):
@@ -30,9 +39,9 @@ def definition(result: CheckResult, path: Path, offset: int) -> list[types.Locat
     doc = document(result, path)
     if doc is None:
         return []
-    included = _include_at(doc, offset)
+    included = included_at(doc, offset)
     if included is not None:
-        return [types.Location(uri=included.as_uri(), range=types.Range(start=_ZERO, end=_ZERO))]
+        return [types.Location(uri=included.path.as_uri(), range=types.Range(start=_ZERO, end=_ZERO))]
     symbol = doc.model.symbol_at(doc.source, offset)
     if symbol is None or symbol.span is None:
         return []
@@ -43,35 +52,23 @@ def definition(result: CheckResult, path: Path, offset: int) -> list[types.Locat
 _ZERO = types.Position(line=0, character=0)
 
 
-def _include_at(doc: Document, offset: int) -> Path | None:
-    """The file an `#include` under the cursor loads (as the loader finds it)."""
-    for decl in doc.file.program.declarations:
-        if isinstance(decl, ast.Include) and decl.span.contains(offset):
-            name = decl.path.value
-            loaded = {f.path for f in doc.result.loaded.files}
-            for candidate in (doc.file.path.parent / name, stdlib_dir() / name):
-                try:
-                    resolved = candidate.resolve()
-                except (OSError, RuntimeError, ValueError):
-                    continue
-                if resolved in loaded:
-                    return resolved
-    return None
-
-
 def references(result: CheckResult, path: Path, offset: int, include_declaration: bool) -> list[types.Location]:
-    doc = document(result, path)
-    if doc is None:
+    found = _symbol_under(result, path, offset)
+    if found is None:
         return []
-    symbol = doc.model.symbol_at(doc.source, offset)
-    if symbol is None:
-        return []
+    doc, symbol = found
     out: list[types.Location] = []
     for ref in _sorted(result, doc.model.references_to(symbol, include_declaration)):
         loc = location(result, ref.span)
         if loc is not None:
             out.append(loc)
     return out
+
+
+def _symbol_under(result: CheckResult, path: Path, offset: int) -> tuple[Document, Symbol] | None:
+    doc = document(result, path)
+    symbol = None if doc is None else doc.model.symbol_at(doc.source, offset)
+    return None if doc is None or symbol is None else (doc, symbol)
 
 
 def _sorted(result: CheckResult, refs: list[Reference]) -> list[Reference]:
@@ -85,12 +82,10 @@ _READ_WRITE = frozenset({SymbolKind.FLUENT, SymbolKind.PARAMETER, SymbolKind.VAR
 
 
 def document_highlight(result: CheckResult, path: Path, offset: int) -> list[types.DocumentHighlight]:
-    doc = document(result, path)
-    if doc is None:
+    found = _symbol_under(result, path, offset)
+    if found is None:
         return []
-    symbol = doc.model.symbol_at(doc.source, offset)
-    if symbol is None:
-        return []
+    doc, symbol = found
     written = written_names(doc.file.program) if symbol.kind in _READ_WRITE else set()
     out: list[types.DocumentHighlight] = []
     for ref in _sorted(result, doc.model.references_to(symbol)):
@@ -158,27 +153,19 @@ def rename(result: CheckResult, path: Path, offset: int, new_name: str) -> types
 def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
-        word = _word_at(doc.text, offset)
-        if word in RESERVED:
+        token = next((t for t in doc.file.tokens if t.start <= offset <= t.end and t.type in KEYWORD_TYPES), None)
+        if token is not None:
+            word = token.value.rstrip(": \t\r\n")
             raise RenameError(f"`{word}` is a keyword of golog++ and cannot be renamed")
         raise RenameError("there is no name to rename here")
     symbol = ref.symbol
     if symbol.predefined or symbol.span is None or symbol.kind is SymbolKind.BUILTIN_TYPE:
         raise RenameError(f"`{symbol.name}` is predefined and cannot be renamed")
+    stdlib = stdlib_sources(doc.result)
     for r in doc.model.references_to(symbol):
-        p = path_of(doc.result, r.span.source)
-        if p is not None and in_stdlib(p):
+        if id(r.span.source) in stdlib:
             raise RenameError(f"`{symbol.name}` is defined in the standard library and cannot be renamed")
     return ref, symbol
-
-
-def _word_at(text: str, offset: int) -> str:
-    start = end = max(0, min(offset, len(text)))
-    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
-        start -= 1
-    while end < len(text) and (text[end].isalnum() or text[end] == "_"):
-        end += 1
-    return text[start:end]
 
 
 def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name: str) -> None:
@@ -191,23 +178,32 @@ def _check_clash(doc: Document, symbol: Symbol, refs: list[Reference], new_name:
             raise RenameError(f"`{new_name}` is already declared as {existing.kind.article} {existing.kind.value}")
         spots = [r.span for r in refs if not r.declaration]
     owner = symbol.owner
-    if owner is not None and any(p.name == new_name for p in owner.params if p is not symbol):
-        raise RenameError(f"`{owner.name}` already has a parameter named `{new_name}`")
+    if owner is not None:
+        siblings = [*owner.params, *owner.members.values()]
+        clash = next((s for s in siblings if s.name == new_name and s is not symbol), None)
+        if clash is not None:
+            raise RenameError(f"`{owner.name}` already has a {clash.kind.value} named `{new_name}`")
     for span in spots:
         other = _visible(doc, span, new_name)
         if other is not None and other is not symbol:
-            where = f"{other.kind.value} `{new_name}`"
-            raise RenameError(f"renaming to `{new_name}` would clash with the {where} visible at line {span.line}")
+            what = f"{other.kind.value} `{new_name}`"
+            raise RenameError(f"renaming to `{new_name}` would clash with the {what} visible at {_at(doc, span)}")
     if symbol.kind in LOCAL_KINDS:
-        # A use of a global symbol of the new name inside the local's scope would be captured.
+        # A use of another symbol of the new name inside the local's scope would now mean the
+        # local (unless it is a variable of an inner scope, which shadows the local).
         for scope in model.scopes:
-            if symbol in scope.symbols:
-                for r in model.references_in(scope.span.source):
-                    if scope.span.start <= r.span.start <= scope.span.end and r.symbol.name == new_name:
-                        raise RenameError(
-                            f"renaming to `{new_name}` would hide the {r.symbol.kind.value} `{new_name}` "
-                            f"used at line {r.span.line}"
-                        )
+            if symbol not in scope.symbols:
+                continue
+            for r in model.references_in(scope.span.source):
+                inner = r.symbol.span is not None and scope.span.contains(r.symbol.span.start)
+                if scope.span.contains(r.span.start) and r.symbol.name == new_name and not inner:
+                    what = f"{r.symbol.kind.value} `{new_name}`"
+                    raise RenameError(f"renaming to `{new_name}` would hide the {what} used at {_at(doc, r.span)}")
+
+
+def _at(doc: Document, span: Span) -> str:
+    """Where `span` is, for a message: its line, and its file when that is another one."""
+    return f"line {span.line}" if span.source is doc.source else f"{Path(span.source.path).name}:{span.line}"
 
 
 def _visible(doc: Document, span: Span, name: str) -> Symbol | None:

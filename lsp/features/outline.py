@@ -10,16 +10,17 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.model import OutlineItem
 from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import DomainType, Sym
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
-from lsp.features.common import SYMBOL_KIND, comments, document, location, lsp_range
+from lsp.features.common import SYMBOL_KIND, comments_alone, document, location, lsp_range
 
 
 def document_symbols(result: CheckResult, path: Path) -> list[types.DocumentSymbol]:
     doc = document(result, path)
     if doc is None:
         return []
-    return [_symbol(item) for item in doc.model.outline(doc.source)]
+    return [_symbol(item) for item in doc.model.outline(doc.source) if item.name]
 
 
 def _symbol(item: OutlineItem) -> types.DocumentSymbol:
@@ -32,7 +33,7 @@ def _symbol(item: OutlineItem) -> types.DocumentSymbol:
         range=lsp_range(item.span),
         selection_range=lsp_range(selection),
         detail=item.detail,
-        children=[_symbol(c) for c in item.children],
+        children=[_symbol(c) for c in item.children if c.name],
     )
 
 
@@ -54,7 +55,7 @@ def workspace_symbols(results: Sequence[CheckResult], query: str) -> list[types.
                 candidates.append((s, t.name))
         for symbol, container in candidates:
             rank = match_rank(query, symbol.name)
-            if rank is None or symbol.span is None:
+            if rank is None or symbol.span is None or not symbol.name:
                 continue
             loc = location(result, symbol.span)
             if loc is None or (loc.uri, symbol.span.start) in seen:
@@ -69,8 +70,6 @@ def workspace_symbols(results: Sequence[CheckResult], query: str) -> list[types.
 
 
 def _elements(result: CheckResult, domain: Symbol) -> list[Symbol]:
-    from gpp.model.types import DomainType, Sym
-
     t = domain.type
     if domain.kind is not SymbolKind.DOMAIN or not isinstance(t, DomainType):
         return []
@@ -121,7 +120,7 @@ def folding_ranges(result: CheckResult, path: Path) -> list[types.FoldingRange]:
     program = doc.file.program
     # Runs of comments (a block comment or comments on adjacent lines), and runs of includes.
     groups: list[list[tuple[int, int]]] = []
-    for start, end in comments(doc.file):
+    for start, end in comments_alone(doc.file):
         if groups and source.line_col(start)[0] <= source.line_col(groups[-1][-1][1])[0] + 1:
             groups[-1].append((start, end))
         else:

@@ -10,10 +10,10 @@ token types
     parameter                   parameters of actions, procedures, fluents and functions
     variable                    `pick` and quantifier variables
     enumMember                  elements of symbol domains, component states
-    type                        domains, compound types, `number`/`bool`/`string`/`symbol`/`void`
+    type                        domains and compound types
     property                    compound fields and component clocks
     namespace                   components
-    keyword, string, number, comment
+    keyword, string, number, comment  (`number`, `bool`, ... are keywords)
 modifiers
     declaration                 the name where it is declared
     defaultLibrary              declared in the standard library, or predefined
@@ -29,8 +29,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.source import Source
-from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
-from lsp.features.common import comments, document, in_stdlib, path_of
+from lsp.features.common import KEYWORD_TYPES, comments, document, stdlib_sources
 
 TOKEN_TYPES = [
     "fluent",
@@ -71,12 +70,6 @@ _KIND_TYPE: dict[SymbolKind, int] = {
     SymbolKind.COMPONENT: _TYPE["namespace"],
 }
 DECLARATION, DEFAULT_LIBRARY, EXOGENOUS = 1, 2, 4
-_KEYWORD_TYPES = (
-    frozenset(KEYWORDS.values())
-    | frozenset(PLATFORM_KEYWORDS.values())
-    | frozenset(SECTION_WORDS.values())
-    | {"INCLUDE"}
-)
 
 
 def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
@@ -85,13 +78,14 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
         return []
     source = doc.source
     found: list[tuple[int, int, int, int]] = []  # start, end, type, modifiers
+    stdlib = stdlib_sources(result)
     for ref in doc.model.references_in(source):
-        found.append((ref.span.start, ref.span.end, _KIND_TYPE[ref.symbol.kind], _modifiers(result, ref.symbol)))
+        found.append((ref.span.start, ref.span.end, _KIND_TYPE[ref.symbol.kind], _modifiers(ref.symbol, stdlib)))
         if ref.declaration:
             start, end, t, m = found[-1]
             found[-1] = (start, end, t, m | DECLARATION)
     for tok in doc.file.tokens:
-        if tok.type in _KEYWORD_TYPES:
+        if tok.type in KEYWORD_TYPES:
             word = len(tok.value) - len(tok.value.lstrip("#abcdefghijklmnopqrstuvwxyz_"))
             found.append((tok.start, tok.start + word, _TYPE["keyword"], 0))
         elif tok.type == "STRING":
@@ -104,16 +98,16 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
     return encode(source, found)
 
 
-def _modifiers(result: CheckResult, symbol: Symbol) -> int:
+def _modifiers(symbol: Symbol, stdlib: set[int]) -> int:
     m = 0
     if symbol.kind in (SymbolKind.EXOG_ACTION, SymbolKind.EXOG_FUNCTION):
         m |= EXOGENOUS
-    if symbol.predefined or symbol.kind is SymbolKind.BUILTIN_TYPE:
+    if (
+        symbol.predefined
+        or symbol.kind is SymbolKind.BUILTIN_TYPE
+        or (symbol.span is not None and id(symbol.span.source) in stdlib)
+    ):
         m |= DEFAULT_LIBRARY
-    elif symbol.span is not None:
-        p = path_of(result, symbol.span.source)
-        if p is not None and in_stdlib(p):
-            m |= DEFAULT_LIBRARY
     return m
 
 
@@ -121,20 +115,31 @@ def encode(source: Source, found: list[tuple[int, int, int, int]]) -> list[int]:
     """The LSP relative encoding of sorted tokens: overlapping ones after the first are left
     out, one that spans lines is cut at each line end, lengths count UTF-16 units."""
     text = source.text
+    starts = source.line_starts
     data: list[int] = []
     last_line = last_char = 0
-    covered = 0
+    covered = line = 0
     for start, end, t, m in found:
         if start < covered or end <= start:
             continue
         covered = end
         while start < end:
+            # Tokens come in order: the line only moves forward.
+            while line + 1 < len(starts) and starts[line + 1] <= start:
+                line += 1
             line_end = text.find("\n", start, end)
             piece_end = end if line_end < 0 else line_end
-            line, char = source.lsp_position(start)
-            length = len(text[start:piece_end].rstrip("\r").encode("utf-16-le")) // 2
+            piece = text[start:piece_end].rstrip("\r")
+            char = _utf16(text, starts[line], start)
+            length = _utf16(piece, 0, len(piece))
             if length > 0:
                 data += [line - last_line, char - last_char if line == last_line else char, length, t, m]
                 last_line, last_char = line, char
             start = piece_end + 1 if line_end >= 0 else end
     return data
+
+
+def _utf16(text: str, start: int, end: int) -> int:
+    """How many UTF-16 units text[start:end] takes."""
+    piece = text[start:end]
+    return len(piece) if piece.isascii() else len(piece.encode("utf-16-le")) // 2
