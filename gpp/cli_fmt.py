@@ -76,7 +76,8 @@ def fmt(
 
 def expand_paths(paths: Sequence[Path]) -> list[Path]:
     """The files to format: each file given, and the .gpp files under each folder given
-    (sorted, hidden folders skipped). A path that does not exist is a usage error."""
+    (sorted, hidden folders skipped). A path that does not exist, or folders without any .gpp
+    file, are usage errors."""
     from gpp.cli import _usage_error
 
     files: list[Path] = []
@@ -90,6 +91,8 @@ def expand_paths(paths: Sequence[Path]) -> list[Path]:
             files.append(path)
         else:
             _usage_error(f"cannot read '{path}': no such file or folder")
+    if not files:
+        _usage_error("no .gpp files in " + ", ".join(f"'{p}'" for p in paths))
     return list(dict.fromkeys(files))
 
 

@@ -4,8 +4,9 @@
 is the pretty-printer's (printer.format_program: 4-space indentation, one statement per line,
 `} else {`), so the formatted program parses to the same tree. The comments and blank lines
 are then put back between the printed tokens: the formatter lines up the program's tokens with
-the printed ones (they are the same but for the spelling of number literals) and writes the
-comments of each gap between two tokens into the matching gap of the printed text:
+the printed ones (the same but for the spelling of literals and the redundant parentheses the
+printer drops) and writes the comments of each gap between two tokens into the matching gap of
+the printed text:
 
 * a comment on a line of its own stays on a line of its own, directly above the code that
   followed it, indented like that code (one step deeper above a closing `}`);
@@ -16,11 +17,14 @@ comments of each gap between two tokens into the matching gap of the printed tex
   after an opening `{` or a section keyword, never before a closing `}`), none where it had
   none.
 
-Where a comment has to end a line that the printer did not end (a `//` comment inside an
-expression), the rest of the line continues on the next line, indented one step more than the
-line, plus one step per open bracket. The same continuation indentation wraps printed lines
-longer than `WIDTH` characters: at the loosest separators of the shallowest bracket depth, in
-this order: after a definition's `=`, after `,`, before `->`, `|`, `&`, then binary `+`/`-`.
+Printed lines are broken at break points: after the `=` of a top-level definition, after `,`,
+before `->`, `|`, `&` and binary `+`/`-` (loosest first). A line break the program has at a
+break point is kept; a line still longer than `WIDTH` is broken at its loosest break points of
+the shallowest bracket depth, and so on until the parts fit. Brackets broken after their commas
+hold one part per line and close on a line of their own (`f(` / `a,` / `b` / `)`); any other
+continued line is indented one step more than the line it continues, plus one per open bracket.
+A comment that has to end a line the printer did not end (a `//` comment inside an
+expression) breaks it the same way.
 
 Directives (`// world: ...`) and suppression comments (`// gpp: allow ...`) are ordinary comments
 for the formatter: they stay on their line, above what they preceded.
@@ -143,13 +147,36 @@ def _key(t: Token) -> tuple[str, object]:
 def _token_map(original: list[Token], printed: list[Token]) -> list[int]:
     """For the gap before each original token (and the one after the last): the gap of the
     printed text that gets its comments. The printed tokens are the program's own but for the
-    spelling of literals; a difference, if any, is bridged by a diff."""
+    spelling of literals and redundant parentheses, which the printer drops (`((x))` is
+    `(x)`); the gap before a dropped token goes before the next printed token."""
     a = [_key(t) for t in original]
     b = [_key(t) for t in printed]
-    if a == b:
-        return list(range(len(original) + 1))
-    target = [0] * (len(original) + 1)
-    target[len(original)] = len(printed)
+    target = [0] * (len(a) + 1)
+    i = j = 0
+    while i < len(a):
+        if j < len(b) and (a[i] == b[j] or a[i][0] == b[j][0] in _LITERALS):
+            target[i] = j
+            i += 1
+            j += 1
+        elif a[i][0] in _PARENS:
+            target[i] = j
+            i += 1
+        elif j < len(b) and b[j][0] in _PARENS:
+            j += 1
+        else:
+            return _diff_map(a, b)
+    target[len(a)] = len(b)
+    return target
+
+
+_LITERALS = frozenset({"NUMBER", "STRING"})
+_PARENS = frozenset({"LPAR", "RPAR"})
+
+
+def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[int]:
+    """The token map by a diff, for printed tokens that differ in ways not foreseen."""
+    target = [0] * (len(a) + 1)
+    target[len(a)] = len(b)
     for op, i1, i2, j1, j2 in difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes():
         for i in range(i1, i2):
             target[i] = j1 + (i - i1) if op != "delete" and j1 + (i - i1) < j2 else j2
@@ -293,8 +320,8 @@ class _Writer:
         """How loose a line break before token k is (lower is looser), None if no break fits."""
         before = self.tokens[k - 1].type
         t = self.tokens[k].type
-        if before == "EQ":
-            return 0
+        if before == "EQ" and not self.indent[k]:
+            return 0  # a top-level definition: `bool function f() =` / `    body`
         if before == "COMMA":
             return 1
         if t == "ARROW":
@@ -310,12 +337,15 @@ class _Writer:
     # ------------------------------------------------ output
 
     def write(self, text: str) -> None:
-        first, *rest = text.split("\n")
-        self.lines[-1] += first
-        for line in rest:
-            self.lines.append(line)
-        if text:
-            self.at_line_start = False
+        if not text:
+            return
+        if "\n" in text:
+            first, *rest = text.split("\n")
+            self.lines[-1] += first
+            self.lines.extend(rest)
+        else:
+            self.lines[-1] += text
+        self.at_line_start = False
 
     def newline(self) -> None:
         self.lines[-1] = self.lines[-1].rstrip()
@@ -368,16 +398,34 @@ class _Writer:
         n = len(self.tokens)
         printed_break = k == n or self.starts_line[k]
         line_break = printed_break or k in self.breaks
-        comments = self.comments[k]
-        modes = self._modes(k, comments, line_break)
+        last_inline = False
+        if self.comments[k]:
+            line_break, last_inline = self._comments(k, printed_break, line_break)
         if k == n:
+            return
+        if line_break or self.at_line_start:
+            if not self.at_line_start:
+                self.newline()
+            if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
+                self.blank_line()
+            self.write(self.indent[k] if printed_break else self.continuation(k))
+        elif last_inline:
+            self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
+        else:
+            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+
+    def _comments(self, k: int, printed_break: bool, line_break: bool) -> tuple[bool, bool]:
+        """Write the comments of gap k; whether token k now starts a line, and whether the
+        last comment was written inline."""
+        comments = self.comments[k]
+        if k == len(self.tokens):
             comment_indent = ""
         else:
             indent = self.indent[k] if printed_break else self.continuation(k)
             closing = self.tokens[k].type == "RBRACE" and indent == self.indent[k]
             comment_indent = indent + INDENT if closing else indent
         last_inline = False
-        for c, mode in zip(comments, modes, strict=True):
+        for c, mode in zip(comments, self._modes(k, comments, line_break), strict=True):
             last_inline = False
             if mode is _Mode.OWN_LINE:
                 if not self.at_line_start:
@@ -397,18 +445,7 @@ class _Writer:
                 gap = "" if self.lines[-1].endswith(("(", "[")) or self.at_line_start else " "
                 self.write(gap + c.text)
                 last_inline = True
-        if k == n:
-            return
-        if line_break or self.at_line_start:
-            if not self.at_line_start:
-                self.newline()
-            if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
-                self.blank_line()
-            self.write(self.indent[k] if printed_break else self.continuation(k))
-        elif last_inline:
-            self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
-        else:
-            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+        return line_break, last_inline
 
     def _align_trailing(self) -> None:
         """The trailing comments of consecutive lines start in one column."""
