@@ -22,6 +22,7 @@ not toggled around each check while other threads run.
 
 from __future__ import annotations
 
+import os
 import queue
 import re
 import threading
@@ -121,8 +122,10 @@ class Session:
         return self.open(resolved, apply_edits(old.text if old else "", edits), version)
 
     def close(self, path: Path) -> None:
+        resolved = path.resolve()
         with self._lock:
-            self._documents.pop(path.resolve(), None)
+            self._documents.pop(resolved, None)
+        self._checked.pop(resolved, None)  # its program's check, kept no longer
 
     def document(self, path: Path) -> Document | None:
         with self._lock:
@@ -178,16 +181,17 @@ class Session:
         return tuple(found)
 
     def workspace_files(self) -> list[Path]:
-        """The `.gpp` files in the workspace folders (hidden folders left out)."""
+        """The `.gpp` files in the workspace folders (hidden folders such as .git and .venv left
+        out, at most MAX_WORKSPACE_FILES)."""
         if self._workspace_files is None:
             files: list[Path] = []
             for folder in self.folders:
-                for p in sorted(folder.rglob("*.gpp")):
+                for here, dirs, names in os.walk(folder):
+                    dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d != "node_modules")
+                    files.extend(Path(here, n).resolve() for n in sorted(names) if n.endswith(".gpp"))
                     if len(files) >= MAX_WORKSPACE_FILES:
                         break
-                    if not any(part.startswith(".") for part in p.relative_to(folder).parts[:-1]):
-                        files.append(p.resolve())
-            self._workspace_files = files
+            self._workspace_files = files[:MAX_WORKSPACE_FILES]
         return self._workspace_files
 
     def programs_of(self, path: Path, overrides: dict[Path, str] | None = None) -> list[Path]:
@@ -246,11 +250,6 @@ class Session:
         """The checks of the programs `path` belongs to (the first is the one features use)."""
         texts = overrides if overrides is not None else self._texts()
         return [self.check(root, texts) for root in self.programs_of(path, texts)]
-
-    def forget(self, roots: Iterable[Path]) -> None:
-        """Drop the remembered checks of programs nobody looks at any more."""
-        for root in roots:
-            self._checked.pop(root, None)
 
 
 def diagnostics_in(results: Sequence[CheckResult], path: Path) -> list[diag.Diagnostic]:
