@@ -244,6 +244,8 @@ def lsp(
     if stdio and tcp is not None:
         _usage_error("give either --stdio or --tcp, not both")
     address = _loopback_address(tcp) if tcp is not None else None
+    # A server has nothing to finish: SIGTERM (an editor stopping it) ends it at once.
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     # pygls and lsprotocol take half a second to import: only this command pays for them.
     from lsp.server import serve_stdio, serve_tcp
 
