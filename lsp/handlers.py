@@ -59,6 +59,32 @@ async def whole(ls: GppServer, uri: str, fn: Callable[[CheckResult, Path], R], d
     return await ls.on_request_thread(lambda: fn(result, path))
 
 
+async def ranged(
+    ls: GppServer, uri: str, where: types.Range, fn: Callable[[CheckResult, Path, int, int], R], default: R
+) -> R:
+    """Run `fn(result, path, start, end)` for a range of a document on the request thread."""
+    found = await ls.result_for(uri)
+    if found is None:
+        return default
+    result, path = found
+    source = source_of(result, path, ls)
+    start = source.lsp_offset(where.start.line, where.start.character)
+    end = source.lsp_offset(where.end.line, where.end.character)
+    return await ls.on_request_thread(lambda: fn(result, path, start, end))
+
+
+def refusing(fn: Callable[[CheckResult, Path, int], R]) -> Callable[[CheckResult, Path, int], R]:
+    """`fn`, with a refused rename (RenameError) answered as LSP RequestFailed with its reason."""
+
+    def run(result: CheckResult, path: Path, offset: int) -> R:
+        try:
+            return fn(result, path, offset)
+        except features.RenameError as e:
+            raise RequestFailed(str(e)) from e
+
+    return run
+
+
 def _none() -> None:
     return None
 
@@ -101,13 +127,7 @@ def register_features(server: GppServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
     @guarded(_none)
     async def prepare_rename(ls: GppServer, params: types.PrepareRenameParams) -> types.PrepareRenameResult | None:
-        def run(result: CheckResult, path: Path, offset: int) -> types.PrepareRenameResult | None:
-            try:
-                return features.prepare_rename(result, path, offset)
-            except features.RenameError as e:
-                raise RequestFailed(str(e)) from e
-
-        return await at(ls, params.text_document.uri, params.position, run, None)
+        return await at(ls, params.text_document.uri, params.position, refusing(features.prepare_rename), None)
 
     @server.feature(types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
     @guarded(_none)
@@ -115,12 +135,9 @@ def register_features(server: GppServer) -> None:
         new_name = params.new_name
 
         def run(result: CheckResult, path: Path, offset: int) -> types.WorkspaceEdit | None:
-            try:
-                return features.rename(result, path, offset, new_name)
-            except features.RenameError as e:
-                raise RequestFailed(str(e)) from e
+            return features.rename(result, path, offset, new_name)
 
-        return await at(ls, params.text_document.uri, params.position, run, None)
+        return await at(ls, params.text_document.uri, params.position, refusing(run), None)
 
     @server.feature(
         types.TEXT_DOCUMENT_SIGNATURE_HELP,
@@ -149,15 +166,15 @@ def register_features(server: GppServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
     @guarded(_empty)
     async def inlay_hints(ls: GppServer, params: types.InlayHintParams) -> list[types.InlayHint]:
-        found = await ls.result_for(params.text_document.uri)
-        if found is None:
-            return []
-        result, path = found
-        source = source_of(result, path, ls)
-        r = params.range
-        start = source.lsp_offset(r.start.line, r.start.character)
-        end = source.lsp_offset(r.end.line, r.end.character)
-        return await ls.on_request_thread(lambda: features.inlay_hints(result, path, start, end))
+        return await ranged(ls, params.text_document.uri, params.range, features.inlay_hints, [])
+
+    @server.feature(
+        types.TEXT_DOCUMENT_CODE_ACTION,
+        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
+    )
+    @guarded(_empty)
+    async def code_action(ls: GppServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+        return await ranged(ls, params.text_document.uri, params.range, ls.quick_fixes, [])
 
     @server.feature(types.WORKSPACE_SYMBOL)
     @guarded(_empty)

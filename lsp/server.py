@@ -259,35 +259,29 @@ class GppServer(LanguageServer):
             or None,
         )
 
-    def quick_fixes(self, result: CheckResult, path: Path, wanted: types.Range) -> list[types.CodeAction]:
-        """A quick fix for every diagnostic with a fix that touches `wanted`."""
+    def quick_fixes(self, result: CheckResult, path: Path, start: int, end: int) -> list[types.CodeAction]:
+        """A quick fix for every diagnostic with a fix whose span touches [start, end]."""
         identity = str(path)
         actions: list[types.CodeAction] = []
-        for result_diag in result.diagnostics:
-            if result_diag.fix is None or result_diag.span.source.identity != identity:
-                continue
-            where = lsp_range(result_diag.span)
-            if _before(where.end, wanted.start) or _before(wanted.end, where.start):
+        for found in result.diagnostics:
+            span = found.span
+            if found.fix is None or span.source.identity != identity or span.end < start or end < span.start:
                 continue
             changes: dict[str, list[types.TextEdit]] = {}
-            for edit in result_diag.fix.edits:
+            for edit in found.fix.edits:
                 changes.setdefault(self.uri_of(edit.span.source.identity), []).append(
                     types.TextEdit(range=lsp_range(edit.span), new_text=edit.text)
                 )
             actions.append(
                 types.CodeAction(
-                    title=result_diag.fix.message,
+                    title=found.fix.message,
                     kind=types.CodeActionKind.QuickFix,
-                    diagnostics=[self.to_lsp(result_diag)],
+                    diagnostics=[self.to_lsp(found)],
                     is_preferred=True,
                     edit=types.WorkspaceEdit(changes=changes),
                 )
             )
         return actions
-
-
-def _before(a: types.Position, b: types.Position) -> bool:
-    return (a.line, a.character) < (b.line, b.character)
 
 
 def guarded(default: Callable[[], object]) -> Callable[[Callable[P, Awaitable[R]]], Callable[P, Awaitable[R]]]:
@@ -312,8 +306,8 @@ def guarded(default: Callable[[], object]) -> Callable[[Callable[P, Awaitable[R]
     return wrap
 
 
-def _empty() -> list[Any]:
-    return []
+def _none() -> None:
+    return None
 
 
 def _edits(changes: Sequence[types.TextDocumentContentChangeEvent]) -> list[LspEdit]:
@@ -338,51 +332,48 @@ def make_server() -> GppServer:
         ls.session.set_folders([f for f in folders if f.is_dir()])
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+    @guarded(_none)
     async def did_open(ls: GppServer, params: types.DidOpenTextDocumentParams) -> None:
-        try:
-            doc = params.text_document
-            path = uri_to_path(doc.uri)
-            ls.uris[path] = doc.uri
-            ls.session.open(path, doc.text, doc.version)
-            ls.schedule()
-        except Exception as e:
-            ls.log_exception("didOpen", e)
+        doc = params.text_document
+        path = uri_to_path(doc.uri)
+        ls.uris[path] = doc.uri
+        ls.session.open(path, doc.text, doc.version)
+        ls.schedule()
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+    @guarded(_none)
     async def did_change(ls: GppServer, params: types.DidChangeTextDocumentParams) -> None:
-        try:
-            doc = params.text_document
-            ls.session.edit(uri_to_path(doc.uri), _edits(params.content_changes), doc.version)
-            ls.schedule()
-        except Exception as e:
-            ls.log_exception("didChange", e)
+        doc = params.text_document
+        ls.session.edit(uri_to_path(doc.uri), _edits(params.content_changes), doc.version)
+        ls.schedule()
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
+    @guarded(_none)
     async def did_close(ls: GppServer, params: types.DidCloseTextDocumentParams) -> None:
-        try:
-            path = uri_to_path(params.text_document.uri)
-            ls.session.close(path)
-            ls.results.pop(path, None)
-            if ls._published.pop(path, None):
-                ls.text_document_publish_diagnostics(
-                    types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
-                )
-            ls.uris.pop(path, None)
-            ls.schedule()  # the programs that include it now read it from disk
-        except Exception as e:
-            ls.log_exception("didClose", e)
+        path = uri_to_path(params.text_document.uri)
+        ls.session.close(path)
+        ls.results.pop(path, None)
+        if ls._published.pop(path, None):
+            ls.text_document_publish_diagnostics(
+                types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
+            )
+        ls.uris.pop(path, None)
+        ls.schedule()  # the programs that include it now read it from disk
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
+    @guarded(_none)
     async def did_save(ls: GppServer, params: types.DidSaveTextDocumentParams) -> None:
         ls.session.rescan()
         ls.schedule()
 
     @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+    @guarded(_none)
     async def did_change_watched_files(ls: GppServer, params: types.DidChangeWatchedFilesParams) -> None:
         ls.session.rescan()
         ls.schedule()
 
     @server.feature(types.WORKSPACE_DID_CHANGE_WORKSPACE_FOLDERS)
+    @guarded(_none)
     async def did_change_folders(ls: GppServer, params: types.DidChangeWorkspaceFoldersParams) -> None:
         folders = [f for f in ls.session.folders if f not in {uri_to_path(r.uri) for r in params.event.removed}]
         folders += [uri_to_path(a.uri) for a in params.event.added]
@@ -393,18 +384,6 @@ def make_server() -> GppServer:
     async def shutdown(ls: GppServer, params: None) -> None:
         ls.analysis.close(1.0)
         ls.requests.close(1.0)
-
-    @server.feature(
-        types.TEXT_DOCUMENT_CODE_ACTION,
-        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
-    )
-    @guarded(_empty)
-    async def code_action(ls: GppServer, params: types.CodeActionParams) -> list[types.CodeAction]:
-        found = await ls.result_for(params.text_document.uri)
-        if found is None:
-            return []
-        result, path = found
-        return await ls.on_request_thread(lambda: ls.quick_fixes(result, path, params.range))
 
     from lsp.handlers import register_features
 
