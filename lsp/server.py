@@ -159,6 +159,9 @@ class GppServer(LanguageServer):
         texts = {p: d.text for p, d in snapshot.items()}
         out: dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException] = {}
         for path, doc in snapshot.items():
+            current = self.session.document(path)
+            if current is None or current.version != doc.version:
+                continue  # changed (or closed) since the round began: its result would be dropped
             try:
                 results = self.session.results_for(path, texts)
                 out[path] = (doc.version, results, diagnostics_in(results, path))
