@@ -23,6 +23,7 @@ from lsprotocol import converters, types
 from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
 
+import gpp
 from gpp.check import CheckResult, check_program
 from gpp.source import Source
 from gpp.syntax.format import format_text
@@ -614,3 +615,18 @@ async def _ask_everything(client: LanguageClient, uri: str, source: Source, offs
         ),
         client.text_document_formatting_async(types.DocumentFormattingParams(doc, types.FormattingOptions(4, True))),
     )
+
+
+def test_an_installed_gpp_links_to_a_page_in_the_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from lsp import codes_doc
+
+    monkeypatch.setattr(codes_doc, "_CHECKOUT_PAGE", tmp_path / "no-checkout" / "codes.md")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    codes_doc._page.cache_clear()
+    try:
+        page = tmp_path / "cache" / "gpp" / f"codes-{gpp.__version__}.md"
+        assert codes_doc.code_url("E0011") == page.as_uri() + "#e0011"
+        assert page.read_text(encoding="utf-8") == codes_doc.codes_markdown()
+        assert codes_doc.code_url("E9999") is None
+    finally:
+        codes_doc._page.cache_clear()
