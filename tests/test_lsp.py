@@ -229,6 +229,22 @@ async def test_an_included_file_is_checked_under_its_program_and_its_buffer_wins
     await _until(lambda: not keys(list(client.diagnostics[main_uri])))  # type: ignore[attr-defined]
 
 
+@in_module_loop
+async def test_an_unsaved_untitled_buffer_is_checked(client: LanguageClient) -> None:
+    uri = "untitled:Untitled-1"
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            types.TextDocumentItem(uri=uri, language_id="golog", version=1, text="procedure main() { nope(); }\n")
+        )
+    )
+    found = await diagnostics(client, uri, 1)
+    assert keys(found) == [("E0103", (0, 19, 0, 23), "unknown action or procedure `nope`")]
+    on_main = types.HoverParams(types.TextDocumentIdentifier(uri), types.Position(0, 12))
+    hover = await client.text_document_hover_async(on_main)
+    assert hover is not None and isinstance(hover.contents, types.MarkupContent)
+    assert "procedure main()" in hover.contents.value
+
+
 async def _until(condition: object, timeout: float = 20.0) -> None:
     assert callable(condition)
     loop = asyncio.get_running_loop()
