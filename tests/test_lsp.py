@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import signal
 import socket
 import subprocess
 import sys
@@ -325,8 +326,13 @@ async def test_visual_studio_code_over_tcp_on_loopback(tmp_path: Path) -> None:
                 await asyncio.sleep(0.05)
         await _profile_session(c, "visual_studio_code", tmp_path)
     finally:
-        server.terminate()
-        server.wait(timeout=10)
+        server.terminate()  # SIGTERM ends `gpp lsp` at once
+        try:
+            assert server.wait(timeout=10) == -signal.SIGTERM
+        finally:
+            if server.poll() is None:
+                server.kill()
+                server.wait()
 
 
 def test_the_codes_page_is_generated_from_the_registry() -> None:
