@@ -31,6 +31,8 @@ def paused_gc() -> Iterator[None]:
 
 _DEEP_STACK_BYTES = 512 * 1024 * 1024
 _DEEP_RECURSION_LIMIT = 250_000
+# Set on the threads started here: code already running on a deep stack runs in place.
+_deep = threading.local()
 
 
 def with_deep_stack(fn: Callable[[], T]) -> T:
@@ -39,12 +41,16 @@ def with_deep_stack(fn: Callable[[], T]) -> T:
     The parser is iterative, but the checker, the printer and the interpreter recurse over the
     tree; a generated program with thousands of nested parentheses would exhaust Python's
     default limit of 1,000 frames. The thread's stack is reserved virtual memory, only the
-    pages touched are used.
+    pages touched are used. On a thread that already has the deep stack (one started by
+    `start_deep_stack_thread`, such as the language server's analysis thread), `fn` runs in place.
     """
+    if getattr(_deep, "active", False):
+        return fn()
     result: list[T] = []
     error: list[BaseException] = []
 
     def run() -> None:
+        _deep.active = True
         try:
             result.append(fn())
         except BaseException as e:  # handed to the calling thread
@@ -65,3 +71,24 @@ def with_deep_stack(fn: Callable[[], T]) -> T:
     if error:
         raise error[0]
     return result[0]
+
+
+def start_deep_stack_thread(target: Callable[[], None], name: str) -> threading.Thread:
+    """Start a long-lived daemon thread with the large stack, and raise the process's recursion
+    limit for good: the thread owns what `with_deep_stack` sets and resets around each call,
+    so that a process checking again and again (the language server) does not change
+    process-wide settings while its other threads run."""
+    old_size = threading.stack_size()
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), _DEEP_RECURSION_LIMIT))
+
+    def run() -> None:
+        _deep.active = True
+        target()
+
+    try:
+        threading.stack_size(_DEEP_STACK_BYTES)
+        thread = threading.Thread(target=run, name=name, daemon=True)
+        thread.start()
+    finally:
+        threading.stack_size(old_size)
+    return thread

@@ -2,26 +2,36 @@
 
 from __future__ import annotations
 
+import re
 from bisect import bisect_right
 from dataclasses import dataclass
 from pathlib import Path
 
+# A line ends at `\n`, `\r\n` or a lone `\r` (as editors and the Language Server Protocol count).
+_LINE_BREAK = re.compile(r"\r\n?|\n")
+
 
 class Source:
-    """The text of one file, with the line table needed to turn offsets into positions."""
+    """The text of one file, with the line table needed to turn offsets into positions.
 
-    __slots__ = ("_line_starts", "path", "text")
+    `path` is the name diagnostics show (relative to the working directory when below it);
+    `identity` says which file this is whatever the working directory: the resolved absolute
+    path for a file (or `path` itself for text that is no file, such as `<input>`).
+    """
 
-    def __init__(self, text: str, path: str = "<input>") -> None:
+    __slots__ = ("_line_starts", "identity", "path", "text")
+
+    def __init__(self, text: str, path: str = "<input>", identity: str | None = None) -> None:
         self.path = path
         self.text = text
+        self.identity = path if identity is None else identity
         self._line_starts: list[int] | None = None
 
     @classmethod
     def from_file(cls, path: str | Path) -> Source:
         p = Path(path)
         raw = p.read_bytes()
-        return cls(raw.decode("utf-8", errors="replace"), str(path))
+        return cls(raw.decode("utf-8", errors="replace"), str(path), str(p.resolve()))
 
     def __repr__(self) -> str:
         return f"Source({self.path!r})"
@@ -31,10 +41,13 @@ class Source:
         if self._line_starts is None:
             starts = [0]
             text = self.text
-            i = text.find("\n")
-            while i >= 0:
-                starts.append(i + 1)
-                i = text.find("\n", i + 1)
+            if "\r" in text:
+                starts.extend(m.end() for m in _LINE_BREAK.finditer(text))
+            else:
+                i = text.find("\n")
+                while i >= 0:
+                    starts.append(i + 1)
+                    i = text.find("\n", i + 1)
             self._line_starts = starts
         return self._line_starts
 
@@ -51,8 +64,8 @@ class Source:
         """The text of a 1-based line, without its line break."""
         starts = self.line_starts
         start = starts[line - 1]
-        end = starts[line] - 1 if line < len(starts) else len(self.text)
-        return self.text[start:end].rstrip("\r")
+        end = starts[line] if line < len(starts) else len(self.text)
+        return self.text[start:end].rstrip("\r\n")
 
     def offset_of(self, line: int, col: int) -> int:
         """Offset of a 1-based line and column, clamped to the text."""
@@ -61,12 +74,44 @@ class Source:
         return min(starts[line - 1] + max(col, 1) - 1, len(self.text))
 
     def lsp_position(self, offset: int) -> tuple[int, int]:
-        """0-based line and UTF-16 character of an offset, as the Language Server Protocol counts."""
+        """0-based line and UTF-16 character of an offset, as the Language Server Protocol counts
+        (a character beyond U+FFFF is two UTF-16 units)."""
+        offset = max(0, min(offset, len(self.text)))
         line = self.line_col(offset)[0]
         start = self.line_starts[line - 1]
-        prefix = self.text[start:offset]
-        units = len(prefix.encode("utf-16-le")) // 2
-        return line - 1, units
+        return line - 1, _utf16_units(self.text, start, offset)
+
+    def lsp_offset(self, line: int, character: int) -> int:
+        """The offset of a 0-based line and UTF-16 character (the other direction of
+        `lsp_position`). As the protocol says, a line beyond the text means its end, and a
+        character beyond the line's end means the end of the line (before its line break); a
+        position inside a surrogate pair is taken as the character it splits."""
+        starts = self.line_starts
+        if line < 0:
+            return 0
+        if line >= len(starts):
+            return len(self.text)
+        start = starts[line]
+        end = len(self.text) if line + 1 >= len(starts) else starts[line + 1]
+        while end > start and self.text[end - 1] in "\r\n":
+            end -= 1
+        text = self.text
+        if _utf16_units(text, start, end) == end - start:  # no character beyond U+FFFF
+            return start + max(0, min(character, end - start))
+        units = 0
+        i = start
+        while i < end and units < character:
+            units += 2 if ord(text[i]) > 0xFFFF else 1
+            i += 1
+        return i
+
+
+def _utf16_units(text: str, start: int, end: int) -> int:
+    """How many UTF-16 code units text[start:end] takes."""
+    part = text[start:end]
+    if part.isascii():
+        return len(part)
+    return len(part) + sum(1 for ch in part if ord(ch) > 0xFFFF)
 
 
 @dataclass(frozen=True, slots=True)

@@ -34,7 +34,7 @@ LAYERS: list[tuple[str, set[str]]] = [
     ),
     ("syntax", {"gpp.syntax"}),
     ("model", {"gpp.model"}),
-    ("check", {"gpp.check"}),
+    ("check", {"gpp.check", "gpp.session"}),
     ("runtime", {"gpp.runtime"}),
     ("planner and platforms", {"gpp.planner", "gpp.platform"}),
     ("runner", {"gpp.runner", "gpp.testing", "gpp.runview", "gpp.traceview"}),

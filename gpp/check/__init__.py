@@ -16,7 +16,7 @@ from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.perf import paused_gc, with_deep_stack
 from gpp.source import Span
-from gpp.syntax.loader import LoadResult, load
+from gpp.syntax.loader import LoadResult, ParseCache, load
 
 # After a syntax error the parser may have skipped a declaration; names declared there would
 # then be reported as unknown. These follow-on reports are held back until the syntax is fixed.
@@ -69,17 +69,20 @@ def check_program(
     allow: Collection[str] = (),
     overrides: dict[Path, str] | None = None,
     include_dirs: Sequence[Path] = (),
+    cache: ParseCache | None = None,
 ) -> CheckResult:
     """Check one program: the file and everything it includes (`include_dirs`: the project's
-    include folders). An unreadable file raises OSError."""
-    return check_loaded(load([path], overrides, include_dirs), lint, allow)
+    include folders; `cache`: parsed files to reuse). An unreadable file raises OSError."""
+    return check_loaded(load([path], overrides, include_dirs, cache), lint, allow)
 
 
 def check_paths(
     paths: Sequence[Path], lint: bool = True, allow: Collection[str] = (), include_dirs: Sequence[Path] = ()
 ) -> list[CheckResult]:
-    """Check each file as a program of its own (programs share code through `#include`)."""
-    return [check_program(p, lint, allow, include_dirs=include_dirs) for p in paths]
+    """Check each file as a program of its own (programs share code through `#include`; a file
+    included by several of them is parsed once)."""
+    cache = ParseCache()
+    return [check_program(p, lint, allow, include_dirs=include_dirs, cache=cache) for p in paths]
 
 
 def merged_diagnostics(results: Sequence[CheckResult]) -> list[diag.Diagnostic]:
@@ -129,7 +132,7 @@ def _dedupe(found: list[diag.Diagnostic]) -> list[diag.Diagnostic]:
     seen: set[tuple[str, str, int, int, str]] = set()
     out: list[diag.Diagnostic] = []
     for d in sorted(found, key=diag.Diagnostic.sort_key):
-        key = (d.code, d.span.source.path, d.span.start, d.span.end, d.message)
+        key = (d.code, d.span.source.identity, d.span.start, d.span.end, d.message)
         if key not in seen:
             seen.add(key)
             out.append(d)

@@ -10,6 +10,8 @@ chain. Included files come before the files that include them in
 from __future__ import annotations
 
 import os
+import threading
+from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,7 +21,7 @@ from gpp.resources import stdlib_dir
 from gpp.source import Source
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token
-from gpp.syntax.parser import parse
+from gpp.syntax.parser import ParseResult, parse
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,13 +59,65 @@ def display_path(path: Path) -> str:
     return str(path) if rel.startswith("..") else rel
 
 
+class ParseCache:
+    """Parsed files by resolved path and text, for a process that checks the same files again
+    and again (the language server): a file whose text did not change is not parsed again, and
+    a file on disk whose size and modification time did not change is not even read again.
+
+    Syntax trees are immutable, so one parse can serve every check that includes the file.
+    At most `limit` files are kept (the least recently used go first). Thread-safe.
+    """
+
+    def __init__(self, limit: int = 512) -> None:
+        self.limit = limit
+        self._parsed: OrderedDict[Path, tuple[str, ParseResult]] = OrderedDict()
+        self._disk: dict[Path, tuple[int, int, str]] = {}
+        self._lock = threading.Lock()
+        self.hits = 0
+        self.misses = 0
+
+    def read(self, path: Path) -> str:
+        """The text of a file on disk (OSError when it cannot be read)."""
+        st = path.stat()
+        with self._lock:
+            known = self._disk.get(path)
+        if known is not None and known[:2] == (st.st_mtime_ns, st.st_size):
+            return known[2]
+        text = path.read_bytes().decode("utf-8", errors="replace")
+        with self._lock:
+            self._disk[path] = (st.st_mtime_ns, st.st_size, text)
+        return text
+
+    def parse(self, path: Path, text: str) -> ParseResult:
+        with self._lock:
+            entry = self._parsed.get(path)
+            if entry is not None and entry[0] == text:
+                self._parsed.move_to_end(path)
+                self.hits += 1
+                return entry[1]
+        result = parse(Source(text, display_path(path), str(path)))
+        with self._lock:
+            self.misses += 1
+            self._parsed[path] = (text, result)
+            self._parsed.move_to_end(path)
+            while len(self._parsed) > self.limit:
+                old, _ = self._parsed.popitem(last=False)
+                self._disk.pop(old, None)
+        return result
+
+
 def load(
-    paths: Sequence[Path], overrides: dict[Path, str] | None = None, include_dirs: Sequence[Path] = ()
+    paths: Sequence[Path],
+    overrides: dict[Path, str] | None = None,
+    include_dirs: Sequence[Path] = (),
+    cache: ParseCache | None = None,
 ) -> LoadResult:
     """Parse `paths` and their includes. `overrides` maps resolved paths to unsaved text
-    (an editor's buffers); `include_dirs` are searched for includes after the including file's
-    folder and before the standard library. A root file that cannot be read raises OSError."""
-    loader = _Loader(overrides or {}, include_dirs)
+    (an editor's buffers), which wins over the file on disk; `include_dirs` are searched for
+    includes after the including file's folder and before the standard library. With a `cache`,
+    files parsed before with the same text are not parsed again. A root file that cannot be read
+    raises OSError."""
+    loader = _Loader(overrides or {}, include_dirs, cache)
     for p in paths:
         loader.load_root(p)
     loader.result.diagnostics.sort(key=diag.Diagnostic.sort_key)
@@ -76,18 +130,27 @@ def load_text(text: str, path: Path) -> LoadResult:
 
 
 class _Loader:
-    def __init__(self, overrides: dict[Path, str], include_dirs: Sequence[Path] = ()) -> None:
+    def __init__(
+        self, overrides: dict[Path, str], include_dirs: Sequence[Path] = (), cache: ParseCache | None = None
+    ) -> None:
         self.overrides = {p.resolve(): t for p, t in overrides.items()}
         self.include_dirs = list(include_dirs)
+        self.cache = cache
         self.result = LoadResult()
         self.loaded: dict[Path, ParsedFile] = {}
 
-    def read(self, path: Path) -> Source:
+    def read(self, path: Path) -> str:
         text = self.overrides.get(path)
         if text is not None:
-            return Source(text, display_path(path))
-        raw = path.read_bytes()
-        return Source(raw.decode("utf-8", errors="replace"), display_path(path))
+            return text
+        if self.cache is not None:
+            return self.cache.read(path)
+        return path.read_bytes().decode("utf-8", errors="replace")
+
+    def parse(self, path: Path, text: str) -> ParseResult:
+        if self.cache is not None:
+            return self.cache.parse(path, text)
+        return parse(Source(text, display_path(path), str(path)))
 
     def exists(self, candidate: Path) -> bool:
         """Is there a file (or an editor buffer) at `candidate`? A path the OS cannot even look
@@ -103,11 +166,11 @@ class _Loader:
             self.result.roots.append(resolved)
         if resolved in self.loaded:
             return
-        source = self.read(resolved)
-        self.visit(resolved, source, [])
+        self.visit(resolved, self.read(resolved), [])
 
-    def visit(self, path: Path, source: Source, chain: list[tuple[Path, ast.Include]]) -> None:
-        parsed = parse(source)
+    def visit(self, path: Path, text: str, chain: list[tuple[Path, ast.Include]]) -> None:
+        parsed = self.parse(path, text)
+        source = parsed.program.span.source
         self.result.diagnostics.extend(parsed.diagnostics)
         includes: list[Path] = []
         # Registered before its includes are visited, so that a cycle back to it is found.
@@ -152,11 +215,11 @@ class _Loader:
         if target in self.loaded:
             return target
         try:
-            source = self.read(target)
+            text = self.read(target)
         except OSError as e:
             self.result.diagnostics.append(
                 diag.error("E0030", f"cannot read included file `{name}`: {e.strerror}", decl.path.span)
             )
             return None
-        self.visit(target, source, [*chain, (path, decl)])
+        self.visit(target, text, [*chain, (path, decl)])
         return target

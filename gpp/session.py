@@ -1,0 +1,301 @@
+"""An analysis session: the programs an editor works on, checked again and again as they change.
+
+The language server keeps one Session for its whole life; anything else that checks the same
+files repeatedly can use one too. It holds
+
+* the open documents (an editor's unsaved buffers, which win over the files on disk, also when
+  another program includes them), with their LSP versions;
+* a parse cache (`gpp.syntax.loader.ParseCache`): a file whose text did not change is not parsed
+  again, so an edit re-parses one file, not every include;
+* an include index over the open documents and the `.gpp` files of the workspace folders, so
+  that a file opened alone is checked under the programs that include it;
+* the latest check of each program, reused while none of its files changed.
+
+Positions: `Source.lsp_position` and `Source.lsp_offset` convert between character offsets and
+the protocol's (line, UTF-16 unit) positions; `apply_edits` applies an editor's incremental
+changes with them.
+
+Every check runs on one long-lived `AnalysisThread`, which owns the process-wide settings a
+check needs (a large thread stack and a high recursion limit, gpp.perf): they are set once,
+not toggled around each check while other threads run.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import Future
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TypeVar
+
+from gpp import diagnostics as diag
+from gpp.check import CheckResult, check_loaded
+from gpp.perf import start_deep_stack_thread
+from gpp.resources import stdlib_dir
+from gpp.source import Source
+from gpp.syntax.directives import directives
+from gpp.syntax.loader import ParseCache, load
+
+T = TypeVar("T")
+
+# `#include "file.gpp"` at the start of a line: enough to index which files include which
+# (the check itself reads includes with the parser).
+_INCLUDE = re.compile(r'^[ \t]*#include[ \t]*"([^"\r\n]*)"', re.MULTILINE)
+# A file included by many programs is checked under this many of them at most (the open
+# ones first): an edit in a library shared by a hundred test programs stays fast.
+MAX_PROGRAMS = 4
+# The workspace index reads at most this many files.
+MAX_WORKSPACE_FILES = 5000
+
+
+@dataclass(frozen=True, slots=True)
+class Document:
+    """An open document: an editor's buffer, by the resolved path of its file."""
+
+    path: Path
+    text: str
+    version: int
+
+    @property
+    def directives(self) -> dict[str, str]:
+        """The `// key: value` directives at its top, read from the buffer (not from disk)."""
+        return directives(self.text)
+
+
+# An edit as the protocol sends it: a range ((line, character), (line, character)) in UTF-16
+# units, or None for the whole text, and the new text.
+LspEdit = tuple[tuple[tuple[int, int], tuple[int, int]] | None, str]
+
+
+def apply_edits(text: str, edits: Iterable[LspEdit]) -> str:
+    """The text after an editor's incremental changes, applied one after the other."""
+    for where, new in edits:
+        if where is None:
+            text = new
+            continue
+        source = Source(text)
+        (l1, c1), (l2, c2) = where
+        start = source.lsp_offset(l1, c1)
+        end = max(start, source.lsp_offset(l2, c2))
+        text = text[:start] + new + text[end:]
+    return text
+
+
+class Session:
+    """Open documents, the include index and the checks of the programs they belong to.
+
+    Documents change on the caller's thread; checks run wherever `check*` is called (the
+    language server calls them on its AnalysisThread). A lock keeps the two consistent: a check
+    sees the documents as they were when it started.
+    """
+
+    def __init__(self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = ()) -> None:
+        self.cache = ParseCache()
+        self.lint = lint
+        self.allow = tuple(allow)
+        self.folders = [f.resolve() for f in folders]
+        self._documents: dict[Path, Document] = {}
+        self._lock = threading.Lock()
+        # The includes of files on disk, by (mtime, size) when read.
+        self._disk_includes: dict[Path, tuple[tuple[int, int], tuple[Path, ...]]] = {}
+        self._workspace_files: list[Path] | None = None
+        # The latest check of each program: its inputs (file, parse, includes) and the result.
+        self._checked: dict[Path, tuple[tuple[object, ...], CheckResult]] = {}
+
+    # ------------------------------------------------------------ documents
+
+    def open(self, path: Path, text: str, version: int) -> Document:
+        doc = Document(path.resolve(), text, version)
+        with self._lock:
+            self._documents[doc.path] = doc
+        return doc
+
+    def edit(self, path: Path, edits: Iterable[LspEdit], version: int) -> Document:
+        """Apply incremental changes to an open document (an unknown one starts empty)."""
+        resolved = path.resolve()
+        with self._lock:
+            old = self._documents.get(resolved)
+        return self.open(resolved, apply_edits(old.text if old else "", edits), version)
+
+    def close(self, path: Path) -> None:
+        resolved = path.resolve()
+        with self._lock:
+            self._documents.pop(resolved, None)
+        self._checked.pop(resolved, None)  # its program's check, kept no longer
+
+    def document(self, path: Path) -> Document | None:
+        with self._lock:
+            return self._documents.get(path.resolve())
+
+    def documents(self) -> list[Document]:
+        with self._lock:
+            return list(self._documents.values())
+
+    def set_folders(self, folders: Sequence[Path]) -> None:
+        self.folders = [f.resolve() for f in folders]
+        self.rescan()
+
+    def rescan(self) -> None:
+        """Forget the list of workspace files (a file was created, deleted or saved)."""
+        self._workspace_files = None
+
+    # ------------------------------------------------------------ the include index
+
+    def includes_of(self, path: Path, overrides: dict[Path, str] | None = None) -> tuple[Path, ...]:
+        """The files `path` includes (resolved as the loader does: beside it, then the stdlib)."""
+        opened = overrides if overrides is not None else self._texts()
+        text = opened.get(path)
+        if text is None:
+            try:
+                st = path.stat()
+            except OSError:
+                return ()
+            stamp = (st.st_mtime_ns, st.st_size)
+            known = self._disk_includes.get(path)
+            if known is not None and known[0] == stamp:
+                return known[1]
+            try:
+                text = self.cache.read(path)
+            except OSError:
+                return ()
+            found = self._resolve_includes(path, text, opened)
+            self._disk_includes[path] = (stamp, found)
+            return found
+        return self._resolve_includes(path, text, opened)
+
+    def _resolve_includes(self, path: Path, text: str, opened: dict[Path, str]) -> tuple[Path, ...]:
+        found: list[Path] = []
+        for name in _INCLUDE.findall(text):
+            for candidate in (path.parent / name, stdlib_dir() / name):
+                try:
+                    target = candidate.resolve()
+                    if target in opened or target.is_file():
+                        found.append(target)
+                        break
+                except (OSError, ValueError):
+                    continue
+        return tuple(found)
+
+    def workspace_files(self) -> list[Path]:
+        """The `.gpp` files in the workspace folders (hidden folders such as .git and .venv left
+        out, at most MAX_WORKSPACE_FILES)."""
+        if self._workspace_files is None:
+            files: list[Path] = []
+            for folder in self.folders:
+                for here, dirs, names in os.walk(folder):
+                    dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d != "node_modules")
+                    files.extend(Path(here, n).resolve() for n in sorted(names) if n.endswith(".gpp"))
+                    if len(files) >= MAX_WORKSPACE_FILES:
+                        break
+            self._workspace_files = files[:MAX_WORKSPACE_FILES]
+        return self._workspace_files
+
+    def programs_of(self, path: Path, overrides: dict[Path, str] | None = None) -> list[Path]:
+        """The programs `path` is checked under: the files that include it (directly or not)
+        and are included by none of the known files (open documents first, then the workspace's,
+        at most MAX_PROGRAMS), or `path` itself when nothing includes it."""
+        path = path.resolve()
+        opened = overrides if overrides is not None else self._texts()
+        known = list(dict.fromkeys([*opened, *self.workspace_files()]))
+        includes = {f: self.includes_of(f, opened) for f in known}
+        included_by: dict[Path, list[Path]] = {}
+        for f, targets in includes.items():
+            for t in targets:
+                included_by.setdefault(t, []).append(f)
+        ancestors: list[Path] = []
+        todo = list(included_by.get(path, ()))
+        while todo:
+            f = todo.pop(0)
+            if f not in ancestors and f != path:
+                ancestors.append(f)
+                todo.extend(included_by.get(f, ()))
+        if not ancestors:
+            return [path]
+        tops = [a for a in ancestors if not included_by.get(a)] or ancestors  # a cycle: any of them
+        tops.sort(key=lambda a: (a not in opened, str(a)))
+        return tops[:MAX_PROGRAMS]
+
+    # ------------------------------------------------------------ checking
+
+    def _texts(self) -> dict[Path, str]:
+        with self._lock:
+            return {p: d.text for p, d in self._documents.items()}
+
+    def snapshot(self) -> dict[Path, Document]:
+        with self._lock:
+            return dict(self._documents)
+
+    def check(self, root: Path, overrides: dict[Path, str] | None = None) -> CheckResult:
+        """Check the program `root` with the open documents' texts (or `overrides`). A check
+        whose files, texts and includes are all as last time returns the last result."""
+        root = root.resolve()
+        texts = overrides if overrides is not None else self._texts()
+        if root not in texts and not root.is_file():
+            # A program that is no file and no open document (closed meanwhile): nothing to check.
+            texts = {**texts, root: ""}
+        loaded = load([root], texts, cache=self.cache)
+        key = tuple((f.path, id(f.program), f.includes) for f in loaded.files)
+        known = self._checked.get(root)
+        if known is not None and known[0] == key:
+            return known[1]
+        result = check_loaded(loaded, self.lint, self.allow)
+        self._checked[root] = (key, result)
+        return result
+
+    def results_for(self, path: Path, overrides: dict[Path, str] | None = None) -> list[CheckResult]:
+        """The checks of the programs `path` belongs to (the first is the one features use)."""
+        texts = overrides if overrides is not None else self._texts()
+        return [self.check(root, texts) for root in self.programs_of(path, texts)]
+
+
+def diagnostics_in(results: Sequence[CheckResult], path: Path) -> list[diag.Diagnostic]:
+    """The problems the checks found in one file, each once (a file shared by several programs
+    may get the same report from each)."""
+    identity = str(path.resolve())
+    seen: set[tuple[str, int, int, str]] = set()
+    found: list[diag.Diagnostic] = []
+    for result in results:
+        for d in result.diagnostics:
+            key = (d.code, d.span.start, d.span.end, d.message)
+            if d.span.source.identity == identity and key not in seen:
+                seen.add(key)
+                found.append(d)
+    return found
+
+
+class AnalysisThread:
+    """One long-lived thread that runs every check, one at a time, with the deep stack the
+    checker needs (see gpp.perf.start_deep_stack_thread)."""
+
+    def __init__(self, name: str = "gpp-analysis") -> None:
+        self._jobs: queue.SimpleQueue[Callable[[], None] | None] = queue.SimpleQueue()
+        self._thread = start_deep_stack_thread(self._run, name)
+
+    def submit(self, fn: Callable[[], T]) -> Future[T]:
+        future: Future[T] = Future()
+
+        def job() -> None:
+            if not future.set_running_or_notify_cancel():
+                return
+            try:
+                future.set_result(fn())
+            except BaseException as e:  # handed to whoever waits for the future
+                future.set_exception(e)
+
+        self._jobs.put(job)
+        return future
+
+    def close(self, timeout: float = 5.0) -> None:
+        self._jobs.put(None)
+        self._thread.join(timeout)
+
+    def _run(self) -> None:
+        while True:
+            job = self._jobs.get()
+            if job is None:
+                return
+            job()

@@ -1,0 +1,37 @@
+"""The editor features of the language server, as pure functions on a checked program
+(gpp.check.CheckResult) and one of its files: each is a query on the code model. Offsets are
+character offsets into the file's text; ranges and positions are LSP ones (0-based lines,
+UTF-16 columns). None of them raises, except `rename`/`prepare_rename` with RenameError."""
+
+from lsp.features.completion import COMPLETION_TRIGGER_CHARACTERS, completion
+from lsp.features.info import SIGNATURE_TRIGGER_CHARACTERS, hover, inlay_hints, signature_help
+from lsp.features.navigation import (
+    RenameError,
+    definition,
+    document_highlight,
+    prepare_rename,
+    references,
+    rename,
+)
+from lsp.features.outline import document_symbols, folding_ranges, workspace_symbols
+from lsp.features.tokens import SEMANTIC_TOKENS_LEGEND, semantic_tokens
+
+__all__ = [
+    "COMPLETION_TRIGGER_CHARACTERS",
+    "SEMANTIC_TOKENS_LEGEND",
+    "SIGNATURE_TRIGGER_CHARACTERS",
+    "RenameError",
+    "completion",
+    "definition",
+    "document_highlight",
+    "document_symbols",
+    "folding_ranges",
+    "hover",
+    "inlay_hints",
+    "prepare_rename",
+    "references",
+    "rename",
+    "semantic_tokens",
+    "signature_help",
+    "workspace_symbols",
+]

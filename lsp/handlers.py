@@ -1,0 +1,221 @@
+"""The requests that read a checked program: each waits for the check of the document's current
+version (GppServer.result_for), converts the LSP position to an offset in that version's text,
+and runs the pure function of lsp.features (or the formatter) on the request thread.
+
+Every handler is guarded: an exception is logged to the client and answered with an empty
+result. A refused rename is the one error response (LSP `RequestFailed`, with the reason).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import TypeVar
+
+from lsprotocol import types
+from pygls.exceptions import JsonRpcException
+
+from gpp.check import CheckResult
+from gpp.source import Source
+from lsp import features
+from lsp.server import GppServer, guarded, uri_to_path
+
+R = TypeVar("R")
+# Programs of the workspace that `workspace/symbol` checks at most (open documents always).
+_MAX_SYMBOL_PROGRAMS = 200
+
+
+class RequestFailed(JsonRpcException):
+    """LSP's RequestFailed: the request was valid but cannot be done (a refused rename)."""
+
+    CODE = -32803
+
+
+def source_of(result: CheckResult, path: Path, server: GppServer) -> Source:
+    parsed = result.loaded.file(path)
+    if parsed is not None:
+        return parsed.source
+    doc = server.session.document(path)
+    return Source(doc.text if doc else "")
+
+
+async def at(
+    ls: GppServer, uri: str, position: types.Position, fn: Callable[[CheckResult, Path, int], R], default: R
+) -> R:
+    """Run `fn(result, path, offset)` for a position in a document on the request thread."""
+    found = await ls.result_for(uri)
+    if found is None:
+        return default
+    result, path = found
+    offset = source_of(result, path, ls).lsp_offset(position.line, position.character)
+    return await ls.on_request_thread(lambda: fn(result, path, offset))
+
+
+async def whole(ls: GppServer, uri: str, fn: Callable[[CheckResult, Path], R], default: R) -> R:
+    found = await ls.result_for(uri)
+    if found is None:
+        return default
+    result, path = found
+    return await ls.on_request_thread(lambda: fn(result, path))
+
+
+async def ranged(
+    ls: GppServer, uri: str, where: types.Range, fn: Callable[[CheckResult, Path, int, int], R], default: R
+) -> R:
+    """Run `fn(result, path, start, end)` for a range of a document on the request thread."""
+    found = await ls.result_for(uri)
+    if found is None:
+        return default
+    result, path = found
+    source = source_of(result, path, ls)
+    start = source.lsp_offset(where.start.line, where.start.character)
+    end = source.lsp_offset(where.end.line, where.end.character)
+    return await ls.on_request_thread(lambda: fn(result, path, start, end))
+
+
+def refusing(fn: Callable[[CheckResult, Path, int], R]) -> Callable[[CheckResult, Path, int], R]:
+    """`fn`, with a refused rename (RenameError) answered as LSP RequestFailed with its reason."""
+
+    def run(result: CheckResult, path: Path, offset: int) -> R:
+        try:
+            return fn(result, path, offset)
+        except features.RenameError as e:
+            raise RequestFailed(str(e)) from e
+
+    return run
+
+
+def _none() -> None:
+    return None
+
+
+def _empty() -> list[object]:
+    return []
+
+
+def register_features(server: GppServer) -> None:
+    @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ","]))
+    @guarded(_empty)
+    async def completion(ls: GppServer, params: types.CompletionParams) -> list[types.CompletionItem]:
+        return await at(ls, params.text_document.uri, params.position, features.completion, [])
+
+    @server.feature(types.TEXT_DOCUMENT_HOVER)
+    @guarded(_none)
+    async def hover(ls: GppServer, params: types.HoverParams) -> types.Hover | None:
+        return await at(ls, params.text_document.uri, params.position, features.hover, None)
+
+    @server.feature(types.TEXT_DOCUMENT_DEFINITION)
+    @guarded(_empty)
+    async def definition(ls: GppServer, params: types.DefinitionParams) -> list[types.Location]:
+        return await at(ls, params.text_document.uri, params.position, features.definition, [])
+
+    @server.feature(types.TEXT_DOCUMENT_REFERENCES)
+    @guarded(_empty)
+    async def references(ls: GppServer, params: types.ReferenceParams) -> list[types.Location]:
+        include = params.context.include_declaration
+
+        def run(result: CheckResult, path: Path, offset: int) -> list[types.Location]:
+            return features.references(result, path, offset, include)
+
+        return await at(ls, params.text_document.uri, params.position, run, [])
+
+    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_HIGHLIGHT)
+    @guarded(_empty)
+    async def highlight(ls: GppServer, params: types.DocumentHighlightParams) -> list[types.DocumentHighlight]:
+        return await at(ls, params.text_document.uri, params.position, features.document_highlight, [])
+
+    @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
+    @guarded(_none)
+    async def prepare_rename(ls: GppServer, params: types.PrepareRenameParams) -> types.PrepareRenameResult | None:
+        return await at(ls, params.text_document.uri, params.position, refusing(features.prepare_rename), None)
+
+    @server.feature(types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
+    @guarded(_none)
+    async def rename(ls: GppServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
+        new_name = params.new_name
+
+        def run(result: CheckResult, path: Path, offset: int) -> types.WorkspaceEdit | None:
+            return features.rename(result, path, offset, new_name)
+
+        return await at(ls, params.text_document.uri, params.position, refusing(run), None)
+
+    @server.feature(
+        types.TEXT_DOCUMENT_SIGNATURE_HELP,
+        types.SignatureHelpOptions(trigger_characters=["(", ","], retrigger_characters=[","]),
+    )
+    @guarded(_none)
+    async def signature_help(ls: GppServer, params: types.SignatureHelpParams) -> types.SignatureHelp | None:
+        return await at(ls, params.text_document.uri, params.position, features.signature_help, None)
+
+    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+    @guarded(_empty)
+    async def document_symbols(ls: GppServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
+        return await whole(ls, params.text_document.uri, features.document_symbols, [])
+
+    @server.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
+    @guarded(_empty)
+    async def folding(ls: GppServer, params: types.FoldingRangeParams) -> list[types.FoldingRange]:
+        return await whole(ls, params.text_document.uri, features.folding_ranges, [])
+
+    @server.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, features.SEMANTIC_TOKENS_LEGEND)
+    @guarded(_none)
+    async def semantic_tokens(ls: GppServer, params: types.SemanticTokensParams) -> types.SemanticTokens | None:
+        data = await whole(ls, params.text_document.uri, features.semantic_tokens, None)
+        return None if data is None else types.SemanticTokens(data=data)
+
+    @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
+    @guarded(_empty)
+    async def inlay_hints(ls: GppServer, params: types.InlayHintParams) -> list[types.InlayHint]:
+        return await ranged(ls, params.text_document.uri, params.range, features.inlay_hints, [])
+
+    @server.feature(
+        types.TEXT_DOCUMENT_CODE_ACTION,
+        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
+    )
+    @guarded(_empty)
+    async def code_action(ls: GppServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+        return await ranged(ls, params.text_document.uri, params.range, ls.quick_fixes, [])
+
+    @server.feature(types.WORKSPACE_SYMBOL)
+    @guarded(_empty)
+    async def workspace_symbols(ls: GppServer, params: types.WorkspaceSymbolParams) -> list[types.WorkspaceSymbol]:
+        query = params.query
+        session = ls.session
+
+        def programs() -> list[CheckResult]:
+            # On the analysis thread: the programs of the open documents and of the workspace's
+            # files (checked once, then remembered while unchanged).
+            texts = {d.path: d.text for d in session.documents()}
+            roots = list(dict.fromkeys([*texts, *session.workspace_files()[:_MAX_SYMBOL_PROGRAMS]]))
+            return [session.check(root, texts) for root in roots]
+
+        results = await ls.on_analysis_thread(programs)
+        return await ls.on_request_thread(lambda: features.workspace_symbols(results, query))
+
+    @server.feature(types.TEXT_DOCUMENT_FORMATTING)
+    @guarded(_empty)
+    async def formatting(ls: GppServer, params: types.DocumentFormattingParams) -> list[types.TextEdit]:
+        path = uri_to_path(params.text_document.uri)
+        doc = ls.session.document(path)
+        if doc is None:
+            return []
+        text = doc.text
+
+        def run() -> list[types.TextEdit]:
+            from gpp.syntax.format import FormatError, format_text
+
+            try:
+                formatted = format_text(text, str(path))
+            except FormatError:
+                return []  # syntax errors: nothing to format, the diagnostics say why
+            if formatted == text:
+                return []
+            source = Source(text)
+            return [types.TextEdit(range=lsp_range_of(source, 0, len(text)), new_text=formatted)]
+
+        return await ls.on_request_thread(run)
+
+
+def lsp_range_of(source: Source, start: int, end: int) -> types.Range:
+    (l1, c1), (l2, c2) = source.lsp_position(start), source.lsp_position(end)
+    return types.Range(types.Position(l1, c1), types.Position(l2, c2))

@@ -1,0 +1,402 @@
+"""The golog++ language server (`gpp lsp`): pygls 2 on stdio (or TCP for debugging).
+
+Threads:
+
+* the event loop (pygls) reads messages, keeps the documents (gpp.session.Session: incremental
+  changes are applied with gpp's own UTF-16 position conversion) and answers;
+* the analysis thread (gpp.session.AnalysisThread) checks the programs the open documents
+  belong to. Edits that arrive while it works are coalesced into one next round, and a result
+  is published only if its document has not changed since: a stale analysis is dropped, never
+  published over a newer one;
+* the request thread runs the features (completion, hover, ...) on the latest check of the
+  document's current version, so that a request does not wait behind a running analysis
+  unless the document changed since the last one.
+
+Every handler catches what goes wrong, logs it to the client (window/logMessage) and answers
+with an empty result: the server never stops answering whatever the document.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import functools
+import traceback
+from collections.abc import Awaitable, Callable, Sequence
+from concurrent.futures import Future
+from pathlib import Path
+from typing import Any, ParamSpec, TypeVar, cast
+from urllib.parse import quote, unquote, urlparse
+
+from lsprotocol import types
+from pygls.exceptions import JsonRpcException
+from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol, lsp_method
+
+from gpp import __version__
+from gpp import diagnostics as diag
+from gpp.check import CheckResult
+from gpp.session import AnalysisThread, LspEdit, Session, diagnostics_in
+from gpp.source import Span
+from lsp.codes_doc import code_url
+
+P = ParamSpec("P")
+R = TypeVar("R")
+
+# Lints about declarations nobody uses: editors grey them out.
+_UNNECESSARY = frozenset({"W0101", "W0102"})
+_SEVERITY = {
+    diag.Severity.ERROR: types.DiagnosticSeverity.Error,
+    diag.Severity.WARNING: types.DiagnosticSeverity.Warning,
+    diag.Severity.NOTE: types.DiagnosticSeverity.Information,
+}
+# How long a request waits for the analysis of the document's current version.
+_WAIT_SECONDS = 30.0
+
+
+# ---------------------------------------------------------------- URIs and paths
+
+
+def uri_to_path(uri: str) -> Path:
+    """The file a document URI names. A URI of another scheme (an editor's unsaved `untitled:`
+    buffer) becomes a path under a folder that does not exist, named after the scheme."""
+    parsed = urlparse(uri)
+    if parsed.scheme in ("file", ""):
+        return Path(unquote(parsed.path)).resolve()
+    return Path("/", f"<{parsed.scheme}>", quote(unquote(parsed.path or parsed.netloc), safe="")).resolve()
+
+
+def lsp_range(span: Span) -> types.Range:
+    (l1, c1), (l2, c2) = span.lsp_range()
+    return types.Range(types.Position(l1, c1), types.Position(l2, c2))
+
+
+# ---------------------------------------------------------------- the protocol
+
+
+class _Protocol(LanguageServerProtocol):
+    """pygls' protocol, but the documents are gpp's (gpp.session): pygls' own copies would
+    cost a second application of every edit, and it counts line breaks its own way (Python's
+    `splitlines`, which also breaks at form feeds and U+2028)."""
+
+    @lsp_method(types.INITIALIZE)
+    def lsp_initialize(self, params: types.InitializeParams) -> Any:
+        # gpp counts positions in UTF-16 units, the protocol's default: a client that offers
+        # other encodings too (Neovim offers UTF-8 first) gets UTF-16 announced.
+        general = params.capabilities.general
+        if general is not None:
+            general.position_encodings = None
+        return (yield from super().lsp_initialize(params))
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
+    def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams) -> Any:
+        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_OPEN)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams) -> Any:
+        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CHANGE)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CLOSE)
+    def lsp_text_document__did_close(self, params: types.DidCloseTextDocumentParams) -> Any:
+        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CLOSE)) is not None:
+            yield handler, (params,), None
+
+
+# ---------------------------------------------------------------- the server
+
+
+class GppServer(LanguageServer):
+    def __init__(self) -> None:
+        super().__init__("gpp", __version__, protocol_cls=_Protocol)
+        self.session = Session()
+        self.analysis = AnalysisThread("gpp-analysis")
+        self.requests = AnalysisThread("gpp-requests")
+        self.uris: dict[Path, str] = {}
+        # The latest checks of each open document: (version, the programs' results).
+        self.results: dict[Path, tuple[int, list[CheckResult]]] = {}
+        # What was published last for each document: (version, diagnostics).
+        self._published: dict[Path, tuple[int, list[types.Diagnostic]]] = {}
+        self._running = False
+        self._again = False
+        self._round_done: asyncio.Event | None = None
+
+    # ------------------------------------------------------------ logging
+
+    def log(self, message: str, kind: types.MessageType = types.MessageType.Log) -> None:
+        with contextlib.suppress(Exception):  # the client is gone: nothing to tell
+            self.window_log_message(types.LogMessageParams(type=kind, message=message))
+
+    def log_exception(self, what: str, e: BaseException) -> None:
+        detail = "".join(traceback.format_exception(e))
+        message = f"gpp: internal error in {what} (this is a bug in gpp {__version__}):\n{detail}"
+        self.log(message, types.MessageType.Error)
+
+    def uri_of(self, path_or_identity: Path | str) -> str:
+        path = Path(path_or_identity)
+        known = self.uris.get(path)
+        if known is not None:
+            return known
+        return path.as_uri() if path.is_absolute() else str(path)
+
+    # ------------------------------------------------------------ analysis
+
+    def schedule(self) -> None:
+        """Check the open documents again, soon: now if the analysis thread is idle, else once
+        its current round is over (edits in between are coalesced into that one round)."""
+        if self._running:
+            self._again = True
+            return
+        self._running = True
+        loop = asyncio.get_running_loop()
+        future = self.analysis.submit(self._analyze)
+        future.add_done_callback(lambda f: loop.call_soon_threadsafe(self._analyzed, f))
+
+    def _analyze(self) -> dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]:
+        """On the analysis thread: check every open document's programs."""
+        snapshot = self.session.snapshot()
+        texts = {p: d.text for p, d in snapshot.items()}
+        out: dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException] = {}
+        for path, doc in snapshot.items():
+            current = self.session.document(path)
+            if current is None or current.version != doc.version:
+                continue  # changed (or closed) since the round began: its result would be dropped
+            try:
+                results = self.session.results_for(path, texts)
+                out[path] = (doc.version, results, diagnostics_in(results, path))
+            except Exception as e:
+                out[path] = e
+        return out
+
+    def _analyzed(
+        self, future: Future[dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]]
+    ) -> None:
+        """On the event loop: publish what is still current, drop what is stale."""
+        self._running = False
+        try:
+            found = future.result()
+        except Exception as e:
+            self.log_exception("the analysis", e)
+            found = {}
+        for path, outcome in found.items():
+            doc = self.session.document(path)
+            if doc is None:
+                continue
+            if isinstance(outcome, BaseException):
+                self.log_exception(f"checking {path}", outcome)
+                if doc.version >= self.results.get(path, (-1, []))[0]:
+                    self.results[path] = (doc.version, [])
+                continue
+            version, results, problems = outcome
+            if version != doc.version:
+                continue  # stale: the document changed meanwhile, the next round publishes
+            self.results[path] = (version, results)
+            try:
+                lsp_diags = [self.to_lsp(d) for d in problems]
+            except Exception as e:
+                self.log_exception(f"converting the diagnostics of {path}", e)
+                lsp_diags = []
+            if self._published.get(path) != (version, lsp_diags):
+                self._published[path] = (version, lsp_diags)
+                self.text_document_publish_diagnostics(
+                    types.PublishDiagnosticsParams(uri=self.uri_of(path), diagnostics=lsp_diags, version=version)
+                )
+        if self._round_done is not None:
+            self._round_done.set()
+            self._round_done = None
+        if self._again:
+            self._again = False
+            self.schedule()
+
+    async def result_for(self, uri: str) -> tuple[CheckResult, Path] | None:
+        """The check of the program (the first one) a document belongs to, for its current
+        version; waits for the analysis when the document changed since the last one."""
+        path = uri_to_path(uri)
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + _WAIT_SECONDS
+        while True:
+            doc = self.session.document(path)
+            if doc is None:
+                return None
+            known = self.results.get(path)
+            if known is not None and known[0] == doc.version:
+                return (known[1][0], path) if known[1] else None
+            if self._round_done is None:
+                self._round_done = asyncio.Event()
+            if not self._running:
+                self.schedule()
+            try:
+                await asyncio.wait_for(self._round_done.wait(), max(0.0, deadline - loop.time()))
+            except TimeoutError:
+                return None
+
+    async def on_request_thread(self, fn: Callable[[], R]) -> R:
+        return await asyncio.wrap_future(self.requests.submit(fn))
+
+    async def on_analysis_thread(self, fn: Callable[[], R]) -> R:
+        return await asyncio.wrap_future(self.analysis.submit(fn))
+
+    # ------------------------------------------------------------ conversions
+
+    def to_lsp(self, d: diag.Diagnostic) -> types.Diagnostic:
+        lines = [d.message, *(f"note: {n}" for n in d.notes)]
+        if d.help:
+            lines.append(f"help: {d.help}")
+        url = code_url(d.code)
+        return types.Diagnostic(
+            range=lsp_range(d.span),
+            message="\n".join(lines),
+            severity=_SEVERITY[d.severity],
+            code=d.code,
+            code_description=types.CodeDescription(href=url) if url else None,
+            source="gpp",
+            tags=[types.DiagnosticTag.Unnecessary] if d.code in _UNNECESSARY else None,
+            related_information=[
+                types.DiagnosticRelatedInformation(
+                    location=types.Location(self.uri_of(label.span.source.identity), lsp_range(label.span)),
+                    message=label.message or "related",
+                )
+                for label in d.secondary
+            ]
+            or None,
+        )
+
+    def quick_fixes(self, result: CheckResult, path: Path, start: int, end: int) -> list[types.CodeAction]:
+        """A quick fix for every diagnostic with a fix whose span touches [start, end]."""
+        identity = str(path)
+        actions: list[types.CodeAction] = []
+        for found in result.diagnostics:
+            span = found.span
+            if found.fix is None or span.source.identity != identity or span.end < start or end < span.start:
+                continue
+            changes: dict[str, list[types.TextEdit]] = {}
+            for edit in found.fix.edits:
+                changes.setdefault(self.uri_of(edit.span.source.identity), []).append(
+                    types.TextEdit(range=lsp_range(edit.span), new_text=edit.text)
+                )
+            actions.append(
+                types.CodeAction(
+                    title=found.fix.message,
+                    kind=types.CodeActionKind.QuickFix,
+                    diagnostics=[self.to_lsp(found)],
+                    is_preferred=True,
+                    edit=types.WorkspaceEdit(changes=changes),
+                )
+            )
+        return actions
+
+
+def guarded(default: Callable[[], object]) -> Callable[[Callable[P, Awaitable[R]]], Callable[P, Awaitable[R]]]:
+    """Catch and log whatever a handler raises, and answer with `default()` instead (an error
+    meant for the client, a JsonRpcException, is answered as such)."""
+
+    def wrap(handler: Callable[P, Awaitable[R]]) -> Callable[P, Awaitable[R]]:
+        @functools.wraps(handler)
+        async def guarded(*args: P.args, **kwargs: P.kwargs) -> R:
+            try:
+                return await handler(*args, **kwargs)
+            except JsonRpcException:
+                raise
+            except Exception as e:
+                server = args[0]
+                if isinstance(server, GppServer):
+                    server.log_exception(handler.__name__, e)
+                return cast(R, default())
+
+        return guarded
+
+    return wrap
+
+
+def _none() -> None:
+    return None
+
+
+def _edits(changes: Sequence[types.TextDocumentContentChangeEvent]) -> list[LspEdit]:
+    out: list[LspEdit] = []
+    for change in changes:
+        if isinstance(change, types.TextDocumentContentChangePartial):
+            r = change.range
+            out.append((((r.start.line, r.start.character), (r.end.line, r.end.character)), change.text))
+        else:
+            out.append((None, change.text))
+    return out
+
+
+def make_server() -> GppServer:
+    server = GppServer()
+
+    @server.feature(types.INITIALIZE)
+    def initialize(ls: GppServer, params: types.InitializeParams) -> None:
+        folders = [uri_to_path(f.uri) for f in params.workspace_folders or ()]
+        if not folders and params.root_uri:
+            folders = [uri_to_path(params.root_uri)]
+        ls.session.set_folders([f for f in folders if f.is_dir()])
+
+    @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+    @guarded(_none)
+    async def did_open(ls: GppServer, params: types.DidOpenTextDocumentParams) -> None:
+        doc = params.text_document
+        path = uri_to_path(doc.uri)
+        ls.uris[path] = doc.uri
+        ls.session.open(path, doc.text, doc.version)
+        ls.schedule()
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+    @guarded(_none)
+    async def did_change(ls: GppServer, params: types.DidChangeTextDocumentParams) -> None:
+        doc = params.text_document
+        ls.session.edit(uri_to_path(doc.uri), _edits(params.content_changes), doc.version)
+        ls.schedule()
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
+    @guarded(_none)
+    async def did_close(ls: GppServer, params: types.DidCloseTextDocumentParams) -> None:
+        path = uri_to_path(params.text_document.uri)
+        ls.session.close(path)
+        ls.results.pop(path, None)
+        if ls._published.pop(path, None):
+            ls.text_document_publish_diagnostics(
+                types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
+            )
+        ls.uris.pop(path, None)
+        ls.schedule()  # the programs that include it now read it from disk
+
+    @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
+    @guarded(_none)
+    async def did_save(ls: GppServer, params: types.DidSaveTextDocumentParams) -> None:
+        ls.session.rescan()
+        ls.schedule()
+
+    @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+    @guarded(_none)
+    async def did_change_watched_files(ls: GppServer, params: types.DidChangeWatchedFilesParams) -> None:
+        ls.session.rescan()
+        ls.schedule()
+
+    @server.feature(types.WORKSPACE_DID_CHANGE_WORKSPACE_FOLDERS)
+    @guarded(_none)
+    async def did_change_folders(ls: GppServer, params: types.DidChangeWorkspaceFoldersParams) -> None:
+        folders = [f for f in ls.session.folders if f not in {uri_to_path(r.uri) for r in params.event.removed}]
+        folders += [uri_to_path(a.uri) for a in params.event.added]
+        ls.session.set_folders([f for f in folders if f.is_dir()])
+        ls.schedule()
+
+    @server.feature(types.SHUTDOWN)
+    async def shutdown(ls: GppServer, params: None) -> None:
+        ls.analysis.close(1.0)
+        ls.requests.close(1.0)
+
+    from lsp.handlers import register_features
+
+    register_features(server)
+    return server
+
+
+def serve_stdio() -> None:
+    make_server().start_io()
+
+
+def serve_tcp(host: str, port: int) -> None:
+    make_server().start_tcp(host, port)

@@ -1,0 +1,128 @@
+"""gpp.session and the positions it relies on: LSP positions both ways (UTF-16, `\r`, `\r\n`,
+characters beyond U+FFFF), incremental edits, the parse cache, the include index, the
+analysis thread."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from gpp.check import check_program
+from gpp.session import AnalysisThread, Session, apply_edits, diagnostics_in
+from gpp.source import Source
+from gpp.syntax.loader import ParseCache, load
+
+MIXED = 'a\r\nbé\r"😀x"\nlast'
+
+
+def test_lines_end_at_lf_crlf_and_a_lone_cr() -> None:
+    src = Source(MIXED)
+    assert src.line_starts == [0, 3, 6, 11]
+    assert [src.line_text(n) for n in (1, 2, 3, 4)] == ["a", "bé", '"😀x"', "last"]
+    assert src.line_col(7) == (3, 2)
+
+
+@pytest.mark.parametrize(
+    ("offset", "position"),
+    [
+        (0, (0, 0)),
+        (1, (0, 1)),  # before `\r\n`
+        (3, (1, 0)),
+        (5, (1, 2)),  # after `é`: one UTF-16 unit
+        (6, (2, 0)),  # after a lone `\r`
+        (7, (2, 1)),
+        (8, (2, 3)),  # after `😀`: two UTF-16 units
+        (9, (2, 4)),
+        (10, (2, 5)),  # before `\n`
+        (11, (3, 0)),
+        (15, (3, 4)),
+    ],
+)
+def test_lsp_positions_both_ways(offset: int, position: tuple[int, int]) -> None:
+    src = Source(MIXED)
+    assert src.lsp_position(offset) == position
+    assert src.lsp_offset(*position) == offset
+
+
+def test_lsp_offsets_clamp_as_the_protocol_says() -> None:
+    src = Source(MIXED)
+    assert src.lsp_offset(0, 99) == 1  # past the end of a line: its end, before the break
+    assert src.lsp_offset(1, 99) == 5
+    assert src.lsp_offset(9, 0) == len(MIXED)  # past the last line: the end
+    assert src.lsp_offset(2, 2) == 8  # inside the surrogate pair of `😀`: after it
+
+
+def test_incremental_edits_apply_in_order() -> None:
+    text = 'x = "é😀";\r\ny = 2;\n'
+    # Replace `2` (line 1, char 4), then insert at the end of line 0 (after `;`: 4+1+1+2+1+1 units).
+    after = apply_edits(text, [(((1, 4), (1, 5)), "42"), (((0, 10), (0, 10)), " // ok")])
+    assert after == 'x = "é😀"; // ok\r\ny = 42;\n'
+    assert apply_edits(text, [(((0, 0), (1, 0)), ""), (None, "z")]) == "z"
+    # A deletion across a `\r\n` line end.
+    assert apply_edits("ab\r\ncd", [(((0, 1), (1, 1)), "")]) == "ad"
+
+
+def test_the_parse_cache_parses_an_unchanged_file_once(tmp_path: Path) -> None:
+    lib = tmp_path / "lib.gpp"
+    lib.write_text("action a() { }\n", encoding="utf-8")
+    main = tmp_path / "main.gpp"
+    cache = ParseCache()
+    first = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); }\n'}, cache)
+    second = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); a(); }\n'}, cache)
+    assert (cache.misses, cache.hits) == (3, 1)  # main twice, lib once
+    assert first.file(lib) is not None and second.file(lib) is not None
+    assert first.file(lib).program is second.file(lib).program  # type: ignore[union-attr]
+    # The source knows its file whatever the working directory; the display path is relative.
+    assert second.file(lib).source.identity == str(lib.resolve())  # type: ignore[union-attr]
+
+
+def test_an_included_file_is_checked_under_the_programs_that_include_it(tmp_path: Path) -> None:
+    (tmp_path / "lib.gpp").write_text("action a() { }\nbool fluent f() { initially: () = true; }\n")
+    (tmp_path / "main.gpp").write_text('#include "lib.gpp"\nprocedure main() { a(); f() = false; }\n')
+    (tmp_path / "other.gpp").write_text("procedure main() { }\n")
+    session = Session([tmp_path])
+    lib = (tmp_path / "lib.gpp").resolve()
+    assert session.programs_of(lib) == [(tmp_path / "main.gpp").resolve()]
+    assert diagnostics_in(session.results_for(lib), lib) == []  # used by main: no lint
+    alone = check_program(lib)
+    assert {d.code for d in alone.diagnostics} == {"W0101"}  # checked alone: unused
+    # An open buffer wins over the disk, for the programs that include it too.
+    session.open(lib, "action a() { }\n", 1)
+    [result] = session.results_for(lib)
+    assert [(d.code, d.message) for d in result.diagnostics] == [("E0103", "unknown fluent or function `f`")]
+
+
+def test_directives_are_read_from_the_buffer(tmp_path: Path) -> None:
+    path = tmp_path / "agent.gpp"
+    path.write_text("// world: blocks\nprocedure main() { }\n")
+    doc = Session().open(path, "// world: rescue\nprocedure main() { }\n", 3)
+    assert doc.directives == {"world": "rescue"}
+
+
+def test_an_unchanged_program_is_not_checked_again(tmp_path: Path) -> None:
+    session = Session()
+    path = tmp_path / "a.gpp"
+    session.open(path, "procedure main() { }\n", 1)
+    first = session.check(path)
+    assert session.check(path) is first
+    session.edit(path, [(((0, 19), (0, 19)), " ")], 2)
+    assert session.check(path) is not first
+
+
+def test_the_analysis_thread_checks_deeply_nested_programs() -> None:
+    depth = 5000
+    text = "procedure main() { if (" + "(" * depth + "true" + ")" * depth + ") { } }\n"
+    thread = AnalysisThread("test-analysis")
+    limit = sys.getrecursionlimit()
+    try:
+        session = Session()
+        path = Path("/nonexistent/deep.gpp")
+        session.open(path, text, 1)
+        result = thread.submit(lambda: session.check(path)).result(timeout=60)
+        assert result.errors == 0
+        assert thread.submit(lambda: 6 * 7).result(timeout=5) == 42
+    finally:
+        thread.close()
+    assert sys.getrecursionlimit() >= limit
