@@ -69,8 +69,8 @@ def test_the_parse_cache_parses_an_unchanged_file_once(tmp_path: Path) -> None:
     lib.write_text("action a() { }\n", encoding="utf-8")
     main = tmp_path / "main.gpp"
     cache = ParseCache()
-    first = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); }\n'}, cache)
-    second = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); a(); }\n'}, cache)
+    first = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); }\n'}, cache=cache)
+    second = load([main], {main: '#include "lib.gpp"\nprocedure main() { a(); a(); }\n'}, cache=cache)
     assert (cache.misses, cache.hits) == (3, 1)  # main twice, lib once
     assert first.file(lib) is not None and second.file(lib) is not None
     assert first.file(lib).program is second.file(lib).program  # type: ignore[union-attr]

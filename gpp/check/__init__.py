@@ -73,7 +73,7 @@ def check_program(
 ) -> CheckResult:
     """Check one program: the file and everything it includes (`include_dirs`: the project's
     include folders; `cache`: parsed files to reuse). An unreadable file raises OSError."""
-    return check_loaded(load([path], overrides, include_dirs, cache), lint, allow)
+    return check_loaded(load([path], overrides, include_dirs, cache=cache), lint, allow)
 
 
 def check_paths(

@@ -110,6 +110,7 @@ def load(
     paths: Sequence[Path],
     overrides: dict[Path, str] | None = None,
     include_dirs: Sequence[Path] = (),
+    *,
     cache: ParseCache | None = None,
 ) -> LoadResult:
     """Parse `paths` and their includes. `overrides` maps resolved paths to unsaved text
