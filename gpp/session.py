@@ -237,12 +237,14 @@ class Session:
         if root not in texts and not root.is_file():
             # A program that is no file and no open document (closed meanwhile): nothing to check.
             texts = {**texts, root: ""}
-        loaded = load([root], texts, cache=self.cache)
-        key = tuple((f.path, id(f.program), f.includes) for f in loaded.files)
+        include, disabled = _project_settings(root)
+        loaded = load([root], texts, include, cache=self.cache)
+        allow = (*self.allow, *disabled)
+        key = (tuple((f.path, id(f.program), f.includes) for f in loaded.files), allow)
         known = self._checked.get(root)
         if known is not None and known[0] == key:
             return known[1]
-        result = check_loaded(loaded, self.lint, self.allow)
+        result = check_loaded(loaded, self.lint, allow)
         self._checked[root] = (key, result)
         return result
 
@@ -250,6 +252,19 @@ class Session:
         """The checks of the programs `path` belongs to (the first is the one features use)."""
         texts = overrides if overrides is not None else self._texts()
         return [self.check(root, texts) for root in self.programs_of(path, texts)]
+
+
+def _project_settings(root: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:
+    """The include folders and the disabled lints of the project `root` belongs to (its gpp.toml
+    or [tool.gpp]), as `gpp check` uses them; the defaults while the file is not valid (`gpp
+    check` reports what is wrong with it)."""
+    from gpp.config import ConfigError, config_for
+
+    try:
+        config = config_for(root)
+    except ConfigError:
+        return (), ()
+    return config.include, tuple(config.disabled_lints())
 
 
 def diagnostics_in(results: Sequence[CheckResult], path: Path) -> list[diag.Diagnostic]:

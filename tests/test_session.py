@@ -94,6 +94,20 @@ def test_an_included_file_is_checked_under_the_programs_that_include_it(tmp_path
     assert [(d.code, d.message) for d in result.diagnostics] == [("E0103", "unknown fluent or function `f`")]
 
 
+def test_the_project_settings_apply_as_in_gpp_check(tmp_path: Path) -> None:
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "robot.gpp").write_text("action a() { }\n")
+    program = '#include "robot.gpp"\naction unused() { }\nprocedure main() { a(); }\n'
+    session = Session([tmp_path])
+    path = (tmp_path / "agent.gpp").resolve()
+    session.open(path, program, 1)
+    assert [d.code for d in session.check(path).diagnostics] == ["E0030"]  # robot.gpp not found
+    (tmp_path / "gpp.toml").write_text('include = ["lib"]\n[lint]\ndisable = ["unused"]\n')
+    assert session.check(path).diagnostics == []
+    (tmp_path / "gpp.toml").write_text('include = ["lib"]\n')
+    assert [d.code for d in session.check(path).diagnostics] == ["W0101"]
+
+
 def test_directives_are_read_from_the_buffer(tmp_path: Path) -> None:
     path = tmp_path / "agent.gpp"
     path.write_text("// world: blocks\nprocedure main() { }\n")
