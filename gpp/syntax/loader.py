@@ -4,6 +4,11 @@
 library (stdlib/). Every file is parsed once however often it is included; an include cycle
 is an error that shows the chain. Included files come before the files that include them in
 `LoadResult.files` (the order the original golog++ processed them).
+
+A file is read as UTF-8 (a byte-order mark at its start is skipped). A file that is not UTF-8
+text (a NUL byte, or bytes that are not UTF-8: a binary file, or text in another encoding) is
+not parsed: it gets one E0005 diagnostic, at its first bad byte, or at the `#include` that
+names it, instead of one syntax error per garbage character.
 """
 
 from __future__ import annotations
@@ -15,7 +20,7 @@ from pathlib import Path
 
 from gpp import diagnostics as diag
 from gpp.resources import stdlib_dir
-from gpp.source import Source
+from gpp.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token
 from gpp.syntax.parser import parse
@@ -77,12 +82,13 @@ class _Loader:
         self.result = LoadResult()
         self.loaded: dict[Path, ParsedFile] = {}
 
-    def read(self, path: Path) -> Source:
+    def read(self, path: Path) -> tuple[Source, NotText | None]:
+        """The file's text (an editor's buffer wins), and why it is not text, if it is not."""
         text = self.overrides.get(path)
         if text is not None:
-            return Source(text, display_path(path))
-        raw = path.read_bytes()
-        return Source(raw.decode("utf-8", errors="replace"), display_path(path))
+            return Source(text, display_path(path)), None
+        text, not_text = decode_text(path.read_bytes())
+        return Source(text, display_path(path)), not_text
 
     def exists(self, candidate: Path) -> bool:
         """Is there a file (or an editor buffer) at `candidate`? A path the OS cannot even look
@@ -98,8 +104,20 @@ class _Loader:
             self.result.roots.append(resolved)
         if resolved in self.loaded:
             return
-        source = self.read(resolved)
+        source, not_text = self.read(resolved)
+        if not_text is not None:
+            at = Span(source, not_text.offset, min(not_text.offset + 1, len(source.text)))
+            self.result.diagnostics.append(_not_text_error("this is", source, not_text, at))
+            self.skip(resolved, source)
+            return
         self.visit(resolved, source, [])
+
+    def skip(self, path: Path, source: Source) -> None:
+        """Record a file that is not text as one without declarations: it is not parsed."""
+        program = ast.Program(span=Span(source, 0, len(source.text)), declarations=())
+        done = ParsedFile(path, source, program, [], ())
+        self.loaded[path] = done
+        self.result.files.append(done)
 
     def visit(self, path: Path, source: Source, chain: list[tuple[Path, ast.Include]]) -> None:
         parsed = parse(source)
@@ -147,11 +165,29 @@ class _Loader:
         if target in self.loaded:
             return target
         try:
-            source = self.read(target)
+            source, not_text = self.read(target)
         except OSError as e:
             self.result.diagnostics.append(
                 diag.error("E0030", f"cannot read included file `{name}`: {e.strerror}", decl.path.span)
             )
             return None
+        if not_text is not None:
+            error = _not_text_error(f"included file `{name}` is", source, not_text, decl.path.span)
+            self.result.diagnostics.append(error)
+            self.skip(target, source)
+            return target
         self.visit(target, source, [*chain, (path, decl)])
         return target
+
+
+def _not_text_error(subject: str, source: Source, not_text: NotText, at: Span) -> diag.Diagnostic:
+    """E0005 for a file that is not text, reported at `at` (the bad byte, or an `#include`)."""
+    line, col = source.line_col(not_text.offset)
+    return diag.error(
+        "E0005",
+        f"{subject} not a UTF-8 text file: {not_text.describe()} at line {line}, column {col}",
+        at,
+        "not UTF-8 text",
+        notes=[] if at.source is source else [f"the included file is {source.path}"],
+        help="gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file",
+    )
