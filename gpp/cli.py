@@ -102,6 +102,16 @@ def check(
         bool, typer.Option("--deny-warnings", help="Exit with status 1 when there are warnings, too.")
     ] = False,
     list_lints: Annotated[bool, typer.Option("--list-lints", help="List the lints and exit.")] = False,
+    max_diagnostics: Annotated[
+        int | None,
+        typer.Option(
+            "--max-diagnostics",
+            metavar="N",
+            min=0,
+            help="Text output: show at most N diagnostics of one code in one file and count the rest"
+            " in one line (default 50); 0 shows all.",
+        ),
+    ] = None,
 ) -> None:
     """Parse FILES and everything they include, and report the problems found."""
     if list_lints:
@@ -109,6 +119,8 @@ def check(
         raise typer.Exit(EXIT_OK)
     if not files:
         _usage_error("no files to check (give one or more .gpp files, or --list-lints)")
+    if max_diagnostics is not None and output_format is not OutputFormat.TEXT:
+        _usage_error(f"--max-diagnostics applies to the text output only ({output_format} holds every diagnostic)")
     allowed = [_lint_code(a) for a in allow or ()]
     for path in files:
         _require_readable(path)
@@ -119,7 +131,7 @@ def check(
     except OSError as e:  # a root file that vanished after the check above
         _usage_error(f"cannot read '{e.filename or files[0]}': {e.strerror or e}")
     diagnostics = merged_diagnostics(results)
-    _emit_diagnostics(diagnostics, output_format, color)
+    _emit_diagnostics(diagnostics, output_format, color, max_per_code=max_diagnostics)
     failed = any(d.is_error or deny_warnings for d in diagnostics)
     raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
 
@@ -206,12 +218,19 @@ def use_color(mode: ColorMode, stream: object = None) -> bool:
 
 
 def _emit_diagnostics(
-    diagnostics: Sequence[Diagnostic], output_format: OutputFormat, color: ColorMode, *, summary: bool = True
+    diagnostics: Sequence[Diagnostic],
+    output_format: OutputFormat,
+    color: ColorMode,
+    *,
+    summary: bool = True,
+    max_per_code: int | None = None,
 ) -> None:
     """Write diagnostics to stdout in the chosen format; text ends with the summary line
-    (unless `summary` is false: `gpp run` prints its own summary)."""
+    (unless `summary` is false: `gpp run` prints its own summary). Text shows at most
+    `max_per_code` diagnostics of one code in one file (None: the default; 0: all)."""
     from gpp import render
 
+    limit = render.DEFAULT_MAX_DIAGNOSTICS if max_per_code is None else max_per_code
     if output_format is OutputFormat.JSON:
         sys.stdout.write(render.render_json(diagnostics))
     elif output_format is OutputFormat.SARIF:
@@ -223,9 +242,9 @@ def _emit_diagnostics(
 
         # "standard" colours: our theme needs no more, and they work even where TERM is unknown.
         console = Console(file=sys.stdout, force_terminal=True, no_color=False, color_system="standard")
-        render.print_diagnostics(console, diagnostics, summary=summary)
+        render.print_diagnostics(console, diagnostics, summary=summary, max_per_code=limit)
     else:
-        sys.stdout.write(render.render_text(diagnostics, summary=summary))
+        sys.stdout.write(render.render_text(diagnostics, summary=summary, max_per_code=limit))
     sys.stdout.flush()
 
 

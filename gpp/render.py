@@ -122,9 +122,10 @@ def summary_line(diagnostics: Sequence[Diagnostic]) -> Line:
     return [(severity.value, _SEVERITY_ROLE[severity]), (": " + ", ".join(counts), Role.MESSAGE)]
 
 
-def render_text(diagnostics: Sequence[Diagnostic], *, summary: bool = True) -> str:
-    """All diagnostics as plain text, a blank line after each, then the summary line."""
-    return _lines_to_str(_report_lines(diagnostics, summary))
+def render_text(diagnostics: Sequence[Diagnostic], *, summary: bool = True, max_per_code: int = 0) -> str:
+    """All diagnostics as plain text, a blank line after each, then the summary line. With
+    `max_per_code`, at most that many of one code in one file (see `limit_diagnostics`)."""
+    return _lines_to_str(_report_lines(diagnostics, summary, max_per_code))
 
 
 def to_rich_text(lines: Iterable[Line]) -> Text:
@@ -139,16 +140,66 @@ def to_rich_text(lines: Iterable[Line]) -> Text:
     return text
 
 
-def print_diagnostics(console: Console, diagnostics: Sequence[Diagnostic], *, summary: bool = True) -> None:
+def print_diagnostics(
+    console: Console, diagnostics: Sequence[Diagnostic], *, summary: bool = True, max_per_code: int = 0
+) -> None:
     """Write diagnostics (and the summary line) to a rich Console, coloured if it is."""
+    lines = _report_lines(diagnostics, summary, max_per_code)
     # soft_wrap: never fold a long source line, which would break the alignment of the carets.
-    console.print(to_rich_text(_report_lines(diagnostics, summary)), end="", soft_wrap=True, highlight=False)
+    console.print(to_rich_text(lines), end="", soft_wrap=True, highlight=False)
 
 
-def _report_lines(diagnostics: Sequence[Diagnostic], summary: bool) -> list[Line]:
-    lines: list[Line] = []
+# ---------------------------------------------------------------- many diagnostics
+
+DEFAULT_MAX_DIAGNOSTICS = 50  # of one code in one file, in the text output of the commands
+
+
+@dataclass(frozen=True, slots=True)
+class Omitted:
+    """Diagnostics of one code in one file left out of a report, counted."""
+
+    path: str
+    code: str
+    severity: Severity
+    count: int
+
+
+def limit_diagnostics(diagnostics: Sequence[Diagnostic], max_per_code: int) -> tuple[list[Diagnostic], list[Omitted]]:
+    """The first `max_per_code` diagnostics of each code in each file (of the primary span), in
+    their order, and the counts of the rest, by file and code. `max_per_code` 0 keeps all."""
+    if max_per_code <= 0:
+        return list(diagnostics), []
+    seen: dict[tuple[str, str], int] = {}
+    kept: list[Diagnostic] = []
+    omitted: dict[tuple[str, str], Omitted] = {}
     for d in diagnostics:
+        key = (d.span.source.path, d.code)
+        n = seen[key] = seen.get(key, 0) + 1
+        if n <= max_per_code:
+            kept.append(d)
+        else:
+            before = omitted.get(key)
+            omitted[key] = Omitted(key[0], d.code, d.severity, 1 if before is None else before.count + 1)
+    return kept, list(omitted.values())
+
+
+def omitted_line(omitted: Omitted, max_per_code: int) -> Line:
+    """`note: 950 more E0010 errors in x.gpp not shown (the first 50 of a code in a file are)`."""
+    code = f"{omitted.code} " if omitted.code else ""
+    what = _plural(omitted.count, omitted.severity.value).replace(" ", f" more {code}", 1)
+    text = f" {what} in {omitted.path} not shown (the first {max_per_code} of a code in a file are)"
+    return [("note", Role.NOTE), (":" + text, Role.MESSAGE)]
+
+
+def _report_lines(diagnostics: Sequence[Diagnostic], summary: bool, max_per_code: int = 0) -> list[Line]:
+    lines: list[Line] = []
+    shown, omitted = limit_diagnostics(diagnostics, max_per_code)
+    for d in shown:
         lines.extend(layout_diagnostic(d))
+        lines.append([])
+    for o in omitted:
+        lines.append(omitted_line(o, max_per_code))
+    if omitted:
         lines.append([])
     if summary:
         lines.append(summary_line(diagnostics))
