@@ -227,6 +227,8 @@ class _DisplayLine:
 
     @classmethod
     def of(cls, raw: str) -> _DisplayLine:
+        if raw.isascii() and raw.isprintable():  # the common case: one column per character
+            return cls(raw, list(range(len(raw) + 1)))
         parts: list[str] = []
         columns: list[int] = []
         col = 0
