@@ -398,3 +398,20 @@ def test_include_path_with_a_nul_character_is_an_include_error() -> None:
 
 def test_include_path_that_is_too_long_is_an_include_error() -> None:
     assert diagnostics_of('#include "' + "a" * 5_000 + '.gpp"\n') == [("E0030", 1, 10)]
+
+
+# ---------------------------------------------------------------- bench/fuzz.py, on a small budget
+
+
+def test_the_fuzzers_of_make_fuzz_find_no_internal_error_in_a_few_seconds(tmp_path: Path) -> None:
+    # `make fuzz` runs bench/fuzz.py on 100,000 inputs; here the same fuzzers run for 4 seconds.
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "bench" / "fuzz.py"), "--seconds", "4", "--seed", "7", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "no internal errors" in proc.stdout, proc.stdout
+    assert "by fuzzer: bytes " in proc.stdout and " generation " in proc.stdout, proc.stdout
+    assert list(tmp_path.glob("crash-*")) == []
