@@ -33,6 +33,9 @@ def span_of(source: Source, needle: str, width: int | None = None) -> Span:
     return Span(source, start, start + (len(needle) if width is None else width))
 
 
+HELP = "  = help: gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file\n"
+
+
 def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
     env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
     return subprocess.run(
@@ -242,37 +245,36 @@ def test_cli_check_run_and_test_on_files_that_are_not_text(tmp_path: Path) -> No
     (tmp_path / "main.gpp").write_text('#include "binary.gpp"\nprocedure main() { }\n')
     check = run_gpp("check", "--color", "never", "binary.gpp", "latin.gpp", "main.gpp", cwd=tmp_path)
     assert check.returncode == 1, check.stderr
-    assert (
-        check.stdout
-        == (
-            "error[E0005]: this is not a UTF-8 text file: a NUL byte (0x00) at line 1, column 1\n"
-            " --> binary.gpp:1:1\n"
-            "  |\n"
-            "1 | " + "\ufffd" * 9 + "    \n"  # bytes 0 to 9: control characters shown as �, then a tab
-            "  | ^ not UTF-8 text\n"
-            "  |\n"
-            "  = help: gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file\n"
-            "\n"
-            "error[E0005]: this is not a UTF-8 text file: invalid UTF-8 byte 0xf6 at line 2, column 10\n"
-            " --> latin.gpp:2:10\n"
-            "  |\n"
-            "2 |     // gr\ufffd\ufffder\n"
-            "  |          ^ not UTF-8 text\n"
-            "  |\n"
-            "  = help: gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file\n"
-            "\n"
-            "error[E0005]: included file `binary.gpp` is not a UTF-8 text file: a NUL byte (0x00) at line 1, column 1\n"
-            " --> main.gpp:1:10\n"
-            "  |\n"
-            '1 | #include "binary.gpp"\n'
-            "  |          ^^^^^^^^^^^^ not UTF-8 text\n"
-            "  |\n"
-            "  = note: the included file is binary.gpp\n"
-            "  = help: gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file\n"
-            "\n"
-            "error: 3 errors\n"
-        )
-    )
+    help_line = HELP.rstrip("\n")
+    assert check.stdout.split("\n") == [
+        "error[E0005]: this is not a UTF-8 text file: a NUL byte (0x00) at line 1, column 1",
+        " --> binary.gpp:1:1",
+        "  |",
+        "1 | " + "\ufffd" * 9 + "    ",  # bytes 0 to 9: control characters shown as �, then a tab
+        "  | ^ not UTF-8 text",
+        "  |",
+        help_line,
+        "",
+        "error[E0005]: this is not a UTF-8 text file: invalid UTF-8 byte 0xf6 at line 2, column 10",
+        " --> latin.gpp:2:10",
+        "  |",
+        "2 |     // gr\ufffd\ufffder",
+        "  |          ^ not UTF-8 text",
+        "  |",
+        help_line,
+        "",
+        "error[E0005]: included file `binary.gpp` is not a UTF-8 text file: a NUL byte (0x00) at line 1, column 1",
+        " --> main.gpp:1:10",
+        "  |",
+        '1 | #include "binary.gpp"',
+        "  |          ^^^^^^^^^^^^ not UTF-8 text",
+        "  |",
+        "  = note: the included file is binary.gpp",
+        help_line,
+        "",
+        "error: 3 errors",
+        "",
+    ]
     run = run_gpp("run", "main.gpp", cwd=tmp_path)
     assert run.returncode == 1, run.stderr
     assert run.stdout.startswith("error[E0005]: included file `binary.gpp` is not a UTF-8 text file")
