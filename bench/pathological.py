@@ -111,14 +111,13 @@ QUICK_DEPTHS = [100, 400, 1_600]
 
 
 def nesting_limit() -> int | None:
-    """The parser's limit on nesting depth, if it has one."""
-    from gpp.syntax import parser
-
-    for name in ("MAX_NESTING", "MAX_DEPTH", "NESTING_LIMIT", "MAX_NESTING_DEPTH"):
-        value = getattr(parser, name, None)
-        if isinstance(value, int):
-            return value
-    return None
+    """The front end's limit on nesting depth (gpp.syntax.depth.MAX_NESTING), if it has one."""
+    try:
+        from gpp.syntax import depth  # type: ignore[attr-defined, unused-ignore]
+    except ImportError:
+        return None
+    value = getattr(depth, "MAX_NESTING", None)
+    return value if isinstance(value, int) else None
 
 
 def repetitions(family: Family, size: int) -> int:
