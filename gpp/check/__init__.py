@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,7 +11,7 @@ from gpp import diagnostics as diag
 from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.perf import paused_gc, with_deep_stack
-from gpp.source import Source
+from gpp.source import Span
 from gpp.syntax.loader import LoadResult, load
 
 # After a syntax error the parser may have skipped a declaration; names declared there would
@@ -46,12 +47,7 @@ def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> Che
     found = list(loaded.diagnostics)
     if syntax_errors:
         damaged = _damaged_declarations(loaded, syntax_errors)
-        found.extend(
-            d
-            for d in model_diagnostics
-            if d.code not in _NAME_CODES
-            and not any(d.span.source is src and a <= d.span.start <= b for src, a, b in damaged)
-        )
+        found.extend(d for d in model_diagnostics if d.code not in _NAME_CODES and not _inside_any(damaged, d.span))
     else:
         found.extend(model_diagnostics)
         if lint:
@@ -83,22 +79,38 @@ def check_text(text: str, path: Path = Path("<input>.gpp"), lint: bool = True) -
     return check_program(path, lint, overrides={path: text})
 
 
-def _damaged_declarations(loaded: LoadResult, syntax_errors: list[diag.Diagnostic]) -> list[tuple[Source, int, int]]:
+def _damaged_declarations(
+    loaded: LoadResult, syntax_errors: list[diag.Diagnostic]
+) -> dict[int, tuple[list[int], list[int]]]:
     """The declarations that contain a syntax error: the parser repaired them, so what the
-    checker would say about them is likely about the repair, not the program."""
-    damaged: list[tuple[Source, int, int]] = []
+    checker would say about them is likely about the repair, not the program. Per source (by
+    id), the starts and the ends of those declarations, in order."""
+    damaged: dict[int, tuple[list[int], list[int]]] = {}
     for pf in loaded.files:
-        errors = [d.span.start for d in syntax_errors if d.span.source is pf.source]
+        errors = sorted(d.span.start for d in syntax_errors if d.span.source is pf.source)
         if not errors:
             continue
+        starts: list[int] = []
+        ends: list[int] = []
         decls = pf.program.declarations
         for k, decl in enumerate(decls):
             # Up to the next declaration: an error just after a declaration (`f() = n() = 1`)
             # is about it too.
             end = decls[k + 1].span.start if k + 1 < len(decls) else len(pf.source.text)
-            if any(decl.span.start <= at <= end for at in errors):
-                damaged.append((pf.source, decl.span.start, end))
+            first = bisect_left(errors, decl.span.start)
+            if first < len(errors) and errors[first] <= end:
+                starts.append(decl.span.start)
+                ends.append(end)
+        damaged[id(pf.source)] = (starts, ends)
     return damaged
+
+
+def _inside_any(damaged: dict[int, tuple[list[int], list[int]]], span: Span) -> bool:
+    """Does `span` start in one of the damaged declarations? They follow each other and meet
+    at most at an end, so the last one that starts before `span` is the one to ask."""
+    starts, ends = damaged.get(id(span.source), ([], []))
+    k = bisect_right(starts, span.start) - 1
+    return k >= 0 and span.start <= ends[k]
 
 
 def _dedupe(found: list[diag.Diagnostic]) -> list[diag.Diagnostic]:

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Collection, Iterator, Sequence
+from bisect import bisect_left
+from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cache, cached_property
 from pathlib import Path
-from typing import TypeVar, assert_never
+from typing import Any, TypeVar, assert_never, get_args
 
 from gpp import codes
 from gpp import diagnostics as diag
@@ -40,6 +41,8 @@ _USABLE_KINDS = frozenset(
 _ENTRY_POINTS = frozenset({"main", "postcond"})
 # W0103 enumerates at most this many instances of a fluent (and skips larger fluents).
 MAX_INSTANCES = 10_000
+# Every kind of statement (for `_Program.statements_where`).
+_ALL_STATEMENTS: tuple[type[ast.Statement], ...] = get_args(ast.Statement)
 # W0110 analyses operator chains up to this many operators.
 MAX_CHAIN = 100
 
@@ -92,6 +95,11 @@ class _Program:
     def nodes(self, kind: type[N]) -> list[N]:
         """The syntax nodes of one class in the root files, in source order per file."""
         return self._nodes_by_type.get(kind, [])  # type: ignore[return-value]
+
+    def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
+        """The statements of the root files of `kinds` that pass `test`, to ask which of them
+        a statement holds (without walking its body: nested loops would make that quadratic)."""
+        return _Within(s for kind in kinds for s in self.nodes(kind) if test(s))
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
@@ -155,6 +163,36 @@ class _Program:
                     found.add(id(site.caller))
                     changed = True
         return found
+
+
+class _Within:
+    """Statements by where they start, per file. The statements inside another one (`statements`
+    of it, itself included) are those that start within its span: spans nest like the tree."""
+
+    def __init__(self, found: Iterable[ast.Statement]) -> None:
+        by_source: dict[int, list[tuple[int, ast.Statement]]] = {}
+        for s in found:
+            by_source.setdefault(id(s.span.source), []).append((s.span.start, s))
+        self.starts: dict[int, list[int]] = {}
+        self.found: dict[int, list[ast.Statement]] = {}
+        for key, pairs in by_source.items():
+            pairs.sort(key=lambda pair: pair[0])
+            self.starts[key] = [start for start, _ in pairs]
+            self.found[key] = [s for _, s in pairs]
+
+    def inside(self, s: ast.Statement) -> list[ast.Statement]:
+        starts = self.starts.get(id(s.span.source))
+        if starts is None:
+            return []
+        first = bisect_left(starts, s.span.start)
+        return self.found[id(s.span.source)][first : bisect_left(starts, s.span.end, first)]
+
+    def any_inside(self, s: ast.Statement) -> bool:
+        starts = self.starts.get(id(s.span.source))
+        if starts is None:
+            return False
+        first = bisect_left(starts, s.span.start)
+        return first < len(starts) and starts[first] < s.span.end
 
 
 def statements(body: ast.Statement, planning: bool = False) -> Iterator[tuple[ast.Statement, bool]]:
@@ -497,10 +535,11 @@ def _effectful(s: ast.Statement) -> bool:
 
 @_lint("W0106")
 def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
+    effectful = program.statements_where(_ALL_STATEMENTS, _effectful)
     for node in program.nodes(ast.While):
         if not _is_true(node.condition):
             continue
-        if any(_effectful(s) for s, _ in statements(node.body)):
+        if effectful.any_inside(node.body):
             continue
         yield diag.warning(
             "W0106",
@@ -609,9 +648,12 @@ def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
 def _else_keyword(program: _Program, s: ast.If) -> Span:
     assert s.otherwise is not None
     pf = program.model.file_of(s.span.source)
-    for token in pf.tokens if pf is not None else ():
-        if s.then.span.end <= token.start < s.otherwise.span.start and token.type == "ELSE":
-            return Span(s.span.source, token.start, token.end)
+    tokens = pf.tokens if pf is not None else []
+    k = bisect_left(tokens, s.then.span.end, key=lambda t: t.start)
+    while k < len(tokens) and tokens[k].start < s.otherwise.span.start:
+        if tokens[k].type == "ELSE":
+            return Span(s.span.source, tokens[k].start, tokens[k].end)
+        k += 1
     return s.otherwise.span
 
 
@@ -661,8 +703,9 @@ def _is_bool(model: Model, *operands: ast.Expr) -> bool:
 
 @_lint("W0109")
 def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
+    choosing = program.statements_where((ast.Pick, ast.Choose, ast.CallStmt), lambda s: _chooses(program, s))
     for node in program.nodes(ast.Solve):
-        if any(_chooses(program, s) for s, _ in statements(node.body)):
+        if choosing.any_inside(node.body):
             continue
         yield diag.warning(
             "W0109",
@@ -1046,18 +1089,20 @@ def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
 @_lint("W0115")
 def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
+    moving = program.statements_where(_ALL_STATEMENTS, lambda s: not _still(model, s))
+    assigning = program.statements_where((ast.Assign, ast.ListStmt), lambda s: True)
+    stepping = program.statements_where((ast.Test, ast.Assign, ast.ListStmt), lambda s: True)
     for node in program.nodes(ast.While):
         if _constant(model, node.condition) is not None:
             continue  # `while (true)` is W0106's, other constant conditions W0107's
-        body = [s for s, _ in statements(node.body)]
-        if any(not _still(model, s) for s in body):
+        if moving.any_inside(node.body):
             continue
         read = _fluents_read(program, node.condition)
-        changed = [_assigned_fluent(model, s) for s in body if isinstance(s, ast.Assign | ast.ListStmt)]
+        changed = [_assigned_fluent(model, s) for s in assigning.inside(node.body)]  # type: ignore[arg-type]
         if any(f is None or id(f) in read for f in changed):
             continue
         waited = _negated(node.condition)
-        steps = any(isinstance(s, ast.Test | ast.Assign | ast.ListStmt) for s in body)
+        steps = stepping.any_inside(node.body)
         replacement = f"test({waited});"
         fix = diag.Fix(f"wait with `{replacement}`", (diag.Edit(node.span, replacement),)) if not changed else None
         if steps:

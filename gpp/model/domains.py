@@ -14,7 +14,7 @@ from __future__ import annotations
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
-from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, same_value
+from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, value_key
 from gpp.suggest import suggest
 from gpp.syntax import ast
 
@@ -78,19 +78,23 @@ class DomainEvaluator(Phase):
             return values
         if isinstance(d, ast.DomainSet):
             out: list[DomainValue] = []
+            seen: set[object] = set()
             for e in d.elements:
                 v = self.domain_literal(e, dtype)
-                if v is not None and not any(same_value(v, x) for x in out):
+                if v is not None and value_key(v) not in seen:
+                    seen.add(value_key(v))
                     out.append(v)
             return tuple(out)
         if isinstance(d, ast.DomainBinary):
             left = self.domain_values(d.left, dtype)
             right = self.domain_values(d.right, dtype)
             if d.op is ast.DomainOp.UNION:
-                return left + tuple(v for v in right if not any(same_value(v, x) for x in left))
+                in_left = {value_key(x) for x in left}
+                return left + tuple(v for v in right if value_key(v) not in in_left)
+            in_right = {value_key(x) for x in right}
             if d.op is ast.DomainOp.DIFFERENCE:
-                return tuple(v for v in left if not any(same_value(v, x) for x in right))
-            return tuple(v for v in left if any(same_value(v, x) for x in right))
+                return tuple(v for v in left if value_key(v) not in in_right)
+            return tuple(v for v in left if value_key(v) in in_right)
         return ()
 
     def domain_literal(self, e: ast.Expr, dtype: DomainType) -> DomainValue | None:

@@ -60,12 +60,16 @@ class DomainType(Type):
     # whose declarations are in error is `broken` (its values are not evaluated).
     element_known: bool = False
     broken: bool = False
+    # `values` as a set of `value_key`s, for `contains`; built on first use, for those values.
+    _keys: tuple[tuple[DomainValue, ...], frozenset[object]] | None = field(default=None, repr=False)
 
     def __str__(self) -> str:
         return self.name
 
     def contains(self, value: DomainValue) -> bool:
-        return any(same_value(value, v) for v in self.values)
+        if self._keys is None or self._keys[0] is not self.values:
+            self._keys = (self.values, frozenset(value_key(v) for v in self.values))
+        return value_key(value) in self._keys[1]
 
 
 def same_value(a: object, b: object) -> bool:
@@ -76,6 +80,16 @@ def same_value(a: object, b: object) -> bool:
     if isinstance(a, int | float) and isinstance(b, int | float):
         return a == b
     return type(a) is type(b) and a == b
+
+
+def value_key(v: DomainValue) -> object:
+    """A key that is equal for two values exactly when `same_value` holds, to put values in
+    sets and dicts (Python compares ints and floats exactly, and hashes equal numbers alike)."""
+    if isinstance(v, bool):
+        return (bool, v)
+    if isinstance(v, int | float):
+        return (float, v)
+    return (type(v), v)
 
 
 def format_number(v: int | float) -> str:

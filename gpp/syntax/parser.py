@@ -223,6 +223,11 @@ def _terminal_order(t: str) -> tuple[int, str]:
     return (priority.get(t, 10), t)
 
 
+# A simulated parser stack: the lowest `height` states of the real stack, and the states
+# pushed above them as a linked list (top first), which several simulations can share.
+_Pushed = tuple[int, "_Pushed"] | None
+_Overlay = tuple[int, _Pushed]
+
 # Results of `_Parser.unit_chain`, per table set; they depend on the tables only.
 _UNIT_CHAINS: dict[int, dict[tuple[int, int, str], int]] = {}
 
@@ -250,6 +255,21 @@ def _flatten(children: list[Any]) -> list[Any]:
     return out
 
 
+def _match_brackets(tokens: Sequence[Token]) -> list[int]:
+    """For each token, the index of the innermost bracket opened before it and not closed
+    (-1 if none); a bracket's entry is the one it is inside. One forward scan: a closer
+    closes the innermost open bracket if it matches it and is ignored otherwise."""
+    open_before: list[int] = []
+    top = -1
+    for k, t in enumerate(tokens):
+        open_before.append(top)
+        if t.type in _CLOSERS:
+            top = k
+        elif top >= 0 and t.value and _CLOSERS[tokens[top].type] == t.type:
+            top = open_before[top]
+    return open_before
+
+
 class _Parser:
     def __init__(self, source: Source, tokens: list[Token], tables: Tables) -> None:
         self.source = source
@@ -265,6 +285,11 @@ class _Parser:
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()
+        # The tokens of the file (the recovery inserts into `tokens`), where they start, and,
+        # matched once on the first error that needs them, the brackets open before each.
+        self.original = list(self.tokens)
+        self._starts: list[int] | None = None
+        self.open_before: list[int] | None = None
 
     # ---------------------------------------------------------------- the LALR loop
 
@@ -345,33 +370,51 @@ class _Parser:
 
     # ---------------------------------------------------------------- simulation
 
-    def simulate(self, ss: Sequence[int], types: Sequence[str], reduced: list[str] | None = None) -> bool:
-        """Would the parser in state stack `ss` accept the token types `types`?"""
+    def simulate(
+        self, ss: Sequence[int], types: Sequence[str], reduced: list[str] | None = None, height: int | None = None
+    ) -> bool:
+        """Would the parser in state stack `ss` (its lowest `height` states, all by default)
+        accept the token types `types`?"""
+        h = len(ss) if height is None else height
+        return self.advance(ss, (h, None), types, reduced) is not None
+
+    def advance(
+        self, ss: Sequence[int], at: _Overlay, types: Sequence[str], reduced: list[str] | None = None
+    ) -> _Overlay | None:
+        """The stack after the parser, at `at` over `ss`, reads `types`; None if it cannot.
+
+        `ss` is not changed nor copied: the simulated stack is its lowest states plus a chain
+        of states pushed above them, so a simulation costs the tokens it reads, not the depth
+        of the stack (recovery simulates often, and the stack of a deeply nested input is deep).
+        """
         actions, gotos, rules, end_state = (
             self.tables.actions,
             self.tables.gotos,
             self.tables.rules,
             self.tables.end_state,
         )
-        stack = list(ss)
+        h, above = at
         for tt in types:
             while True:
-                x = actions[stack[-1]].get(tt)
+                x = actions[above[0] if above is not None else ss[h - 1]].get(tt)
                 if x is None:
-                    return False
+                    return None
                 if x >= 0:
-                    stack.append(x)
+                    above = (x, above)
                     break
                 r = rules[-1 - x]
                 if reduced is not None:
                     reduced.append(r.builder if r.builder else r.origin)
-                if r.size:
-                    del stack[-r.size :]
-                g = gotos[stack[-1]][r.origin]
+                n = r.size
+                while n and above is not None:
+                    above = above[1]
+                    n -= 1
+                h -= n
+                g = gotos[above[0] if above is not None else ss[h - 1]][r.origin]
                 if g == end_state and tt == "$END":
-                    return True
-                stack.append(g)
-        return True
+                    return (h, above)
+                above = (g, above)
+        return (h, above)
 
     def lookahead(self, i: int, count: int = 3) -> list[str]:
         return [t.type for t in self.tokens[i : i + count]]
@@ -381,9 +424,8 @@ class _Parser:
     def quiet_after_lex_errors(self, offsets: list[int]) -> None:
         """A token the lexer dropped leaves a gap the parser would report again: errors at the
         token that follows a lexical error are not reported."""
-        starts = [t.start for t in self.tokens]
         for offset in offsets:
-            at = bisect_left(starts, offset)
+            at = bisect_left(self.starts(), offset)
             # The token at the error (an unterminated string read to the end of its line) and
             # the one after it.
             self.quiet_tokens.update((at, at + 1))
@@ -508,7 +550,7 @@ class _Parser:
                 return None
             ahead = self.lookahead(resume, 3)
             for depth in range(len(ss), 0, -1):
-                if self.simulate(ss[:depth], ahead):
+                if self.simulate(ss, ahead, height=depth):
                     del ss[depth:]
                     del vs[depth - 1 :]
                     self.quiet_until = max(self.quiet_until, resume + 2)
@@ -545,16 +587,21 @@ class _Parser:
             ["NAME", "RPAR", "SEMI"],
         )
         inserted: list[str] = []
+        # Each closer is simulated from the stack the ones before it left: the cost is the
+        # number of unclosed brackets, however many.
+        at: _Overlay = (len(ss), None)
         for opener in reversed(self.unclosed(i)):
             closer = _CLOSERS[opener.type]
             for filler in fillers:
-                if self.simulate(ss, [*inserted, *filler, closer]):
+                after = self.advance(ss, at, [*filler, closer])
+                if after is not None:
                     inserted += [*filler, closer]
+                    at = after
                     break
             else:
                 break
         for filler in fillers[:4]:
-            if self.simulate(ss, [*inserted, *filler, "$END"]):
+            if self.advance(ss, at, [*filler, "$END"]) is not None:
                 end = self.tokens[i].start
                 self.tokens[i:i] = [Token(t, "", end, end) for t in [*inserted, *filler]]
                 return i
@@ -562,17 +609,36 @@ class _Parser:
 
     def unclosed(self, i: int) -> list[Token]:
         """The brackets opened before token i and not closed, outermost first."""
+        open_before = self.brackets()
+        k = open_before[self.file_index(i)]
         stack: list[Token] = []
-        for t in self.tokens[:i]:
-            if t.type in _CLOSERS:
-                stack.append(t)
-            elif t.type in ("RPAR", "RBRACKET", "RBRACE") and t.value and stack and _CLOSERS[stack[-1].type] == t.type:
-                stack.pop()
+        while k >= 0:
+            stack.append(self.original[k])
+            k = open_before[k]
+        stack.reverse()
         return stack
 
     def innermost_unclosed(self, i: int) -> Token | None:
-        stack = self.unclosed(i)
-        return stack[-1] if stack else None
+        k = self.brackets()[self.file_index(i)]
+        return self.original[k] if k >= 0 else None
+
+    def starts(self) -> list[int]:
+        """Where each token of the file starts (computed on first use)."""
+        if self._starts is None:
+            self._starts = [t.start for t in self.original]
+        return self._starts
+
+    def brackets(self) -> list[int]:
+        """`_match_brackets` of the file's tokens (matched on the first error that needs it)."""
+        if self.open_before is None:
+            self.open_before = _match_brackets(self.original)
+        return self.open_before
+
+    def file_index(self, i: int) -> int:
+        """The index in the file's tokens of the first one at or after token i. Tokens the
+        recovery inserted start where the next token of the file starts, or earlier, and
+        close nothing, so the brackets open before i are those open before that token."""
+        return bisect_left(self.starts(), self.tokens[i].start)
 
     def report_insertion(self, i: int, ss: list[int], inserted: str, expected: set[str]) -> None:
         tokens = self.tokens
