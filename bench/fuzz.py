@@ -52,7 +52,8 @@ VOCABULARY = sorted(
         *PLATFORM_KEYWORDS,
         *(f"{w}:" for w in SECTION_WORDS),
         *PUNCTUATION,
-        *("x", "main", "_hidden", "0", "1.5e3", ".5", "1e999", '"text"', '"unterminated', "/*", "*/"),
+        *("x", "main", "_hidden", "0", "1.5e3", ".5", "1e999", '"text"', '"unterminated', '"esc\\"aped"'),
+        *("/*", "*/"),
         *("// comment\n", '#include "missing.gpp"', '#include "stdlib.gpp"', "#include", "@", "$", "\n"),
         *("list[number]", "()", "{}", "\x00"),
     }
