@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck pytest browser bench clean ros-interfaces ros-robot ros-run
+.PHONY: run test lint typecheck pytest browser bench pathological fuzz clean ros-interfaces ros-robot ros-run
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -61,6 +61,16 @@ bench: $(VENV)/.installed
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py
 	$(BIN)/python bench/ros2.py
+
+# Pathological inputs (deep nesting, long lines, binary files, ...) at four sizes each: time,
+# peak memory and growth exponent per family. Takes a while; `--quick` for a smoke run.
+pathological: $(VENV)/.installed
+	$(BIN)/python bench/pathological.py
+
+# Fuzzing, outside `make test` (which runs a few seconds of the same fuzzers): 100,000 random
+# inputs through `gpp check`; reproducers of internal errors go to fuzz-findings/.
+fuzz: $(VENV)/.installed
+	$(BIN)/python bench/fuzz.py --count 100000
 
 # ---------------------------------------------------------------- ROS 2 (the [ros] extra)
 # The example robot's interface package (examples/ros2/gpp_robot_interfaces), built with plain

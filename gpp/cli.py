@@ -94,12 +94,19 @@ def use_color(mode: ColorMode, stream: object = None) -> bool:
 
 
 def _emit_diagnostics(
-    diagnostics: Sequence[Diagnostic], output_format: OutputFormat, color: ColorMode, *, summary: bool = True
+    diagnostics: Sequence[Diagnostic],
+    output_format: OutputFormat,
+    color: ColorMode,
+    *,
+    summary: bool = True,
+    max_per_code: int | None = None,
 ) -> None:
     """Write diagnostics to stdout in the chosen format; text ends with the summary line
-    (unless `summary` is false: `gpp run` prints its own summary)."""
+    (unless `summary` is false: `gpp run` prints its own summary). Text shows at most
+    `max_per_code` diagnostics of one code in one file (None: the default; 0: all)."""
     from gpp import render
 
+    limit = render.DEFAULT_MAX_DIAGNOSTICS if max_per_code is None else max_per_code
     if output_format is OutputFormat.JSON:
         sys.stdout.write(render.render_json(diagnostics))
     elif output_format in (OutputFormat.CONCISE, OutputFormat.GITHUB):
@@ -116,9 +123,9 @@ def _emit_diagnostics(
 
         # "standard" colours: our theme needs no more, and they work even where TERM is unknown.
         console = Console(file=sys.stdout, force_terminal=True, no_color=False, color_system="standard")
-        render.print_diagnostics(console, diagnostics, summary=summary)
+        render.print_diagnostics(console, diagnostics, summary=summary, max_per_code=limit)
     else:
-        sys.stdout.write(render.render_text(diagnostics, summary=summary))
+        sys.stdout.write(render.render_text(diagnostics, summary=summary, max_per_code=limit))
     sys.stdout.flush()
 
 

@@ -80,6 +80,13 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--deny-warnings", action="store_true", help="exit with status 1 when there are warnings, too")
     parser.add_argument("--list-lints", action="store_true", help="list the lints and exit")
     parser.add_argument(
+        "--max-diagnostics",
+        type=_count,
+        metavar="N",
+        help="text output: show at most N diagnostics of one code in one file and count the rest in one line "
+        "(default 50); 0 shows all",
+    )
+    parser.add_argument(
         "--fix", action="store_true", help="apply every safe fix to the files, then report what remains"
     )
     parser.add_argument(
@@ -104,6 +111,7 @@ def check(argv: Sequence[str]) -> int:
         deny_warnings=options.deny_warnings,
         fix=options.fix,
         diff=options.diff,
+        max_diagnostics=options.max_diagnostics,
     )
 
 
@@ -135,12 +143,17 @@ def run_check(
     deny_warnings: bool,
     fix: bool,
     diff: bool,
+    max_diagnostics: int | None = None,
 ) -> int:
     """Check the files (or the project), fixing first with `fix`/`diff`; the exit code."""
     from gpp.check import check_loaded, merged_diagnostics
     from gpp.config import ConfigError, project_files
     from gpp.syntax.loader import load
 
+    if max_diagnostics is not None and output_format is not OutputFormat.TEXT:
+        _usage_error(
+            f"--max-diagnostics applies to the text output only ({output_format.value} holds every diagnostic)"
+        )
     if diff and output_format is not OutputFormat.TEXT:
         _usage_error(f"--diff writes a unified diff; --format {output_format.value} does not apply to it")
     for given in files:
@@ -175,7 +188,7 @@ def run_check(
         _usage_error(f"cannot read '{e.filename or paths[0]}': {e.strerror or e}")
     results = plan.agreed(results)
     diagnostics = merged_diagnostics(results)
-    _emit_diagnostics(diagnostics, output_format, color)
+    _emit_diagnostics(diagnostics, output_format, color, max_per_code=max_diagnostics)
     if fixed:
         to_stdout = output_format in (OutputFormat.TEXT, OutputFormat.CONCISE)
         print(fixed, file=sys.stdout if to_stdout else sys.stderr, flush=True)
@@ -271,6 +284,13 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
 
 def _problems(n: int) -> str:
     return f"{n} problem" + ("" if n == 1 else "s")
+
+
+def _count(text: str) -> int:
+    """A number of diagnostics: a whole number, 0 or more (argparse reports anything else)."""
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"expected a whole number of 0 or more, not `{text}`")
+    return int(text)
 
 
 def _lint_code(code_or_name: str) -> str:

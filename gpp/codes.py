@@ -35,6 +35,7 @@ _CODES: list[CodeInfo] = [
     CodeInfo("E0003", "underscore-name", "a name that starts with '_'"),
     CodeInfo("E0004", "number-too-large", "a number literal beyond the range of numbers (about ±1.8e308)"),
     CodeInfo("E0005", "non-ascii-name", "a name with letters outside ASCII (names are ASCII in golog++)"),
+    CodeInfo("E0006", "not-text", "a file that is not UTF-8 text: a NUL byte, or bytes that are not UTF-8"),
     CodeInfo("E0010", "unexpected-token", "a token where the grammar does not allow it"),
     CodeInfo("E0011", "missing-semicolon", "a statement or declaration that is not ended by ';'"),
     CodeInfo("E0012", "unexpected-eof", "the file ends inside a declaration"),
@@ -501,6 +502,25 @@ Join the handlers in one block:
         during (drive()) say("driving");
         on_fail { say("drive failed"); say("trying again"); }
     }
+""",
+    "E0006": """
+gpp reads every program file, and every file it `#include`s, as UTF-8 text (a byte-order
+mark at the start is allowed and skipped). A file with a NUL byte, or with bytes that are not
+UTF-8, is most likely a binary file named by mistake, or text saved in another encoding such
+as Latin-1. gpp does not parse such a file: it reports this error once, at the first bad byte
+(or at the `#include` that names the file), instead of a syntax error for every byte.
+
+For example, this file saved in Latin-1, where `é` is the single byte 0xe9:
+
+    // example.gpp (latin-1)
+    // the robot's café
+    procedure main() { }
+
+Save the file as UTF-8 (most editors offer it under "encoding"; on the command line,
+`iconv -f latin1 -t utf-8 old.gpp > new.gpp`):
+
+    // the robot's café
+    procedure main() { }
 """,
     "E0030": """
 An `#include "path.gpp"` is looked up relative to the including file and then in gpp's

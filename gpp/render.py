@@ -23,6 +23,7 @@ The text layout follows rustc:
 from __future__ import annotations
 
 import json
+import re
 import unicodedata
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -39,6 +40,13 @@ if TYPE_CHECKING:
 JSON_FORMAT_VERSION = 1
 TAB_WIDTH = 4  # every tab is shown as this many spaces, in source lines and under them alike
 _MAX_GAP = 1  # unannotated lines between two annotated ones that are shown rather than elided
+# A source line longer than this (in characters) is shown shortened: only the characters within
+# _CONTEXT of each end of a label, the rest elided as `…` (the location line keeps the real
+# column). Rendering a diagnostic thus costs the same on a line of 100 characters or of 1 MB.
+LONG_LINE = 160
+_CONTEXT = 40
+_MIN_ELISION = 8  # a gap shorter than this between two shown parts is shown rather than elided
+ELLIPSIS = "…"
 
 
 class Role(Enum):
@@ -114,9 +122,10 @@ def summary_line(diagnostics: Sequence[Diagnostic]) -> Line:
     return [(severity.value, _SEVERITY_ROLE[severity]), (": " + ", ".join(counts), Role.MESSAGE)]
 
 
-def render_text(diagnostics: Sequence[Diagnostic], *, summary: bool = True) -> str:
-    """All diagnostics as plain text, a blank line after each, then the summary line."""
-    return _lines_to_str(_report_lines(diagnostics, summary))
+def render_text(diagnostics: Sequence[Diagnostic], *, summary: bool = True, max_per_code: int = 0) -> str:
+    """All diagnostics as plain text, a blank line after each, then the summary line. With
+    `max_per_code`, at most that many of one code in one file (see `limit_diagnostics`)."""
+    return _lines_to_str(_report_lines(diagnostics, summary, max_per_code))
 
 
 def to_rich_text(lines: Iterable[Line]) -> Text:
@@ -131,16 +140,66 @@ def to_rich_text(lines: Iterable[Line]) -> Text:
     return text
 
 
-def print_diagnostics(console: Console, diagnostics: Sequence[Diagnostic], *, summary: bool = True) -> None:
+def print_diagnostics(
+    console: Console, diagnostics: Sequence[Diagnostic], *, summary: bool = True, max_per_code: int = 0
+) -> None:
     """Write diagnostics (and the summary line) to a rich Console, coloured if it is."""
+    lines = _report_lines(diagnostics, summary, max_per_code)
     # soft_wrap: never fold a long source line, which would break the alignment of the carets.
-    console.print(to_rich_text(_report_lines(diagnostics, summary)), end="", soft_wrap=True, highlight=False)
+    console.print(to_rich_text(lines), end="", soft_wrap=True, highlight=False)
 
 
-def _report_lines(diagnostics: Sequence[Diagnostic], summary: bool) -> list[Line]:
-    lines: list[Line] = []
+# ---------------------------------------------------------------- many diagnostics
+
+DEFAULT_MAX_DIAGNOSTICS = 50  # of one code in one file, in the text output of the commands
+
+
+@dataclass(frozen=True, slots=True)
+class Omitted:
+    """Diagnostics of one code in one file left out of a report, counted."""
+
+    path: str
+    code: str
+    severity: Severity
+    count: int
+
+
+def limit_diagnostics(diagnostics: Sequence[Diagnostic], max_per_code: int) -> tuple[list[Diagnostic], list[Omitted]]:
+    """The first `max_per_code` diagnostics of each code in each file (of the primary span), in
+    their order, and the counts of the rest, by file and code. `max_per_code` 0 keeps all."""
+    if max_per_code <= 0:
+        return list(diagnostics), []
+    seen: dict[tuple[str, str], int] = {}
+    kept: list[Diagnostic] = []
+    omitted: dict[tuple[str, str], Omitted] = {}
     for d in diagnostics:
+        key = (d.span.source.path, d.code)
+        n = seen[key] = seen.get(key, 0) + 1
+        if n <= max_per_code:
+            kept.append(d)
+        else:
+            before = omitted.get(key)
+            omitted[key] = Omitted(key[0], d.code, d.severity, 1 if before is None else before.count + 1)
+    return kept, list(omitted.values())
+
+
+def omitted_line(omitted: Omitted, max_per_code: int) -> Line:
+    """`note: 950 more E0010 errors in x.gpp not shown (the first 50 of a code in a file are)`."""
+    code = f"{omitted.code} " if omitted.code else ""
+    what = _plural(omitted.count, omitted.severity.value).replace(" ", f" more {code}", 1)
+    text = f" {what} in {omitted.path} not shown (the first {max_per_code} of a code in a file are)"
+    return [("note", Role.NOTE), (":" + text, Role.MESSAGE)]
+
+
+def _report_lines(diagnostics: Sequence[Diagnostic], summary: bool, max_per_code: int = 0) -> list[Line]:
+    lines: list[Line] = []
+    shown, omitted = limit_diagnostics(diagnostics, max_per_code)
+    for d in shown:
         lines.extend(layout_diagnostic(d))
+        lines.append([])
+    for o in omitted:
+        lines.append(omitted_line(o, max_per_code))
+    if omitted:
         lines.append([])
     if summary:
         lines.append(summary_line(diagnostics))
@@ -168,6 +227,8 @@ class _DisplayLine:
 
     @classmethod
     def of(cls, raw: str) -> _DisplayLine:
+        if raw.isascii() and raw.isprintable():  # the common case: one column per character
+            return cls(raw, list(range(len(raw) + 1)))
         parts: list[str] = []
         columns: list[int] = []
         col = 0
@@ -201,8 +262,68 @@ def _char_width(ch: str) -> int:
     return 2 if unicodedata.east_asian_width(ch) in ("W", "F") else 1
 
 
-def _display_line(source: Source, line: int) -> _DisplayLine:
-    return _DisplayLine.of(source.line_text(line))
+def _line_bounds(source: Source, line: int) -> tuple[int, int]:
+    """Offsets of the first character of a 1-based line and one past its last (no line break)."""
+    starts = source.line_starts
+    start = starts[line - 1]
+    end = starts[line] - 1 if line < len(starts) else len(source.text)
+    while end > start and source.text[end - 1] == "\r":
+        end -= 1
+    return start, end
+
+
+@dataclass(frozen=True, slots=True)
+class _LineView:
+    """A source line as a snippet shows it: whole, or, when longer than LONG_LINE, only the
+    parts around some character positions, joined by `…`. Maps character indices of the line
+    to display columns of the shown text."""
+
+    text: str
+    # Each shown part: its first character index, one past its last, the display column where
+    # it starts, and its display.
+    parts: list[tuple[int, int, int, _DisplayLine]]
+
+    @classmethod
+    def of(cls, source: Source, line: int, keep: Iterable[int] = ()) -> _LineView:
+        """The view of `line` that shows the characters near the indices `keep` (the start of
+        the line when there are none)."""
+        start, end = _line_bounds(source, line)
+        length = end - start
+        if length <= LONG_LINE:
+            whole = _DisplayLine.of(source.text[start:end])
+            return cls(whole.text, [(0, length, 0, whole)])
+        wanted = sorted((max(0, k - _CONTEXT), min(length, k + _CONTEXT)) for k in keep) or [(0, 2 * _CONTEXT)]
+        merged: list[tuple[int, int]] = []
+        for a, b in wanted:
+            if merged and a <= merged[-1][1] + _MIN_ELISION:
+                merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+            else:
+                merged.append((a, b))
+        texts: list[str] = []
+        parts: list[tuple[int, int, int, _DisplayLine]] = []
+        column = shown_to = 0
+        for a, b in merged:
+            if a > shown_to:
+                texts.append(ELLIPSIS)
+                column += 1
+            shown = _DisplayLine.of(source.text[start + a : start + b])
+            parts.append((a, b, column, shown))
+            texts.append(shown.text)
+            column += shown.width()
+            shown_to = b
+        if shown_to < length:
+            texts.append(ELLIPSIS)
+        return cls("".join(texts), parts)
+
+    def column(self, index: int) -> int:
+        """Display column of a character index (0-based) that is shown, or one past a shown part."""
+        for a, b, column, shown in self.parts:
+            if index < a:
+                return column
+            if index <= b:
+                return column + shown.column(index - a)
+        a, _, column, shown = self.parts[-1]
+        return column + shown.column(index - a)
 
 
 # ---------------------------------------------------------------- annotated snippets
@@ -235,26 +356,54 @@ def _clamp(span: Span) -> tuple[int, int]:
     return start, max(start, min(span.end, n))
 
 
-def _mark(span: Span, message: str, primary: bool) -> _Mark:
+@dataclass(frozen=True, slots=True)
+class _Anchor:
+    """Where a span is drawn, in characters: the line and 0-based index of its first character
+    and of its last visible one (a zero-width span: the same, flagged)."""
+
+    start_line: int
+    start_char: int
+    end_line: int
+    last_char: int
+    zero_width: bool
+    at_indent: bool  # only blanks precede the start on its line
+
+    def positions(self) -> list[tuple[int, int]]:
+        """(line, character index) that must be visible to draw it."""
+        return [(self.start_line, self.start_char), (self.end_line, self.last_char + 1)]
+
+
+_BLANKS = re.compile(r"\s*")
+
+
+def _anchor(span: Span) -> _Anchor:
     source = span.source
-    message = message.replace("\n", " ")
     start, end = _clamp(span)
     start_line, start_char = source.line_col(start)
-    first = _display_line(source, start_line)
-    start_col = first.column(start_char - 1)
-    at_indent = source.text[start - start_char + 1 : start].strip() == ""
+    line_start = start - start_char + 1
+    blanks = _BLANKS.match(source.text, line_start, start)
+    at_indent = blanks is not None and blanks.end() == start
     if end == start:  # zero width: one caret at its column
-        return _Mark(primary, message, start_line, start_col, start_line, start_col + 1, at_indent)
+        return _Anchor(start_line, start_char - 1, start_line, start_char - 1, True, at_indent)
     # A span that ends with line breaks is drawn up to its last visible character.
     while end - 1 > start and source.text[end - 1] in "\r\n":
         end -= 1
     end_line, last_char = source.line_col(end - 1)
-    last = first if end_line == start_line else _display_line(source, end_line)
-    last_col = last.column(last_char - 1)
-    end_col = max(last.column(last_char), last_col + 1)
-    if end_line == start_line:
+    return _Anchor(start_line, start_char - 1, end_line, last_char - 1, False, at_indent)
+
+
+def _mark(anchor: _Anchor, message: str, primary: bool, views: dict[int, _LineView]) -> _Mark:
+    a = anchor
+    message = message.replace("\n", " ")
+    start_col = views[a.start_line].column(a.start_char)
+    if a.zero_width:
+        return _Mark(primary, message, a.start_line, start_col, a.start_line, start_col + 1, a.at_indent)
+    last = views[a.end_line]
+    last_col = last.column(a.last_char)
+    end_col = max(last.column(a.last_char + 1), last_col + 1)
+    if a.end_line == a.start_line:
         end_col = max(end_col, start_col + 1)
-    return _Mark(primary, message, start_line, start_col, end_line, end_col, at_indent)
+    return _Mark(primary, message, a.start_line, start_col, a.end_line, end_col, a.at_indent)
 
 
 class _Canvas:
@@ -285,12 +434,18 @@ class _Canvas:
 class _Snippet:
     """The annotated source lines of one file, laid out for a given gutter width."""
 
-    def __init__(self, source: Source, marks: list[_Mark], primary_role: Role) -> None:
+    def __init__(self, source: Source, labels: list[tuple[Span, str, bool]], primary_role: Role) -> None:
         self.source = source
-        self.marks = marks
+        anchors = [(_anchor(span), message, primary) for span, message, primary in labels]
+        keep: dict[int, list[int]] = {}
+        for anchor, _, _ in anchors:
+            for line, index in anchor.positions():
+                keep.setdefault(line, []).append(index)
+        self.views = {line: _LineView.of(source, line, indices) for line, indices in keep.items()}
+        self.marks = [_mark(anchor, message, primary, self.views) for anchor, message, primary in anchors]
         self.primary_role = primary_role
         # Multi-line marks each get a column in a margin between the gutter and the text.
-        self.multiline = sorted((m for m in marks if m.multiline), key=lambda m: (m.start_line, m.start_col))
+        self.multiline = sorted((m for m in self.marks if m.multiline), key=lambda m: (m.start_line, m.start_col))
         self.margin = len(self.multiline) + 1 if self.multiline else 0
 
     def annotated_lines(self) -> list[int]:
@@ -343,7 +498,8 @@ class _Snippet:
             if m.start_line == line and m.at_indent:
                 canvas.put(width + 3 + i, "/", self.role_of(m))
         row = canvas.pieces()
-        text = _display_line(self.source, line).text
+        view = self.views.get(line) or _LineView.of(self.source, line)
+        text = view.text
         if text:
             gap = width + 3 + self.margin - sum(len(p) for p, _ in row)
             row.append((" " * gap + text, Role.PLAIN))
@@ -441,14 +597,16 @@ class _FixPreview:
                 return None
             if "\n" in source.text[start:end]:
                 return None
-        line_start = source.line_starts[line - 1]
-        old = source.line_text(line)
+        window = _preview_window(source, line, edits[0].span.start, edits[-1].span.end)
+        if window is None:
+            return None
+        old, base = window
         new_parts: list[str] = []
         inserted: list[tuple[int, int]] = []
         cursor = 0
         length = 0
         for e in edits:
-            a, b = e.span.start - line_start, e.span.end - line_start
+            a, b = e.span.start - base, e.span.end - base
             if a < cursor or b > len(old):
                 return None  # overlapping edits, or an edit of the line break itself
             new_parts.append(old[cursor:a])
@@ -475,6 +633,22 @@ class _FixPreview:
         return [_gutter_text(number, "-", old.text, Role.REMOVED), _gutter_text(number, "+", new.text, Role.ADDED)]
 
 
+def _preview_window(source: Source, line: int, first: int, last: int) -> tuple[str, int] | None:
+    """The part of `line` a fix preview shows for edits between offsets `first` and `last`,
+    and the offset that its index 0 stands for: the whole line, or for a long one the edited
+    stretch with _CONTEXT characters either side and `…` for the rest (None when the edited
+    stretch itself is too long to show)."""
+    start, end = _line_bounds(source, line)
+    if end - start <= LONG_LINE:
+        return source.text[start:end], start
+    if last - first > LONG_LINE or last > end:
+        return None
+    lo, hi = max(start, first - _CONTEXT), min(end, last + _CONTEXT)
+    before = ELLIPSIS if lo > start else ""
+    after = ELLIPSIS if hi < end else ""
+    return before + source.text[lo:hi] + after, lo - len(before)
+
+
 def _gutter_text(number: str, bar: str, text: str, role: Role) -> Line:
     line: Line = [(number + " " + bar, Role.GUTTER)] if bar == "|" else [(number + " ", Role.GUTTER), (bar, role)]
     if text:
@@ -490,13 +664,13 @@ class _DiagnosticLayout:
         self.d = diagnostic
         self.role = _SEVERITY_ROLE[diagnostic.severity]
         primary = diagnostic.span.source
-        groups: dict[int, tuple[Source, list[_Mark]]] = {id(primary): (primary, [])}
+        groups: dict[int, tuple[Source, list[tuple[Span, str, bool]]]] = {id(primary): (primary, [])}
         for span, message, is_primary in [
             (diagnostic.span, diagnostic.label, True),
             *((label.span, label.message, False) for label in diagnostic.secondary),
         ]:
             source = span.source
-            groups.setdefault(id(source), (source, []))[1].append(_mark(span, message, is_primary))
+            groups.setdefault(id(source), (source, []))[1].append((span, message, is_primary))
         self.snippets = [_Snippet(source, marks, self.role) for source, marks in groups.values()]
         fix = diagnostic.fix
         # A fix that is the help line (a did-you-mean) is not shown a second time as a preview.

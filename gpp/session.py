@@ -159,7 +159,7 @@ class Session:
             if known is not None and known[0] == stamp:
                 return known[1]
             try:
-                text = self.cache.read(path)
+                text, _ = self.cache.read(path)
             except OSError:
                 return ()
             found = self._resolve_includes(path, text, opened)

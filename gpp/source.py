@@ -10,6 +10,42 @@ from pathlib import Path
 # A line ends at `\n`, `\r\n` or a lone `\r` (as editors and the Language Server Protocol count).
 _LINE_BREAK = re.compile(r"\r\n?|\n")
 
+BOM = "\ufeff"
+
+
+@dataclass(frozen=True, slots=True)
+class NotText:
+    """Why bytes are not a UTF-8 text file: the first NUL byte or byte that is not UTF-8."""
+
+    offset: int  # character offset of the bad byte in the decoded text (after the BOM, if any)
+    byte: int  # its value
+
+    def describe(self) -> str:
+        if self.byte == 0:
+            return "a NUL byte (0x00)"
+        return f"invalid UTF-8 byte 0x{self.byte:02x}"
+
+
+def decode_text(raw: bytes) -> tuple[str, NotText | None]:
+    """Decode a file's bytes as UTF-8 text. A byte-order mark at the start is dropped (so that
+    columns count from the first real character). Returns the text, with any invalid byte
+    replaced by U+FFFD, and what makes the bytes not text, if anything: the first NUL byte or
+    invalid UTF-8 sequence. Linear in the size of the input."""
+    skip = 3 if raw.startswith(b"\xef\xbb\xbf") else 0
+    bad: int | None = None
+    try:
+        text = raw[skip:].decode("utf-8")
+    except UnicodeDecodeError as e:
+        bad = skip + e.start
+        text = raw[skip:].decode("utf-8", errors="replace")
+    nul = raw.find(b"\x00", skip, bad)
+    if nul >= 0:
+        bad = nul
+    if bad is None:
+        return text, None
+    offset = len(raw[skip:bad].decode("utf-8"))
+    return text, NotText(offset, raw[bad])
+
 
 class Source:
     """The text of one file, with the line table needed to turn offsets into positions.
@@ -29,9 +65,10 @@ class Source:
 
     @classmethod
     def from_file(cls, path: str | Path) -> Source:
+        """The file's text, decoded by `decode_text` (invalid bytes replaced)."""
         p = Path(path)
-        raw = p.read_bytes()
-        return cls(raw.decode("utf-8", errors="replace"), str(path), str(p.resolve()))
+        text, _ = decode_text(p.read_bytes())
+        return cls(text, str(path), str(p.resolve()))
 
     def __repr__(self) -> str:
         return f"Source({self.path!r})"

@@ -45,20 +45,23 @@ def example_blocks(explanation: str) -> list[str]:
 
 def program_files(block: str, folder: Path) -> list[Path]:
     """Write an example to `folder`: one file, or several introduced by `// name.gpp` lines
-    (or `// name.toml` for a scenario of the dummy platform); returns the program files."""
+    (or `// name.toml` for a scenario of the dummy platform; `// name.gpp (latin-1)` writes the
+    file in that encoding); returns the program files."""
     files: dict[str, list[str]] = {}
+    encodings: dict[str, str] = {}
     name = "example.gpp"
     for line in block.splitlines():
-        header = re.fullmatch(r"// (\w+\.(?:gpp|toml))", line)
+        header = re.fullmatch(r"// (\w+\.(?:gpp|toml))( \(latin-1\))?", line)
         if header:
             name = header.group(1)
+            encodings[name] = "latin-1" if header.group(2) else "utf-8"
             continue
         files.setdefault(name, []).append(line)
     folder.mkdir()
     paths = []
     for file_name, lines in files.items():
         path = folder / file_name
-        path.write_text("\n".join(lines) + "\n")
+        path.write_text("\n".join(lines) + "\n", encoding=encodings.get(file_name, "utf-8"))
         if path.suffix == ".gpp":
             paths.append(path)
     return paths

@@ -4,7 +4,8 @@ Property: `check_text` returns Diagnostic objects, each with a registered code, 
 message and spans that lie inside their source text, and the report renders; nothing raises.
 Inputs: (a) the example programs with random token-level mutations, (b) random text and bytes,
 odd unicode, token soup, very long lines and deep nesting, (c) the real CLI on mutated files
-(exit code 0 or 1, never 3, no traceback).
+(exit code 0 or 1, never 3, no traceback), (d) the fuzzers of `make fuzz` (bench/fuzz.py, whose
+mutations and well-formedness check these tests share) for a few seconds.
 
 Failing inputs are reproducible: hypothesis prints the falsifying example and, through `note`,
 the exact text that was checked. Deep nesting (2,000 levels of every construct) must check
@@ -26,68 +27,19 @@ from hypothesis import HealthCheck, currently_in_test_context, given, note, reje
 from hypothesis import strategies as st
 
 from gpp.check import check_text
-from gpp.codes import CODES
 from gpp.diagnostics import Diagnostic
 from gpp.render import render_text
-from gpp.source import Source, Span
-from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, tokenize
 
 ROOT = Path(__file__).resolve().parent.parent
+# The token-level mutations and the vocabulary are those of `make fuzz` (bench/fuzz.py).
+sys.path.insert(0, str(ROOT / "bench"))
+from fuzz import FUZZ_PATH, VOCABULARY, check_diagnostic, mutate, pieces  # noqa: E402
+
 PROGRAMS = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
-# A folder that does not exist: `#include`s in fuzzed text resolve there (nothing) or in stdlib/.
-FUZZ_PATH = Path("/nonexistent-gpp-fuzz-dir/fuzz.gpp")
 
 FUZZ = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-# What a mutation may put in place of a token.
-VOCABULARY: list[str] = sorted(
-    {
-        *KEYWORDS,
-        *PLATFORM_KEYWORDS,
-        *(f"{w}:" for w in SECTION_WORDS),
-        *PUNCTUATION,
-        "x",
-        "main",
-        "_hidden",
-        "0",
-        "1.5e3",
-        ".5",
-        '"text"',
-        '"unterminated',
-        '"esc\\"aped"',
-        "/*",
-        "*/",
-        "// comment\n",
-        '#include "missing.gpp"',
-        "#include",
-        "@",
-        "$",
-        "\x00",
-        "\n",
-        "list[number]",
-        "()",
-        "{}",
-    }
-)
-
-
 # ---------------------------------------------------------------- the property
-
-
-def assert_span_inside(span: Span) -> None:
-    assert 0 <= span.start <= span.end <= len(span.source.text), (span.start, span.end, len(span.source.text))
-
-
-def assert_well_formed(diagnostic: Diagnostic) -> None:
-    assert isinstance(diagnostic, Diagnostic)
-    assert diagnostic.code in CODES, diagnostic.code
-    assert diagnostic.message.strip(), diagnostic
-    assert_span_inside(diagnostic.span)
-    for label in diagnostic.secondary:
-        assert_span_inside(label.span)
-    if diagnostic.fix is not None:
-        for edit in diagnostic.fix.edits:
-            assert_span_inside(edit.span)
 
 
 # Crashes found by fuzzing and not yet fixed, as (exception type, file, function of the
@@ -116,7 +68,7 @@ def assert_checks_cleanly(text: str) -> list[Diagnostic]:
         raise
     assert isinstance(result.diagnostics, list)
     for d in result.diagnostics:
-        assert_well_formed(d)
+        check_diagnostic(d)  # registered code, a message, spans inside the text
         if d.span.source.path == result.loaded.files[-1].source.path:
             assert d.span.source.text == text
     render_text(result.diagnostics)
@@ -126,45 +78,7 @@ def assert_checks_cleanly(text: str) -> list[Diagnostic]:
 # ---------------------------------------------------------------- (a) mutated valid programs
 
 
-def pieces(text: str) -> list[str]:
-    """The text cut into tokens, each with the whitespace and comments before it."""
-    tokens, _ = tokenize(Source(text, "x.gpp"))
-    out: list[str] = []
-    last = 0
-    for t in tokens:
-        out.append(text[last : t.end])
-        last = t.end
-    out.append(text[last:])
-    return out
-
-
 PIECES = {p.name: pieces(p.read_text(encoding="utf-8")) for p in PROGRAMS}
-
-
-def mutate(parts: list[str], rnd: random.Random, steps: int) -> str:
-    """Apply `steps` random token-level mutations; returns the new text."""
-    parts = list(parts)
-    for _ in range(steps):
-        op = rnd.choice(("delete", "duplicate", "swap", "replace", "insert", "truncate"))
-        if not parts:
-            parts.append(rnd.choice(VOCABULARY))
-            continue
-        i = rnd.randrange(len(parts))
-        if op == "delete":
-            del parts[i]
-        elif op == "duplicate":
-            parts.insert(i, parts[i])
-        elif op == "swap" and i + 1 < len(parts):
-            parts[i], parts[i + 1] = parts[i + 1], parts[i]
-        elif op == "replace":
-            parts[i] = rnd.choice(("", " ", "\n")) + rnd.choice(VOCABULARY)
-        elif op == "insert":
-            alphabet = "(){}[];,.:=<>!&|+-*/%\\\"'#_aZ09 \t\n\r\x00é€\u2028\ufeff"
-            parts.insert(i, "".join(rnd.choice(alphabet) for _ in range(rnd.randint(1, 6))))
-        elif op == "truncate":
-            text = "".join(parts)
-            return text[: rnd.randrange(len(text) + 1)]
-    return "".join(parts)
 
 
 def test_there_are_programs_to_mutate() -> None:
@@ -398,3 +312,20 @@ def test_include_path_with_a_nul_character_is_an_include_error() -> None:
 
 def test_include_path_that_is_too_long_is_an_include_error() -> None:
     assert diagnostics_of('#include "' + "a" * 5_000 + '.gpp"\n') == [("E0030", 1, 10)]
+
+
+# ---------------------------------------------------------------- bench/fuzz.py, on a small budget
+
+
+def test_the_fuzzers_of_make_fuzz_find_no_internal_error_in_a_few_seconds(tmp_path: Path) -> None:
+    # `make fuzz` runs bench/fuzz.py on 100,000 inputs; here the same fuzzers run for 4 seconds.
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "bench" / "fuzz.py"), "--seconds", "4", "--seed", "7", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "no internal errors" in proc.stdout, proc.stdout
+    assert "by fuzzer: bytes " in proc.stdout and " generation " in proc.stdout, proc.stdout
+    assert list(tmp_path.glob("crash-*")) == []

@@ -275,6 +275,14 @@ def test_world_with_a_whole_number_too_long_for_toml_is_a_clear_error(tmp_path: 
         World.load(str(path))
 
 
+def test_world_file_that_is_not_text_is_a_clear_error(tmp_path: Path) -> None:
+    path = tmp_path / "w.toml"
+    path.write_bytes(b"name = 'caf\xe9'\n" + MAP.encode())
+    with pytest.raises(WorldError) as error:
+        World.load(str(path))
+    assert str(error.value) == f"world '{path}' is not UTF-8 text"
+
+
 def test_record_and_snapshot(tmp_path: Path) -> None:
     gif, png = tmp_path / "run.gif", tmp_path / "end.png"
     sim_run("blocksworld.gpp", record=gif, snapshot=png)

@@ -5,6 +5,11 @@ folders (the `include` setting of gpp.toml), then in the standard library (stdli
 file is parsed once however often it is included; an include cycle is an error that shows the
 chain. Included files come before the files that include them in
 `LoadResult.files` (the order the original golog++ processed them).
+
+A file is read as UTF-8 (a byte-order mark at its start is skipped). A file that is not UTF-8
+text (a NUL byte, or bytes that are not UTF-8: a binary file, or text in another encoding) is
+not parsed: it gets one E0006 diagnostic, at its first bad byte, or at the `#include` that
+names it, instead of one syntax error per garbage character.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from pathlib import Path
 
 from gpp import diagnostics as diag
 from gpp.resources import stdlib_dir
-from gpp.source import Source
+from gpp.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token
 from gpp.syntax.parser import ParseResult, parse
@@ -71,22 +76,23 @@ class ParseCache:
     def __init__(self, limit: int = 512) -> None:
         self.limit = limit
         self._parsed: OrderedDict[Path, tuple[str, ParseResult]] = OrderedDict()
-        self._disk: dict[Path, tuple[int, int, str]] = {}
+        self._disk: dict[Path, tuple[int, int, str, NotText | None]] = {}
         self._lock = threading.Lock()
         self.hits = 0
         self.misses = 0
 
-    def read(self, path: Path) -> str:
-        """The text of a file on disk (OSError when it cannot be read)."""
+    def read(self, path: Path) -> tuple[str, NotText | None]:
+        """The text of a file on disk, and why it is not text if it is not (`decode_text`);
+        OSError when it cannot be read."""
         st = path.stat()
         with self._lock:
             known = self._disk.get(path)
         if known is not None and known[:2] == (st.st_mtime_ns, st.st_size):
-            return known[2]
-        text = path.read_bytes().decode("utf-8", errors="replace")
+            return known[2], known[3]
+        text, not_text = decode_text(path.read_bytes())
         with self._lock:
-            self._disk[path] = (st.st_mtime_ns, st.st_size, text)
-        return text
+            self._disk[path] = (st.st_mtime_ns, st.st_size, text, not_text)
+        return text, not_text
 
     def parse(self, path: Path, text: str) -> ParseResult:
         with self._lock:
@@ -140,13 +146,14 @@ class _Loader:
         self.result = LoadResult()
         self.loaded: dict[Path, ParsedFile] = {}
 
-    def read(self, path: Path) -> str:
+    def read(self, path: Path) -> tuple[str, NotText | None]:
+        """The file's text (an editor's buffer wins), and why it is not text, if it is not."""
         text = self.overrides.get(path)
         if text is not None:
-            return text
+            return text, None
         if self.cache is not None:
             return self.cache.read(path)
-        return path.read_bytes().decode("utf-8", errors="replace")
+        return decode_text(path.read_bytes())
 
     def parse(self, path: Path, text: str) -> ParseResult:
         if self.cache is not None:
@@ -167,7 +174,21 @@ class _Loader:
             self.result.roots.append(resolved)
         if resolved in self.loaded:
             return
-        self.visit(resolved, self.read(resolved), [])
+        text, not_text = self.read(resolved)
+        if not_text is not None:
+            source = Source(text, display_path(resolved), str(resolved))
+            at = Span(source, not_text.offset, min(not_text.offset + 1, len(source.text)))
+            self.result.diagnostics.append(_not_text_error("this is", source, not_text, at))
+            self.skip(resolved, source)
+            return
+        self.visit(resolved, text, [])
+
+    def skip(self, path: Path, source: Source) -> None:
+        """Record a file that is not text as one without declarations: it is not parsed."""
+        program = ast.Program(span=Span(source, 0, len(source.text)), declarations=())
+        done = ParsedFile(path, source, program, [], ())
+        self.loaded[path] = done
+        self.result.files.append(done)
 
     def visit(self, path: Path, text: str, chain: list[tuple[Path, ast.Include]]) -> None:
         parsed = self.parse(path, text)
@@ -216,11 +237,30 @@ class _Loader:
         if target in self.loaded:
             return target
         try:
-            text = self.read(target)
+            text, not_text = self.read(target)
         except OSError as e:
             self.result.diagnostics.append(
                 diag.error("E0030", f"cannot read included file `{name}`: {e.strerror}", decl.path.span)
             )
             return None
+        if not_text is not None:
+            source = Source(text, display_path(target), str(target))
+            error = _not_text_error(f"included file `{name}` is", source, not_text, decl.path.span)
+            self.result.diagnostics.append(error)
+            self.skip(target, source)
+            return target
         self.visit(target, text, [*chain, (path, decl)])
         return target
+
+
+def _not_text_error(subject: str, source: Source, not_text: NotText, at: Span) -> diag.Diagnostic:
+    """E0006 for a file that is not text, reported at `at` (the bad byte, or an `#include`)."""
+    line, col = source.line_col(not_text.offset)
+    return diag.error(
+        "E0006",
+        f"{subject} not a UTF-8 text file: {not_text.describe()} at line {line}, column {col}",
+        at,
+        "not UTF-8 text",
+        notes=[] if at.source is source else [f"the included file is {source.path}"],
+        help="gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file",
+    )

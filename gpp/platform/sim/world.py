@@ -211,6 +211,8 @@ class World:
             raise WorldError(f"cannot read world '{path}': {e.strerror}") from None
         except tomllib.TOMLDecodeError as e:
             raise WorldError(f"world '{path}' is not valid TOML: {e}") from None
+        except UnicodeDecodeError:
+            raise WorldError(f"world '{path}' is not UTF-8 text") from None
         except ValueError:  # tomllib refuses a whole number of thousands of digits
             raise WorldError(f"world '{path}' has a whole number beyond the range of numbers") from None
         return cls.from_data(data, path)
