@@ -9,6 +9,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gpp import __version__
 from gpp import diagnostics as diag
@@ -28,6 +29,9 @@ from gpp.source import Span
 from gpp.suggest import did_you_mean
 from gpp.syntax.directives import directives
 
+if TYPE_CHECKING:
+    from gpp.planner.dp import Progress
+
 
 class RunSetupError(Exception):
     """The run cannot start: unknown platform, a bad option, scenario or world file (a usage error)."""
@@ -46,6 +50,10 @@ class RunOptions:
     args: Mapping[str, object] = field(default_factory=dict)
     trace: Path | None = None
     entry: str = "main"
+    # How `search` looks for an execution: gpp.planner.search.STRATEGIES.
+    search_strategy: str = "depth-first"
+    # Told now and then how a long `solve` is getting on (the run view shows it).
+    progress: Callable[[Progress], None] | None = None
 
 
 @dataclass
@@ -130,7 +138,7 @@ def run_program(
             trace,
             options.timeout,
             options.entry,
-            planner=PolicyPlanner(),
+            planner=PolicyPlanner(options.search_strategy, options.progress),
             wall_timeout=options.wall_timeout,
             entry_args=entry_args,
         )

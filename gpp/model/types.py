@@ -33,7 +33,7 @@ VOID = BuiltinType("void")
 BUILTIN_TYPES = {t.name: t for t in (BOOL, NUMBER, STRING, SYMBOL, VOID)}
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Sym:
     """A symbol value (an element of a symbol domain). Never equal to a string."""
 
@@ -41,6 +41,16 @@ class Sym:
 
     def __str__(self) -> str:
         return self.name
+
+    # What the dataclass would generate, without building a tuple on each side (symbols are
+    # compared very often while planning).
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is Sym:
+            return self.name == other.name
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash((self.name,))
 
 
 DomainValue = int | float | str | bool | Sym
@@ -71,11 +81,11 @@ class DomainType(Type):
 def same_value(a: object, b: object) -> bool:
     """golog++ `==` on values: numbers by value (2 == 2.0), everything else by type and value
     (a symbol is never a string, `true` never 1). Used for domain members and at run time."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    if isinstance(a, int | float) and isinstance(b, int | float):
+    ta = type(a)
+    if ta is type(b):  # the common case, first: same type, compared by value
         return a == b
-    return type(a) is type(b) and a == b
+    # Of two different types only an int and a float can be equal (bool is neither here).
+    return (ta is int or ta is float) and (type(b) is int or type(b) is float) and a == b
 
 
 def format_number(v: int | float) -> str:

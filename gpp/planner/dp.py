@@ -51,6 +51,7 @@ from dataclasses import dataclass
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
+from gpp.planner.successors import Successors
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
@@ -147,7 +148,7 @@ class Progress:
 ProgressCallback = Callable[[Progress], None]
 
 # How often (in expanded nodes) the clock is read for a progress report.
-_PROGRESS_EVERY = 1024
+_PROGRESS_EVERY = 128
 
 
 def solve_plan(
@@ -167,6 +168,7 @@ def solve_plan(
     stats = PlanStats()
     started = time.perf_counter()
     configs: dict[Config, _Config] = {}
+    successors = Successors(sem)
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
@@ -244,8 +246,8 @@ def solve_plan(
             report()
         c.on_path.add(h)
         if not c.expanded:
-            c.final = sem.final(c.prog, c.state, c.acts)
-            c.successors = sem.trans(c.prog, c.state, c.acts)
+            c.final = successors.final(c.prog, c.state, c.acts)
+            c.successors = successors.trans(c.prog, c.state, c.acts)
             c.expanded = True
         feasible = c.final
         value = 0.0

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Union
 
@@ -57,6 +58,5 @@ def to_json(v: Value) -> object:
     return {"compound": v.type_name, "fields": {n: to_json(x) for n, x in v.fields}}
 
 
-def same(a: Value, b: Value) -> bool:
-    """golog++ `==` (gpp.model.types.same_value, on runtime values)."""
-    return same_value(a, b)
+# golog++ `==` on runtime values: gpp.model.types.same_value itself (evaluation calls it a lot).
+same: Callable[[Value, Value], bool] = same_value
