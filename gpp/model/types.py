@@ -38,19 +38,26 @@ class Sym:
     """A symbol value (an element of a symbol domain). Never equal to a string."""
 
     name: str
+    # hash((name,)), as the dataclass would compute it, computed once: symbols are hashed and
+    # compared very often while planning (dict keys, states).
+    _hash: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_hash", hash((self.name,)))
 
     def __str__(self) -> str:
         return self.name
 
-    # What the dataclass would generate, without building a tuple on each side (symbols are
-    # compared very often while planning).
     def __eq__(self, other: object) -> bool:
         if other.__class__ is Sym:
             return self.name == other.name
         return NotImplemented
 
     def __hash__(self) -> int:
-        return hash((self.name,))
+        return self._hash
+
+    def __reduce__(self) -> tuple[type[Sym], tuple[str]]:
+        return (Sym, (self.name,))  # the hash of a string differs between processes
 
 
 DomainValue = int | float | str | bool | Sym

@@ -241,6 +241,10 @@ def solve_plan(
             if run + known.free_run > FREE_STEP_LIMIT:
                 raise free_run_error(span)
             return known
+        return expand(c, h, run)
+
+    def expand(c: _Config, h: int, run: int) -> _Result:
+        """`best` of a configuration and remaining horizon not known yet."""
         stats.nodes += 1
         if progress is not None and not stats.nodes % _PROGRESS_EVERY:
             report()
@@ -262,12 +266,33 @@ def solve_plan(
             cost = o.cost
             target = o.target
             if cost:
-                rest = best(target, h - cost, 0)
+                # `best(target, h - cost, 0)`, the lookups written out (most options are known).
+                left = h - cost
+                if left <= 0:
+                    rest = _LEAF
+                elif left >= target.settled_from:
+                    rest = target.settled
+                    if rest.feasible:
+                        stats.cache_hits += 1
+                    else:
+                        stats.pruned += 1
+                    if rest.free_run > FREE_STEP_LIMIT:
+                        raise free_run_error(span)
+                else:
+                    known = target.memo.get(left)
+                    if known is None:
+                        rest = expand(target, left, 0)
+                    else:
+                        stats.cache_hits += 1
+                        if known.free_run > FREE_STEP_LIMIT:
+                            raise free_run_error(span)
+                        rest = known
                 if cost + rest.depth > depth:
                     depth = cost + rest.depth
                 if not rest.feasible:
                     continue
-                v = value_of(target) + rest.value
+                reward_after = target.reward
+                v = (value_of(target) if reward_after is None else reward_after) + rest.value
             else:
                 if h in target.on_path:
                     raise free_loop_error(target.prog, o.step)

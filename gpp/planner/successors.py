@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from gpp.model.symbols import SymbolKind
+from gpp.model.symbols import Symbol, SymbolKind
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
@@ -78,7 +78,7 @@ class Successors:
         self.model = sem.model
         self._trans: dict[Prog, TransFn] = {}
         self._final: dict[Prog, FinalFn] = {}
-        self._code_trans: dict[tuple[int, Frame], TransFn] = {}
+        self._code_trans: dict[tuple[int, Frame, frozenset[int]], TransFn] = {}
         self._code_final: dict[tuple[int, Frame], FinalFn] = {}
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
@@ -201,17 +201,20 @@ class Successors:
 
     # ---------------------------------------------------------------- statements: trans
 
-    def code_trans(self, s: ast.Statement, frame: Frame) -> TransFn:
-        key = (id(s), frame)
+    def code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int] = frozenset()) -> TransFn:
+        """`trans` of `s` with the bindings of `frame`. `known`: (the ids of) precondition
+        conjuncts known to hold whenever this function is called, for an action call directly
+        inside `pick`s (a pick guard has just found them true)."""
+        key = (id(s), frame, known)
         f = self._code_trans.get(key)
         if f is None:
-            f = self._code_trans[key] = self._make_code_trans(s, frame)
+            f = self._code_trans[key] = self._make_code_trans(s, frame, known)
         return f
 
     def _condition(self, e: ast.Expr) -> Evaluator:
         return self.program.expr(e)
 
-    def _make_code_trans(self, s: ast.Statement, frame: Frame) -> TransFn:
+    def _make_code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
         variables, ctx = frame.vars, sem.ctx
         match s:
@@ -258,21 +261,22 @@ class Successors:
 
                 return trans_choose
             case ast.Pick() if s.values is None:
-                return self._pick(s, frame)
+                return self._pick(s, frame, known)
             case ast.Solve() | ast.Search():
                 return self.code_trans(s.body, frame)
             case ast.CallStmt():
                 if sem.callee(s).kind is SymbolKind.PROCEDURE:
                     return self._procedure_call(s, frame)
-                return self._action_call(s, frame)
+                return self._action_call(s, frame, known)
             case _:
                 return lambda state, acts: sem._trans_code(s, frame, state, acts)
 
-    def _pick(self, s: ast.Pick, frame: Frame) -> TransFn:
+    def _pick(self, s: ast.Pick, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
         guard = self.program.pick_guard(s)
         ctx = sem.ctx
-        branches = [(f.vars, self.code_trans(s.body, f)) for f in sem.pick_frames(s, frame)]
+        frames = sem.pick_frames(s, frame)
+        branches = [(f.vars, self.code_trans(s.body, f, known)) for f in frames]
         if guard is None:
 
             def trans_pick(state: State, acts: Activities) -> list[Successor]:
@@ -283,7 +287,16 @@ class Successors:
 
             return trans_pick
         if guard.static:
-            return self._statically_guarded_pick(guard, branches)
+            # Once the guard found its conjuncts true, the action's precondition need not
+            # evaluate them again (those that read only fluents: they have the same value).
+            action = self.program.action(self._guarded_call(s).name)
+            pure = frozenset(
+                id(check)
+                for check, expr in action.precondition
+                if check in guard.conjuncts and self.program.reads_only_fluents(expr)
+            )
+            passed = [self.code_trans(s.body, f, known | pure) for f in frames]
+            return self._statically_guarded_pick(guard, branches, passed)
         rejects = guard.rejects
 
         def trans_guarded_pick(state: State, acts: Activities) -> list[Successor]:
@@ -297,31 +310,44 @@ class Successors:
 
         return trans_guarded_pick
 
-    def _statically_guarded_pick(self, guard: PickGuard, branches: list[tuple[dict[int, Value], TransFn]]) -> TransFn:
+    def _guarded_call(self, s: ast.Pick) -> Symbol:
+        """The action called inside the `pick`s of a pick guard."""
+        body: ast.Statement = s
+        while isinstance(body, ast.Pick):
+            body = body.body
+        assert isinstance(body, ast.CallStmt)
+        return self.sem.callee(body)
+
+    def _statically_guarded_pick(
+        self, guard: PickGuard, branches: list[tuple[dict[int, Value], TransFn]], passed: list[TransFn]
+    ) -> TransFn:
         """A guarded `pick` whose guard arguments read only variables: the guard's bindings
         for every value are made once (`PickGuard.rejects` = `bind`, then `rejects_bound`, an
         error in either meaning "not rejected")."""
         sem, ctx = self.sem, self.sem.ctx
-        bound: list[tuple[dict[int, Value] | None, TransFn]] = []
-        for variables, body in branches:
+        bound: list[tuple[dict[int, Value] | None, TransFn, TransFn]] = []
+        for (variables, body), body_passed in zip(branches, passed, strict=True):
             try:
                 bindings = guard.bind(Env(_EMPTY, variables, ctx))
             except GppRuntimeError:
                 bindings = None
-            bound.append((bindings, body))
+            bound.append((bindings, body, body_passed))
         rejects_bound = guard.rejects_bound
 
         def trans_guarded_pick(state: State, acts: Activities) -> list[Successor]:
             out: list[Successor] = []
-            for bindings, body in bound:
+            for bindings, body, body_passed in bound:
                 if bindings is not None:
                     try:
                         rejected = rejects_bound(state, bindings, ctx)
                     except GppRuntimeError:
-                        rejected = False
+                        out.extend(body(state, acts))  # not rejected, nothing known
+                        continue
                     if rejected:
                         sem.pruned_bindings += 1
                         continue
+                    out.extend(body_passed(state, acts))  # the guard's conjuncts hold
+                    continue
                 out.extend(body(state, acts))
             return out
 
@@ -340,7 +366,7 @@ class Successors:
     def _static(self, e: ast.Expr) -> bool:
         return reads_only_variables(self.model, e)
 
-    def _action_call(self, s: ast.CallStmt, frame: Frame) -> TransFn:
+    def _action_call(self, s: ast.CallStmt, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
         call = s.call
         generic: TransFn = lambda state, acts: sem._trans_code(s, frame, state, acts)  # noqa: E731
@@ -355,6 +381,8 @@ class Successors:
         checks: list[Evaluator] = []
         ends_false = False
         for check, expr in action.precondition:
+            if id(check) in known:
+                continue  # true whenever this is called: `all` goes on to the next conjunct
             if self._static(expr):
                 try:
                     value = check(Env(_EMPTY, bindings, ctx))

@@ -648,12 +648,21 @@ class CompiledProgram:
 
         def quantified_comparison(env: Env) -> Value:
             target = value_of(env)
-            get = env.state.get
+            held = env.state.held()
+            symbol = target.name if type(target) is Sym else None
             for i, v in enumerate(values):
                 s = slots[i]
                 if s is None:
                     s = slots[i] = slot_of(name, (v,))
-                if (same(get(s, initial), target) is not negate) is exists:
+                current = held.get(s, _UNKNOWN)
+                if current is _UNKNOWN:
+                    current = initial(s)
+                # same(current, target); for a symbol: a symbol of the same name.
+                if symbol is not None:
+                    equal = type(current) is Sym and current.name == symbol
+                else:
+                    equal = same(current, target)
+                if (equal is not negate) is exists:
                     return exists
             return not exists
 
@@ -661,6 +670,11 @@ class CompiledProgram:
 
     def _reads_variable(self, e: ast.Expr, var_id: int) -> bool:
         return any(isinstance(n, ast.Name) and id(self.model.target(n)) == var_id for n in walk(e))
+
+    def reads_only_fluents(self, e: ast.Expr) -> bool:
+        """In one state, `e` has one value for given values of its variables: it reads no
+        function, exogenous function or clock (see `_state_function_of`)."""
+        return self._state_function_of(e) is not None
 
     def _state_function_of(self, e: ast.Expr) -> tuple[tuple[int, ...], bool] | None:
         """The variables `e` reads besides those it binds itself (and whether their values need

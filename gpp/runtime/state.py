@@ -28,6 +28,10 @@ class State:
         v = self._values.get(slot, _ABSENT)
         return initial(slot) if v is _ABSENT else v
 
+    def held(self) -> Mapping[int, Value]:
+        """The instances whose value is not their initial value (read only)."""
+        return self._values
+
     def updated(self, updates: Mapping[int, Value], initial: Callable[[int], Value]) -> State:
         """A new state with `updates` applied (instances set back to their initial value are
         dropped, to keep the representation canonical)."""
