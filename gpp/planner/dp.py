@@ -23,8 +23,18 @@ What makes it fast, and why each keeps the result identical to the reference's:
    same cost have the same value; the later one can never be strictly better, and ties go to
    the earlier, so the later one is skipped.
 
-No bound on the remaining reward is used: the reward function's range over unvisited states
-is not known, and an estimate that is not a true bound would change the result.
+No bound on the remaining reward is used (no branch and bound). A true bound exists when the
+reward takes finitely many values (its maximum times the remaining horizon), but skipping an
+option because of it skips a subtree the reference explores, and what happens there is part
+of the reference's result: an error (a division by zero in a precondition, a value outside its
+domain, a loop without a costed step) raised in a pruned subtree would not be raised. Only an
+analysis proving that a subtree cannot raise would make such pruning exact. (On the blocks
+world towers the bound would not prune anyway: with the goal worth 100 and a step -1, a bound
+of 100 per remaining step never falls below the value of a plan found.)
+
+`final` and `trans` are called through gpp.planner.successors: the semantics' definitions
+specialised once per program point (tests/test_planner_successors.py checks them against the
+semantics on random programs).
 
 How it is laid out, for speed (none of it changes what is computed):
 
