@@ -427,7 +427,7 @@ number function reward() = if (goal()) {win} else {step}
 
 
 @given(blocks_worlds())
-@settings(PROPERTY, max_examples=40)
+@settings(PROPERTY, max_examples=30)
 def test_production_planner_returns_exactly_the_reference_result_on_larger_blocks_worlds(case: Case) -> None:
     pb = case.problem()
     assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))

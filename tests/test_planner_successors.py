@@ -66,7 +66,7 @@ def check_case(case: Case) -> None:
 
 
 @given(st.one_of(cases(max_horizon=1), looping_cases(max_horizon=1), staggered_cases(max_horizon=1)))
-@settings(PROPERTY, max_examples=250)
+@settings(PROPERTY, max_examples=120)
 def test_specialised_final_and_trans_equal_the_semantics_on_every_reached_configuration(case: Case) -> None:
     check_case(case)
 

@@ -94,7 +94,7 @@ def shortest(pb: PlanningProblem) -> int | None:
 
 
 @given(cases(max_horizon=0, min_horizon=0))
-@settings(PROPERTY, max_examples=100)
+@settings(PROPERTY, max_examples=60)
 def test_iterative_deepening_finds_an_executable_shortest_execution_exactly_when_one_exists(case: Case) -> None:
     pb = case.problem()
     try:

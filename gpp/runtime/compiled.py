@@ -410,10 +410,19 @@ class CompiledProgram:
         if symbol.kind is SymbolKind.FUNCTION:
             program = self
 
+            compiled: list[tuple[tuple[int, ...], Evaluator]] = []  # the body, once it is compiled
+
             def function(env: Env) -> Value:
-                params, body = program.function(name)
-                if body is None:
-                    raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                if compiled:
+                    params, body = compiled[0]
+                else:
+                    params, maybe = program.function(name)
+                    if maybe is None:
+                        raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                    body = maybe
+                    compiled.append((params, body))
+                if not args:
+                    return body(env.bind({}))
                 values = [a(env) for a in args]
                 return body(env.bind(dict(zip(params, values, strict=True))))
 
@@ -594,7 +603,7 @@ class CompiledProgram:
         # many times in one state (a precondition for every binding of a `pick`), so the values
         # of the last state are remembered.
         ids, typed = free
-        results: dict[tuple[object, ...], Value] = {}
+        results: dict[object, Value] = {}
         last: list[State] = [self._empty_state]
 
         def remembered(env: Env) -> Value:
@@ -609,6 +618,21 @@ class CompiledProgram:
                 v = results[key] = evaluate(env)
             return v
 
+        if len(ids) == 1 and not typed:
+            (only,) = ids
+
+            def remembered_by_one_symbol(env: Env) -> Value:
+                # The same, keyed by the value of the one variable (a symbol or null).
+                if env.state is not last[0]:
+                    results.clear()
+                    last[0] = env.state
+                key = env.vars[only]
+                v = results.get(key, _UNKNOWN)
+                if v is _UNKNOWN:
+                    v = results[key] = evaluate(env)
+                return v
+
+            return remembered_by_one_symbol
         return remembered
 
     def _quantified_comparison(
@@ -836,7 +860,10 @@ def check_domain(value: Value, t: Type, span: Span) -> None:
 
 # For each symbol domain met: the domain and its members as a set (keyed by the domain's id,
 # with the domain kept, so that an id reused by a later domain is never mistaken for it).
+# Emptied when it holds _SYMBOL_SETS_SIZE domains, so that programs checked and run one after
+# the other in one process are not all kept alive by it.
 _SYMBOL_SETS: dict[int, tuple[DomainType, frozenset[Value]]] = {}
+_SYMBOL_SETS_SIZE = 1024
 
 
 def _member(value: Value, t: DomainType) -> bool:
@@ -847,6 +874,8 @@ def _member(value: Value, t: DomainType) -> bool:
         members = frozenset(t.values) if t.defined and all(type(v) is Sym for v in t.values) else None
         if members is None:
             return any(same(value, v) for v in t.values)
+        if len(_SYMBOL_SETS) >= _SYMBOL_SETS_SIZE:
+            _SYMBOL_SETS.clear()
         known = _SYMBOL_SETS[id(t)] = (t, members)
     return type(value) is Sym and value in known[1]
 
