@@ -90,6 +90,8 @@ def same_value(a: object, b: object) -> bool:
     (a symbol is never a string, `true` never 1). Used for domain members and at run time."""
     ta = type(a)
     if ta is type(b):  # the common case, first: same type, compared by value
+        if ta is Sym:
+            return a.name == b.name  # type: ignore[attr-defined, no-any-return]  # Sym.__eq__, inline
         return a == b
     # Of two different types only an int and a float can be equal (bool is neither here).
     return (ta is int or ta is float) and (type(b) is int or type(b) is float) and a == b

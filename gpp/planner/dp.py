@@ -55,7 +55,7 @@ records the longest run of free steps its subtree starts with.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
@@ -269,8 +269,12 @@ def solve_plan(
         chosen_rest: _Result | None = None
         depth = free_run = 0
         options = c.options
-        for i in range(len(c.successors)):
-            o = options[i] if i < len(options) else option(c, i)
+        n = len(c.successors)
+        # All options are made after the first expansion; until then they are made as reached.
+        walk: Iterable[_Option | None] = (
+            options if len(options) == n else (options[i] if i < len(options) else option(c, i) for i in range(n))
+        )
+        for o in walk:
             if o is None:
                 continue
             cost = o.cost
