@@ -30,6 +30,7 @@ from gpp.resources import InstallationError
 from gpp.runtime.errors import Terminated
 
 if TYPE_CHECKING:
+    from gpp.codes import CodeInfo
     from gpp.diagnostics import Diagnostic
 
 EXIT_OK = 0
@@ -39,9 +40,12 @@ EXIT_INTERNAL = 3
 
 
 class OutputFormat(StrEnum):
-    """How diagnostics are written: rustc-style text, gpp's JSON report, or SARIF 2.1.0."""
+    """How diagnostics are written: rustc-style text, a line each (concise), GitHub workflow
+    annotations, gpp's JSON report, or SARIF 2.1.0."""
 
     TEXT = "text"
+    CONCISE = "concise"
+    GITHUB = "github"
     JSON = "json"
     SARIF = "sarif"
 
@@ -85,10 +89,18 @@ def _root(
 def check(
     files: Annotated[
         list[Path] | None,
-        typer.Argument(metavar="FILE", help="The .gpp files to check (their includes are checked too)."),
+        typer.Argument(
+            metavar="[PATH]...",
+            help="The .gpp files or folders (searched for *.gpp) to check, with their includes "
+            "(default: the project's `paths`, else the working directory).",
+        ),
     ] = None,
     output_format: Annotated[
-        OutputFormat, typer.Option("--format", help="Write diagnostics as text, one JSON document, or SARIF 2.1.0.")
+        OutputFormat,
+        typer.Option(
+            "--format",
+            help="Write diagnostics as text, a line each (concise), GitHub annotations, JSON or SARIF 2.1.0.",
+        ),
     ] = OutputFormat.TEXT,
     color: Annotated[
         ColorMode, typer.Option("--color", help="Colour the text output: auto (when a terminal), always, never.")
@@ -102,26 +114,32 @@ def check(
         bool, typer.Option("--deny-warnings", help="Exit with status 1 when there are warnings, too.")
     ] = False,
     list_lints: Annotated[bool, typer.Option("--list-lints", help="List the lints and exit.")] = False,
+    fix: Annotated[
+        bool, typer.Option("--fix", help="Apply every safe fix to the files, then report what remains.")
+    ] = False,
+    diff: Annotated[
+        bool, typer.Option("--diff", help="Show the safe fixes as a unified diff without writing (exit 1 if any).")
+    ] = False,
 ) -> None:
-    """Parse FILES and everything they include, and report the problems found."""
+    """Parse PATHs and everything they include, and report the problems found.
+
+    Settings come from the nearest gpp.toml or pyproject.toml [tool.gpp] (see `gpp config`)."""
     if list_lints:
         _print_lints()
         raise typer.Exit(EXIT_OK)
-    if not files:
-        _usage_error("no files to check (give one or more .gpp files, or --list-lints)")
-    allowed = [_lint_code(a) for a in allow or ()]
-    for path in files:
-        _require_readable(path)
-    from gpp.check import check_paths, merged_diagnostics
+    from gpp.cli_check import run_check
 
-    try:
-        results = check_paths(files, lint=not no_lint, allow=allowed)
-    except OSError as e:  # a root file that vanished after the check above
-        _usage_error(f"cannot read '{e.filename or files[0]}': {e.strerror or e}")
-    diagnostics = merged_diagnostics(results)
-    _emit_diagnostics(diagnostics, output_format, color)
-    failed = any(d.is_error or deny_warnings for d in diagnostics)
-    raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
+    allowed = [_lint_code(a) for a in allow or ()]
+    run_check(
+        files or [],
+        output_format,
+        color,
+        lint=not no_lint,
+        allowed=allowed,
+        deny_warnings=deny_warnings,
+        fix=fix,
+        diff=diff,
+    )
 
 
 def _lint_code(code_or_name: str) -> str:
@@ -151,20 +169,44 @@ def _print_lints() -> None:
 
 @app.command()
 def explain(
-    code: Annotated[str, typer.Argument(metavar="CODE", help="A diagnostic code (E0011, W0101) or its name (unused).")],
+    code: Annotated[
+        str | None, typer.Argument(metavar="CODE", help="A diagnostic code (E0011, W0101) or its name (unused).")
+    ] = None,
+    list_codes: Annotated[bool, typer.Option("--list", help="List every code: code, severity, name, summary.")] = False,
 ) -> None:
     """Explain a diagnostic code, with an example of the problem and its fix."""
     from gpp import codes
 
+    if list_codes:
+        if code is not None:
+            _usage_error("give a CODE or --list, not both")
+        _print_codes()
+        raise typer.Exit(EXIT_OK)
+    if code is None:
+        _usage_error("give a CODE to explain (or --list for all of them)")
+
     info = codes.lookup(code)
     if info is None:
         _usage_error(f"unknown code `{code}`" + _did_you_mean(codes.close_matches(code)))
-    kind = "lint" if info.is_lint else "warning" if info.is_warning else "error"
-    print(f"{info.code} ({kind} `{info.name}`): {info.summary}")
+    print(f"{info.code} ({_kind(info)} `{info.name}`): {info.summary}")
     if info.explanation:
         print()
         print(info.explanation)
     raise typer.Exit(EXIT_OK)
+
+
+def _print_codes() -> None:
+    from gpp import codes
+
+    rows = [(c.code, _kind(c), c.name, c.summary) for c in codes.CODES.values()]
+    name_width = max(len(r[2]) for r in rows)
+    print(f"{'code':<7}{'severity':<10}{'name':<{name_width + 2}}summary")
+    for code, kind, name, summary in rows:
+        print(f"{code:<7}{kind:<10}{name:<{name_width + 2}}{summary}")
+
+
+def _kind(info: CodeInfo) -> str:
+    return "lint" if info.is_lint else "warning" if info.is_warning else "error"
 
 
 def _did_you_mean(candidates: Sequence[str]) -> str:
@@ -214,6 +256,11 @@ def _emit_diagnostics(
 
     if output_format is OutputFormat.JSON:
         sys.stdout.write(render.render_json(diagnostics))
+    elif output_format in (OutputFormat.CONCISE, OutputFormat.GITHUB):
+        from gpp import formats
+
+        concise = output_format is OutputFormat.CONCISE
+        sys.stdout.write((formats.render_concise if concise else formats.render_github)(diagnostics))
     elif output_format is OutputFormat.SARIF:
         from gpp.sarif import render_sarif
 
@@ -229,12 +276,17 @@ def _emit_diagnostics(
     sys.stdout.flush()
 
 
-# `gpp run` and `gpp test` live in their own module, and so does `gpp trace`.
+# `gpp run` and `gpp test` live in their own module, and so do `gpp trace`, `gpp fmt`,
+# `gpp config` and `gpp new`.
+from gpp.cli_fmt import register as register_fmt  # noqa: E402
+from gpp.cli_project import register as register_project  # noqa: E402
 from gpp.cli_run import register  # noqa: E402 - registered after the shared helpers above exist
 from gpp.cli_trace import register as register_trace  # noqa: E402
 
 register(app)
 register_trace(app)
+register_project(app)
+register_fmt(app)
 
 # ---------------------------------------------------------------- entry point
 

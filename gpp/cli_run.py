@@ -13,7 +13,9 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 if TYPE_CHECKING:
+    from gpp.check import CheckResult
     from gpp.runview import RunView
+    from gpp.testing import TestCase
 
 PlatformOption = Annotated[
     str | None,
@@ -161,6 +163,7 @@ def run(
         _usage_error,
         use_color,
     )
+    from gpp.cli_check import load_config
     from gpp.runner import RunOptions, RunSetupError, platform_for, run_program
 
     _require_readable(file)
@@ -169,6 +172,9 @@ def run(
 
     if search_strategy not in STRATEGIES:
         _usage_error(f"--search-strategy must be one of {', '.join(STRATEGIES)}, not `{search_strategy}`")
+    config = load_config(file)
+    if timeout is None:
+        timeout = config.run_timeout
     if trace is not None:
         from gpp.paths import output_problem
 
@@ -177,13 +183,15 @@ def run(
             _usage_error(f"--trace: {problem}")
     from gpp.check import check_program
 
-    checked = check_program(file)
+    allow = config.disabled_lints()
+    checked = check_program(file, allow=allow, include_dirs=config.include)
     shown = list(checked.diagnostics)
     if shown:
         _emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
-    chosen = platform_for(platform, checked, file)
+    chosen = platform_for(platform or config.run_platform, checked, file)
+    world = world or _configured_world(config.run_world, chosen, platform_opt, checked, file)
     options = RunOptions(
         platform=chosen,
         platform_options=platform_options(
@@ -199,6 +207,8 @@ def run(
         timeout=timeout,
         trace=trace,
         args=key_values(arg, "--arg"),
+        include_dirs=config.include,
+        allow=allow,
         search_strategy=search_strategy,
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
@@ -230,7 +240,10 @@ def run(
 def test_command(
     paths: Annotated[
         list[Path] | None,
-        typer.Argument(metavar="[PATH]...", help="Programs or folders to run (default: tests/programs)."),
+        typer.Argument(
+            metavar="[PATH]...",
+            help="Programs or folders to run (default: the project's test paths, or tests/programs).",
+        ),
     ] = None,
     platform: PlatformOption = None,
     platform_opt: PlatformOptOption = None,
@@ -242,35 +255,96 @@ def test_command(
         typer.Option(
             "--timeout",
             help="Stop each program after this much platform or wall-clock time, seconds "
-            f"(default: {DEFAULT_TEST_TIMEOUT:g} s of wall-clock time).",
+            f"(default: the project's test timeout, else {DEFAULT_TEST_TIMEOUT:g} s of wall-clock time).",
         ),
     ] = None,
     world: WorldOption = None,
+    keyword: Annotated[
+        str | None,
+        typer.Option(
+            "-k", metavar="EXPRESSION", help="Run only programs whose path matches: words, `and`, `or`, `not`, (...)."
+        ),
+    ] = None,
+    exitfirst: Annotated[bool, typer.Option("-x", "--exitfirst", help="Stop at the first program that fails.")] = False,
+    junitxml: Annotated[
+        Path | None, typer.Option("--junitxml", metavar="FILE", help="Write the results as JUnit XML.")
+    ] = None,
+    jobs: Annotated[int, typer.Option("-j", "--jobs", metavar="N", help="Run N programs at once, in processes.")] = 1,
 ) -> None:
     """Run every program's `main()` and check its `postcond()`; a table of the results.
 
-    Exit code 0 when every program passes, 1 when one fails."""
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, ColorMode, OutputFormat, _emit_diagnostics, _usage_error, use_color
+    Exit code 0 when every program passes, 1 when one fails, 2 when interrupted or misused,
+    5 when no program was selected (as pytest)."""
+    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, _usage_error
+    from gpp.cli_check import load_config
     from gpp.runner import RunOptions
-    from gpp.testing import Verdict, discover, run_all
+    from gpp.testing import SelectionError, discover, run_all, selector
 
     check_timeout(timeout)
-    targets = paths or [Path("tests/programs")]
+    if jobs < 1:
+        _usage_error(f"-j takes a number of processes of at least 1, not {jobs}")
+    config = load_config(paths[0] if paths else Path.cwd())
+    targets = paths or list(config.test_paths)
     for p in targets:
         if not p.exists():
             _usage_error(f"no such file or folder: '{p}'")
-    files = discover(targets)
+    if junitxml is not None:
+        from gpp.paths import output_problem
+
+        problem = output_problem(junitxml)
+        if problem is not None:
+            _usage_error(f"--junitxml: {problem}")
+    files = discover([_shown(p) for p in targets])
+    if keyword is not None:
+        try:
+            matches = selector(keyword)
+        except SelectionError as e:
+            _usage_error(str(e))
+        files = [f for f in files if matches(str(f))]
     if not files:
-        _usage_error("no .gpp files found in " + ", ".join(f"'{p}'" for p in targets))
+        where = ", ".join(f"'{p}'" for p in targets)
+        print(f"no program in {where} matches -k `{keyword}`" if keyword else f"no programs to run in {where}")
+        raise typer.Exit(EXIT_NO_TESTS)
+    timeout = timeout if timeout is not None else config.test_timeout
     options = RunOptions(
         platform=platform,
         platform_options=platform_options(platform_opt, scenario=scenario, seed=seed, random=random, world=world),
         timeout=timeout,
         wall_timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
+        include_dirs=config.include,
+        allow=config.disabled_lints(),
     )
-    cases = run_all(files, options)
+    try:
+        cases = run_all(files, options, jobs=jobs, stop_at_first_failure=exitfirst)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        raise typer.Exit(EXIT_USAGE) from None
+    _print_results(cases, platform)
+    if junitxml is not None:
+        from gpp.testing import junit_xml
+
+        junitxml.write_text(junit_xml(cases), encoding="utf-8")
+    raise typer.Exit(EXIT_PROBLEMS if any(c.failed for c in cases) else EXIT_OK)
+
+
+# As pytest: no test was collected (none found, or none matches -k).
+EXIT_NO_TESTS = 5
+
+
+def _shown(path: Path) -> Path:
+    """A path as the results show it: relative to the working directory when below it."""
+    try:
+        return path.resolve().relative_to(Path.cwd().resolve()) if path.is_absolute() else path
+    except ValueError:
+        return path
+
+
+def _print_results(cases: list[TestCase], platform: str | None) -> None:
     from rich.console import Console
     from rich.table import Table
+
+    from gpp.cli import ColorMode, OutputFormat, _emit_diagnostics, use_color
+    from gpp.testing import Verdict
 
     console = Console(file=sys.stdout, highlight=False, no_color=not use_color(ColorMode.AUTO), width=120)
     table = Table(title=f"gpp test ({platform or 'dummy, or sim for programs with a world'})", title_justify="left")
@@ -287,18 +361,26 @@ def test_command(
             case.detail,
         )
     console.print(table)
-    failed = [c for c in cases if c.verdict in (Verdict.FAIL, Verdict.ERROR)]
-    for case in failed:
-        if case.outcome is not None and case.outcome.diagnostics:
-            _emit_diagnostics(
-                [d for d in case.outcome.diagnostics if d.is_error], OutputFormat.TEXT, ColorMode.AUTO, summary=False
-            )
+    for case in cases:
+        if case.failed and case.errors:
+            _emit_diagnostics(list(case.errors), OutputFormat.TEXT, ColorMode.AUTO, summary=False)
     counts = {v: sum(1 for c in cases if c.verdict is v) for v in Verdict}
     print(
         f"{counts[Verdict.PASS]} passed, {counts[Verdict.FAIL] + counts[Verdict.ERROR]} failed"
         + (f", {counts[Verdict.SKIP]} skipped" if counts[Verdict.SKIP] else "")
     )
-    raise typer.Exit(EXIT_PROBLEMS if failed else EXIT_OK)
+
+
+def _configured_world(
+    world: str | None, platform: str, platform_opt: list[str] | None, checked: CheckResult, file: Path
+) -> str | None:
+    """The configuration's `run.world` for a run on the sim, unless `-o world=...` or the
+    program's `// world:` line names one (the program's own choice comes first)."""
+    from gpp.runner import program_directives
+
+    if world is None or platform != "sim" or "world" in key_values(platform_opt, "--platform-opt"):
+        return None
+    return None if "world" in program_directives(checked, file) else world
 
 
 def _view(file: Path, platform: str, quiet: bool, color: bool) -> RunView:

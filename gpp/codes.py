@@ -95,6 +95,8 @@ _CODES: list[CodeInfo] = [
     ),
     CodeInfo("W0114", "unended-activity", "a `start` whose activity no `end`, `finish`, `fail` or `cancel` refers to"),
     CodeInfo("W0115", "busy-wait", "a `while` loop whose body cannot change what its condition reads"),
+    CodeInfo("W0116", "unused-suppression", "a `// gpp: allow` comment that allows nothing"),
+    CodeInfo("W0117", "invalid-suppression", "a `// gpp: allow` comment naming an error or an unknown lint"),
     # ---------------------------------------------------------------- run time
     # Reported by `gpp run` and `gpp test` when the program runs. R0099 (an internal error) is
     # not registered: it reports a bug in gpp, not a problem of the program.
@@ -1206,6 +1208,50 @@ Wait with `test`:
     }
 """,
     # ---------------------------------------------------------------- run time
+    "W0116": """
+A `// gpp: allow CODE` comment allows a lint where it stands: at the end of a line, on that
+line; on its own line above a declaration, in the whole declaration; `// gpp: allow-file CODE`,
+in the whole file. When the lint it names is not reported there (the code was changed, or the
+comment is in the wrong place), the comment only misleads. `gpp check --fix` removes it.
+
+For example, `go` is used, so nothing is there to allow:
+
+    action go() {}
+    // gpp: allow unused
+    procedure patrol() {
+        go();
+    }
+    procedure main() {
+        patrol();
+    }
+
+Remove the comment:
+
+    action go() {}
+    procedure patrol() {
+        go();
+    }
+    procedure main() {
+        patrol();
+    }
+""",
+    "W0117": """
+Only lints (W codes) can be allowed by a `// gpp: allow` comment. An error (E code) means the
+program cannot run as written, so it cannot be suppressed: fix it. A name that is no lint's
+code or name is most likely misspelled; `gpp check --list-lints` lists them.
+
+For example, the comment tries to allow an error, and misspells `unused`:
+
+    // gpp: allow E0101, unsued
+    action spare() {}
+    procedure main() {}
+
+Allow the lint by its name and leave the errors out:
+
+    // gpp: allow unused
+    action spare() {}
+    procedure main() {}
+""",
     "R0001": """
 An arithmetic operation whose operands have no result stops the run at the expression:
 division or `%` by zero, `%` of numbers that are not whole, `0 ** -1` (a division by zero),

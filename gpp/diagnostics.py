@@ -37,12 +37,28 @@ class Edit:
     text: str
 
 
+class Applicability(Enum):
+    """Whether `gpp check --fix` may apply a fix on its own (as ruff's safe and unsafe fixes).
+
+    SAFE: the fix keeps what the program means or repairs it in the one way the diagnostic
+    names (a missing `;`, the only close name for a misspelled one); UNSAFE: the fix is a guess
+    among several, or changes what the program does. Both are shown and carried in JSON/SARIF."""
+
+    SAFE = "safe"
+    UNSAFE = "unsafe"
+
+
 @dataclass(frozen=True, slots=True)
 class Fix:
-    """A suggested change: a description and the edits that make it."""
+    """A suggested change: a description, the edits that make it, and whether it is safe."""
 
     message: str
     edits: tuple[Edit, ...]
+    applicability: Applicability = Applicability.UNSAFE
+
+    @property
+    def is_safe(self) -> bool:
+        return self.applicability is Applicability.SAFE
 
 
 @dataclass(frozen=True, slots=True)

@@ -498,7 +498,9 @@ class _DiagnosticLayout:
             source = span.source
             groups.setdefault(id(source), (source, []))[1].append(_mark(span, message, is_primary))
         self.snippets = [_Snippet(source, marks, self.role) for source, marks in groups.values()]
-        self.preview = _FixPreview.of(diagnostic.fix) if diagnostic.fix else None
+        fix = diagnostic.fix
+        # A fix that is the help line (a did-you-mean) is not shown a second time as a preview.
+        self.preview = _FixPreview.of(fix) if fix and fix.message != diagnostic.help else None
         numbers = [s.max_line() for s in self.snippets]
         if self.preview:
             numbers.append(self.preview.line)
@@ -580,6 +582,7 @@ class JsonEdit(JsonRange):
 
 class JsonFix(TypedDict):
     message: str
+    applicability: str  # "safe" (`gpp check --fix` applies it) or "unsafe"
     edits: list[JsonEdit]
 
 
@@ -621,6 +624,7 @@ def diagnostic_to_json(d: Diagnostic) -> JsonDiagnostic:
     if d.fix is not None:
         fix = {
             "message": d.fix.message,
+            "applicability": d.fix.applicability.value,
             "edits": [{**_json_range(e.span), "text": e.text} for e in d.fix.edits],
         }
     return {

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -50,6 +50,9 @@ class RunOptions:
     args: Mapping[str, object] = field(default_factory=dict)
     trace: Path | None = None
     entry: str = "main"
+    # The project's settings for checking the program: include folders, lints turned off.
+    include_dirs: Sequence[Path] = ()
+    allow: Sequence[str] = ()
     # How `search` looks for an execution: gpp.planner.search.STRATEGIES.
     search_strategy: str = "depth-first"
     # Told now and then how a long `solve` is getting on (the run view shows it).
@@ -112,7 +115,9 @@ def run_program(
     """Check and run one program (`checked`: the result of checking it already). Raises OSError
     for an unreadable file and RunSetupError when the platform cannot be set up; everything
     about the program itself is in the outcome."""
-    check = checked if checked is not None else check_program(path)
+    if checked is None:
+        checked = check_program(path, allow=options.allow, include_dirs=options.include_dirs)
+    check = checked
     outcome = RunOutcome(path, check, diagnostics=list(check.diagnostics))
     if check.errors:
         return outcome

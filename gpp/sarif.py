@@ -110,7 +110,11 @@ def _result(d: Diagnostic, index: dict[str, int]) -> Json:
             change = changes.setdefault(edit.span.source.path, {"artifactLocation": location, "replacements": []})
             change["replacements"].append({"deletedRegion": _region(edit.span), "insertedContent": {"text": edit.text}})
         result["fixes"] = [
-            {"description": {"text": d.fix.message or "apply the fix"}, "artifactChanges": list(changes.values())}
+            {
+                "description": {"text": d.fix.message or "apply the fix"},
+                "artifactChanges": list(changes.values()),
+                "properties": {"applicability": d.fix.applicability.value},
+            }
         ]
     return result
 

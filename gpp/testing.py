@@ -1,13 +1,18 @@
-"""`gpp test`: run agent programs and check their `postcond()`."""
+"""`gpp test`: run agent programs and check their `postcond()`; select them by name (`-k`),
+run them in parallel processes (`-j`), and write the results as JUnit XML."""
 
 from __future__ import annotations
 
+import re
 import time
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass, field, replace
 from enum import Enum
 from pathlib import Path
 
+from gpp.diagnostics import Diagnostic
+from gpp.render import render_text
 from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.executor import RunStatus
 
@@ -26,6 +31,16 @@ class TestCase:
     seconds: float
     detail: str
     outcome: RunOutcome | None = None
+    # The errors of the program (check or run), kept when the outcome is dropped (`-j`).
+    errors: tuple[Diagnostic, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if self.outcome is not None and not self.errors:
+            self.errors = tuple(d for d in self.outcome.diagnostics if d.is_error)
+
+    @property
+    def failed(self) -> bool:
+        return self.verdict in (Verdict.FAIL, Verdict.ERROR)
 
 
 def discover(paths: Sequence[Path]) -> list[Path]:
@@ -66,5 +81,164 @@ def run_case(path: Path, options: RunOptions) -> TestCase:
     return TestCase(path, Verdict.PASS, seconds, detail, outcome)
 
 
-def run_all(paths: Iterable[Path], options: RunOptions) -> list[TestCase]:
-    return [run_case(p, options) for p in paths]
+def run_all(
+    paths: Iterable[Path],
+    options: RunOptions,
+    *,
+    jobs: int = 1,
+    stop_at_first_failure: bool = False,
+    on_case: Callable[[TestCase], None] | None = None,
+) -> list[TestCase]:
+    """Run the programs in order, or in `jobs` worker processes at once (the results come back
+    in the order of `paths` either way). `stop_at_first_failure`: no program is started after
+    one failed (with several jobs, those already running finish)."""
+    paths = list(paths)
+    if jobs <= 1 or len(paths) <= 1:
+        cases: list[TestCase] = []
+        for p in paths:
+            cases.append(run_case(p, options))
+            if on_case is not None:
+                on_case(cases[-1])
+            if stop_at_first_failure and cases[-1].failed:
+                break
+        return cases
+    return list(_run_parallel(paths, options, jobs, stop_at_first_failure, on_case))
+
+
+def _run_detached(path: Path, options: RunOptions) -> TestCase:
+    """`run_case` in a worker process: the outcome (interpreter state, platform) stays there."""
+    return replace(run_case(path, options), outcome=None)
+
+
+def _run_parallel(
+    paths: list[Path],
+    options: RunOptions,
+    jobs: int,
+    stop_at_first_failure: bool,
+    on_case: Callable[[TestCase], None] | None,
+) -> Iterator[TestCase]:
+    from concurrent.futures import Future, ProcessPoolExecutor
+
+    # The platform's default start method (fork on Linux: the workers start with gpp loaded;
+    # nothing has run in this process yet, so there is no thread to lose).
+    with ProcessPoolExecutor(max_workers=min(jobs, len(paths))) as pool:
+        futures: list[Future[TestCase]] = [pool.submit(_run_detached, p, options) for p in paths]
+        stopped = False
+        for future in futures:
+            if stopped:
+                future.cancel()
+                continue
+            case = future.result()
+            if on_case is not None:
+                on_case(case)
+            yield case
+            if stop_at_first_failure and case.failed:
+                stopped = True
+                for later in futures:
+                    later.cancel()
+
+
+# ---------------------------------------------------------------- -k EXPRESSION
+
+
+NameTest = Callable[[str], bool]
+
+
+class SelectionError(ValueError):
+    """A `-k` expression that does not parse."""
+
+
+_K_TOKEN = re.compile(r"\s*(\(|\)|[^\s()]+)")
+
+
+def selector(expression: str) -> Callable[[str], bool]:
+    """The test of `-k EXPRESSION` on a program's name, as pytest's: words match as substrings
+    (ignoring case), combined with `and`, `or`, `not` and parentheses."""
+    tokens = [m.group(1) for m in _K_TOKEN.finditer(expression)]
+    position = 0
+
+    def peek() -> str | None:
+        return tokens[position] if position < len(tokens) else None
+
+    def take() -> str:
+        nonlocal position
+        token = peek()
+        if token is None:
+            raise SelectionError(f"-k `{expression}`: the expression ends too early")
+        position += 1
+        return token
+
+    def chain(operator: str, operand: Callable[[], NameTest], combine: Callable[[Iterable[bool]], bool]) -> NameTest:
+        """Operands joined by `operator` (`and`, `or`), as one test."""
+        parts = [operand()]
+        while peek() == operator:
+            take()
+            parts.append(operand())
+        return lambda name: combine(p(name) for p in parts)
+
+    def either() -> NameTest:
+        return chain("or", both, any)
+
+    def both() -> NameTest:
+        return chain("and", negation, all)
+
+    def negation() -> NameTest:
+        if peek() == "not":
+            take()
+            inner = negation()
+            return lambda name: not inner(name)
+        token = take()
+        if token == "(":
+            inner = either()
+            if take() != ")":
+                raise SelectionError(f"-k `{expression}`: `(` without `)`")
+            return inner
+        if token in (")", "and", "or"):
+            raise SelectionError(f"-k `{expression}`: unexpected `{token}`")
+        word = token.lower()
+        return lambda name: word in name.lower()
+
+    if not tokens:
+        raise SelectionError("-k needs an expression")
+    test = either()
+    if peek() is not None:
+        raise SelectionError(f"-k `{expression}`: unexpected `{peek()}`")
+    return test
+
+
+# ---------------------------------------------------------------- JUnit XML
+
+
+def junit_xml(cases: Sequence[TestCase], suite: str = "gpp test") -> str:
+    """The results as JUnit XML: one `testsuite` with a `testcase` per program (classname: its
+    folder, name: its file name); `failure` for a failed run or postcond, `error` for a program
+    that did not check or could not start, `skipped` for one without `main`."""
+    root = ET.Element("testsuites")
+    counts = {v: sum(1 for c in cases if c.verdict is v) for v in Verdict}
+    total = sum(c.seconds for c in cases)
+    attributes = {
+        "name": suite,
+        "tests": str(len(cases)),
+        "failures": str(counts[Verdict.FAIL]),
+        "errors": str(counts[Verdict.ERROR]),
+        "skipped": str(counts[Verdict.SKIP]),
+        "time": f"{total:.3f}",
+    }
+    root.attrib.update({k: v for k, v in attributes.items() if k != "name"})
+    testsuite = ET.SubElement(root, "testsuite", attributes)
+    for case in cases:
+        folder = case.path.parent.as_posix()
+        element = ET.SubElement(
+            testsuite,
+            "testcase",
+            {"classname": folder if folder != "." else "", "name": case.path.name, "time": f"{case.seconds:.3f}"},
+        )
+        text = render_text(list(case.errors), summary=False) if case.errors else case.detail
+        if case.verdict is Verdict.FAIL:
+            ET.SubElement(element, "failure", {"message": case.detail, "type": "failure"}).text = text
+        elif case.verdict is Verdict.ERROR:
+            ET.SubElement(element, "error", {"message": case.detail, "type": "error"}).text = text
+        elif case.verdict is Verdict.SKIP:
+            ET.SubElement(element, "skipped", {"message": case.detail})
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -106,16 +106,16 @@ def test_missing_file_is_a_usage_error(project: Path) -> None:
     assert result.stdout == ""
 
 
-def test_directory_is_a_usage_error(project: Path) -> None:
-    result = run_gpp("check", ".", cwd=project)
-    assert result.returncode == 2
-    assert result.stderr.startswith("error: cannot read '.': ")
-    assert "Traceback" not in result.stderr
+def test_a_directory_is_searched_for_programs(project: Path) -> None:
+    result = run_gpp("check", "--format", "concise", ".", cwd=project)
+    assert result.returncode == 1
+    files = {line.split(":")[0] for line in result.stdout.splitlines() if ":" in line and not line.startswith("[")}
+    assert files == {"bad.gpp"}
 
 
 @pytest.mark.parametrize(
     "args",
-    [["check"], ["check", "--format", "xml", "good.gpp"], ["check", "--color", "sometimes", "good.gpp"], ["nope"]],
+    [["check", "--format", "xml", "good.gpp"], ["check", "--color", "sometimes", "good.gpp"], ["nope"]],
 )
 def test_bad_usage_exits_2(project: Path, args: list[str]) -> None:
     result = run_gpp(*args, cwd=project)
@@ -286,7 +286,10 @@ def test_list_lints_needs_no_files(tmp_path: Path) -> None:
 def test_check_without_files_explains_itself(tmp_path: Path) -> None:
     result = run_gpp("check", cwd=tmp_path)
     assert result.returncode == 2
-    assert result.stderr == "error: no files to check (give one or more .gpp files, or --list-lints)\n"
+    assert result.stderr == (
+        "error: no .gpp files found in the project (the working directory); give .gpp files or folders, "
+        "or --list-lints\n"
+    )
 
 
 def test_sarif_output_and_explain_do_not_import_heavy_packages(project: Path) -> None:

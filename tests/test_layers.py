@@ -27,6 +27,9 @@ LAYERS: list[tuple[str, set[str]]] = [
             "gpp.suggest",
             "gpp.paths",
             "gpp.numbers",
+            "gpp.config",
+            "gpp.formats",
+            "gpp.scaffold",
         },
     ),
     ("syntax", {"gpp.syntax"}),
@@ -35,7 +38,19 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("runtime", {"gpp.runtime"}),
     ("planner and platforms", {"gpp.planner", "gpp.platform"}),
     ("runner", {"gpp.runner", "gpp.testing", "gpp.runview", "gpp.traceview"}),
-    ("commands", {"gpp.cli", "gpp.cli_run", "gpp.cli_trace", "gpp.__main__", "lsp"}),
+    (
+        "commands",
+        {
+            "gpp.cli",
+            "gpp.cli_run",
+            "gpp.cli_trace",
+            "gpp.cli_check",
+            "gpp.cli_project",
+            "gpp.cli_fmt",
+            "gpp.__main__",
+            "lsp",
+        },
+    ),
 ]
 # Units of one layer that must not import each other.
 APART = {frozenset({"gpp.planner", "gpp.platform"})}

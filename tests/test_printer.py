@@ -967,8 +967,7 @@ precondition:
     exists(T z) p() & n > 0
 senses:
     f("a", list[number] []).x = n;
-silent:
-    true
+silent: true
 effect:
     if (n > 1) p() = false;
 mapping:
@@ -1079,8 +1078,7 @@ effect:
     battery() = battery() - 5;
 mapping:
     "navigate" { target = r, speed = 0.5 }
-duration:
-    [5, 60]
+duration: [5, 60]
 }
 
 exog_action battery_report(number level) {

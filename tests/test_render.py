@@ -363,6 +363,7 @@ def test_json_report_structure() -> None:
         "help": None,
         "fix": {
             "message": "insert `;`",
+            "applicability": "unsafe",  # made by hand here; the parser marks its `;` safe
             "edits": [{"file": "agent.gpp", "line": 2, "column": 12, "end_line": 2, "end_column": 12, "text": ";"}],
         },
     }

@@ -1,4 +1,7 @@
-"""`gpp check`: load, build the code model, lint; all problems of a program at once."""
+"""`gpp check`: load, build the code model, lint; all problems of a program at once.
+
+Lints allowed by `// gpp: allow CODE` comments are dropped here (gpp.check.suppress), so every
+tool that checks (check, run, test, the language server) honours them."""
 
 from __future__ import annotations
 
@@ -7,6 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gpp import diagnostics as diag
+from gpp.check.suppress import apply_suppressions
 from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.perf import paused_gc, with_deep_stack
@@ -44,6 +48,7 @@ def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> Che
     model, model_diagnostics = build_model(loaded.files)
     syntax_errors = [d for d in loaded.diagnostics if d.is_error]
     found = list(loaded.diagnostics)
+    roots = {f.path for f in loaded.files if f.path in loaded.roots}
     if syntax_errors:
         damaged = _damaged_declarations(loaded, syntax_errors)
         found.extend(
@@ -57,21 +62,28 @@ def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> Che
         if lint:
             from gpp.check.lints import run_lints
 
-            roots = {f.path for f in loaded.files if f.path in loaded.roots}
             found.extend(run_lints(model, roots, allow))
+    found = apply_suppressions(loaded.files, found, roots, report=lint and not syntax_errors, allow=allow)
     return CheckResult(loaded, model, _dedupe(found))
 
 
 def check_program(
-    path: Path, lint: bool = True, allow: Collection[str] = (), overrides: dict[Path, str] | None = None
+    path: Path,
+    lint: bool = True,
+    allow: Collection[str] = (),
+    overrides: dict[Path, str] | None = None,
+    include_dirs: Sequence[Path] = (),
 ) -> CheckResult:
-    """Check one program: the file and everything it includes. An unreadable file raises OSError."""
-    return check_loaded(load([path], overrides), lint, allow)
+    """Check one program: the file and everything it includes (`include_dirs`: the project's
+    include folders). An unreadable file raises OSError."""
+    return check_loaded(load([path], overrides, include_dirs), lint, allow)
 
 
-def check_paths(paths: Sequence[Path], lint: bool = True, allow: Collection[str] = ()) -> list[CheckResult]:
+def check_paths(
+    paths: Sequence[Path], lint: bool = True, allow: Collection[str] = (), include_dirs: Sequence[Path] = ()
+) -> list[CheckResult]:
     """Check each file as a program of its own (programs share code through `#include`)."""
-    return [check_program(p, lint, allow) for p in paths]
+    return [check_program(p, lint, allow, include_dirs=include_dirs) for p in paths]
 
 
 def merged_diagnostics(results: Sequence[CheckResult]) -> list[diag.Diagnostic]:

@@ -742,7 +742,8 @@ def _precedence_warning(chain: ast.Expr, operands: list[ast.Expr], golog: Shape,
         chain.span,
         "mixes operators of different precedence",
         notes=[f"gpp uses standard precedence: `{render_shape(ours, texts)}`"],
-        fix=diag.Fix("add parentheses to make it unambiguous", edits),
+        # gpp already reads it this way: the parentheses change nothing.
+        fix=diag.Fix("add parentheses to make it unambiguous", edits, diag.Applicability.SAFE),
     )
 
 

@@ -26,6 +26,7 @@ from gpp import diagnostics as diag
 from gpp.model.model import Model
 from gpp.model.symbols import Reference, Symbol
 from gpp.source import Span
+from gpp.suggest import Suggestion
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 
@@ -62,8 +63,14 @@ class BuilderState:
         secondary: Iterable[diag.Label] = (),
         notes: Iterable[str] = (),
         help: str | None = None,
+        suggested: Suggestion | None = None,
+        fix: diag.Fix | None = None,
     ) -> None:
-        self.report(diag.error(code, message, span, label, secondary=secondary, notes=notes, help=help))
+        """Report an error; `suggested` names close names for the one at `span` (the help line,
+        and a fix replacing it)."""
+        if suggested is not None:
+            help, fix = suggested.help, suggested.fix(span)
+        self.report(diag.error(code, message, span, label, secondary=secondary, notes=notes, help=help, fix=fix))
 
     def refer(self, span: Span, symbol: Symbol, node: ast.Node | None = None, declaration: bool = False) -> None:
         if self.silent:

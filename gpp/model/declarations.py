@@ -19,7 +19,7 @@ from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker
 from gpp.model.types import BOOL, ERROR, Type
-from gpp.suggest import suggest
+from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 Op = ast.BinaryOp
@@ -209,7 +209,7 @@ class DeclarationChecker(Phase):
                 "E0107",
                 f"component `{component.name}` has no {kind.value} `{name.name}`",
                 name.span,
-                help=suggest(name.name, names),
+                suggested=suggestion(name.name, names),
             )
             return None
         self.refer(name.span, member, name)
@@ -240,7 +240,7 @@ class DeclarationChecker(Phase):
                     "E0107",
                     f"unknown component `{s.component.name}`",
                     s.component.span,
-                    help=suggest(s.component.name, components),
+                    suggested=suggestion(s.component.name, components),
                 )
                 return
             self.refer(s.component.span, component, s.component)
@@ -250,7 +250,9 @@ class DeclarationChecker(Phase):
             action = self.model.globals.get(g.name.name)
             if action is None or action.kind is not SymbolKind.ACTION:
                 actions = [x.name for x in self.model.globals.values() if x.kind is SymbolKind.ACTION]
-                self.error("E0103", f"unknown action `{g.name.name}`", g.name.span, help=suggest(g.name.name, actions))
+                self.error(
+                    "E0103", f"unknown action `{g.name.name}`", g.name.span, suggested=suggestion(g.name.name, actions)
+                )
                 return
             self.refer(g.name.span, action, g.name)
             if len(g.args) != len(action.params):

@@ -15,7 +15,7 @@ from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
 from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, same_value
-from gpp.suggest import suggest
+from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 
@@ -62,7 +62,7 @@ class DomainEvaluator(Phase):
                 domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
                 name = d.name.name
                 message = f"`{name}` is not a domain" if other is not None else f"unknown domain `{name}`"
-                self.error("E0105", message, d.name.span, help=suggest(name, domains))
+                self.error("E0105", message, d.name.span, suggested=suggestion(name, domains))
                 return ()
             self.refer(d.name.span, other, d.name)
             values = self.evaluate_domain(other)

@@ -33,7 +33,7 @@ from gpp.model.types import (
     ListType,
     Type,
 )
-from gpp.suggest import suggest
+from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 
@@ -66,7 +66,11 @@ class TypeResolver(Phase):
         if symbol is None:
             candidates = [*self.model.types, *(n for n in BUILTIN_TYPES if n != "void")]
             self.error(
-                "E0105", f"unknown type `{t.name}`", t.span, "not a declared type", help=suggest(t.name, candidates)
+                "E0105",
+                f"unknown type `{t.name}`",
+                t.span,
+                "not a declared type",
+                suggested=suggestion(t.name, candidates),
             )
             return ERROR
         self.refer(t.span, symbol, t)

@@ -56,7 +56,7 @@ from gpp.model.types import (
     show_value,
 )
 from gpp.source import Span
-from gpp.suggest import suggest
+from gpp.suggest import suggestion
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 
@@ -573,6 +573,14 @@ class TypeChecker(Phase):
                 "missing `(...)`",
                 secondary=self.declared_here(g),
                 help=f"write `{e.name}()`" if not g.params else f"write `{e.name}(...)` with its arguments",
+                # Without parameters, `()` is the one repair; the fix's message is the help line.
+                fix=diag.Fix(
+                    f"write `{e.name}()`",
+                    (diag.Edit(Span(e.span.source, e.span.end, e.span.end), "()"),),
+                    diag.Applicability.SAFE,
+                )
+                if not g.params
+                else None,
             )
             return ERROR
         candidates = [*self.visible_variables(), *self.model.symbols]
@@ -581,7 +589,7 @@ class TypeChecker(Phase):
             f"unknown name `{e.name}`",
             e.span,
             "not a variable, parameter or symbol",
-            help=suggest(e.name, candidates),
+            suggested=suggestion(e.name, candidates),
         )
         return ERROR
 
@@ -602,7 +610,7 @@ class TypeChecker(Phase):
                 f"unknown {what} `{name}`",
                 e.name.span,
                 "not declared",
-                help=suggest(name, pool) or suggest(name, self.model.globals),
+                suggested=suggestion(name, pool) or suggestion(name, self.model.globals),
             )
             for a in e.args:
                 self.expr(a)
@@ -698,7 +706,7 @@ class TypeChecker(Phase):
                     f"`{subject}` has no field `{e.field.name}`",
                     e.field.span,
                     "unknown field",
-                    help=suggest(e.field.name, subject.fields),
+                    suggested=suggestion(e.field.name, subject.fields),
                     notes=[f"fields of `{subject}`: " + ", ".join(f"`{f}`" for f in subject.fields)],
                 )
                 return ERROR
@@ -716,7 +724,7 @@ class TypeChecker(Phase):
             compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
             name = e.type_name.name
             message = f"unknown compound type `{name}`" if symbol is None else f"`{name}` is not a compound type"
-            self.error("E0105", message, e.type_name.span, help=suggest(name, compounds))
+            self.error("E0105", message, e.type_name.span, suggested=suggestion(name, compounds))
             for f in e.fields:
                 self.expr(f.value)
             return ERROR
@@ -732,7 +740,7 @@ class TypeChecker(Phase):
                     f"`{ctype}` has no field `{f.name.name}`",
                     f.name.span,
                     "unknown field",
-                    help=suggest(f.name.name, ctype.fields),
+                    suggested=suggestion(f.name.name, ctype.fields),
                 )
                 self.expr(f.value)
                 continue

@@ -1,8 +1,9 @@
 """Loading a program: parse the given files and everything they `#include`.
 
-`#include "path.gpp"` is resolved relative to the including file, then in the standard
-library (stdlib/). Every file is parsed once however often it is included; an include cycle
-is an error that shows the chain. Included files come before the files that include them in
+`#include "path.gpp"` is resolved relative to the including file, then in the project's include
+folders (the `include` setting of gpp.toml), then in the standard library (stdlib/). Every
+file is parsed once however often it is included; an include cycle is an error that shows the
+chain. Included files come before the files that include them in
 `LoadResult.files` (the order the original golog++ processed them).
 """
 
@@ -56,10 +57,13 @@ def display_path(path: Path) -> str:
     return str(path) if rel.startswith("..") else rel
 
 
-def load(paths: Sequence[Path], overrides: dict[Path, str] | None = None) -> LoadResult:
+def load(
+    paths: Sequence[Path], overrides: dict[Path, str] | None = None, include_dirs: Sequence[Path] = ()
+) -> LoadResult:
     """Parse `paths` and their includes. `overrides` maps resolved paths to unsaved text
-    (an editor's buffers). A root file that cannot be read raises OSError."""
-    loader = _Loader(overrides or {})
+    (an editor's buffers); `include_dirs` are searched for includes after the including file's
+    folder and before the standard library. A root file that cannot be read raises OSError."""
+    loader = _Loader(overrides or {}, include_dirs)
     for p in paths:
         loader.load_root(p)
     loader.result.diagnostics.sort(key=diag.Diagnostic.sort_key)
@@ -72,8 +76,9 @@ def load_text(text: str, path: Path) -> LoadResult:
 
 
 class _Loader:
-    def __init__(self, overrides: dict[Path, str]) -> None:
+    def __init__(self, overrides: dict[Path, str], include_dirs: Sequence[Path] = ()) -> None:
         self.overrides = {p.resolve(): t for p, t in overrides.items()}
+        self.include_dirs = list(include_dirs)
         self.result = LoadResult()
         self.loaded: dict[Path, ParsedFile] = {}
 
@@ -118,7 +123,7 @@ class _Loader:
 
     def include(self, path: Path, decl: ast.Include, chain: list[tuple[Path, ast.Include]]) -> Path | None:
         name = decl.path.value
-        candidates = [path.parent / name, stdlib_dir() / name]
+        candidates = [path.parent / name, *(d / name for d in self.include_dirs), stdlib_dir() / name]
         target = next((c.resolve() for c in candidates if self.exists(c)), None)
         if target is None:
             self.result.diagnostics.append(

@@ -596,7 +596,9 @@ class _Parser:
                 secondary.append(diag.Label(self.span(opener), f"to close this `{opener.value}`"))
         if tok.type != "$END" and self.source.line_col(tok.start)[0] == self.source.line_col(prev.end)[0]:
             secondary.append(diag.Label(self.span(tok), f"found {describe_found(tok)}"))
-        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),))
+        # Only a missing `;` is certain; another inserted token is the parser's guess.
+        safe = diag.Applicability.SAFE if inserted == "SEMI" else diag.Applicability.UNSAFE
+        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),), safe)
         self.report(
             i,
             diag.error(
@@ -615,7 +617,7 @@ class _Parser:
         prev = self.tokens[i - 1] if i > 0 else None
         help = self.keyword_hint(i)
         fix = None
-        remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),))
+        remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),), diag.Applicability.SAFE)
         if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE" and prev.value:
             message = "unexpected `;` after `}`"
             help = "remove this `;`: a statement or declaration that ends with `}` takes no `;`"
@@ -634,6 +636,8 @@ class _Parser:
                 help = help or "to compare two values write `==`"
             if deleting and help is None:
                 fix = diag.Fix(f"remove {describe_found(tok)}", (diag.Edit(self.span(tok), ""),))
+            else:
+                fix = self.keyword_fix(i, help)
         self.report(
             i,
             diag.error(
@@ -649,8 +653,25 @@ class _Parser:
     def keyword_hint(self, i: int) -> str | None:
         """`did you mean `procedure`?` when a name near the error looks like a keyword: of the
         names on the error's line (and the error token), the one most similar to a keyword."""
+        found = self.keyword_guess(i)
+        if found is None:
+            return None
+        word = found[0]
+        return f"did you mean `{word}:`?" if word in SECTION_WORDS else f"did you mean `{word}`?"
+
+    def keyword_fix(self, i: int, help: str | None) -> diag.Fix | None:
+        """The keyword hint as a fix replacing the misspelled name (a guess: unsafe); its
+        message is the hint, so the text output shows the hint once."""
+        found = self.keyword_guess(i)
+        if found is None or help is None or found[0] in SECTION_WORDS:
+            return None
+        word, tok = found
+        return diag.Fix(help, (diag.Edit(self.span(tok), word),), diag.Applicability.UNSAFE)
+
+    def keyword_guess(self, i: int) -> tuple[str, Token] | None:
+        """The keyword, and the name near token `i` it is most likely a misspelling of."""
         line = self.source.line_col(self.tokens[i].start)[0]
-        best: tuple[float, str] | None = None
+        best: tuple[float, str, Token] | None = None
         for k in range(max(0, i - 12), i + 1):
             t = self.tokens[k]
             if t.type != "NAME" or not t.value or self.source.line_col(t.start)[0] < line - 1:
@@ -660,11 +681,8 @@ class _Parser:
             for word in difflib.get_close_matches(t.value, _SUGGESTABLE_KEYWORDS, n=1, cutoff=0.75):
                 ratio = difflib.SequenceMatcher(None, t.value, word).ratio()
                 if best is None or ratio > best[0]:
-                    best = (ratio, word)
-        if best is None:
-            return None
-        word = best[1]
-        return f"did you mean `{word}:`?" if word in SECTION_WORDS else f"did you mean `{word}`?"
+                    best = (ratio, word, t)
+        return (best[1], best[2]) if best is not None else None
 
     def span(self, tok: Token) -> Span:
         return Span(self.source, tok.start, tok.end)

@@ -2,7 +2,8 @@
 
 `format_program` lays a whole program out (4-space indentation, declarations separated by a
 blank line, one statement per line, action/fluent/component sections on their own line with
-their content indented); `format_expr`, `format_stmt`, `format_type` and `format_decl` print
+their content indented, but for the one-word `silent:` and `duration:` sections, which stay on
+their keyword's line); `format_expr`, `format_stmt`, `format_type` and `format_decl` print
 single nodes, e.g. for diagnostics.
 
 The output parses back to an equal tree (`parse_text(format_program(p)).program == p`) for
@@ -495,9 +496,9 @@ def _action_section(s: ast.ActionSection) -> list[str]:
         case ast.MappingSection():
             return ["mapping:", INDENT + _mapping(s.mapping)]
         case ast.SilentSection():
-            return ["silent:", INDENT + format_expr(s.value)]
+            return [f"silent: {format_expr(s.value)}"]
         case ast.DurationSection():
-            return ["duration:", f"{INDENT}[{format_expr(s.low)}, {format_expr(s.high)}]"]
+            return [f"duration: [{format_expr(s.low)}, {format_expr(s.high)}]"]
     raise TypeError(f"cannot format action section {type(s).__name__}")
 
 

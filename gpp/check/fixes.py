@@ -1,0 +1,128 @@
+"""`gpp check --fix` and `--diff`: apply the safe fixes of the diagnostics, round after round.
+
+A round checks every program (with the texts fixed so far), takes each safe fix
+(`Fix.is_safe`) whose edits lie in one file of the project (the standard library is never
+changed), applies the ones that do not overlap, and checks again; fixing a name can reveal the
+next problem, and of two overlapping fixes the second waits for the next round. It stops when a
+round has nothing to apply, after `MAX_ROUNDS` at most. Nothing is written here: the caller
+writes the new texts (`write_atomically`) or shows them (`unified_diff`).
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from gpp import diagnostics as diag
+from gpp.check import CheckResult
+from gpp.resources import stdlib_dir
+from gpp.source import Source
+
+MAX_ROUNDS = 10
+
+# Check one program with some files' texts replaced (resolved path -> text).
+Checker = Callable[[Path, dict[Path, str]], CheckResult]
+
+
+@dataclass
+class FixOutcome:
+    original: dict[Path, str] = field(default_factory=dict)  # resolved path -> text before
+    fixed: dict[Path, str] = field(default_factory=dict)  # resolved path -> text after (changed files)
+    shown: dict[Path, str] = field(default_factory=dict)  # resolved path -> path as diagnostics show it
+    applied: int = 0  # fixes applied, over all rounds
+    rounds: int = 0
+    results: list[CheckResult] = field(default_factory=list)  # the check of the fixed texts
+
+    def changed(self) -> list[Path]:
+        return [p for p, text in self.fixed.items() if text != self.original[p]]
+
+
+def fix_programs(paths: Sequence[Path], check: Checker, max_rounds: int = MAX_ROUNDS) -> FixOutcome:
+    """Apply safe fixes to the programs at `paths` (and the project files they include) in
+    memory until none is left; the outcome holds the new texts and the final check."""
+    outcome = FixOutcome()
+    stdlib = stdlib_dir().resolve()
+    while True:
+        outcome.results = [check(p, outcome.fixed) for p in paths]
+        if outcome.rounds == max_rounds:
+            return outcome
+        files: dict[int, Path] = {}
+        for result in outcome.results:
+            for f in result.loaded.files:
+                if not f.path.is_relative_to(stdlib):
+                    files[id(f.source)] = f.path
+                    outcome.shown.setdefault(f.path, f.source.path)
+                    outcome.original.setdefault(f.path, f.source.text)
+        pending: dict[Path, tuple[Source, list[diag.Fix]]] = {}
+        for result in outcome.results:
+            for d in result.diagnostics:
+                fix = d.fix
+                if fix is None or not fix.is_safe or not fix.edits:
+                    continue
+                source = fix.edits[0].span.source
+                path = files.get(id(source))
+                if path is None or any(e.span.source is not source for e in fix.edits):
+                    continue
+                entry = pending.setdefault(path, (source, []))
+                if fix not in entry[1]:
+                    entry[1].append(fix)
+        applied = 0
+        for path, (source, fixes) in pending.items():
+            text, count = apply_fixes(source.text, fixes)
+            if count:
+                outcome.fixed[path] = text
+                applied += count
+        if not applied:
+            return outcome
+        outcome.applied += applied
+        outcome.rounds += 1
+
+
+def apply_fixes(text: str, fixes: Sequence[diag.Fix]) -> tuple[str, int]:
+    """`text` with the fixes that do not overlap an earlier one (in order of position) applied,
+    and how many were."""
+    chosen: list[diag.Fix] = []
+    last_end = -1
+    last_insertion = -1
+    for fix in sorted(fixes, key=lambda f: (min(e.span.start for e in f.edits), max(e.span.end for e in f.edits))):
+        start = min(e.span.start for e in fix.edits)
+        end = max(e.span.end for e in fix.edits)
+        if start < last_end or (start == end and start == last_insertion):
+            continue
+        chosen.append(fix)
+        last_end = end
+        last_insertion = start if start == end else -1
+    edits = sorted((e for f in chosen for e in f.edits), key=lambda e: (e.span.start, e.span.end), reverse=True)
+    for e in edits:
+        text = text[: e.span.start] + e.text + text[e.span.end :]
+    return text, len(chosen)
+
+
+def unified_diff(outcome: FixOutcome) -> str:
+    """The changes as one unified diff (`--- a/FILE` / `+++ b/FILE`), files in order."""
+    parts: list[str] = []
+    for path in sorted(outcome.changed(), key=lambda p: outcome.shown[p]):
+        shown = outcome.shown[path]
+        before = outcome.original[path].splitlines(keepends=True)
+        after = outcome.fixed[path].splitlines(keepends=True)
+        for line in difflib.unified_diff(before, after, f"a/{shown}", f"b/{shown}"):
+            parts.append(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")
+    return "".join(parts)
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Replace the file's text in one step: written to a temporary file beside it, then renamed
+    over it (keeping its permissions), so a reader never sees half a file."""
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
+            out.write(text)
+        os.chmod(temporary, path.stat().st_mode & 0o7777)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

@@ -1,0 +1,155 @@
+"""`gpp fmt`: format golog++ files in place, check that they are formatted, or show the diff.
+Registered on the app by gpp.cli; the formatting itself is gpp.syntax.format.
+
+Exit codes as for every command: 0 done (or everything already formatted), 1 files that would
+change under --check/--diff, or files with syntax errors (those are left unchanged and their
+errors reported on stderr), 2 usage errors (a missing or unreadable file, `-` mixed with files).
+"""
+
+from __future__ import annotations
+
+import difflib
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+STDIN = "-"
+
+
+def register(app: typer.Typer) -> None:
+    app.command(name="fmt")(fmt)
+
+
+def fmt(
+    paths: Annotated[
+        list[Path] | None,
+        typer.Argument(
+            metavar="[PATH]...",
+            help="The .gpp files to format; a folder means every .gpp file in it; none: the project's paths "
+            "(gpp.toml); `-` reads standard input and writes the result to standard output.",
+        ),
+    ] = None,
+    check: Annotated[
+        bool, typer.Option("--check", help="Change nothing; list the files that would change and exit 1 if any.")
+    ] = False,
+    diff: Annotated[
+        bool, typer.Option("--diff", help="Change nothing; print a unified diff of the changes and exit 1 if any.")
+    ] = False,
+) -> None:
+    """Format golog++ files in the canonical layout, keeping their comments."""
+    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, _usage_error
+
+    paths = paths or []
+    if any(str(p) == STDIN for p in paths):
+        if len(paths) > 1:
+            _usage_error("`-` (standard input) cannot be combined with other paths")
+        raise typer.Exit(_format_stdin(check, diff))
+    files = expand_paths(paths)
+    # Every file is read before any is written: an unreadable one stops the command early.
+    texts = [(path, _read(path)) for path in files]
+    changed: list[Path] = []
+    failed = 0
+    for path, text in texts:
+        formatted = _format(text, str(path))
+        if formatted is None:
+            failed += 1
+        elif formatted != text:
+            changed.append(path)
+            if diff:
+                sys.stdout.writelines(_diff(text, formatted, str(path)))
+            if check:
+                print(f"would reformat: {path}")
+            if not (check or diff):
+                _write(path, formatted)
+    unchanged = len(files) - len(changed) - failed
+    if check or diff:
+        summary = [f"{_count(len(changed), 'file')} would be reformatted", f"{unchanged} already formatted"]
+    else:
+        summary = [f"{_count(len(changed), 'file')} reformatted", f"{unchanged} left unchanged"]
+    if failed:
+        summary.append(f"{_count(failed, 'file')} with syntax errors left unchanged")
+    print(", ".join(summary), file=sys.stderr if diff else sys.stdout)
+    raise typer.Exit(EXIT_PROBLEMS if failed or ((check or diff) and changed) else EXIT_OK)
+
+
+def expand_paths(paths: Sequence[Path]) -> list[Path]:
+    """The files to format, found as `gpp check` finds them (gpp.config.project_files): each
+    file given, the .gpp files under each folder given, or with no PATH the project's `paths`.
+    A path that does not exist, a bad configuration file or no .gpp file at all are usage errors."""
+    from gpp.cli import _usage_error
+    from gpp.cli_check import config_error
+    from gpp.config import ConfigError, project_files
+
+    for path in paths:
+        if not path.exists():
+            _usage_error(f"cannot read '{path}': no such file or folder")
+    try:
+        files = project_files(paths)
+    except ConfigError as e:
+        config_error(e)
+    if not files:
+        where = ", ".join(f"'{p}'" for p in paths) if paths else "the project (the working directory)"
+        _usage_error(f"no .gpp files in {where}")
+    return files
+
+
+def _format_stdin(check: bool, diff: bool) -> int:
+    from gpp.cli import EXIT_OK, EXIT_PROBLEMS
+
+    text = sys.stdin.read()
+    formatted = _format(text, "<stdin>")
+    if formatted is None:
+        return EXIT_PROBLEMS
+    if diff:
+        sys.stdout.writelines(_diff(text, formatted, STDIN))
+    if check and formatted != text:
+        print(f"would reformat: {STDIN}")
+    if not (check or diff):
+        sys.stdout.write(formatted)
+    return EXIT_PROBLEMS if (check or diff) and formatted != text else EXIT_OK
+
+
+def _format(text: str, path: str) -> str | None:
+    """The formatted text, or None after reporting the syntax errors on stderr."""
+    from gpp.render import render_text
+    from gpp.syntax.format import FormatError, format_text
+
+    try:
+        return format_text(text, path)
+    except FormatError as e:
+        sys.stderr.write(render_text(e.diagnostics, summary=False))
+        return None
+
+
+def _read(path: Path) -> str:
+    from gpp.cli import _usage_error
+
+    try:
+        return path.read_bytes().decode("utf-8")
+    except OSError as e:
+        _usage_error(f"cannot read '{path}': {e.strerror or e}")
+    except UnicodeDecodeError:
+        _usage_error(f"cannot read '{path}': it is not UTF-8 text")
+
+
+def _write(path: Path, text: str) -> None:
+    from gpp.cli import _usage_error
+
+    try:
+        path.write_bytes(text.encode("utf-8"))
+    except OSError as e:
+        _usage_error(f"cannot write '{path}': {e.strerror or e}")
+
+
+def _diff(before: str, after: str, name: str) -> list[str]:
+    lines = difflib.unified_diff(
+        before.splitlines(keepends=True), after.splitlines(keepends=True), f"{name} (before)", f"{name} (formatted)"
+    )
+    return [line if line.endswith("\n") else line + "\n\\ No newline at end of file\n" for line in lines]
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"

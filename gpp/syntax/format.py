@@ -1,0 +1,506 @@
+"""The formatter behind `gpp fmt` and the language server's formatting request.
+
+`format_text` lays a program out canonically and keeps every comment where it was. The layout
+is the pretty-printer's (printer.format_program: 4-space indentation, one statement per line,
+`} else {`), so the formatted program parses to the same tree. The comments and blank lines
+are then put back between the printed tokens: the formatter lines up the program's tokens with
+the printed ones (the same but for the spelling of literals and the redundant parentheses the
+printer drops) and writes the comments of each gap between two tokens into the matching gap of
+the printed text:
+
+* a comment on a line of its own stays on a line of its own, directly above the code that
+  followed it, indented like that code (one step deeper above a closing `}`);
+* a comment after code on the same line stays at the end of that line (after the token that
+  preceded it), two spaces after the code; the comments ending consecutive lines are aligned;
+* a block comment between two tokens of one line stays between them (`f(a /* x */, b)`);
+* one blank line is kept where the program had one or more between two lines (never directly
+  after an opening `{` or a section keyword, never before a closing `}`), none where it had
+  none.
+
+Printed lines are broken at break points: after the `=` of a top-level definition, after `,`,
+before `->`, `|`, `&` and binary `+`/`-` (loosest first). A line break the program has at a
+break point is kept; a line still longer than `WIDTH` is broken at its loosest break points of
+the shallowest bracket depth, and so on until the parts fit. Brackets broken after their commas
+hold one part per line and close on a line of their own (`f(` / `a,` / `b` / `)`); any other
+continued line is indented one step more than the line it continues, plus one per open bracket.
+A comment that has to end a line the printer did not end (a `//` comment inside an
+expression) breaks it the same way.
+
+Directives (`// world: ...`) and suppression comments (`// gpp: allow ...`) are ordinary comments
+for the formatter: they stay on their line, above what they preceded.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import Enum
+from itertools import pairwise
+
+from gpp.diagnostics import Diagnostic
+from gpp.source import Source
+from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
+from gpp.syntax.parser import parse
+from gpp.syntax.printer import INDENT, format_program
+
+# Printed lines longer than this are wrapped where the code allows it.
+WIDTH = 100
+
+
+class FormatError(Exception):
+    """The text has syntax errors, so it cannot be formatted; `diagnostics` lists them."""
+
+    def __init__(self, diagnostics: Sequence[Diagnostic]) -> None:
+        self.diagnostics = list(diagnostics)
+        first = next((d for d in self.diagnostics if d.is_error), None)
+        super().__init__(first.message if first is not None else "syntax error")
+
+
+def format_text(text: str, path: str = "<input>") -> str:
+    """`text` formatted: the canonical layout with its comments. Raises FormatError when the
+    text has syntax errors (the text is then not formatted)."""
+    source = Source(text, path)
+    result = parse(source)
+    if not result.ok:
+        raise FormatError([d for d in result.diagnostics if d.is_error])
+    printed = format_program(result.program)
+    out_tokens, errors = tokenize(Source(printed, path))
+    assert not errors, errors
+    token_map = _token_map(result.tokens, out_tokens)
+    printed, out_tokens = _keep_literal_spelling(printed, path, result.tokens, out_tokens, token_map)
+    gaps = _gaps(text, result.tokens)
+    placed: list[list[_Comment]] = [[] for _ in range(len(out_tokens) + 1)]
+    blank_before = [False] * (len(out_tokens) + 1)
+    newline_before = [False] * (len(out_tokens) + 1)
+    for gap, target in zip(gaps, token_map, strict=True):
+        placed[target].extend(gap.comments)
+        blank_before[target] |= gap.blank_before_token
+        newline_before[target] |= gap.newline
+    return _Writer(printed, out_tokens, placed, blank_before, newline_before).run()
+
+
+def _keep_literal_spelling(
+    printed: str, path: str, original: list[Token], out_tokens: list[Token], token_map: list[int]
+) -> tuple[str, list[Token]]:
+    """The printed text with each number and string literal spelled as the author wrote it
+    (`1e308`, `0.50`, `"\u00e9"` stay as they are): the printer spells a literal by its value,
+    which is the same value but not always the same text."""
+    replaced: list[tuple[Token, str]] = []
+    for i, token in enumerate(original):
+        j = token_map[i]
+        if token.type in _LITERALS and j < len(out_tokens):
+            out = out_tokens[j]
+            if out.type == token.type and out.value != token.value and _key(out) == _key(token):
+                replaced.append((out, token.value))
+    if not replaced:
+        return printed, out_tokens
+    parts: list[str] = []
+    pos = 0
+    for out, spelling in replaced:
+        parts += [printed[pos : out.start], spelling]
+        pos = out.end
+    parts.append(printed[pos:])
+    text = "".join(parts)
+    tokens, errors = tokenize(Source(text, path))
+    assert not errors and len(tokens) == len(out_tokens), errors
+    return text, tokens
+
+
+# ---------------------------------------------------------------- comments of the program
+
+
+@dataclass(frozen=True, slots=True)
+class _Comment:
+    text: str
+    own_line: bool  # nothing but whitespace before it on its line
+    ends_line: bool  # nothing but whitespace after it on its line
+    blank_before: bool  # a blank line right above it
+    column: int  # where it started on its line
+
+
+@dataclass(frozen=True, slots=True)
+class _Gap:
+    """What lies between two tokens (or before the first, or after the last)."""
+
+    comments: list[_Comment]
+    blank_before_token: bool  # a blank line between the last comment (or token) and the token
+    newline: bool  # a line break anywhere in the gap
+
+
+_COMMENT = re.compile(r"//[^\n]*|/\*[\s\S]*?\*/")
+
+
+def _gaps(text: str, tokens: list[Token]) -> list[_Gap]:
+    """The gap before each token, and the one after the last token."""
+    gaps: list[_Gap] = []
+    previous_end = 0
+    for i in range(len(tokens) + 1):
+        end = tokens[i].start if i < len(tokens) else len(text)
+        comments: list[_Comment] = []
+        pos = previous_end
+        for m in _COMMENT.finditer(text, previous_end, end):
+            line_start = text.rfind("\n", 0, m.start()) + 1
+            following = text[m.end() : end]
+            space = following[: len(following) - len(following.lstrip())]
+            comments.append(
+                _Comment(
+                    text="\n".join(line.rstrip() for line in m.group().split("\n")),
+                    own_line=not text[line_start : m.start()].strip(),
+                    ends_line=m.group().startswith("//") or "\n" in space or m.end() + len(space) == len(text),
+                    blank_before=text[pos : m.start()].count("\n") >= 2,
+                    column=m.start() - line_start,
+                )
+            )
+            pos = m.end()
+        gaps.append(_Gap(comments, text[pos:end].count("\n") >= 2, "\n" in text[previous_end:end]))
+        if i < len(tokens):
+            previous_end = tokens[i].end
+    return gaps
+
+
+_SECTION_TYPES = frozenset(SECTION_WORDS.values())
+
+
+def _key(t: Token) -> tuple[str, object]:
+    if t.type == "NUMBER":
+        return t.type, float(t.value)
+    if t.type == "STRING":
+        return t.type, unescape_string(t.value)
+    if t.type in _SECTION_TYPES:
+        return t.type, ""  # `effect :` is `effect:`
+    return t.type, t.value
+
+
+def _token_map(original: list[Token], printed: list[Token]) -> list[int]:
+    """For the gap before each original token (and the one after the last): the gap of the
+    printed text that gets its comments. The printed tokens are the program's own but for the
+    spelling of literals and redundant parentheses, which the printer drops (`((x))` is
+    `(x)`); the gap before a dropped token goes before the next printed token."""
+    a = [_key(t) for t in original]
+    b = [_key(t) for t in printed]
+    target = [0] * (len(a) + 1)
+    i = j = 0
+    while i < len(a):
+        if j < len(b) and (a[i] == b[j] or a[i][0] == b[j][0] in _LITERALS):
+            target[i] = j
+            i += 1
+            j += 1
+        elif a[i][0] in _PARENS:
+            target[i] = j
+            i += 1
+        elif j < len(b) and b[j][0] in _PARENS:
+            j += 1
+        else:
+            return _diff_map(a, b)
+    target[len(a)] = len(b)
+    return target
+
+
+_LITERALS = frozenset({"NUMBER", "STRING"})
+_PARENS = frozenset({"LPAR", "RPAR"})
+
+
+def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[int]:
+    """The token map by a diff, for printed tokens that differ in ways not foreseen."""
+    target = [0] * (len(a) + 1)
+    target[len(a)] = len(b)
+    for op, i1, i2, j1, j2 in difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes():
+        for i in range(i1, i2):
+            target[i] = j1 + (i - i1) if op != "delete" and j1 + (i - i1) < j2 else j2
+    return target
+
+
+# ---------------------------------------------------------------- writing
+
+
+class _Mode(Enum):
+    OWN_LINE = 1  # on a line of its own
+    TRAILING = 2  # at the end of a line of code
+    INLINE = 3  # between two tokens of one line
+
+
+_OPENERS = frozenset({"LPAR", "LBRACKET", "LBRACE", "MAIN_LBRACE"})
+_CLOSERS = frozenset({"RPAR", "RBRACKET", "RBRACE"})
+# Tokens that open a block or a section: no blank line right after them.
+_NO_BLANK_AFTER = frozenset({"LBRACE", "MAIN_LBRACE", *SECTION_WORDS.values()})
+# Continuation words that stay at the statement's indentation when a comment ends the line
+# before them (`}` / `// c` / `else {`).
+_STATEMENT_WORDS = frozenset({"ELSE", "ON_FAIL", "ON_CANCEL"})
+# Tokens that need no space before them after an inline comment.
+_TIGHT_AFTER = frozenset({"RPAR", "RBRACKET", "COMMA", "SEMI"})
+# Operand ends: an ADD_OP after one of these is binary.
+_OPERAND_ENDS = frozenset({"NAME", "NUMBER", "STRING", "RPAR", "RBRACKET", "RBRACE", "TRUE", "FALSE", "NULL"})
+
+
+class _Writer:
+    def __init__(
+        self,
+        printed: str,
+        tokens: list[Token],
+        comments: list[list[_Comment]],
+        blank_before: list[bool],
+        newline_before: list[bool],
+    ) -> None:
+        self.printed = printed
+        self.tokens = tokens
+        self.comments = comments
+        self.blank_before = blank_before
+        n = len(tokens)
+        # Per printed token: does it start a printed line, that line's indentation, and the
+        # bracket depth before it relative to the start of its printed line.
+        self.starts_line = [False] * n
+        self.indent = [""] * n
+        self.depth = [0] * n
+        self.enclosing: list[tuple[int, ...]] = [()] * n
+        self.closer_of: dict[int, int] = {}  # opening bracket -> its closing one, on one printed line
+        self.opener_of: dict[int, int] = {}
+        self.breaks: set[int] = set()  # tokens that start a line the printer did not start
+        self.exploded: set[int] = set()  # opening brackets whose content is laid out one part per line
+        self._analyse(newline_before)
+        self.lines: list[str] = [""]
+        self.trailing_at: dict[int, int] = {}  # line -> column where its trailing comment's gap starts
+        self.at_line_start = True
+        self.after_opener = False  # the last line written ends with `{` or a section keyword
+
+    # ------------------------------------------------ the printed lines
+
+    def _analyse(self, newline_before: list[bool]) -> None:
+        lines: list[int] = []  # the first token of each printed line
+        indent = ""
+        depth = 0
+        stack: list[int] = []  # the brackets open at a token, opened on its printed line
+        for k, t in enumerate(self.tokens):
+            sep = self.printed[self.tokens[k - 1].end : t.start] if k else "\n"
+            if "\n" in sep:
+                lines.append(k)
+                indent = sep[sep.rfind("\n") + 1 :]
+                depth = 0
+                stack = []
+                self.starts_line[k] = True
+            self.indent[k] = indent
+            if t.type in _CLOSERS:
+                depth -= 1
+                if stack:
+                    opener = stack.pop()
+                    self.closer_of[opener] = k
+                    self.opener_of[k] = opener
+            self.depth[k] = depth if t.type not in _CLOSERS else depth + 1
+            self.enclosing[k] = tuple(stack)
+            if t.type in _OPENERS:
+                depth += 1
+                stack.append(k)
+        # The program's own line breaks where a long line could be broken are kept; then
+        # what is still too long is wrapped.
+        for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=False):
+            kept = [k for k in range(lo + 1, hi) if newline_before[k] and self._break_rank(k) is not None]
+            self.breaks.update(kept)
+            bounds = [lo, *kept, hi]
+            for start, end in pairwise(bounds):
+                self._wrap(start, end)
+        # Brackets broken at their commas put each part on its own lines, closed on a line
+        # of its own: `f(` / `a,` / `b` / `)`.
+        for k in list(self.breaks):
+            if self.tokens[k - 1].type == "COMMA" and self.enclosing[k] and self.enclosing[k][-1] in self.closer_of:
+                self.exploded.add(self.enclosing[k][-1])
+        for o in self.exploded:
+            self.breaks.update((o + 1, self.closer_of[o]))
+
+    def continuation(self, k: int) -> str:
+        """The indentation of token k when a line is broken before it: one step per exploded
+        bracket around it, and for a line that continues an expression one step more, plus one
+        per other open bracket."""
+        t = self.tokens[k]
+        groups = self.enclosing[k]
+        exploded = sum(1 for o in groups if o in self.exploded)
+        if self.opener_of.get(k) in self.exploded:
+            return self.indent[k] + INDENT * exploded
+        if groups and groups[-1] in self.exploded and (k - 1 == groups[-1] or self.tokens[k - 1].type == "COMMA"):
+            return self.indent[k] + INDENT * exploded
+        if not groups and (t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS):
+            return self.indent[k]
+        return self.indent[k] + INDENT * (1 + len(groups))
+
+    def _span_length(self, lo: int, hi: int) -> int:
+        text = self.printed[self.tokens[lo].start : self.tokens[hi - 1].end]
+        return max(len(line) for line in text.split("\n"))
+
+    def _wrap(self, lo: int, hi: int) -> None:
+        """Break the tokens lo..hi-1, which start a line, where they are longer than WIDTH."""
+        indent = len(self.indent[lo]) + (len(INDENT) * (1 + self.depth[lo]) if lo in self.breaks else 0)
+        if indent + self._span_length(lo, hi) <= WIDTH:
+            return
+        candidates: list[tuple[int, int, int]] = []  # (depth, rank, token)
+        for k in range(lo + 1, hi):
+            rank = self._break_rank(k)
+            if rank is not None:
+                candidates.append((self.depth[k], rank, k))
+        if not candidates:
+            return
+        depth, rank, _ = min(candidates)
+        chosen = [k for d, r, k in candidates if d == depth and r == rank]
+        self.breaks.update(chosen)
+        bounds = [lo, *chosen, hi]
+        for start, end in pairwise(bounds):
+            self._wrap(start, end)
+
+    def _break_rank(self, k: int) -> int | None:
+        """How loose a line break before token k is (lower is looser), None if no break fits."""
+        before = self.tokens[k - 1].type
+        t = self.tokens[k].type
+        if before == "EQ" and not self.indent[k]:
+            return 0  # a top-level definition: `bool function f() =` / `    body`
+        if before == "COMMA":
+            return 1
+        if t == "ARROW":
+            return 2
+        if t == "BAR":
+            return 3
+        if t == "AMP":
+            return 4
+        if t == "ADD_OP" and before in _OPERAND_ENDS:
+            return 5
+        return None
+
+    # ------------------------------------------------ output
+
+    def write(self, text: str) -> None:
+        if not text:
+            return
+        if "\n" in text:
+            first, *rest = text.split("\n")
+            self.lines[-1] += first
+            self.lines.extend(rest)
+        else:
+            self.lines[-1] += text
+        self.at_line_start = False
+
+    def newline(self) -> None:
+        self.lines[-1] = self.lines[-1].rstrip()
+        self.lines.append("")
+        self.at_line_start = True
+
+    def blank_line(self) -> None:
+        """A blank line, unless at the top, right after an opener, or after a blank line."""
+        if self.after_opener or len(self.lines) < 2 or self.lines[-2] == "":
+            return
+        if self.lines[-1] == "":
+            self.lines.append("")
+
+    def run(self) -> str:
+        n = len(self.tokens)
+        for k in range(n + 1):
+            self._gap(k)
+            if k < n:
+                t = self.tokens[k]
+                self.write(self.printed[t.start : t.end])
+                self.after_opener = t.type in _NO_BLANK_AFTER
+        if not self.at_line_start:
+            self.newline()
+        self._align_trailing()
+        text = "\n".join(self.lines).rstrip("\n")
+        return text + "\n" if text else ""
+
+    def _modes(self, k: int, comments: list[_Comment], line_break: bool) -> list[_Mode]:
+        modes: list[_Mode] = []
+        at_start = k == 0
+        for c in comments:
+            if at_start or c.own_line:
+                mode = _Mode.OWN_LINE
+            elif c.ends_line:
+                mode = _Mode.TRAILING
+            else:
+                mode = _Mode.INLINE
+            modes.append(mode)
+            at_start = mode is not _Mode.INLINE
+        # An inline comment followed by a line break ends its line.
+        next_on_new_line = line_break
+        for i in range(len(modes) - 1, -1, -1):
+            if modes[i] is _Mode.INLINE and next_on_new_line:
+                modes[i] = _Mode.TRAILING
+            next_on_new_line = modes[i] is _Mode.OWN_LINE
+        return modes
+
+    def _gap(self, k: int) -> None:
+        """The comments of gap k, then the line break or space before token k."""
+        n = len(self.tokens)
+        printed_break = k == n or self.starts_line[k]
+        line_break = printed_break or k in self.breaks
+        last_inline = False
+        if self.comments[k]:
+            line_break, last_inline = self._comments(k, printed_break, line_break)
+        if k == n:
+            return
+        if line_break or self.at_line_start:
+            if not self.at_line_start:
+                self.newline()
+            if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
+                self.blank_line()
+            self.write(self.indent[k] if printed_break else self.continuation(k))
+        elif last_inline:
+            self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
+        else:
+            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+
+    def _comments(self, k: int, printed_break: bool, line_break: bool) -> tuple[bool, bool]:
+        """Write the comments of gap k; whether token k now starts a line, and whether the
+        last comment was written inline."""
+        comments = self.comments[k]
+        if k == len(self.tokens):
+            comment_indent = ""
+        else:
+            indent = self.indent[k] if printed_break else self.continuation(k)
+            closing = self.tokens[k].type == "RBRACE" and indent == self.indent[k]
+            comment_indent = indent + INDENT if closing else indent
+        last_inline = False
+        for c, mode in zip(comments, self._modes(k, comments, line_break), strict=True):
+            last_inline = False
+            if mode is _Mode.OWN_LINE:
+                if not self.at_line_start:
+                    self.newline()
+                if c.blank_before:
+                    self.blank_line()
+                self.write(comment_indent + _reindent(c, len(comment_indent)))
+                self.newline()
+                self.after_opener = False
+            elif mode is _Mode.TRAILING:
+                if "\n" not in c.text:
+                    self.trailing_at[len(self.lines) - 1] = len(self.lines[-1])
+                self.write("  " + c.text)
+                self.newline()
+                line_break = True
+            else:
+                gap = "" if self.lines[-1].endswith(("(", "[")) or self.at_line_start else " "
+                self.write(gap + c.text)
+                last_inline = True
+        return line_break, last_inline
+
+    def _align_trailing(self) -> None:
+        """The trailing comments of consecutive lines start in one column."""
+        runs: list[list[int]] = []
+        for i in sorted(self.trailing_at):
+            if runs and runs[-1][-1] == i - 1:
+                runs[-1].append(i)
+            else:
+                runs.append([i])
+        for run in runs:
+            column = max(self.trailing_at[j] for j in run)
+            for j in run:
+                at = self.trailing_at[j]
+                self.lines[j] = self.lines[j][:at] + " " * (column - at) + self.lines[j][at:]
+
+
+def _reindent(c: _Comment, column: int) -> str:
+    """A comment moved from its column to `column`: the further lines of a block comment move
+    along when they can."""
+    lines = c.text.split("\n")
+    shift = column - c.column
+    if len(lines) == 1 or shift == 0:
+        return "\n".join(line.rstrip() for line in lines)
+    rest = lines[1:]
+    if shift > 0:
+        rest = [" " * shift + line if line.strip() else "" for line in rest]
+    elif all(not line.strip() or line[:-shift].isspace() for line in rest):
+        rest = [line[-shift:] for line in rest]
+    return "\n".join(line.rstrip() for line in [lines[0], *rest])
