@@ -106,3 +106,41 @@ procedure main() {
         assert answer(fast.trans, p, s, a) == expected
         assert answer(fast.final, p, s, a) == answer(pb.sem.final, p, s, a)
     assert errors > 0  # `bad` divides by zero when n() is 2
+
+
+def test_procedures_recursion_nested_solve_and_pick_values_stay_the_semantics_own() -> None:
+    """What the random programs do not use: procedure calls (with parameters, recursive, with a
+    domain check of an argument), a `solve` inside the planned program, `pick ... in {...}`,
+    `if` in the middle of a block, and `concurrent`."""
+    text = """
+symbol domain item = {p, q, r}
+number fluent n() { initially: () = 0; }
+bool fluent done(item i) { initially: (i) = false; }
+action mark(item i) { precondition: !done(i) effect: done(i) = true; n() = n() + 1; }
+action inc() { precondition: n() < 4 effect: n() = n() + 1; }
+procedure walk(item i, number k) {
+    if (k > 0) { choose { mark(i); inc(); } walk(i, k - 1); }
+}
+procedure each() { pick (item i in {q, r}) { test(!done(i)); mark(i); } }
+number function reward() = n()
+procedure main() {
+    solve(6, reward()) {
+        walk(p, 2);
+        if (n() > 1) each(); else inc();
+        solve(2, reward()) concurrent { inc(); pick (item i) mark(i); }
+        while (n() < 5) choose { inc(); each(); }
+    }
+}
+"""
+    result = check_text(text, lint=False)
+    assert result.errors == 0, [d.message for d in result.diagnostics]
+    pb = first_solve(result.model)
+    configurations = reachable(pb.sem, (pb.prog, pb.state, pb.acts))
+    assert len(configurations) == 21  # all there are
+    fast = Successors(pb.sem)
+    for p, s, a in configurations:
+        for _ in range(2):
+            assert answer(fast.trans, p, s, a) == answer(pb.sem.trans, p, s, a)
+            assert answer(fast.final, p, s, a) == answer(pb.sem.final, p, s, a)
+    production, reference = pb.production(), pb.reference()
+    assert production.actions() and (production.value, production.steps) == (reference.value, reference.steps)
