@@ -2,6 +2,8 @@
 of examples/blocks_planning.gpp, for horizons up to 14.
 
 Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
+     .venv/bin/python bench/planner.py --targets [--runs N]
+     .venv/bin/python bench/planner.py --profile [--blocks 6 7]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
 planner (gpp.planner.reference, the plain recursive definition) and prints their node counts,
@@ -11,11 +13,25 @@ the production's nodes: a lower bound, never an invented number. With --count th
 of nodes the reference would expand is counted as well (by a memoised count that
 tests/test_planner.py checks against the reference's own count), for towers of up to five
 blocks. Times are CPU seconds of this process (the machine may be shared), best of one run.
+
+--targets times the production planner on the three target problems (five blocks solve(10),
+six and seven blocks solve(14)): CPU seconds (best of --runs), nodes, microseconds per node,
+nodes per second, the ratio to the planner before gpp issue #14 (measured on the same machine
+at commit 9252b1d) and the target, checks that the plan is the one-move-per-block reversal,
+and reports the peak memory of the process.
+
+--profile runs cProfile on `solve` for the given towers (horizon 14) and prints where the time
+goes, grouped (the planner's loop and memo, `trans` and `final`, expressions, effects and
+state updates, the reward, hashing and comparing), then the functions with the most time of
+their own. cProfile slows every call down alike, so the shares matter, not the seconds.
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
+import pstats
+import resource
 import time
 from dataclasses import dataclass
 
@@ -108,6 +124,8 @@ def render(row: Row) -> list[str]:
         str(row.moves),
         f"{row.nodes:,}",
         f"{row.seconds:.3f}",
+        f"{row.seconds / max(row.nodes, 1) * 1e6:.1f}",
+        f"{row.nodes / max(row.seconds, 1e-9):,.0f}",
         f"{more}{row.ref_nodes:,}",
         f"{more}{row.ref_seconds:.3f}",
         f"{at_least}{row.ref_nodes / max(row.nodes, 1):,.1f}",
@@ -125,6 +143,8 @@ HEADER = [
     "moves",
     "prod nodes",
     "prod cpu s",
+    "µs/node",
+    "nodes/s",
     "ref nodes",
     "ref cpu s",
     "node ratio",
@@ -133,12 +153,106 @@ HEADER = [
 COUNT_HEADER = ["ref nodes (counted)", "counted ratio"]
 
 
+# The planner before gpp issue #14 (commit 9252b1d), on this machine: CPU seconds and nodes.
+BEFORE = {(5, 10): (0.499, 1_899), (6, 14): (8.25, 24_953), (7, 14): (92.1, 170_369)}
+TARGETS = {(5, 10): 0.030, (6, 14): 0.3, (7, 14): 4.0}
+
+
+def reversal(blocks: int) -> list[str]:
+    """The optimal plan: each block once, top first, onto the one moved before (or the table)."""
+    names = NAMES[:blocks]
+    return [f"stack({names[i]},{names[i - 1] if i else 'table'})" for i in range(blocks)]
+
+
+def targets(runs: int) -> None:
+    header = ["problem", "nodes", "cpu s", "µs/node", "nodes/s", "before", "speed-up", "target", "met", "plan"]
+    print("  ".join(h.rjust(12) for h in header))
+    for (blocks, horizon), target in TARGETS.items():
+        best, plan = None, None
+        for _ in range(runs if blocks < 7 else 1):
+            pb = tower_problem(blocks, horizon)
+            started = time.process_time()
+            plan = pb.production()
+            seconds = time.process_time() - started
+            best = seconds if best is None else min(best, seconds)
+        assert plan is not None and best is not None
+        before_seconds, before_nodes = BEFORE[(blocks, horizon)]
+        nodes = plan.stats.nodes
+        same = plan.actions() == reversal(blocks) and plan.value == 100 - blocks
+        cells = [
+            f"{blocks} blocks, {horizon}",
+            f"{nodes:,}",
+            f"{best:.3f}",
+            f"{best / nodes * 1e6:.1f}",
+            f"{nodes / best:,.0f}",
+            f"{before_seconds:.3f}",
+            f"{before_seconds / best:.1f}x",
+            f"{target:g}",
+            "yes" if best < target else "no",
+            "unchanged" if same and nodes == before_nodes else "CHANGED",
+        ]
+        print("  ".join(c.rjust(12) for c in cells), flush=True)
+    # ru_maxrss is in KiB on Linux.
+    print(f"peak memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB")
+    print("before: per node " + ", ".join(f"{s / n * 1e6:.0f} µs ({n / s:,.0f} nodes/s)" for s, n in BEFORE.values()))
+
+
+# Where a function's own time goes, by the file (and, for hashing, the function) it is in.
+CATEGORIES = (
+    ("planner loop and memo (dp)", ("gpp/planner/dp.py",)),
+    ("trans/final (successors, semantics)", ("gpp/planner/successors.py", "gpp/runtime/semantics.py")),
+    ("expressions: preconditions, conditions (compiled)", ("gpp/runtime/compiled.py",)),
+    ("state updates and hashing (state)", ("gpp/runtime/state.py",)),
+    ("reward", ("gpp/planner/problem.py",)),
+    ("value comparison (types)", ("gpp/model/types.py", "gpp/runtime/values.py")),
+)
+
+
+def profile(blocks_list: list[int]) -> None:
+    for blocks in blocks_list:
+        pb = tower_problem(blocks, 14)
+        profiler = cProfile.Profile()
+        profiler.enable()
+        plan = pb.production()
+        profiler.disable()
+        stats = pstats.Stats(profiler)
+        entries = stats.stats  # type: ignore[attr-defined]
+        total = sum(e[2] for e in entries.values())
+        groups: dict[str, float] = {}
+        for (filename, _, name), (_, _, own, _, _) in entries.items():
+            group = next((g for g, files in CATEGORIES if any(filename.endswith(f) for f in files)), None)
+            if group is None:
+                group = "hashing and comparing (dict, hash, __eq__)" if name in _HASHING else "other builtins"
+            groups[group] = groups.get(group, 0.0) + own
+        print(f"\n{blocks} blocks, solve(14): {plan.stats.nodes:,} nodes, {total:.2f} s under cProfile")
+        for group, own in sorted(groups.items(), key=lambda g: -g[1]):
+            print(f"  {own / total:6.1%}  {group}")
+        print("  functions with the most time of their own:")
+        ranked = sorted(entries.items(), key=lambda e: -e[1][2])[:12]
+        for (filename, line, name), (_, calls, own, _, _) in ranked:
+            where = filename.split("/gpp/")[-1] if "/gpp/" in filename else filename
+            print(f"  {own / total:6.1%}  {calls:>10,} calls  {name} ({where}:{line})")
+
+
+_HASHING = {"<method 'get' of 'dict' objects>", "<built-in method builtins.hash>", "__eq__", "__hash__"}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="3 to 5 blocks, horizons up to 10")
     parser.add_argument("--budget", type=int, default=20_000, help="reference node budget (default 20,000)")
     parser.add_argument("--count", action="store_true", help="count the reference's nodes exactly (<= 5 blocks)")
+    parser.add_argument("--targets", action="store_true", help="time the three target problems of gpp issue #14")
+    parser.add_argument("--runs", type=int, default=3, help="runs per target problem, best taken (default 3)")
+    parser.add_argument("--profile", action="store_true", help="where the time of `solve` goes (cProfile)")
+    parser.add_argument("--blocks", type=int, nargs="+", default=[6, 7], help="towers to profile (default 6 7)")
     args = parser.parse_args()
+    if args.targets:
+        targets(args.runs)
+        return
+    if args.profile:
+        profile(args.blocks)
+        return
     sizes = range(3, 6) if args.quick else range(3, 8)
     horizons = range(2, 11, 2) if args.quick else range(2, 15, 2)
     header = HEADER + (COUNT_HEADER if args.count else [])

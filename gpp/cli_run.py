@@ -137,6 +137,15 @@ def run(
     ] = None,
     realtime: Annotated[bool, typer.Option("--realtime", help="Pace platform time to wall time.")] = False,
     profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
+    search_strategy: Annotated[
+        str,
+        typer.Option(
+            "--search-strategy",
+            metavar="STRATEGY",
+            help="How `search` looks for an execution: depth-first (the first in textual order) or "
+            "iterative-deepening (a shortest one).",
+        ),
+    ] = "depth-first",
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No live view or event lines; only the summary.")
     ] = False,
@@ -159,6 +168,10 @@ def run(
 
     _require_readable(file)
     check_timeout(timeout)
+    from gpp.planner.search import STRATEGIES
+
+    if search_strategy not in STRATEGIES:
+        _usage_error(f"--search-strategy must be one of {', '.join(STRATEGIES)}, not `{search_strategy}`")
     config = load_config(file)
     if timeout is None:
         timeout = config.run_timeout
@@ -196,8 +209,10 @@ def run(
         args=key_values(arg, "--arg"),
         include_dirs=config.include,
         allow=allow,
+        search_strategy=search_strategy,
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
+    options.progress = view.progress
     try:
         with view:
             outcome = run_program(file, options, [view] if view.shows else None, checked=checked)

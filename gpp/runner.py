@@ -9,6 +9,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gpp import __version__
 from gpp import diagnostics as diag
@@ -27,6 +28,9 @@ from gpp.runtime.values import Value
 from gpp.source import Span
 from gpp.suggest import did_you_mean
 from gpp.syntax.directives import directives
+
+if TYPE_CHECKING:
+    from gpp.planner.dp import Progress
 
 
 class RunSetupError(Exception):
@@ -49,6 +53,10 @@ class RunOptions:
     # The project's settings for checking the program: include folders, lints turned off.
     include_dirs: Sequence[Path] = ()
     allow: Sequence[str] = ()
+    # How `search` looks for an execution: gpp.planner.search.STRATEGIES.
+    search_strategy: str = "depth-first"
+    # Told now and then how a long `solve` is getting on (the run view shows it).
+    progress: Callable[[Progress], None] | None = None
 
 
 @dataclass
@@ -135,7 +143,7 @@ def run_program(
             trace,
             options.timeout,
             options.entry,
-            planner=PolicyPlanner(),
+            planner=PolicyPlanner(options.search_strategy, options.progress),
             wall_timeout=options.wall_timeout,
             entry_args=entry_args,
         )

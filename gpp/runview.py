@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from rich.console import Console, RenderableType
     from rich.live import Live
 
+    from gpp.planner.dp import Progress
     from gpp.runner import RunOutcome
 
 
@@ -86,6 +87,10 @@ class RunView(Protocol):
 
     def __call__(self, event: TraceEvent) -> None: ...
 
+    def progress(self, p: Progress) -> None:
+        """A `solve` that has planned for more than a second says how far it got."""
+        ...
+
     def __enter__(self) -> RunView: ...
 
     def __exit__(self, *exc: object) -> None: ...
@@ -97,6 +102,9 @@ class NoView:
     shows = False
 
     def __call__(self, event: TraceEvent) -> None:
+        pass
+
+    def progress(self, p: Progress) -> None:
         pass
 
     def __enter__(self) -> NoView:
@@ -119,6 +127,10 @@ class PlainView:
         if line is not None:
             self.out.write(f"[{event.t:>9.3f} s] {line}\n")
             self.out.flush()
+
+    def progress(self, p: Progress) -> None:
+        self.out.write(f"{'':13} {progress_text(p)}\n")
+        self.out.flush()
 
     def __enter__(self) -> PlainView:
         return self
@@ -144,6 +156,8 @@ class LiveView:
         self.counts = {"actions": 0, "failed": 0, "exog": 0}
         # What the program waits for, while it waits.
         self.waiting: WaitingEvent | None = None
+        # How a long `solve` is getting on, while it plans.
+        self.planning: Progress | None = None
         self._live: Live | None = None
 
     def __call__(self, event: TraceEvent) -> None:
@@ -165,6 +179,7 @@ class LiveView:
                 self.counts["exog"] += 1
             case PlanEvent() | ReplanEvent():
                 self.plan = event
+                self.planning = None
             case WaitingEvent():
                 self.waiting = None if event.resumed else event
             case _:
@@ -172,6 +187,11 @@ class LiveView:
         line = describe(event)
         if line is not None:
             self.events.append(f"[dim]{event.t:>8.2f}s[/dim] {_escape(line)}")
+        if self._live is not None:
+            self._live.update(self.render())
+
+    def progress(self, p: Progress) -> None:
+        self.planning = p
         if self._live is not None:
             self._live.update(self.render())
 
@@ -202,6 +222,8 @@ class LiveView:
                 f"        {_escape(w.statement)}{where}"
             )
         parts.append(running)
+        if self.planning is not None:
+            parts.append(f"[cyan]{_escape(progress_text(self.planning))}[/cyan]  [dim](Ctrl-C stops the run)[/dim]")
         if self.plan is not None and self.plan.feasible:
             plan = self.plan
             policy = " → ".join(plan.policy) or "(nothing to do)"
@@ -222,6 +244,11 @@ class LiveView:
             self._live.update(self.render())
             self._live.__exit__(None, None, None)
             self._live = None
+
+
+def progress_text(p: Progress) -> str:
+    best = "none yet" if p.best is None else f"{p.best:g}"
+    return f"planning: {p.nodes:,} nodes, {p.memo:,} configurations, best value {best}, {p.seconds:.1f} s"
 
 
 def _escape(text: str) -> str:

@@ -375,6 +375,64 @@ def test_raising_the_horizon_never_lowers_the_value_of_a_plan_that_ends_the_prog
         assert low.feasible  # a branch feasible with more horizon is feasible with less
 
 
+@st.composite
+def blocks_worlds(draw: st.DrawFn) -> Case:
+    """Larger instances: a blocks world of 3 or 4 blocks from a random arrangement to a random
+    goal, with a random reward for the goal and per step, the whole `pick` program and a
+    horizon up to 6 (3 blocks) or 4 (4 blocks): the shape the production planner is tuned for
+    (pick guards, specialised successors, remembered quantifiers)."""
+    blocks = draw(st.integers(3, 4))
+    names = [f"b{i}" for i in range(blocks)]
+
+    def arrangement() -> dict[str, str]:
+        order = draw(st.permutations(names))
+        on: dict[str, str] = {}
+        for i, name in enumerate(order):
+            # Each block on the table or on the block before it in the order (a stack).
+            on[name] = order[i - 1] if i > 0 and draw(st.booleans()) else "table"
+        return on
+
+    start, goal = arrangement(), arrangement()
+    initially = " ".join(f"({b}) = {start[b]};" for b in names)
+    goal_text = " & ".join(f"loc({b}) == {goal[b]}" for b in names)
+    win, step = draw(st.integers(1, 100)), draw(st.integers(-5, 2))
+    world = World(
+        tuple(names),
+        (),
+        None,
+        (),
+        f"""symbol domain block = {{{", ".join(names)}}}
+symbol domain location = block | {{table}}
+location fluent loc(block x) {{ initially: {initially} }}
+action stack(block x, location y) {{
+precondition:
+    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
+effect:
+    loc(x) = y;
+}}
+bool function goal() = {goal_text}
+number function reward() = if (goal()) {win} else {step}
+""",
+    )
+    body = draw(
+        st.sampled_from(
+            [
+                "while (!goal()) pick (block x) pick (location y) stack(x, y);",
+                "{ while (!goal()) pick (block x) pick (location y) stack(x, y); test(goal()); }",
+                "while (true) choose { pick (block x) stack(x, table); pick (block x) pick (block y) stack(x, y); }",
+            ]
+        )
+    )
+    return Case(world, body, draw(st.integers(1, 6 if blocks == 3 else 4)))
+
+
+@given(blocks_worlds())
+@settings(PROPERTY, max_examples=30)
+def test_production_planner_returns_exactly_the_reference_result_on_larger_blocks_worlds(case: Case) -> None:
+    pb = case.problem()
+    assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))
+
+
 # ---------------------------------------------------------------- search
 
 

@@ -33,14 +33,31 @@ VOID = BuiltinType("void")
 BUILTIN_TYPES = {t.name: t for t in (BOOL, NUMBER, STRING, SYMBOL, VOID)}
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Sym:
     """A symbol value (an element of a symbol domain). Never equal to a string."""
 
     name: str
+    # hash((name,)), as the dataclass would compute it, computed once: symbols are hashed and
+    # compared very often while planning (dict keys, states).
+    _hash: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_hash", hash((self.name,)))
 
     def __str__(self) -> str:
         return self.name
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is Sym:
+            return self.name == other.name
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __reduce__(self) -> tuple[type[Sym], tuple[str]]:
+        return (Sym, (self.name,))  # the hash of a string differs between processes
 
 
 DomainValue = int | float | str | bool | Sym
@@ -75,11 +92,13 @@ class DomainType(Type):
 def same_value(a: object, b: object) -> bool:
     """golog++ `==` on values: numbers by value (2 == 2.0), everything else by type and value
     (a symbol is never a string, `true` never 1). Used for domain members and at run time."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    if isinstance(a, int | float) and isinstance(b, int | float):
+    ta = type(a)
+    if ta is type(b):  # the common case, first: same type, compared by value
+        if ta is Sym:
+            return a.name == b.name  # type: ignore[attr-defined, no-any-return]  # Sym.__eq__, inline
         return a == b
-    return type(a) is type(b) and a == b
+    # Of two different types only an int and a float can be equal (bool is neither here).
+    return (ta is int or ta is float) and (type(b) is int or type(b) is float) and a == b
 
 
 def value_key(v: DomainValue) -> object:

@@ -23,8 +23,27 @@ What makes it fast, and why each keeps the result identical to the reference's:
    same cost have the same value; the later one can never be strictly better, and ties go to
    the earlier, so the later one is skipped.
 
-No bound on the remaining reward is used: the reward function's range over unvisited states
-is not known, and an estimate that is not a true bound would change the result.
+No bound on the remaining reward is used (no branch and bound). A true bound exists when the
+reward takes finitely many values (its maximum times the remaining horizon), but skipping an
+option because of it skips a subtree the reference explores, and what happens there is part
+of the reference's result: an error (a division by zero in a precondition, a value outside its
+domain, a loop without a costed step) raised in a pruned subtree would not be raised. Only an
+analysis proving that a subtree cannot raise would make such pruning exact. (On the blocks
+world towers the bound would not prune anyway: with the goal worth 100 and a step -1, a bound
+of 100 per remaining step never falls below the value of a plan found.)
+
+`final` and `trans` are called through gpp.planner.successors: the semantics' definitions
+specialised once per program point (tests/test_planner_successors.py checks them against the
+semantics on random programs).
+
+How it is laid out, for speed (none of it changes what is computed):
+
+* every configuration is interned once into a `_Config`, which holds its expansion, its
+  horizon-independent result and its memo (remaining horizon -> result): after the first
+  meeting, a configuration is never hashed again, and memo keys are small ints;
+* an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
+* a result holds its first step and the result of the rest (a linked list): choosing a
+  branch costs no copy of its steps; the plan's steps are collected once at the end.
 
 A run of free steps (tests) that comes back to a configuration it passed is the reference's
 "loop without a costed step" error, detected at the same point: the nodes on the current path
@@ -36,55 +55,110 @@ records the longest run of free steps its subtree starts with.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
-from gpp.planner.result import INFEASIBLE, STOP, Branch, Plan, PlanStats, better
+from gpp.planner.result import Plan, PlanStats, PolicyStep
+from gpp.planner.successors import Successors
+from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
 from gpp.source import Span
 
 Config = tuple[Prog, State, Activities]
-Option = tuple[Prog, Step, State, Activities]
+
+# Never settled: every remaining horizon is below it.
+_UNSETTLED = 1 << 62
 
 
 @dataclass(frozen=True, slots=True)
 class _Result:
-    branch: Branch
+    """The best branch from a configuration: feasible or not, its value, and its first step
+    and the result of the rest (None: it stops here)."""
+
+    feasible: bool
+    value: float
     depth: int  # the most costed steps on a branch of the subtree (== horizon: it was reached)
     free_run: int  # the most free steps a branch of the subtree starts with
+    step: PolicyStep | None = None
+    rest: _Result | None = None
+
+    def steps(self) -> tuple[PolicyStep, ...]:
+        out: list[PolicyStep] = []
+        r: _Result | None = self
+        while r is not None and r.step is not None:
+            out.append(r.step)
+            r = r.rest
+        return tuple(out)
 
 
-_LEAF = _Result(STOP, 0, 0)
+_LEAF = _Result(True, 0.0, 0, 0)
 
 
-class _Expansion:
-    """`final` and the options of one configuration, computed once, applied lazily (so that
-    steps are applied in the reference's order, and an error surfaces where it would)."""
+class _Option:
+    __slots__ = ("cost", "policy_step", "step", "target")
 
-    __slots__ = ("final", "options", "seen", "successors")
+    def __init__(self, target: _Config, step: Step, policy_step: PolicyStep) -> None:
+        self.target = target
+        self.step = step
+        self.cost = step.cost
+        self.policy_step = policy_step
 
-    def __init__(self, sem: Semantics, p: Prog, s: State, a: Activities) -> None:
-        self.final = sem.final(p, s, a)
-        self.successors = sem.trans(p, s, a)
-        self.options: list[Option | None] = []  # None: a duplicate of an earlier option
-        self.seen: set[tuple[Prog, State, Activities, int]] = set()
 
-    def option(self, sem: Semantics, i: int, s: State, a: Activities, stats: PlanStats) -> Option | None:
-        if i < len(self.options):
-            return self.options[i]
-        q, step = self.successors[i]
-        s2, a2 = sem.apply(step, s, a)
-        key = (q, s2, a2, step.cost)
-        option: Option | None = (q, step, s2, a2)
-        if key in self.seen:
-            stats.pruned += 1
-            option = None
-        else:
-            self.seen.add(key)
-        self.options.append(option)
-        return option
+class _Config:
+    """One configuration met while planning: its expansion (`final` and the options, computed
+    once, applied lazily so that steps are applied in the reference's order and an error
+    surfaces where it would), its horizon-independent result and its memo."""
+
+    __slots__ = (
+        "acts",
+        "expanded",
+        "final",
+        "memo",
+        "on_path",
+        "options",
+        "prog",
+        "reward",
+        "seen",
+        "settled",
+        "settled_from",
+        "state",
+        "successors",
+    )
+
+    def __init__(self, prog: Prog, state: State, acts: Activities) -> None:
+        self.prog = prog
+        self.state = state
+        self.acts = acts
+        self.expanded = False
+        self.final = False
+        self.successors: list[tuple[Prog, Step]] = []
+        self.options: list[_Option | None] = []  # None: a duplicate of an earlier option
+        self.seen: set[tuple[int, int]] | None = None
+        self.memo: dict[int, _Result] = {}
+        # The result for every remaining horizon >= settled_from (see 4 above).
+        self.settled_from = _UNSETTLED
+        self.settled: _Result = _LEAF
+        self.on_path: set[int] = set()  # remaining horizons this configuration is on the path with
+        self.reward: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Progress:
+    """How far a long `solve` has got: reported to a progress callback now and then."""
+
+    nodes: int
+    memo: int  # configurations met so far
+    best: float | None  # the value of the best complete plan found so far (None: none yet)
+    seconds: float
+
+
+ProgressCallback = Callable[[Progress], None]
+
+# How often (in expanded nodes) the clock is read for a progress report.
+_PROGRESS_EVERY = 128
 
 
 def solve_plan(
@@ -95,89 +169,175 @@ def solve_plan(
     horizon: int,
     reward: Reward,
     span: Span | None = None,
+    progress: ProgressCallback | None = None,
+    progress_interval: float = 1.0,
 ) -> Plan:
+    """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
+    takes longer than `progress_interval` seconds reports a `Progress` about every interval."""
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
-    memo: dict[tuple[Prog, State, Activities, int], _Result] = {}
-    # Results that hold for every horizon >= the int (see 4 above).
-    settled: dict[Config, tuple[int, _Result]] = {}
-    expansions: dict[Config, _Expansion] = {}
+    configs: dict[Config, _Config] = {}
+    successors = Successors(sem)
     rewards: dict[State, float] = {}
-    on_path: set[tuple[Prog, State, Activities, int]] = set()
+    next_report = started + progress_interval
+    root_best: list[float] = []  # the best value found at the root so far
 
-    def value_of(s: State) -> float:
-        v = rewards.get(s)
+    def intern(p: Prog, s: State, a: Activities) -> _Config:
+        key = (p, s, a)
+        c = configs.get(key)
+        if c is None:
+            c = configs[key] = _Config(p, s, a)
+        return c
+
+    def value_of(c: _Config) -> float:
+        v = c.reward
         if v is None:
-            stats.reward_evaluations += 1
-            v = reward(s)
-            rewards[s] = v
+            v = rewards.get(c.state)
+            if v is None:
+                stats.reward_evaluations += 1
+                v = rewards[c.state] = reward(c.state)
+            c.reward = v
         return v
 
-    def lookup(config: Config, h: int) -> _Result | None:
-        known = settled.get(config)
-        if known is not None and h >= known[0]:
-            if known[1].branch.feasible:
-                stats.cache_hits += 1
-            else:
-                stats.pruned += 1
-            return known[1]
-        hit = memo.get((*config, h))
-        if hit is not None:
-            stats.cache_hits += 1
-        return hit
+    def option(c: _Config, i: int) -> _Option | None:
+        if i < len(c.options):
+            return c.options[i]
+        q, step = c.successors[i]
+        s2, a2 = sem.apply(step, c.state, c.acts)
+        target = intern(q, s2, a2)
+        key = (id(target), step.cost)
+        if c.seen is None:
+            c.seen = set()
+        made: _Option | None = None
+        if key in c.seen:
+            stats.pruned += 1
+        else:
+            c.seen.add(key)
+            made = _Option(target, step, (c.prog, step, q))
+        c.options.append(made)
+        return made
 
-    def best(p: Prog, s: State, a: Activities, h: int, run: int) -> _Result:
+    def report() -> None:
+        nonlocal next_report
+        now = time.perf_counter()
+        if now >= next_report and progress is not None:
+            next_report = now + progress_interval
+            progress(Progress(stats.nodes, len(configs), best_so_far(), now - started))
+
+    def best_so_far() -> float | None:
+        if not root_best:
+            return None
+        try:  # R(s0) is part of a plan's value; an error in it is reported when planning ends
+            return reward(root.state) + root_best[-1]
+        except GppRuntimeError:
+            return None
+
+    def best(c: _Config, h: int, run: int) -> _Result:
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
             return _LEAF
-        config = (p, s, a)
-        known = lookup(config, h)
+        if h >= c.settled_from:
+            known: _Result | None = c.settled
+            if c.settled.feasible:
+                stats.cache_hits += 1
+            else:
+                stats.pruned += 1
+        else:
+            known = c.memo.get(h)
+            if known is not None:
+                stats.cache_hits += 1
         if known is not None:
             if run + known.free_run > FREE_STEP_LIMIT:
                 raise free_run_error(span)
             return known
+        return expand(c, h, run)
+
+    def expand(c: _Config, h: int, run: int) -> _Result:
+        """`best` of a configuration and remaining horizon not known yet."""
         stats.nodes += 1
-        key = (p, s, a, h)
-        on_path.add(key)
-        expansion = expansions.get(config)
-        if expansion is None:
-            expansion = expansions[config] = _Expansion(sem, p, s, a)
-        choice = STOP if expansion.final else INFEASIBLE
+        if progress is not None and not stats.nodes % _PROGRESS_EVERY:
+            report()
+        c.on_path.add(h)
+        if not c.expanded:
+            c.final = successors.final(c.prog, c.state, c.acts)
+            c.successors = successors.trans(c.prog, c.state, c.acts)
+            c.expanded = True
+        feasible = c.final
+        value = 0.0
+        chosen: _Option | None = None
+        chosen_rest: _Result | None = None
         depth = free_run = 0
-        for i in range(len(expansion.successors)):
-            option = expansion.option(sem, i, s, a, stats)
-            if option is None:
+        options = c.options
+        n = len(c.successors)
+        # All options are made after the first expansion; until then they are made as reached.
+        walk: Iterable[_Option | None] = (
+            options if len(options) == n else (options[i] if i < len(options) else option(c, i) for i in range(n))
+        )
+        for o in walk:
+            if o is None:
                 continue
-            q, step, s2, a2 = option
-            cost = step.cost
+            cost = o.cost
+            target = o.target
             if cost:
-                rest = best(q, s2, a2, h - cost, 0)
+                # `best(target, h - cost, 0)`, the lookups written out (most options are known).
+                left = h - cost
+                if left <= 0:
+                    rest = _LEAF
+                elif left >= target.settled_from:
+                    rest = target.settled
+                    if rest.feasible:
+                        stats.cache_hits += 1
+                    else:
+                        stats.pruned += 1
+                    if rest.free_run > FREE_STEP_LIMIT:
+                        raise free_run_error(span)
+                else:
+                    known = target.memo.get(left)
+                    if known is None:
+                        rest = expand(target, left, 0)
+                    else:
+                        stats.cache_hits += 1
+                        if known.free_run > FREE_STEP_LIMIT:
+                            raise free_run_error(span)
+                        rest = known
+                if cost + rest.depth > depth:
+                    depth = cost + rest.depth
+                if not rest.feasible:
+                    continue
+                reward_after = target.reward
+                v = (value_of(target) if reward_after is None else reward_after) + rest.value
             else:
-                if (q, s2, a2, h) in on_path:
-                    raise free_loop_error(q, step)
+                if h in target.on_path:
+                    raise free_loop_error(target.prog, o.step)
                 if run + 1 > FREE_STEP_LIMIT:
                     raise free_run_error(span)
-                rest = best(q, s2, a2, h, run + 1)
+                rest = best(target, h, run + 1)
                 free_run = max(free_run, 1 + rest.free_run)
-            depth = max(depth, cost + rest.depth)
-            if not rest.branch.feasible:
-                continue
-            value = value_of(s2) + rest.branch.value if cost else rest.branch.value
-            candidate = Branch(True, value, ((p, step, q), *rest.branch.steps))
-            if better(candidate, choice):
-                choice = candidate
-        on_path.discard(key)
-        result = _Result(choice, depth, free_run)
-        if depth < h:
-            settled[config] = (depth + 1, result)
+                depth = max(depth, rest.depth)
+                if not rest.feasible:
+                    continue
+                v = rest.value
+            # Strictly better (the earlier option wins ties; feasible beats infeasible).
+            if not feasible or v > value:
+                feasible, value, chosen, chosen_rest = True, v, o, rest
+                if c is root and h == horizon:
+                    root_best.append(value)
+        c.on_path.discard(h)
+        if chosen is None:
+            result = _Result(feasible, value if feasible else 0.0, depth, free_run)
         else:
-            memo[key] = result
+            result = _Result(True, value, depth, free_run, chosen.policy_step, chosen_rest)
+        if depth < h:
+            c.settled_from, c.settled = depth + 1, result
+        else:
+            c.memo[h] = result
         return result
 
+    root = intern(prog, state, acts)
     with deep_recursion(span):
-        result = best(prog, state, acts, horizon, 0).branch
-    value = value_of(state) + result.value if result.feasible else 0.0
+        result = best(root, horizon, 0)
+    value = value_of(root) + result.value if result.feasible else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started
-    return Plan(result.feasible, value, result.steps, horizon, stats)
+    return Plan(result.feasible, value, result.steps() if result.feasible else (), horizon, stats)

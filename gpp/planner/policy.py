@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from gpp.model.types import Type
+from gpp.planner.dp import ProgressCallback
 from gpp.planner.result import Plan, PolicyStep
 from gpp.runtime.compiled import Context
 from gpp.runtime.errors import GppRuntimeError
@@ -51,8 +52,16 @@ class PolicyPlanner:
     """The planner online (an OnlinePlanner): plans a policy for each `solve`/`search` reached
     and executes it, re-planning when the world deviates."""
 
+    def __init__(self, search_strategy: str = "depth-first", progress: ProgressCallback | None = None) -> None:
+        self.search_strategy = search_strategy  # gpp.planner.search.STRATEGIES
+        # Told how a `solve` that takes longer than a second is getting on.
+        self.progress = progress
+
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
-        return PlanHolder.for_statement(sem, stmt, frame, state)
+        holder = PlanHolder.for_statement(sem, stmt, frame, state)
+        holder.search_strategy = self.search_strategy
+        holder.progress = self.progress
+        return holder
 
 
 class OncePerPlan:
@@ -142,6 +151,8 @@ class PlanHolder:
     failed_in: State | None = None
     # The evaluation context of the last planning run (its exogenous function answers).
     context: OncePerPlan | None = None
+    search_strategy: str = "depth-first"  # of a `search`: gpp.planner.search.STRATEGIES
+    progress: ProgressCallback | None = None
 
     @classmethod
     def for_statement(cls, sem: Semantics, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
@@ -200,10 +211,10 @@ class PlanHolder:
             from gpp.planner.problem import make_reward
 
             reward = make_reward(planning, stmt, self.frame)
-            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span)
+            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress)
         from gpp.planner.search import search_plan
 
-        return search_plan(planning, prog, state, acts, self.horizon, stmt.span)
+        return search_plan(planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy)
 
     def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:
         """The PlanStep: plan the body from the actual state."""
@@ -268,7 +279,15 @@ class PlanHolder:
             for q, candidate in planning.trans(before, state, acts):
                 if candidate == step:
                     left = max(0, self.horizon - self.used_horizon(p.index) - step.cost)
-                    rest = PlanHolder(self.kind, q, left, self.frame, self.stmt)
+                    rest = PlanHolder(
+                        self.kind,
+                        q,
+                        left,
+                        self.frame,
+                        self.stmt,
+                        search_strategy=self.search_strategy,
+                        progress=self.progress,
+                    )
                     return [(Planned(rest, 0), candidate)]
         if (after, step) in planning.trans(before, state, acts):
             following = Planned(self, p.index + 1)

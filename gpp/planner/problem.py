@@ -10,7 +10,7 @@ from gpp.model.types import Type
 from gpp.planner.dp import solve_plan
 from gpp.planner.reference import Reward, reference_node_count, reference_plan
 from gpp.planner.result import Plan
-from gpp.planner.search import search_plan
+from gpp.planner.search import DEPTH_FIRST, search_plan
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import EMPTY_FRAME, Code, Frame, Prog, Semantics
@@ -73,8 +73,8 @@ class PlanningProblem:
     def reference_nodes(self) -> int:
         return reference_node_count(self.sem, self.prog, self.state, self.acts, self.horizon)
 
-    def search(self, bound: int) -> Plan:
-        return search_plan(self.sem, self.prog, self.state, self.acts, bound, self.span)
+    def search(self, bound: int, strategy: str = DEPTH_FIRST) -> Plan:
+        return search_plan(self.sem, self.prog, self.state, self.acts, bound, self.span, strategy)
 
 
 def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:

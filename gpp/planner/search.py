@@ -6,6 +6,15 @@ again: either it is on the current path (a cycle, which cannot lead anywhere new
 fully explored without finding an end. So every configuration is expanded at most once and the
 search terminates on every finite state space; on an infinite one the step bound stops a path
 that grows too long, with an error at the program point it reached.
+
+With the strategy ITERATIVE_DEEPENING (`gpp run --search-strategy iterative-deepening`) the
+search is complete in another sense: it finds a shortest execution (the fewest steps, tests
+included), the first one in textual order among the shortest. It searches depth first with a
+depth limit of 0, 1, 2, ... steps; within one limit a configuration met again with no more
+steps left than when it was first met is not entered again (that visit found no end within
+what it had left, and this one has no more). A limit at which nothing was cut off by the limit
+and no end was found means there is none; a plan longer than the step bound is the bound's
+error, as depth first.
 """
 
 from __future__ import annotations
@@ -21,11 +30,24 @@ from gpp.source import Span
 
 DEFAULT_STEP_BOUND = 10_000
 
+DEPTH_FIRST = "depth-first"
+ITERATIVE_DEEPENING = "iterative-deepening"
+STRATEGIES = (DEPTH_FIRST, ITERATIVE_DEEPENING)
+
 
 def search_plan(
-    sem: Semantics, prog: Prog, state: State, acts: Activities, bound: int, span: Span | None = None
+    sem: Semantics,
+    prog: Prog,
+    state: State,
+    acts: Activities,
+    bound: int,
+    span: Span | None = None,
+    strategy: str = DEPTH_FIRST,
 ) -> Plan:
     assert sem.planning
+    if strategy == ITERATIVE_DEEPENING:
+        return _iterative_deepening(sem, prog, state, acts, bound, span)
+    assert strategy == DEPTH_FIRST, strategy
     stats = PlanStats()
     started = time.perf_counter()
     visited: set[tuple[Prog, State, Activities]] = {(prog, state, acts)}
@@ -60,11 +82,89 @@ def search_plan(
         if sem.final(q, s2, a2):
             return found()
         if len(path) >= bound:
-            where = program_point_span(q) or span
-            notes = (f"the `search` started at {span}",) if span is not None and where is not span else ()
-            raise GppRuntimeError(
-                LOOP_CODE, f"`search` exceeded its bound of {bound} steps without finding an end", where, notes
-            )
+            raise _bound_error(q, bound, span, DEPTH_FIRST)
         stack.append((q, s2, a2, sem.trans(q, s2, a2)[::-1]))
+    stats.seconds = time.perf_counter() - started
+    return Plan(False, 0.0, (), bound, stats)
+
+
+def _bound_error(q: Prog, bound: int, span: Span | None, strategy: str) -> GppRuntimeError:
+    where = program_point_span(q) or span
+    notes: tuple[str, ...] = (f"the `search` started at {span}",) if span is not None and where is not span else ()
+    if strategy == DEPTH_FIRST:
+        notes += (
+            "depth first follows the first alternative as far as it goes; if a shorter execution "
+            f"exists, `gpp run --search-strategy {ITERATIVE_DEEPENING}` finds a shortest one",
+        )
+    return GppRuntimeError(
+        LOOP_CODE, f"`search` exceeded its bound of {bound} steps without finding an end", where, notes
+    )
+
+
+def _iterative_deepening(
+    sem: Semantics, prog: Prog, state: State, acts: Activities, bound: int, span: Span | None
+) -> Plan:
+    stats = PlanStats()
+    started = time.perf_counter()
+    trans: dict[tuple[Prog, State, Activities], list[tuple[Prog, Step, State, Activities]]] = {}
+
+    def successors(p: Prog, s: State, a: Activities) -> list[tuple[Prog, Step, State, Activities]]:
+        # Worked out once for all limits, applied in textual order (an error surfaces at the
+        # first limit that reaches the configuration, where depth first would meet it too).
+        known = trans.get((p, s, a))
+        if known is None:
+            known = []
+            for q, step in sem.trans(p, s, a):
+                s2, a2 = sem.apply(step, s, a)
+                known.append((q, step, s2, a2))
+            trans[(p, s, a)] = known
+        return known
+
+    stats.nodes += 1
+    if sem.final(prog, state, acts):
+        stats.seconds = time.perf_counter() - started
+        return Plan(True, 0.0, (), bound, stats)
+    finals: dict[tuple[Prog, State, Activities], bool] = {}
+    for limit in range(1, bound + 1):
+        # The most steps left with which a configuration was entered at this limit.
+        left_at: dict[tuple[Prog, State, Activities], int] = {(prog, state, acts): limit}
+        path: list[PolicyStep] = []
+        cut = False
+        stack = [iter(successors(prog, state, acts))]
+        points = [prog]
+        while stack:
+            following = next(stack[-1], None)
+            if following is None:
+                stack.pop()
+                points.pop()
+                if path:
+                    path.pop()
+                continue
+            q, step, s2, a2 = following
+            left = limit - len(path) - 1
+            config = (q, s2, a2)
+            if left_at.get(config, -1) >= left:
+                stats.pruned += 1
+                continue
+            left_at[config] = left
+            stats.nodes += 1
+            path.append((points[-1], step, q))
+            final = finals.get(config)
+            if final is None:
+                final = finals[config] = sem.final(q, s2, a2)
+            if final:
+                stats.seconds = time.perf_counter() - started
+                return Plan(True, 0.0, tuple(path), bound, stats)
+            if left == 0:
+                if successors(q, s2, a2):
+                    cut = True
+                    if limit == bound:
+                        raise _bound_error(q, bound, span, ITERATIVE_DEEPENING)
+                path.pop()
+                continue
+            stack.append(iter(successors(q, s2, a2)))
+            points.append(q)
+        if not cut:
+            break
     stats.seconds = time.perf_counter() - started
     return Plan(False, 0.0, (), bound, stats)

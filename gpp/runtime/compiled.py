@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Protocol, cast
 
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
@@ -84,6 +84,9 @@ class Effect:
     value: Evaluator
     span: Span
     value_span: Span | None = None
+    # The target is a whole fluent instance (no field or element) whose arguments read only
+    # variables: for a ground action, its slot is known in advance.
+    static_target: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,22 +99,34 @@ class PickGuard:
     args: tuple[tuple[int, Evaluator, Type | None], ...]
     conjuncts: tuple[Evaluator, ...]
 
+    # The arguments read no fluent, function or clock: the bindings depend on the variables only.
+    static: bool = False
+
     def rejects(self, state: State, variables: dict[int, Value], ctx: Context) -> bool:
         """True when a conjunct is false for these bindings, so no inner value can make the
         action possible. Anything unusual (an error, a value outside its parameter's domain)
         is left to the normal evaluation, which reports it as it always does."""
-        env = Env(state, variables, ctx)
-        bindings: dict[int, Value] = {}
         try:
-            for param, argument, param_type in self.args:
-                value = argument(env)
-                if isinstance(param_type, DomainType) and not any(same(value, v) for v in param_type.values):
-                    return False
-                bindings[param] = value
-            inner = Env(state, bindings, ctx)
-            return not all(check(inner) is True for check in self.conjuncts)
+            bindings = self.bind(Env(state, variables, ctx))
+            return bindings is not None and self.rejects_bound(state, bindings, ctx)
         except GppRuntimeError:
             return False
+
+    def bind(self, env: Env) -> dict[int, Value] | None:
+        """The action parameters the conjuncts read, bound to their arguments' values; None
+        when a value is outside its parameter's domain."""
+        bindings: dict[int, Value] = {}
+        for param, argument, param_type in self.args:
+            value = argument(env)
+            if isinstance(param_type, DomainType) and not _member(value, param_type):
+                return None
+            bindings[param] = value
+        return bindings
+
+    def rejects_bound(self, state: State, bindings: dict[int, Value], ctx: Context) -> bool:
+        """Is a conjunct false in `state` for these parameter bindings (errors are raised)?"""
+        inner = Env(state, bindings, ctx)
+        return not all(check(inner) is True for check in self.conjuncts)
 
 
 @dataclass(frozen=True, slots=True)
@@ -240,7 +255,12 @@ class CompiledProgram:
                 for e in section.effects:
                     condition = self.expr(e.condition) if e.condition is not None else None
                     target, value = self.target(e.target), self.expr(e.value)
-                    effects.append(Effect(condition, target, value, e.span, e.value.span))
+                    static = (
+                        not target.path
+                        and isinstance(e.target, ast.Call)
+                        and all(reads_only_variables(self.model, a) for a in e.target.args)
+                    )
+                    effects.append(Effect(condition, target, value, e.span, e.value.span, static))
             elif isinstance(section, ast.SensesSection):
                 senses = Effect(
                     None, self.target(section.target), self.expr(section.value), section.span, section.value.span
@@ -386,19 +406,23 @@ class CompiledProgram:
         if symbol.kind is SymbolKind.FLUENT:
             if symbol.predefined and name == "context_time":
                 return lambda env: env.ctx.now()
-            slot_of, initial = self.slot, self.initial
-
-            def fluent(env: Env) -> Value:
-                return env.state.get(slot_of(name, tuple(a(env) for a in args)), initial)
-
-            return fluent
+            return self._fluent_read(name, args)
         if symbol.kind is SymbolKind.FUNCTION:
             program = self
 
+            compiled: list[tuple[tuple[int, ...], Evaluator]] = []  # the body, once it is compiled
+
             def function(env: Env) -> Value:
-                params, body = program.function(name)
-                if body is None:
-                    raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                if compiled:
+                    params, body = compiled[0]
+                else:
+                    params, maybe = program.function(name)
+                    if maybe is None:
+                        raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                    body = maybe
+                    compiled.append((params, body))
+                if not args:
+                    return body(env.bind({}))
                 values = [a(env) for a in args]
                 return body(env.bind(dict(zip(params, values, strict=True))))
 
@@ -415,6 +439,40 @@ class CompiledProgram:
 
             return exog
         raise _internal(e.span, f"`{name}` cannot be evaluated")
+
+    def _fluent_read(self, name: str, args: tuple[Evaluator, ...]) -> Evaluator:
+        """Reading a fluent instance: its slot is looked up by the argument values in a table
+        of the fluent's own (one lookup, no key with the fluent's name in it)."""
+        slots: dict[tuple[Value, ...], int] = {}
+        slot_of, initial = self.slot, self.initial
+
+        def slot(key: tuple[Value, ...]) -> int:
+            s = slots[key] = slot_of(name, key)
+            return s
+
+        if not args:
+
+            def fluent0(env: Env) -> Value:
+                s = slots.get(())
+                return env.state.get(slot(()) if s is None else s, initial)
+
+            return fluent0
+        if len(args) == 1:
+            (arg,) = args
+
+            def fluent1(env: Env) -> Value:
+                key = (arg(env),)
+                s = slots.get(key)
+                return env.state.get(slot(key) if s is None else s, initial)
+
+            return fluent1
+
+        def fluent(env: Env) -> Value:
+            key = tuple([a(env) for a in args])
+            s = slots.get(key)
+            return env.state.get(slot(key) if s is None else s, initial)
+
+        return fluent
 
     def _binary(self, e: ast.Binary) -> Evaluator:
         op, span = e.op, e.span
@@ -525,6 +583,7 @@ class CompiledProgram:
         var_id = id(variable)
         body = self.expr(e.body)
         exists = e.quantifier is ast.Quantifier.EXISTS
+        comparison = self._quantified_comparison(e, var_id, values, exists)
 
         def quantify(env: Env) -> Value:
             bindings = dict(env.vars)
@@ -535,7 +594,141 @@ class CompiledProgram:
                     return exists
             return not exists
 
-        return quantify
+        evaluate: Evaluator = quantify if comparison is None else comparison
+        free = self._state_function_of(e)
+        if free is None:
+            return evaluate
+        # The body reads only fluents and the variables in `free`: in one state, its value is a
+        # function of their values. The planner asks the same quantifier for the same values
+        # many times in one state (a precondition for every binding of a `pick`), so the values
+        # of the last state are remembered.
+        ids, typed = free
+        results: dict[object, Value] = {}
+        last: list[State] = [self._empty_state]
+
+        def remembered(env: Env) -> Value:
+            if env.state is not last[0]:
+                results.clear()
+                last[0] = env.state
+            variables = env.vars
+            # 1, 1.0 and true are one dict key; with a type in the key they stay apart.
+            key = tuple([(type(variables[i]), variables[i]) for i in ids] if typed else [variables[i] for i in ids])
+            v = results.get(key, _UNKNOWN)
+            if v is _UNKNOWN:
+                v = results[key] = evaluate(env)
+            return v
+
+        if len(ids) == 1 and not typed:
+            (only,) = ids
+
+            def remembered_by_one_symbol(env: Env) -> Value:
+                # The same, keyed by the value of the one variable (a symbol or null).
+                if env.state is not last[0]:
+                    results.clear()
+                    last[0] = env.state
+                key = env.vars[only]
+                v = results.get(key, _UNKNOWN)
+                if v is _UNKNOWN:
+                    v = results[key] = evaluate(env)
+                return v
+
+            return remembered_by_one_symbol
+        return remembered
+
+    def _quantified_comparison(
+        self, e: ast.Quantified, var_id: int, values: tuple[Value, ...], exists: bool
+    ) -> Evaluator | None:
+        """`exists/forall (x) f(x) == v` (or `!=`, either side), with `f` a fluent and `v` a
+        variable or literal: the quantifier as a loop over the slots of f(value) for the
+        domain's values, compared with v (evaluated once: it reads no fluent). The same reads
+        and comparisons in the same order as the quantifier over the compiled body, without
+        evaluating the body for every value. None for any other body."""
+        body = e.body
+        model = self.model
+        if model.effective(body) is not body or not isinstance(body, ast.Binary) or body.op not in (Op.EQ, Op.NE):
+            return None
+        sides = (body.left, body.right)
+        if any(model.effective(side) is not side for side in sides):
+            return None
+        read = next((side for side in sides if self._reads_variable(side, var_id)), None)
+        other = body.right if read is body.left else body.left
+        if (
+            read is None
+            or not isinstance(read, ast.Call)
+            or self._is_clock(read)
+            or len(read.args) != 1
+            or not isinstance(read.args[0], ast.Name)
+            or model.effective(read.args[0]) is not read.args[0]
+            or not isinstance(other, ast.Name | ast.NumberLit | ast.StringLit | ast.BoolLit | ast.NullLit)
+            or self._reads_variable(other, var_id)
+        ):
+            return None
+        fluent = model.target(read)
+        if fluent is None or fluent.kind is not SymbolKind.FLUENT:
+            return None
+        name, value_of, negate = fluent.name, self.expr(other), body.op is Op.NE
+        slots: list[int | None] = [None] * len(values)
+        slot_of, initial = self.slot, self.initial
+
+        def quantified_comparison(env: Env) -> Value:
+            target = value_of(env)
+            held = env.state.held()
+            symbol = target.name if type(target) is Sym else None
+            for i, v in enumerate(values):
+                s = slots[i]
+                if s is None:
+                    s = slots[i] = slot_of(name, (v,))
+                current = held.get(s, _UNKNOWN)
+                if current is _UNKNOWN:
+                    current = initial(s)
+                # same(current, target); for a symbol: a symbol of the same name.
+                if symbol is not None:
+                    equal = type(current) is Sym and current.name == symbol
+                else:
+                    equal = same(current, target)
+                if (equal is not negate) is exists:
+                    return exists
+            return not exists
+
+        return quantified_comparison
+
+    def _reads_variable(self, e: ast.Expr, var_id: int) -> bool:
+        return any(isinstance(n, ast.Name) and id(self.model.target(n)) == var_id for n in walk(e))
+
+    def reads_only_fluents(self, e: ast.Expr) -> bool:
+        """In one state, `e` has one value for given values of its variables: it reads no
+        function, exogenous function or clock (see `_state_function_of`)."""
+        return self._state_function_of(e) is not None
+
+    def _state_function_of(self, e: ast.Expr) -> tuple[tuple[int, ...], bool] | None:
+        """The variables `e` reads besides those it binds itself (and whether their values need
+        their type in a key: all but symbols do), if `e` reads nothing of the world but fluents
+        (no function, exogenous function or clock, whose values are not a function of the state
+        alone as far as this check can tell) and no part of it is rewritten by the checker;
+        else None."""
+        bound: set[int] = set()
+        names: list[Symbol] = []
+        for node in walk(e):
+            if self.model.effective(node) is not node:  # type: ignore[arg-type]
+                return None
+            if isinstance(node, ast.Call):
+                target = self.model.target(node)
+                if target is None or target.kind is not SymbolKind.FLUENT or self._is_clock(node):
+                    return None
+            elif isinstance(node, ast.Quantified):
+                variable = self.model.target(node.var)
+                if variable is None:
+                    return None
+                bound.add(id(variable))
+            elif isinstance(node, ast.Name):
+                target = self.model.target(node)
+                if target is None:
+                    return None
+                if target.kind in (SymbolKind.VARIABLE, SymbolKind.PARAMETER):
+                    names.append(target)
+        free: dict[int, Symbol] = {id(s): s for s in names if id(s) not in bound}
+        typed = not all(isinstance(s.type, DomainType) and _symbols_only(s.type) for s in free.values())
+        return tuple(free), typed
 
     # ---------------------------------------------------------------- pruning `pick`
 
@@ -597,7 +790,8 @@ class CompiledProgram:
             for p, arg in zip(symbol.params, body.call.args, strict=True)
             if id(p) in read
         )
-        return PickGuard(args, tuple(conjuncts))
+        static = all(reads_only_variables(self.model, arg) for arg in body.call.args)
+        return PickGuard(args, tuple(conjuncts), static)
 
     # ---------------------------------------------------------------- assignment targets
 
@@ -654,7 +848,7 @@ def _update_path(current: Value, path: Sequence[tuple[PathStep, Value]], value: 
 
 def check_domain(value: Value, t: Type, span: Span) -> None:
     """Domain membership of a computed value, checked when it is stored (SEMANTICS §2.4)."""
-    if isinstance(t, DomainType) and value is not None and not any(same(value, v) for v in t.values):
+    if isinstance(t, DomainType) and value is not None and not _member(value, t):
         shown = ", ".join(show(v) for v in t.values[:10])
         raise GppRuntimeError(
             "R0004", f"`{show(value)}` is not in domain `{t.name}`", span, (f"`{t.name}` = {{{shown}}}",)
@@ -662,6 +856,43 @@ def check_domain(value: Value, t: Type, span: Span) -> None:
     if isinstance(t, ListType) and isinstance(value, tuple) and isinstance(t.element, DomainType):
         for v in value:
             check_domain(v, t.element, span)
+
+
+# For each symbol domain met: the domain and its members as a set (keyed by the domain's id,
+# with the domain kept, so that an id reused by a later domain is never mistaken for it).
+# Emptied when it holds _SYMBOL_SETS_SIZE domains, so that programs checked and run one after
+# the other in one process are not all kept alive by it.
+_SYMBOL_SETS: dict[int, tuple[DomainType, frozenset[Value]]] = {}
+_SYMBOL_SETS_SIZE = 1024
+
+
+def _member(value: Value, t: DomainType) -> bool:
+    """`value` is in domain `t` (golog++ `==` with a member). A domain of symbols is a set: a
+    symbol equals only a symbol of the same name, so set membership is exactly that."""
+    known = _SYMBOL_SETS.get(id(t))
+    if known is None or known[0] is not t:
+        members = frozenset(t.values) if t.defined and all(type(v) is Sym for v in t.values) else None
+        if members is None:
+            return any(same(value, v) for v in t.values)
+        if len(_SYMBOL_SETS) >= _SYMBOL_SETS_SIZE:
+            _SYMBOL_SETS.clear()
+        known = _SYMBOL_SETS[id(t)] = (t, members)
+    return type(value) is Sym and value in known[1]
+
+
+def reads_only_variables(model: Model, e: ast.Expr) -> bool:
+    """`e` reads nothing of the world (no fluent, function, exogenous function or clock), and
+    the checker rewrote no part of it: its value depends on the variables alone."""
+    effective = model.effective
+    return all(not isinstance(n, ast.Call) and effective(n) is n for n in walk(effective(e)))  # type: ignore[arg-type]
+
+
+def _symbols_only(t: DomainType) -> bool:
+    return t.defined and all(type(v) is Sym for v in t.values)
+
+
+# Not yet computed (never a value).
+_UNKNOWN: Value = cast(Value, object())
 
 
 def domain_values(t: Type | None, model: Model) -> tuple[Value, ...]:

@@ -31,6 +31,7 @@ from gpp.runtime.compiled import (
     CompiledProgram,
     Context,
     Env,
+    Evaluator,
     PathStep,
     check_domain,
     domain_values,
@@ -45,6 +46,7 @@ from gpp.syntax import ast
 
 if TYPE_CHECKING:
     from gpp.model.symbols import Symbol
+    from gpp.model.types import Type
 
 # ---------------------------------------------------------------- bindings
 
@@ -290,6 +292,11 @@ Step: TypeAlias = TestStep | StartStep | EndStep | CancelStep | DoStep | AssignS
 
 Successor = tuple[Prog, Step]
 
+# The effects of a ground action prepared by `Semantics._effect_plan`: the parameter bindings,
+# and per effect its condition, value, slot, the target's type and the span of a domain error.
+_EffectPlan = tuple[dict[int, Value], tuple[tuple[Evaluator | None, Evaluator, int, "Type", Span], ...]]
+_NO_PLAN: _EffectPlan = ({}, ())  # not yet prepared (compared by identity)
+
 # How many `final` results of procedure calls are remembered (then the memo starts afresh).
 _FINAL_MEMO_SIZE = 100_000
 
@@ -309,6 +316,7 @@ class Semantics:
         self.planner = planner
         self.model = program.model
         self._final_memo: dict[tuple[int, Frame, State, Activities], bool] = {}
+        self._effect_plans: dict[GroundAction, _EffectPlan | None] = {}
         # `pick` values skipped because a precondition conjunct already rules them out.
         self.pruned_bindings = 0
 
@@ -671,6 +679,47 @@ class Semantics:
     def effects(self, g: GroundAction, state: State) -> dict[int, Value]:
         """The updates of `g`'s effects, all evaluated in `state` (SEMANTICS §4). Two effects
         that give one instance (or one field or element of it) different values are an error."""
+        plan = self._effect_plans.get(g, _NO_PLAN)
+        if plan is _NO_PLAN:
+            plan = self._effect_plans[g] = self._effect_plan(g)
+        if plan is not None:
+            bindings, writes = plan
+            env = Env(state, bindings, self.ctx)
+            pending: dict[int, Value] = {}
+            for condition, evaluate, slot, value_type, span in writes:
+                if condition is not None and condition(env) is not True:
+                    continue
+                value = evaluate(env)
+                check_domain(value, value_type, span)
+                pending[slot] = value
+            return pending
+        return self._effects(g, state)
+
+    def _effect_plan(self, g: GroundAction) -> _EffectPlan | None:
+        """`g`'s effects with their slots worked out once, when every effect assigns a whole
+        fluent instance whose arguments read only the action's parameters, and no two assign
+        the same instance (so they cannot conflict): then `effects` is, step for step, the
+        general evaluation below (condition, value, domain check, update) without computing
+        the slots and paths again. None otherwise."""
+        action = self.program.action(g.name)
+        if not all(effect.static_target for effect in action.effects):
+            return None
+        bindings = dict(zip(action.param_ids, g.args, strict=True))
+        env = Env(State(), bindings, self.ctx)
+        writes = []
+        try:
+            for effect in action.effects:
+                target = effect.target
+                slot = self.program.slot(target.fluent, tuple(a(env) for a in target.args))
+                span = effect.value_span if effect.value_span is not None else target.span
+                writes.append((effect.condition, effect.value, slot, target.value_type, span))
+        except GppRuntimeError:
+            return None
+        if len({w[2] for w in writes}) < len(writes):
+            return None
+        return bindings, tuple(writes)
+
+    def _effects(self, g: GroundAction, state: State) -> dict[int, Value]:
         action = self.program.action(g.name)
         env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
         pending: dict[int, Value] = {}

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from enum import Enum
+from typing import cast
 
 from gpp.runtime.values import Value, same, show
 
@@ -17,26 +18,38 @@ from gpp.runtime.values import Value, same, show
 class State:
     __slots__ = ("_hash", "_values")
 
-    def __init__(self, values: dict[int, Value] | None = None) -> None:
+    def __init__(self, values: dict[int, Value] | None = None, _hash: int | None = None) -> None:
         self._values: dict[int, Value] = values or {}
-        self._hash: int | None = None
+        # The hash is the XOR of the hashes of the (slot, value) items, so that an update can
+        # change it item by item instead of hashing the whole state again.
+        self._hash: int | None = _hash
 
     def get(self, slot: int, initial: Callable[[int], Value]) -> Value:
-        values = self._values
-        if slot in values:
-            return values[slot]
-        return initial(slot)
+        v = self._values.get(slot, _ABSENT)
+        return initial(slot) if v is _ABSENT else v
+
+    def held(self) -> Mapping[int, Value]:
+        """The instances whose value is not their initial value (read only)."""
+        return self._values
 
     def updated(self, updates: Mapping[int, Value], initial: Callable[[int], Value]) -> State:
         """A new state with `updates` applied (instances set back to their initial value are
         dropped, to keep the representation canonical)."""
         values = dict(self._values)
+        h = self._hash
         for slot, value in updates.items():
-            if _identical(value, initial(slot)):
-                values.pop(slot, None)
-            else:
+            old = values.get(slot, _ABSENT)
+            if old is not _ABSENT:
+                if _identical(value, old):
+                    continue
+                del values[slot]
+                if h is not None:
+                    h ^= _item_hash(slot, old)
+            if not _identical(value, initial(slot)):
                 values[slot] = value
-        return State(values)
+                if h is not None:
+                    h ^= _item_hash(slot, value)
+        return State(values, h)
 
     def changed_slots(self) -> Iterator[tuple[int, Value]]:
         return iter(self._values.items())
@@ -51,22 +64,30 @@ class State:
         )
 
     def __hash__(self) -> int:
-        if self._hash is None:
-            self._hash = hash(frozenset((k, _key(v)) for k, v in self._values.items()))
-        return self._hash
+        h = self._hash
+        if h is None:
+            h = 0
+            for k, v in self._values.items():
+                h ^= _item_hash(k, v)
+            self._hash = h
+        return h
 
     def __repr__(self) -> str:
         return f"State({self._values})"
 
 
+# Marks a slot the state does not hold (its value is the initial one); never a value.
+_ABSENT: Value = cast(Value, object())
+
+
+def _item_hash(slot: int, v: Value) -> int:
+    # bool and int hash alike in Python; keep them apart in state hashes.
+    return hash((slot, type(v).__name__, v))
+
+
 def _identical(a: Value, b: Value) -> bool:
     """Same value, also in type (1 and 1.0 are equal in golog++ but stored distinctly)."""
     return type(a) is type(b) and a == b
-
-
-def _key(v: Value) -> object:
-    # bool and int hash alike in Python; keep them apart in state hashes.
-    return (type(v).__name__, v)
 
 
 @dataclass(frozen=True, slots=True)

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Union
 
@@ -83,6 +84,5 @@ def show_json(obj: object) -> str:
         return json.dumps(obj, ensure_ascii=False, default=str)
 
 
-def same(a: Value, b: Value) -> bool:
-    """golog++ `==` (gpp.model.types.same_value, on runtime values)."""
-    return same_value(a, b)
+# golog++ `==` on runtime values: gpp.model.types.same_value itself (evaluation calls it a lot).
+same: Callable[[Value, Value], bool] = same_value

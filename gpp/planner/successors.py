@@ -1,0 +1,409 @@
+"""`final` and `trans` specialised to a program point, once per planning: what the production
+planner calls instead of gpp.runtime.semantics on every configuration.
+
+The planner meets the same few program points in thousands of states. For each of them this
+module builds, once, a function of (state, activities) that does exactly what
+`Semantics.final` / `Semantics.trans` (planning mode) do for that point, with everything that
+does not depend on the state done in advance:
+
+* the `match` on the continuation and on the statement kind, the frames of a `pick` over a
+  domain, its precondition guard, and the body for every frame;
+* an action call whose arguments read only variables and literals: its ground action, the
+  domain check of its arguments and its `DoStep` (made once and returned every time), and
+  its precondition with the conjuncts that read no fluent evaluated once (`x != y`): a true
+  one is dropped, a false one ends the precondition there;
+* `final` of a statement that is never final whatever the state, without evaluating anything
+  (an action call, a test, an assignment, a `pick` or `choose` of such, a block that starts
+  with one): the constant False, exactly what `final` computes for it.
+
+Everything else (procedure bodies reached by a call, assignments, hooks, `during`,
+concurrency, a `pick ... in {...}`) calls the semantics itself for that part; a program point
+never met is never specialised. The functions are built from the same compiled expressions
+and the same helpers (`Semantics.seq`, `pick_frames`, `ground_call`, `CompiledProgram.pick_guard`)
+and evaluate conditions in the same order, so results and errors are the semantics' own:
+tests/test_planner_successors.py compares them with `Semantics.final`/`trans` on random
+programs and states.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.semantics import (
+    DONE,
+    Code,
+    Done,
+    DoStep,
+    Frame,
+    Prog,
+    Rest,
+    Semantics,
+    Seq,
+    Successor,
+    TestStep,
+)
+from gpp.runtime.state import Activities, ActivityStatus, State
+from gpp.runtime.values import Value
+from gpp.syntax import ast
+
+TransFn = Callable[[State, Activities], list[Successor]]
+FinalFn = Callable[[State, Activities], bool]
+
+_EMPTY = State()
+
+
+def _never(state: State, acts: Activities) -> bool:
+    """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
+    return False
+
+
+def _always(state: State, acts: Activities) -> bool:
+    return True
+
+
+def _nothing(state: State, acts: Activities) -> list[Successor]:
+    return []
+
+
+class Successors:
+    """`final` and `trans` of `sem` (planning mode), specialised per program point on first use."""
+
+    def __init__(self, sem: Semantics) -> None:
+        assert sem.planning
+        self.sem = sem
+        self.program = sem.program
+        self.model = sem.model
+        self._trans: dict[Prog, TransFn] = {}
+        self._final: dict[Prog, FinalFn] = {}
+        self._code_trans: dict[tuple[int, Frame, frozenset[int]], TransFn] = {}
+        self._code_final: dict[tuple[int, Frame], FinalFn] = {}
+
+    def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
+        f = self._trans.get(p)
+        if f is None:
+            f = self._trans[p] = self.trans_fn(p)
+        return f(state, acts)
+
+    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+        f = self._final.get(p)
+        if f is None:
+            f = self._final[p] = self.final_fn(p)
+        return f(state, acts)
+
+    # ---------------------------------------------------------------- continuations
+
+    def trans_fn(self, p: Prog) -> TransFn:
+        sem = self.sem
+        match p:
+            case Done():
+                return _nothing
+            case Code():
+                return self.code_trans(p.stmt, p.frame)
+            case Rest():
+                body = p.block.body
+                if p.index >= len(body):
+                    return _nothing
+                tail: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(body) else DONE
+                return self.trans_fn(Seq(Code(body[p.index], p.frame), tail))
+            case Seq():
+                first, first_final, rest = self.trans_fn(p.first), self.final_fn(p.first), p.rest
+                seq = Semantics.seq
+                rest_trans: list[TransFn] = []  # built on first use (a recursion comes back here)
+
+                def trans_seq(state: State, acts: Activities) -> list[Successor]:
+                    out = [(seq(q, rest), step) for q, step in first(state, acts)]
+                    if first_final(state, acts):
+                        if not rest_trans:
+                            rest_trans.append(self.trans_fn(rest))
+                        out.extend(rest_trans[0](state, acts))
+                    return out
+
+                return trans_seq
+            case _:
+                return lambda state, acts: sem.trans(p, state, acts)
+
+    def final_fn(self, p: Prog) -> FinalFn:
+        sem = self.sem
+        match p:
+            case Done():
+                return _always
+            case Code():
+                return self.code_final(p.stmt, p.frame)
+            case Rest():
+                return self._all([self.code_final(s, p.frame) for s in p.block.body[p.index :]])
+            case Seq():
+                return self._all([self.final_fn(p.first), self.final_fn(p.rest)])
+            case _:
+                return lambda state, acts: sem.final(p, state, acts)
+
+    @staticmethod
+    def _all(parts: list[FinalFn]) -> FinalFn:
+        """All of `parts`, in order, stopping at the first false one (as `all` does)."""
+        if not parts:
+            return _always
+        if parts[0] is _never:
+            return _never
+        if len(parts) == 1:
+            return parts[0]
+
+        def final_all(state: State, acts: Activities) -> bool:
+            return all(f(state, acts) for f in parts)
+
+        return final_all
+
+    # ---------------------------------------------------------------- statements: final
+
+    def code_final(self, s: ast.Statement, frame: Frame) -> FinalFn:
+        key = (id(s), frame)
+        f = self._code_final.get(key)
+        if f is None:
+            f = self._code_final[key] = self._make_code_final(s, frame)
+        return f
+
+    def _make_code_final(self, s: ast.Statement, frame: Frame) -> FinalFn:
+        sem = self.sem
+        match s:
+            case ast.Test() | ast.Assign() | ast.ListStmt() | ast.HookStmt() | ast.During():
+                return _never
+            case ast.CallStmt() if sem.callee(s).kind is not SymbolKind.PROCEDURE:
+                return _never
+            case ast.Block():
+                return self._all([self.code_final(x, frame) for x in s.body])
+            case ast.Choose():
+                parts = [self.code_final(x, frame) for x in s.alternatives]
+                if all(f is _never for f in parts):
+                    return _never
+                return lambda state, acts: any(f(state, acts) for f in parts)
+            case ast.Pick() if s.values is None:
+                bodies = [self.code_final(s.body, f) for f in sem.pick_frames(s, frame)]
+                if all(f is _never for f in bodies):
+                    return _never
+                return lambda state, acts: any(f(state, acts) for f in bodies)
+            case ast.Solve() | ast.Search():
+                return self.code_final(s.body, frame)
+            case ast.While():
+                condition, body, variables, ctx = self._condition(s.condition), s.body, frame.vars, sem.ctx
+                body_final: list[FinalFn] = []  # built on first use
+
+                def final_while(state: State, acts: Activities) -> bool:
+                    if condition(Env(state, variables, ctx)) is not True:
+                        return True
+                    if not body_final:
+                        body_final.append(self.code_final(body, frame))
+                    return body_final[0](state, acts)
+
+                return final_while
+            case _:
+                return lambda state, acts: sem._final_code(s, frame, state, acts)
+
+    # ---------------------------------------------------------------- statements: trans
+
+    def code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int] = frozenset()) -> TransFn:
+        """`trans` of `s` with the bindings of `frame`. `known`: (the ids of) precondition
+        conjuncts known to hold whenever this function is called, for an action call directly
+        inside `pick`s (a pick guard has just found them true)."""
+        key = (id(s), frame, known)
+        f = self._code_trans.get(key)
+        if f is None:
+            f = self._code_trans[key] = self._make_code_trans(s, frame, known)
+        return f
+
+    def _condition(self, e: ast.Expr) -> Evaluator:
+        return self.program.expr(e)
+
+    def _make_code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int]) -> TransFn:
+        sem = self.sem
+        variables, ctx = frame.vars, sem.ctx
+        match s:
+            case ast.Block():
+                if not s.body:
+                    return _nothing
+                return self.trans_fn(Rest(s, 0, frame))
+            case ast.While():
+                condition, loop, seq = self._condition(s.condition), Code(s, frame), Semantics.seq
+                body = self.code_trans(s.body, frame)
+
+                def trans_while(state: State, acts: Activities) -> list[Successor]:
+                    if condition(Env(state, variables, ctx)) is not True:
+                        return []
+                    return [(seq(q, loop), step) for q, step in body(state, acts)]
+
+                return trans_while
+            case ast.If():
+                condition = self._condition(s.condition)
+                then = self.code_trans(s.then, frame)
+                otherwise = self.code_trans(s.otherwise, frame) if s.otherwise is not None else _nothing
+
+                def trans_if(state: State, acts: Activities) -> list[Successor]:
+                    if condition(Env(state, variables, ctx)) is True:
+                        return then(state, acts)
+                    return otherwise(state, acts)
+
+                return trans_if
+            case ast.Test():
+                condition, test = self._condition(s.condition), TestStep(s.span)
+
+                def trans_test(state: State, acts: Activities) -> list[Successor]:
+                    return [(DONE, test)] if condition(Env(state, variables, ctx)) is True else []
+
+                return trans_test
+            case ast.Choose():
+                alternatives = [self.code_trans(x, frame) for x in s.alternatives]
+
+                def trans_choose(state: State, acts: Activities) -> list[Successor]:
+                    out: list[Successor] = []
+                    for alternative in alternatives:
+                        out.extend(alternative(state, acts))
+                    return out
+
+                return trans_choose
+            case ast.Pick() if s.values is None:
+                return self._pick(s, frame, known)
+            case ast.Solve() | ast.Search():
+                return self.code_trans(s.body, frame)
+            case ast.CallStmt():
+                if sem.callee(s).kind is SymbolKind.PROCEDURE:
+                    return self._procedure_call(s, frame)
+                return self._action_call(s, frame, known)
+            case _:
+                return lambda state, acts: sem._trans_code(s, frame, state, acts)
+
+    def _pick(self, s: ast.Pick, frame: Frame, known: frozenset[int]) -> TransFn:
+        sem = self.sem
+        guard = self.program.pick_guard(s)
+        ctx = sem.ctx
+        frames = sem.pick_frames(s, frame)
+        branches = [(f.vars, self.code_trans(s.body, f, known)) for f in frames]
+        if guard is None:
+
+            def trans_pick(state: State, acts: Activities) -> list[Successor]:
+                out: list[Successor] = []
+                for _, body in branches:
+                    out.extend(body(state, acts))
+                return out
+
+            return trans_pick
+        if guard.static:
+            # Once the guard found its conjuncts true, the action's precondition need not
+            # evaluate them again (those that read only fluents: they have the same value).
+            action = self.program.action(self._guarded_call(s).name)
+            pure = frozenset(
+                id(check)
+                for check, expr in action.precondition
+                if check in guard.conjuncts and self.program.reads_only_fluents(expr)
+            )
+            passed = [self.code_trans(s.body, f, known | pure) for f in frames]
+            return self._statically_guarded_pick(guard, branches, passed)
+        rejects = guard.rejects
+
+        def trans_guarded_pick(state: State, acts: Activities) -> list[Successor]:
+            out: list[Successor] = []
+            for variables, body in branches:
+                if rejects(state, variables, ctx):
+                    sem.pruned_bindings += 1
+                    continue
+                out.extend(body(state, acts))
+            return out
+
+        return trans_guarded_pick
+
+    def _guarded_call(self, s: ast.Pick) -> Symbol:
+        """The action called inside the `pick`s of a pick guard."""
+        body: ast.Statement = s
+        while isinstance(body, ast.Pick):
+            body = body.body
+        assert isinstance(body, ast.CallStmt)
+        return self.sem.callee(body)
+
+    def _statically_guarded_pick(
+        self, guard: PickGuard, branches: list[tuple[dict[int, Value], TransFn]], passed: list[TransFn]
+    ) -> TransFn:
+        """A guarded `pick` whose guard arguments read only variables: the guard's bindings
+        for every value are made once (`PickGuard.rejects` = `bind`, then `rejects_bound`, an
+        error in either meaning "not rejected")."""
+        sem, ctx = self.sem, self.sem.ctx
+        bound: list[tuple[dict[int, Value] | None, TransFn, TransFn]] = []
+        for (variables, body), body_passed in zip(branches, passed, strict=True):
+            try:
+                bindings = guard.bind(Env(_EMPTY, variables, ctx))
+            except GppRuntimeError:
+                bindings = None
+            bound.append((bindings, body, body_passed))
+        rejects_bound = guard.rejects_bound
+
+        def trans_guarded_pick(state: State, acts: Activities) -> list[Successor]:
+            out: list[Successor] = []
+            for bindings, body, body_passed in bound:
+                if bindings is not None:
+                    try:
+                        rejected = rejects_bound(state, bindings, ctx)
+                    except GppRuntimeError:
+                        out.extend(body(state, acts))  # not rejected, nothing known
+                        continue
+                    if rejected:
+                        sem.pruned_bindings += 1
+                        continue
+                    out.extend(body_passed(state, acts))  # the guard's conjuncts hold
+                    continue
+                out.extend(body(state, acts))
+            return out
+
+        return trans_guarded_pick
+
+    def _procedure_call(self, s: ast.CallStmt, frame: Frame) -> TransFn:
+        sem = self.sem
+        name = sem.callee(s).name
+
+        def trans_call(state: State, acts: Activities) -> list[Successor]:
+            body, inner = sem.procedure_body(s, name, state, frame)
+            return self.code_trans(body, inner)(state, acts)
+
+        return trans_call
+
+    def _static(self, e: ast.Expr) -> bool:
+        return reads_only_variables(self.model, e)
+
+    def _action_call(self, s: ast.CallStmt, frame: Frame, known: frozenset[int]) -> TransFn:
+        sem = self.sem
+        call = s.call
+        generic: TransFn = lambda state, acts: sem._trans_code(s, frame, state, acts)  # noqa: E731
+        if not isinstance(call, ast.Call) or not all(self._static(a) for a in call.args):
+            return generic
+        try:
+            action, g = sem.ground_call(call, frame, _EMPTY)
+        except GppRuntimeError:
+            return generic  # raised again, where the semantics raises it
+        ctx = sem.ctx
+        bindings = dict(zip(action.param_ids, g.args, strict=True))
+        checks: list[Evaluator] = []
+        ends_false = False
+        for check, expr in action.precondition:
+            if id(check) in known:
+                continue  # true whenever this is called: `all` goes on to the next conjunct
+            if self._static(expr):
+                try:
+                    value = check(Env(_EMPTY, bindings, ctx))
+                except GppRuntimeError:
+                    checks.append(check)  # raises when it is reached, as the semantics' does
+                    continue
+                if value is True:
+                    continue  # true in every state: `all` goes on to the next conjunct
+                ends_false = True  # false in every state: `all` stops here
+                break
+            checks.append(check)
+        done = [(DONE, DoStep(g, s.span))]
+        running = ActivityStatus.RUNNING
+
+        def trans_action(state: State, acts: Activities) -> list[Successor]:
+            if acts.status(g) is running:
+                return []
+            env = Env(state, bindings, ctx)
+            for check in checks:
+                if check(env) is not True:
+                    return []
+            return [] if ends_false else list(done)
+
+        return trans_action
