@@ -155,6 +155,7 @@ def test_the_explanation_states_the_limit() -> None:
 
     assert f"{MAX_NESTING:,} levels" in CODES["E0014"].explanation
     assert f"{MAX_NESTING:,} levels" in CODES["E0014"].summary
+    assert f"{MAX_OPEN:,} brackets" in CODES["E0014"].explanation
 
 
 def run_text(text: str, folder: Path) -> tuple[str, list[str]]:
