@@ -848,7 +848,7 @@ def test_program_reports_exactly_the_expected_diagnostics(program: str, expected
 
 
 def test_every_error_code_has_a_case() -> None:
-    covered = {e.code for param in CASES for e in param.values[1]} | {"E0005", "E0030", "E0031"}
+    covered = {e.code for param in CASES for e in param.values[1]} | {"E0006", "E0030", "E0031"}
     errors = {code for code in CODES if code.startswith("E")}
     assert errors - covered == set()
 
@@ -898,11 +898,11 @@ def test_a_file_that_is_not_text_is_one_error_at_its_first_bad_byte(tmp_path: Pa
     main.write_bytes(b'procedure main() {\n    say("\xa1hola!");\n}\n\xff\xfe')  # Latin-1
     result = check_program(main, lint=False)
     message = "this is not a UTF-8 text file: invalid UTF-8 byte 0xa1 at line 2, column 10"
-    assert_diagnostics(result.diagnostics, [E("E0005", 2, 10, message)])
+    assert_diagnostics(result.diagnostics, [E("E0006", 2, 10, message)])
     (tmp_path / "other.gpp").write_text('#include "main.gpp"\n')
     result = check_program(tmp_path / "other.gpp", lint=False)
     message = "included file `main.gpp` is not a UTF-8 text file: invalid UTF-8 byte 0xa1 at line 2, column 10"
-    assert_diagnostics(result.diagnostics, [E("E0005", 1, 10, message)])
+    assert_diagnostics(result.diagnostics, [E("E0006", 1, 10, message)])
 
 
 def test_include_cycle_is_reported_in_the_file_that_closes_it(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
