@@ -416,9 +416,11 @@ Choose another name:
     "E0014": """
 gpp reads declarations nested up to 2,000 levels deep. Each statement inside another counts as
 a level, and so does each operand of an operator chain (`a + b + c` is `(a + b) + c`), each
-call, field access, index, `!`, `-`, quantifier and domain operator (parentheses do not). A
-declaration nested deeper is left out of the program, so that no later phase has to follow
-it. Programs written by hand never come near the limit; generated ones may.
+call, field access, index, `!`, `-`, quantifier and domain operator (parentheses do not). The
+parser also stops at 20,000 brackets, operators and statements open at once (parentheses
+around parentheses count there). A declaration nested deeper is left out of the program, so
+that no later phase has to follow it. Programs written by hand never come near the limit;
+generated ones may.
 
 For example, a condition negated 2,001 times (in lines of 80):
 

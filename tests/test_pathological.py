@@ -73,6 +73,10 @@ FAMILIES: dict[str, tuple[Callable[[int], str], int]] = {
     "conjunction over lines": (lambda n: "bool function g() =\n" + " &\n".join(["true"] * n) + "\n", 200),
     "nested exists": (lambda n: "symbol domain D = {a}\nbool function g() = " + "exists (D x) " * n + "true\n", 200),
     "nested conditionals": (lambda n: "number function g() = " + "if (true) " * n + "1" + " else 2" * n + "\n", 200),
+    "declarations nested beyond the limit": (
+        lambda n: "".join(f"procedure p{i}() {{\n" + "if (true) {} else " * 3_500 + "{}\n}\n" for i in range(n)),
+        1,
+    ),
     "long domain": (lambda n: "symbol domain D = {" + ", ".join(f"e{i}" for i in range(n)) + "}\n", 200),
     "long union": (lambda n: "symbol domain A = {a}\nsymbol domain D = " + " | ".join(["A"] * n) + "\n", 200),
     "many declarations": (lambda n: "".join(f"number function f{i}() = {i}\n" for i in range(n)), 100),
@@ -137,11 +141,13 @@ def test_statements_one_level_over_the_limit_are_e0014_at_that_statement() -> No
 def test_too_many_open_brackets_stop_the_declaration_where_they_become_too_many() -> None:
     # Parentheses add no level to the tree, but the parser stops at MAX_OPEN open constructs.
     count = MAX_OPEN + 100
-    text = "number function f() = " + "(" * count + "1" + ")" * count + "\nnumber function g() = 1\n"
+    head = "number function f() = "
+    text = "number function e() = 1\n" + head + "(" * count + "1" + ")" * count + "\nnumber function g() = 1\n"
     [(code, line, col, message)] = codes_of(text)
-    assert (code, line, message) == ("E0014", 1, f"this declaration nests more than {MAX_NESTING} levels deep")
-    assert len("number function f() = ") < col <= len("number function f() = ") + MAX_OPEN
-    assert [d.name.name for d in parse_text(text).program.declarations] == ["g"]  # type: ignore[attr-defined]
+    assert (code, line, message) == ("E0014", 2, f"this declaration nests more than {MAX_NESTING} levels deep")
+    assert len(head) < col <= len(head) + MAX_OPEN
+    names = [d.name.name for d in parse_text(text).program.declarations]  # type: ignore[attr-defined]
+    assert names == ["e", "g"]
 
 
 def test_the_explanation_states_the_limit() -> None:
@@ -149,6 +155,7 @@ def test_the_explanation_states_the_limit() -> None:
 
     assert f"{MAX_NESTING:,} levels" in CODES["E0014"].explanation
     assert f"{MAX_NESTING:,} levels" in CODES["E0014"].summary
+    assert f"{MAX_OPEN:,} brackets" in CODES["E0014"].explanation
 
 
 def run_text(text: str, folder: Path) -> tuple[str, list[str]]:

@@ -99,6 +99,8 @@ _COMPLETIONS = (["NAME", "SEMI"], ["RPAR", "SEMI"], ["NAME", "RPAR", "SEMI"])
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
+# The parser's stack between declarations holds at most this many states.
+_TOP_LEVEL_DEPTH = 4
 # How many tokens of the file the parser loads at a time (see `_Parser.load_more`).
 _CHUNK = 4096
 # Where a statement or a declaration ends: the parser can resume after these when skipping.
@@ -638,7 +640,10 @@ class _Parser:
         self.load_more()
         self.load_until(i + 3)
         ahead = self.lookahead(i, 3)
-        for depth in range(len(ss), 0, -1):
+        # Declarations are reduced into the program's list as soon as they end, so the one
+        # left out began within the lowest few states of the stack: only those are tried
+        # (from the top of the deep stack, each try would reduce through all of it).
+        for depth in range(min(len(ss), _TOP_LEVEL_DEPTH), 0, -1):
             if self.simulate(ss, ahead, height=depth):
                 del ss[depth:]
                 del vs[depth - 1 :]
