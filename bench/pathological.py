@@ -197,7 +197,9 @@ def child(family_name: str, n: int, run: bool, timeout: float) -> dict[str, obje
 
 
 def growth(seconds: float, size: int, previous: tuple[float, int] | None) -> str:
-    if previous is None or previous[0] <= 0 or seconds <= 0 or size == previous[1]:
+    """The exponent k in seconds ~ size^k since the previous size (blank when the sizes are
+    too close for it to mean anything, as at the nesting limit and one over it)."""
+    if previous is None or previous[0] <= 0 or seconds <= 0 or size < 1.5 * previous[1]:
         return ""
     return f"{math.log(seconds / previous[0]) / math.log(size / previous[1]):.2f}"
 

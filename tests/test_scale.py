@@ -242,7 +242,10 @@ def test_an_included_binary_file_is_reported_at_the_include(tmp_path: Path) -> N
 def test_cli_check_run_and_test_on_files_that_are_not_text(tmp_path: Path) -> None:
     (tmp_path / "binary.gpp").write_bytes(bytes(range(256)) * 200)  # 51 KB, NUL first
     (tmp_path / "latin.gpp").write_bytes("procedure main() {\n    // größer\n}\n".encode("latin-1"))
-    (tmp_path / "main.gpp").write_text('#include "binary.gpp"\nprocedure main() { }\n')
+    (tmp_path / "logo.gpp").write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR")
+    # (A file given that another given file includes is checked as part of that program: the
+    # included binary is one not given, so that each of the three errors shows.)
+    (tmp_path / "main.gpp").write_text('#include "logo.gpp"\nprocedure main() { }\n')
     check = run_gpp("check", "--color", "never", "binary.gpp", "latin.gpp", "main.gpp", cwd=tmp_path)
     assert check.returncode == 1, check.stderr
     help_line = HELP.rstrip("\n")
@@ -263,13 +266,13 @@ def test_cli_check_run_and_test_on_files_that_are_not_text(tmp_path: Path) -> No
         "  |",
         help_line,
         "",
-        "error[E0006]: included file `binary.gpp` is not a UTF-8 text file: a NUL byte (0x00) at line 1, column 1",
+        "error[E0006]: included file `logo.gpp` is not a UTF-8 text file: invalid UTF-8 byte 0x89 at line 1, column 1",
         " --> main.gpp:1:10",
         "  |",
-        '1 | #include "binary.gpp"',
-        "  |          ^^^^^^^^^^^^ not UTF-8 text",
+        '1 | #include "logo.gpp"',
+        "  |          ^^^^^^^^^^ not UTF-8 text",
         "  |",
-        "  = note: the included file is binary.gpp",
+        "  = note: the included file is logo.gpp",
         help_line,
         "",
         "error: 3 errors",
@@ -277,7 +280,7 @@ def test_cli_check_run_and_test_on_files_that_are_not_text(tmp_path: Path) -> No
     ]
     run = run_gpp("run", "main.gpp", cwd=tmp_path)
     assert run.returncode == 1, run.stderr
-    assert run.stdout.startswith("error[E0006]: included file `binary.gpp` is not a UTF-8 text file")
+    assert run.stdout.startswith("error[E0006]: included file `logo.gpp` is not a UTF-8 text file")
     assert run.stdout.count("error[") == 1
     test = run_gpp("test", "binary.gpp", cwd=tmp_path)
     assert test.returncode == 1, test.stderr
