@@ -29,7 +29,8 @@ from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
+# Appended, not put first: bench/lsp.py must not hide the lsp package.
+sys.path.append(str(ROOT / "bench"))
 from genprog import generate_program  # noqa: E402
 
 # Every program of the repository but those in the older syntax (tests/legacy: syntax errors

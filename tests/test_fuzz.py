@@ -32,7 +32,8 @@ from gpp.render import render_text
 
 ROOT = Path(__file__).resolve().parent.parent
 # The token-level mutations and the vocabulary are those of `make fuzz` (bench/fuzz.py).
-sys.path.insert(0, str(ROOT / "bench"))
+# Appended, not put first: bench/lsp.py must not hide the lsp package.
+sys.path.append(str(ROOT / "bench"))
 from fuzz import FUZZ_PATH, VOCABULARY, check_diagnostic, mutate, pieces  # noqa: E402
 
 PROGRAMS = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
