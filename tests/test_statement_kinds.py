@@ -61,6 +61,8 @@ def _site(copy: Path, file: str, line: int) -> str:
 def test_a_new_statement_kind_makes_mypy_name_every_dispatch(tmp_path: Path) -> None:
     copy = tmp_path / "copy"
     shutil.copytree(ROOT / "gpp", copy / "gpp", ignore=shutil.ignore_patterns("__pycache__", "_data"))
+    # The language server too: gpp's commands import it (gpp lsp).
+    shutil.copytree(ROOT / "lsp", copy / "lsp", ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copy(ROOT / "pyproject.toml", copy / "pyproject.toml")
     tree = copy / "gpp" / "syntax" / "ast.py"
     text = tree.read_text(encoding="utf-8")

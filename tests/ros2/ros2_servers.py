@@ -40,7 +40,9 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPol
 class TestRobot:
     __test__ = False
 
-    def __init__(self, context: Context, name: str = "test_robot") -> None:
+    def __init__(self, context: Context, name: str = "test_robot", announce: bool = False) -> None:
+        # announce: print `goal ORDER` when a /fib goal starts (for a parent process to wait on).
+        self.announce = announce
         self.node = rclpy.create_node(name, context=context, start_parameter_services=False)
         self.lock = threading.Lock()
         self.executed: list[int] = []
@@ -95,6 +97,8 @@ class TestRobot:
             self.executed.append(order)
             self.running += 1
             self.max_running = max(self.max_running, self.running)
+        if self.announce:
+            print(f"goal {order}", flush=True)
         try:
             if order == -1:
                 handle.abort()
@@ -166,7 +170,7 @@ def main() -> None:
 
     context = Context()
     rclpy.init(context=context, args=["--ros-args", "--log-level", "error"])
-    robot = TestRobot(context, "test_robot_process")
+    robot = TestRobot(context, "test_robot_process", announce=True)
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     print("ready", flush=True)

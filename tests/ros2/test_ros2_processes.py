@@ -107,7 +107,12 @@ def test_a_server_process_that_dies_during_a_goal_fails_it(servers: subprocess.P
     killed: list[float] = []
 
     def kill_soon() -> None:
-        time.sleep(1.0)
+        # Once the goal runs (discovery can take seconds on a busy machine), and a little after.
+        assert servers.stdout is not None
+        for line in servers.stdout:
+            if line.startswith("goal 5000"):
+                break
+        time.sleep(0.5)
         killed.append(time.monotonic())
         servers.send_signal(signal.SIGTERM)
 
