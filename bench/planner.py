@@ -42,9 +42,12 @@ from gpp.planner.reference import NodeBudgetExceeded
 NAMES = "abcdefg"
 
 
-def tower_program(blocks: int, horizon: int) -> str:
+def tower_program(blocks: int, horizon: int, twice: bool = False) -> str:
     """A tower blocks[0] on blocks[1] on ... on the table, to be reversed: the optimum moves
-    every block once (the top one to the table, each next one onto the one moved before)."""
+    every block once (the top one to the table, each next one onto the one moved before).
+    `twice`: a choice of two copies of the loop (the second is planned after the first)."""
+    loop = "while (!goal()) pick (block x) pick (location y) stack(x, y);"
+    body = f"choose {{ {loop} {loop} }}" if twice else loop
     names = NAMES[:blocks]
     initially = " ".join(f"({names[i]}) = {names[i + 1] if i + 1 < blocks else 'table'};" for i in range(blocks))
     goal = " & ".join(f"loc({names[i]}) == {names[i - 1] if i > 0 else 'table'}" for i in range(blocks))
@@ -61,7 +64,7 @@ effect:
 bool function goal() = {goal}
 number function reward() = if (goal()) 100 else -1
 procedure main() {{
-    solve({horizon}, reward()) while (!goal()) pick (block x) pick (location y) stack(x, y);
+    solve({horizon}, reward()) {body}
 }}
 """
 

@@ -133,6 +133,26 @@ def load_config(start: Path) -> Config:
         config_error(e)
 
 
+def files_to_check(given: Sequence[Path], hint: str = "") -> list[Path]:
+    """The files `gpp check` and `gpp fmt` work on (gpp.config.project_files): each file given,
+    the .gpp files under each folder given, or with no PATH the project's `paths`. A path that
+    does not exist, a bad configuration file or no .gpp file at all end the command (exit 2;
+    `hint` is added to the last message)."""
+    from gpp.config import ConfigError, project_files
+
+    for path in given:
+        if not path.exists():
+            _usage_error(f"cannot read '{path}': No such file or directory")
+    try:
+        files = project_files(given)
+    except ConfigError as e:
+        config_error(e)
+    if not files:
+        where = ", ".join(f"'{p}'" for p in given) if given else "the project (the working directory)"
+        _usage_error(f"no .gpp files found in {where}{hint}")
+    return files
+
+
 def run_check(
     files: Sequence[Path],
     output_format: OutputFormat,
@@ -147,7 +167,6 @@ def run_check(
 ) -> int:
     """Check the files (or the project), fixing first with `fix`/`diff`; the exit code."""
     from gpp.check import check_loaded, merged_diagnostics
-    from gpp.config import ConfigError, project_files
     from gpp.syntax.loader import load
 
     if max_diagnostics is not None and output_format is not OutputFormat.TEXT:
@@ -156,16 +175,7 @@ def run_check(
         )
     if diff and output_format is not OutputFormat.TEXT:
         _usage_error(f"--diff writes a unified diff; --format {output_format.value} does not apply to it")
-    for given in files:
-        if not given.exists():
-            _usage_error(f"cannot read '{given}': No such file or directory")
-    try:
-        paths = project_files(files)
-    except ConfigError as e:
-        config_error(e)
-    if not paths:
-        where = ", ".join(f"'{p}'" for p in files) if files else "the project (the working directory)"
-        _usage_error(f"no .gpp files found in {where}; give .gpp files or folders, or --list-lints")
+    paths = files_to_check(files, "; give .gpp files or folders, or --list-lints")
     for path in paths:
         _require_readable(path)
     configs = {path: load_config(path) for path in paths}

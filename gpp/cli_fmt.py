@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import difflib
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated
 
@@ -47,7 +46,9 @@ def fmt(
         if len(paths) > 1:
             _usage_error("`-` (standard input) cannot be combined with other paths")
         raise typer.Exit(_format_stdin(check, diff))
-    files = expand_paths(paths)
+    from gpp.cli_check import files_to_check
+
+    files = files_to_check(paths)
     # Every file is read before any is written: an unreadable one stops the command early.
     texts = [(path, _read(path)) for path in files]
     changed: list[Path] = []
@@ -73,27 +74,6 @@ def fmt(
         summary.append(f"{_count(failed, 'file')} with syntax errors left unchanged")
     print(", ".join(summary), file=sys.stderr if diff else sys.stdout)
     raise typer.Exit(EXIT_PROBLEMS if failed or ((check or diff) and changed) else EXIT_OK)
-
-
-def expand_paths(paths: Sequence[Path]) -> list[Path]:
-    """The files to format, found as `gpp check` finds them (gpp.config.project_files): each
-    file given, the .gpp files under each folder given, or with no PATH the project's `paths`.
-    A path that does not exist, a bad configuration file or no .gpp file at all are usage errors."""
-    from gpp.cli import _usage_error
-    from gpp.cli_check import config_error
-    from gpp.config import ConfigError, project_files
-
-    for path in paths:
-        if not path.exists():
-            _usage_error(f"cannot read '{path}': no such file or folder")
-    try:
-        files = project_files(paths)
-    except ConfigError as e:
-        config_error(e)
-    if not files:
-        where = ", ".join(f"'{p}'" for p in paths) if paths else "the project (the working directory)"
-        _usage_error(f"no .gpp files in {where}")
-    return files
 
 
 def _format_stdin(check: bool, diff: bool) -> int:

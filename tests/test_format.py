@@ -351,7 +351,7 @@ def test_fmt_leaves_a_file_with_syntax_errors_unchanged(project: Path) -> None:
 def test_fmt_unreadable_files_are_usage_errors(project: Path) -> None:
     missing = run_gpp("fmt", "ugly.gpp", "missing.gpp", cwd=project)
     assert (missing.returncode, missing.stdout) == (2, "")
-    assert missing.stderr == "error: cannot read 'missing.gpp': no such file or folder\n"
+    assert missing.stderr == "error: cannot read 'missing.gpp': No such file or directory\n"
     (project / "latin1.gpp").write_bytes("// caf\xe9\naction a();\n".encode("latin-1"))
     binary = run_gpp("fmt", "ugly.gpp", "latin1.gpp", cwd=project)
     assert (binary.returncode, binary.stderr) == (2, "error: cannot read 'latin1.gpp': it is not UTF-8 text\n")
@@ -370,7 +370,7 @@ def test_fmt_stdin_cannot_be_combined_with_files(project: Path) -> None:
 def test_fmt_folder_without_programs_is_a_usage_error(tmp_path: Path) -> None:
     (tmp_path / "empty").mkdir()
     result = run_gpp("fmt", "empty", cwd=tmp_path)
-    assert (result.returncode, result.stderr) == (2, "error: no .gpp files in 'empty'\n")
+    assert (result.returncode, result.stderr) == (2, "error: no .gpp files found in 'empty'\n")
 
 
 def test_fmt_without_paths_formats_the_project_as_configured(project: Path) -> None:

@@ -15,33 +15,10 @@ from gpp.check import check_text
 from gpp.planner.dp import Progress, solve_plan
 from gpp.planner.problem import first_solve
 
-NAMES = "abcdefg"
-
-
-def tower(blocks: int, horizon: int, twice: bool = False) -> str:
-    """Reverse a tower of `blocks` blocks (as bench/planner.py does); `twice`: a choice of two
-    copies of the program (the second is planned after the first has a plan)."""
-    loop = "while (!goal()) pick (block x) pick (location y) stack(x, y);"
-    body = f"choose {{ {loop} {loop} }}" if twice else loop
-    names = NAMES[:blocks]
-    initially = " ".join(f"({names[i]}) = {names[i + 1] if i + 1 < blocks else 'table'};" for i in range(blocks))
-    goal = " & ".join(f"loc({names[i]}) == {names[i - 1] if i > 0 else 'table'}" for i in range(blocks))
-    return f"""
-symbol domain block = {{{", ".join(names)}}}
-symbol domain location = block | {{table}}
-location fluent loc(block x) {{ initially: {initially} }}
-action stack(block x, location y) {{
-precondition:
-    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
-effect:
-    loc(x) = y;
-}}
-bool function goal() = {goal}
-number function reward() = if (goal()) 100 else -1
-procedure main() {{
-    solve({horizon}, reward()) {body}
-}}
-"""
+ROOT = Path(__file__).resolve().parent.parent
+# Appended, not put first: bench/lsp.py must not hide the lsp package.
+sys.path.append(str(ROOT / "bench"))
+from planner import tower_program as tower  # noqa: E402
 
 
 def test_progress_reports_nodes_configurations_best_value_and_time_as_planning_goes_on() -> None:
