@@ -292,15 +292,8 @@ class _Rewriter:
                 yield t
 
     def matching(self, tokens: list[Token], i: int) -> int | None:
-        depth = 0
-        for j in range(i, len(tokens)):
-            if tokens[j].type in ("LBRACE", "MAIN_LBRACE"):
-                depth += 1
-            elif tokens[j].type == "RBRACE":
-                depth -= 1
-                if depth == 0:
-                    return j
-        return None
+        """The index of the `}` that closes the brace at or after `i`."""
+        return _closing(tokens, i, ("LBRACE", "MAIN_LBRACE"), "RBRACE")
 
     def declaration_kind(self, out: list[Token], start: int) -> str | None:
         return next((t.type for t in out[start:] if t.type in _DECLARES), None)
@@ -547,15 +540,8 @@ class _Rewriter:
         return None
 
     def close_paren(self, body: list[Token], i: int) -> int | None:
-        depth = 0
-        for j in range(i, len(body)):
-            if body[j].type == "LPAR":
-                depth += 1
-            elif body[j].type == "RPAR":
-                depth -= 1
-                if depth == 0:
-                    return j
-        return None
+        """The index of the `)` that closes the parenthesis at or after `i`."""
+        return _closing(body, i, ("LPAR",), "RPAR")
 
     def branch_end(self, body: list[Token], i: int) -> int | None:
         """The end (exclusive) of the statement that starts at `i`: a block or up to its `;`
@@ -593,3 +579,16 @@ class _Rewriter:
             )
         )
         return _synthetic("SEMI", ";", brace.start, brace.end)
+
+
+def _closing(tokens: list[Token], i: int, openers: tuple[str, ...], closer: str) -> int | None:
+    """The index of the `closer` that closes the first of `openers` from `i` on, or None."""
+    depth = 0
+    for j in range(i, len(tokens)):
+        if tokens[j].type in openers:
+            depth += 1
+        elif tokens[j].type == closer:
+            depth -= 1
+            if depth == 0:
+                return j
+    return None
