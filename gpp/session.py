@@ -169,8 +169,10 @@ class Session:
 
     def _resolve_includes(self, path: Path, text: str, opened: dict[Path, str]) -> tuple[Path, ...]:
         found: list[Path] = []
+        # Where the loader looks: the file's folder, the project's include folders, the stdlib.
+        folders = (path.parent, *_project_settings(path)[0], stdlib_dir())
         for name in _INCLUDE.findall(text):
-            for candidate in (path.parent / name, stdlib_dir() / name):
+            for candidate in (folder / name for folder in folders):
                 try:
                     target = candidate.resolve()
                     if target in opened or target.is_file():

@@ -106,6 +106,8 @@ def test_the_project_settings_apply_as_in_gpp_check(tmp_path: Path) -> None:
     assert session.check(path).diagnostics == []
     (tmp_path / "gpp.toml").write_text('include = ["lib"]\n')
     assert [d.code for d in session.check(path).diagnostics] == ["W0101"]
+    # The library, opened alone, is checked under the program that finds it in an include folder.
+    assert session.programs_of((tmp_path / "lib" / "robot.gpp").resolve()) == [path]
 
 
 def test_directives_are_read_from_the_buffer(tmp_path: Path) -> None:
