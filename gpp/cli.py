@@ -59,10 +59,12 @@ class ColorMode(StrEnum):
 
 
 def _did_you_mean(candidates: Sequence[str]) -> str:
+    """`; did you mean `a` or `b`?` to end a usage error, or "" without candidates."""
     if not candidates:
         return ""
-    shown = [f"`{c}`" for c in candidates]
-    return "; did you mean " + (shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " or " + shown[-1]) + "?"
+    from gpp.suggest import Suggestion
+
+    return "; " + Suggestion(tuple(candidates)).help
 
 
 def _require_readable(path: Path) -> None:

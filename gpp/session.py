@@ -35,10 +35,9 @@ from typing import TypeVar
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_loaded
 from gpp.perf import start_deep_stack_thread
-from gpp.resources import stdlib_dir
 from gpp.source import Source
 from gpp.syntax.directives import directives
-from gpp.syntax.loader import ParseCache, load
+from gpp.syntax.loader import ParseCache, include_candidates, load
 
 T = TypeVar("T")
 
@@ -169,10 +168,9 @@ class Session:
 
     def _resolve_includes(self, path: Path, text: str, opened: dict[Path, str]) -> tuple[Path, ...]:
         found: list[Path] = []
-        # Where the loader looks: the file's folder, the project's include folders, the stdlib.
-        folders = (path.parent, *_project_settings(path)[0], stdlib_dir())
+        include_dirs = _project_settings(path)[0]
         for name in _INCLUDE.findall(text):
-            for candidate in (folder / name for folder in folders):
+            for candidate in include_candidates(path, name, include_dirs):
                 try:
                     target = candidate.resolve()
                     if target in opened or target.is_file():

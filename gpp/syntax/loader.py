@@ -136,6 +136,12 @@ def load_text(text: str, path: Path) -> LoadResult:
     return load([path], {path.resolve(): text})
 
 
+def include_candidates(path: Path, name: str, include_dirs: Sequence[Path] = ()) -> list[Path]:
+    """Where `#include "name"` in the file `path` is looked for, in order: beside the file, in
+    the project's include folders, in the standard library."""
+    return [path.parent / name, *(d / name for d in include_dirs), stdlib_dir() / name]
+
+
 class _Loader:
     def __init__(
         self, overrides: dict[Path, str], include_dirs: Sequence[Path] = (), cache: ParseCache | None = None
@@ -208,7 +214,7 @@ class _Loader:
 
     def include(self, path: Path, decl: ast.Include, chain: list[tuple[Path, ast.Include]]) -> Path | None:
         name = decl.path.value
-        candidates = [path.parent / name, *(d / name for d in self.include_dirs), stdlib_dir() / name]
+        candidates = include_candidates(path, name, self.include_dirs)
         target = next((c.resolve() for c in candidates if self.exists(c)), None)
         if target is None:
             self.result.diagnostics.append(
