@@ -43,10 +43,9 @@ class Regrouper(Phase):
         is rebuilt: `p() == q() & r()` means `p() == (q() & r())`. Returns None when nothing
         changes (almost always, and cheaply: the operand types are only computed when the chain
         has both kinds of operator)."""
-        ops: set[object] = set()
         members: list[int] = []
-        _chain_ops(e, ops, members, root=True)
-        if not (ops & EQUALITY) or not (ops - EQUALITY):
+        equality, other = _chain_ops(e, members)
+        if not (equality and other):
             # Nothing to re-associate here, nor in any sub-chain: do not look again.
             self.reassociated.update(members)
             return None
@@ -87,24 +86,33 @@ class Regrouper(Phase):
         return base(self.type_of(e.left)) is BOOL and base(self.type_of(e.right)) is BOOL
 
 
-def _chain_ops(e: ast.Expr, ops: set[object], members: list[int], root: bool = False) -> None:
-    """The operators of the unparenthesised boolean/equality chain rooted at `e` (parentheses
-    around the whole chain do not end it), and the ids of the chain's nodes. Iterative: a
-    chain of thousands of `&` is a deep tree."""
-    stack = [(e, root)]
+def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:
+    """Whether the unparenthesised boolean/equality chain rooted at `e` (parentheses around
+    the whole chain do not end it) has an `==`/`!=`, and whether it has another operator
+    (`&`, `|`, `->`, `!`); adds the ids of the chain's nodes to `members`. Iterative: a chain
+    of thousands of `&` is a deep tree."""
+    equality = other = False
+    stack = [e]
     while stack:
-        node, is_root = stack.pop()
-        if node.parenthesized and not is_root:
+        node = stack.pop()
+        if node.parenthesized and node is not e:
             continue
-        if isinstance(node, ast.Binary) and (node.op in BOOL_CHAIN or node.op in EQUALITY):
-            ops.add(node.op)
+        if isinstance(node, ast.Binary):
+            op = node.op
+            if op is Op.EQ or op is Op.NE:
+                equality = True
+            elif op is Op.AND or op is Op.OR or op is Op.IMPLIES:
+                other = True
+            else:
+                continue
             members.append(id(node))
-            stack.append((node.left, False))
-            stack.append((node.right, False))
+            stack.append(node.left)
+            stack.append(node.right)
         elif isinstance(node, ast.Unary) and node.op is ast.UnaryOp.NOT:
-            ops.add(ast.UnaryOp.NOT)
+            other = True
             members.append(id(node))
-            stack.append((node.operand, False))
+            stack.append(node.operand)
+    return equality, other
 
 
 _LEVELS: tuple[frozenset[Op], ...] = (
