@@ -7,7 +7,11 @@ signature, parameters, members, other spans), every reference in order, every sc
 of every expression, the target of every node, every rewritten expression (its whole rebuilt
 tree) and every diagnostic with all its parts. Nodes are named by their position in a walk of
 the files (parents first), and nodes that are not in the files (the rebuilt trees) by their
-place under the expression they replace; symbols by kind, name, span and owner."""
+place under the expression they replace; symbols by kind, name, span and owner.
+
+Types and targets recorded for nodes that no longer exist are left out: while regrouping
+boolean chains the type checker types trees it then throws away, and their entries, keyed by
+the ids of freed objects, depend on how memory was reused (no node of the model has them)."""
 
 from __future__ import annotations
 
@@ -99,8 +103,8 @@ class _Describer:
         out += [f"ref {self.span(r.span)} -> {self.symbol(r.symbol)} {r.declaration}" for r in m.references]
         for scope in m.scopes:
             out.append(f"scope {self.span(scope.span)}: " + ", ".join(self.symbol(s) for s in scope.symbols))
-        out += sorted(f"type {self.node(i)} {t}" for i, t in m.expr_types.items())
-        out += sorted(f"target {self.node(i)} -> {self.symbol(s)}" for i, s in m.targets.items())
+        out += sorted(f"type {self.node(i)} {t}" for i, t in m.expr_types.items() if i in self.nodes)
+        out += sorted(f"target {self.node(i)} -> {self.symbol(s)}" for i, s in m.targets.items() if i in self.nodes)
         out += sorted(f"rewritten {self.node(i)} = {self.tree(e)}" for i, e in m.rewritten.items())
         out += [f"diagnostic {self.diagnostic(d)}" for d in diagnostics]
         return out
@@ -117,8 +121,8 @@ def fingerprint(model: Model, diagnostics: Sequence[diag.Diagnostic]) -> dict[st
     digest = hashlib.sha256("\n".join(lines).encode()).hexdigest()
     return {
         "references": len(model.references),
-        "types": len(model.expr_types),
-        "targets": len(model.targets),
+        "types": sum(1 for line in lines if line.startswith("type ")),
+        "targets": sum(1 for line in lines if line.startswith("target ")),
         "scopes": len(model.scopes),
         "rewritten": len(model.rewritten),
         "diagnostics": len(diagnostics),

@@ -50,14 +50,20 @@ class Regrouper(Phase):
             self.reassociated.update(members)
             return None
         items: list[ast.Expr | Op | _Not] = []
+        operators: list[int] = []
         self.state.silent += 1
         try:
-            self.flatten_chain(e, items, root=True)
+            self.flatten_chain(e, items, operators, root=True)
         finally:
             self.state.silent -= 1
         rebuilt, rest = _climb(items, 0)
         assert not rest
         if rebuilt == e:
+            # Each operator of the chain heads a sub-chain whose items are a run of `items`,
+            # built at its own precedence level: climbed alone, that run gives the same tree.
+            # So no sub-chain changes either; looking at each again (typing its operands
+            # silently again, with the same results) would change nothing.
+            self.reassociated.update(operators)
             return None
         if e.parenthesized:
             rebuilt = replace(rebuilt, span=e.span, parenthesized=True)
@@ -66,19 +72,26 @@ class Regrouper(Phase):
         _mark_types(e, self.model.expr_types)
         return rebuilt
 
-    def flatten_chain(self, e: ast.Expr, out: list[ast.Expr | Op | _Not], root: bool = False) -> None:
+    def flatten_chain(
+        self, e: ast.Expr, out: list[ast.Expr | Op | _Not], operators: list[int], root: bool = False
+    ) -> None:
+        """The chain's operands and operators in order, into `out`; the ids of its operator
+        nodes into `operators`."""
         inside = root or not e.parenthesized
         if inside and isinstance(e, ast.Binary) and e.op in BOOL_CHAIN:
-            self.flatten_chain(e.left, out)
+            operators.append(id(e))
+            self.flatten_chain(e.left, out, operators)
             out.append(e.op)
-            self.flatten_chain(e.right, out)
+            self.flatten_chain(e.right, out, operators)
         elif inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+            operators.append(id(e))
             out.append(_Not(e.span))
-            self.flatten_chain(e.operand, out)
+            self.flatten_chain(e.operand, out, operators)
         elif inside and isinstance(e, ast.Binary) and e.op in EQUALITY and self.is_boolean_pair(e):
-            self.flatten_chain(e.left, out)
+            operators.append(id(e))
+            self.flatten_chain(e.left, out, operators)
             out.append(e.op)
-            self.flatten_chain(e.right, out)
+            self.flatten_chain(e.right, out, operators)
         else:
             out.append(e)
 

@@ -29,10 +29,10 @@ from contextlib import AbstractContextManager
 from typing import Any
 
 from gpp import diagnostics as diag
-from gpp.model.builder_state import BuilderState, Phase
+from gpp.model.builder_state import BuilderState, Phase, new_tuple
 from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
 from gpp.model.resolve import TypeResolver
-from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, ScopeRecord, Symbol, SymbolKind
+from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Reference, ScopeRecord, Symbol, SymbolKind
 from gpp.model.types import (
     BOOL,
     ERROR,
@@ -174,6 +174,10 @@ class TypeChecker(Phase):
         self.reassociated = state.reassociated
         self.regroup = Regrouper(state, self.expr)
         self.expr_types = self.model.expr_types
+        self.add_reference = self.model.references.append
+        self.targets = self.model.targets
+        # One value per symbol name, for the domain membership of literals.
+        self.symbol_values: dict[str, Sym] = {}
         # One method per kind of expression and statement (instead of a chain of isinstance).
         self._expr_kinds: dict[type[ast.Expr], Callable[[Any], Type]] = {
             ast.Name: self.name,
@@ -470,7 +474,12 @@ class TypeChecker(Phase):
     def literal_value(self, e: ast.Expr) -> DomainValue | None:
         if isinstance(e, ast.Name):
             target = self.model.targets.get(id(e))
-            return Sym(e.name) if target is not None and target.kind is SymbolKind.SYMBOL else None
+            if target is None or target.kind is not SymbolKind.SYMBOL:
+                return None
+            value = self.symbol_values.get(e.name)
+            if value is None:
+                value = self.symbol_values[e.name] = Sym(e.name)
+            return value
         if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
             return e.value
         return None
@@ -672,14 +681,21 @@ class TypeChecker(Phase):
         return BOOL
 
     def name(self, e: ast.Name) -> Type:
-        variable = self.variables.get(e.name)
-        if variable is not None:
-            self.refer(e.span, variable, e)
-            return variable.type or ERROR
-        symbol = self.model.symbols.get(e.name)
-        if symbol is not None:
-            self.refer(e.span, symbol, e)
-            return SYMBOL
+        found = self.variables.get(e.name)
+        if found is not None:
+            t = found.type or ERROR
+        else:
+            found = self.model.symbols.get(e.name)
+            if found is None:
+                return self.not_a_value(e)
+            t = SYMBOL
+        if not self.state.silent:  # self.refer(e.span, found, e), inline: every name comes here
+            self.add_reference(new_tuple(Reference, (e.span, found, False)))
+            self.targets[id(e)] = found
+        return t
+
+    def not_a_value(self, e: ast.Name) -> Type:
+        """A name that is neither a variable nor a symbol: a global without `()`, or unknown."""
         g = self.model.globals.get(e.name)
         if g is not None and g.kind in EXPRESSION_CALLABLE:
             self.refer(e.span, g, e)
