@@ -429,9 +429,11 @@ class TypeChecker(Phase):
     def expect(self, e: ast.Expr, target: Type, context: str, context_span: Span | None = None) -> Type:
         """Type `e` and check that a slot of type `target` accepts it."""
         t = self.expr(e)
-        # Of the same type, it fits; only a literal's value may still not be in a domain.
-        if t is not target or (target.__class__ is DomainType and e.__class__ in _VALUE_KINDS):
+        if t is not target:
             self.check_fits(e, t, target, context, context_span)
+        elif target.__class__ is DomainType and e.__class__ in _VALUE_KINDS:
+            # Of the same type, it fits; only a literal's value may still not be in the domain.
+            self.check_member(e, target, context, context_span)
         return t
 
     def check_fits(self, e: ast.Expr, t: Type, target: Type, context: str, context_span: Span | None) -> None:
@@ -451,7 +453,12 @@ class TypeChecker(Phase):
                 help=help,
             )
             return
-        if isinstance(target, DomainType) and target.defined:
+        if isinstance(target, DomainType):
+            self.check_member(e, target, context, context_span)
+
+    def check_member(self, e: ast.Expr, target: DomainType, context: str, context_span: Span | None) -> None:
+        """A literal in a slot of a domain type: is its value a member?"""
+        if target.defined:
             value = self.literal_value(e)
             if value is not None and not target.contains(value):
                 secondary = self.context_label(target, context, context_span)
@@ -750,7 +757,9 @@ class TypeChecker(Phase):
         if symbol.kind not in _CALLABLE_IN.get(context, _ACTION) and not self.call_kind_ok(e, symbol, context):
             self.resolve_misused_call(e, symbol)
             return ERROR
-        self.refer(e.name.span, symbol, e)
+        if not self.state.silent:  # self.refer(e.name.span, symbol, e), inline: calls are many
+            self.add_reference(new_tuple(Reference, (e.name.span, symbol, False)))
+            self.targets[id(e)] = symbol
         params = symbol.params
         args = e.args
         if len(args) != len(params):
