@@ -50,9 +50,10 @@ EXPRESSION_CALLABLE = frozenset({SymbolKind.FLUENT, SymbolKind.FUNCTION, SymbolK
 STATEMENT_CALLABLE = frozenset({SymbolKind.ACTION, SymbolKind.PROCEDURE})
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class Symbol:
-    """A declared thing. Compared by identity: two symbols are the same only if they are."""
+    """A declared thing. Compared by identity: two symbols are the same only if they are.
+    (Slots: the model builder makes one for every declaration, parameter and variable.)"""
 
     name: str
     kind: SymbolKind
