@@ -181,9 +181,9 @@ class TypeChecker(Phase):
         # One method per kind of expression (instead of a chain of isinstance).
         self._expr_kinds: dict[type[ast.Expr], Callable[[Any], Type]] = {
             ast.Name: self.name,
-            ast.Call: self._call_expr,
+            ast.Call: self.call,
             ast.Unary: self.unary,
-            ast.Binary: self._binary_expr,
+            ast.Binary: self.binary,
             ast.Quantified: self.quantified,
             ast.Conditional: self.conditional,
             ast.FieldAccess: self.field_access,
@@ -525,16 +525,6 @@ class TypeChecker(Phase):
             self.model.rewritten[id(e)] = replacement
         return self.expr(replacement)
 
-    def _call_expr(self, e: ast.Call) -> Type:
-        return self.call(e, "expression")
-
-    def _binary_expr(self, e: ast.Binary) -> Type:
-        if e.op in _CHAIN_OPS and id(e) not in self.reassociated:
-            regrouped = self._regrouped(e)
-            if regrouped is not None:
-                return regrouped
-        return self.binary(e)
-
     def unary(self, e: ast.Unary) -> Type:
         if e.op is ast.UnaryOp.NOT:
             if id(e) not in self.reassociated:
@@ -619,6 +609,10 @@ class TypeChecker(Phase):
 
     def binary(self, e: ast.Binary) -> Type:
         op = e.op
+        if op in _CHAIN_OPS and id(e) not in self.reassociated:
+            regrouped = self._regrouped(e)
+            if regrouped is not None:
+                return regrouped
         if op in _BOOL_CHAIN:
             self.expect_operand(e.left, BOOL, op.value)
             self.expect_operand(e.right, BOOL, op.value)
@@ -749,7 +743,9 @@ class TypeChecker(Phase):
         )
         return ERROR
 
-    def call(self, e: ast.Call, context: str) -> Type:
+    def call(self, e: ast.Call, context: str = "expression") -> Type:
+        """A call in an expression, as a statement (`context` "statement") or in a hook
+        (`context` the hook's word)."""
         name = e.name.name
         symbol = self.model.globals.get(name)
         if symbol is None:
