@@ -46,6 +46,8 @@ class Model:
     def __post_init__(self) -> None:
         self._refs_by_source: dict[int, list[Reference]] | None = None
         self._refs_by_symbol: dict[int, list[Reference]] | None = None
+        # Per source (by id): where its references start, in the order of `references_in`.
+        self._starts_by_source: dict[int, list[int]] = {}
         self._declared_symbols: tuple[Sym, ...] | None = None
 
     # ---------------------------------------------------------------- facts
@@ -112,7 +114,10 @@ class Model:
     def reference_at(self, source: Source, offset: int) -> Reference | None:
         """The name occurrence (declaration or use) under `offset`."""
         refs = self.references_in(source)
-        i = bisect_right([r.span.start for r in refs], offset)
+        starts = self._starts_by_source.get(id(source))
+        if starts is None:
+            starts = self._starts_by_source[id(source)] = [r.span.start for r in refs]
+        i = bisect_right(starts, offset)
         best: Reference | None = None
         for r in refs[max(0, i - 8) : i]:
             if r.span.start <= offset <= r.span.end and (best is None or r.span.start >= best.span.start):
