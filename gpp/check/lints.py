@@ -11,6 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 from bisect import bisect_left
+from collections import defaultdict
 from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cache, cached_property
@@ -26,9 +27,11 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr
-from gpp.syntax.walk import children, sub_statements, walk
+from gpp.syntax.walk import CHILDREN, LEAVES, children, sub_statements, walk
 
 Op = ast.BinaryOp
+# A statement, and whether it is lexically inside `solve` or `search`.
+_Placed = tuple[ast.Statement, bool]
 N = TypeVar("N", bound=ast.Node)
 
 # `pick`/quantifier variables, parameters: everything W0102 and W0111 look at.
@@ -76,6 +79,7 @@ class _Program:
         self.model = model
         self.root_files = [f for f in model.files if f.path in roots]
         self._root_sources = {id(f.source) for f in self.root_files}
+        self._statements: dict[int, list[_Placed]] = {}
 
     def in_root(self, span: Span | None) -> bool:
         return span is not None and id(span.source) in self._root_sources
@@ -85,16 +89,18 @@ class _Program:
             yield from f.program.declarations
 
     @cached_property
-    def _nodes_by_type(self) -> dict[type[ast.Node], list[ast.Node]]:
-        by_type: dict[type[ast.Node], list[ast.Node]] = {}
-        for f in self.root_files:
-            for node in walk(f.program):
-                by_type.setdefault(type(node), []).append(node)
-        return by_type
+    def _nodes(self) -> _Nodes:
+        return _index_nodes(self.root_files, self.model.rewritten)
 
     def nodes(self, kind: type[N]) -> list[N]:
         """The syntax nodes of one class in the root files, in source order per file."""
-        return self._nodes_by_type.get(kind, [])  # type: ignore[return-value]
+        return self._nodes.by_type.get(kind, [])  # type: ignore[return-value]
+
+    def chained_expressions(self) -> list[ast.Expr]:
+        """The outermost expressions of the root files in which an operator has another one as
+        its operand (or that the model regrouped), in source order: the others hold no chain of
+        two operators."""
+        return self._nodes.chained
 
     def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
         """The statements of the root files of `kinds` that pass `test`, to ask which of them
@@ -103,11 +109,20 @@ class _Program:
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
-        own = symbol.decl.span if symbol.kind in _USABLE_KINDS and symbol.decl is not None else None
-        for r in self.model.references_to(symbol, include_declaration=False):
+        return id(symbol) in self._used
+
+    @cached_property
+    def _used(self) -> set[int]:
+        """The symbols (by id) that `used` says yes to, from one pass over the references."""
+        found: set[int] = set()
+        for r in self.model.references:
+            symbol = r.symbol
+            if r.declaration or id(symbol) in found:
+                continue
+            own = symbol.decl.span if symbol.kind in _USABLE_KINDS and symbol.decl is not None else None
             if own is None or r.span.source is not own.source or not own.start <= r.span.start < own.end:
-                return True
-        return False
+                found.add(id(symbol))
+        return found
 
     def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
         """The statement bodies of the procedures (and legacy main block) in `files`."""
@@ -119,12 +134,20 @@ class _Program:
                     main = self.model.main
                     yield (main if main is not None and main.decl is decl else None), decl.body
 
+    def body_statements(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, list[_Placed]]]:
+        """The `statements` of each body in `files` (as `bodies`), listed once per program."""
+        for owner, body in self.bodies(files):
+            found = self._statements.get(id(body))
+            if found is None:
+                found = self._statements[id(body)] = list(statements(body))
+            yield owner, found
+
     @cached_property
     def call_sites(self) -> list[_CallSite]:
         """Every procedure call of the whole program (included files too)."""
         sites: list[_CallSite] = []
-        for caller, body in self.bodies(self.model.files):
-            for s, planning in statements(body):
+        for caller, found in self.body_statements(self.model.files):
+            for s, planning in found:
                 if isinstance(s, ast.CallStmt):
                     callee = self.model.target(s.call)
                     if callee is not None and callee.kind is SymbolKind.PROCEDURE:
@@ -152,8 +175,8 @@ class _Program:
     def choosing(self) -> set[int]:
         """Procedures (by id) whose body, following calls, contains a `pick` or `choose`."""
         found: set[int] = set()
-        for caller, body in self.bodies(self.model.files):
-            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements(body)):
+        for caller, statements_ in self.body_statements(self.model.files):
+            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements_):
                 found.add(id(caller))
         changed = True
         while changed:
@@ -163,6 +186,49 @@ class _Program:
                     found.add(id(site.caller))
                     changed = True
         return found
+
+
+@dataclass(frozen=True, slots=True)
+class _Nodes:
+    by_type: dict[type[ast.Node], list[ast.Node]]
+    chained: list[ast.Expr]  # see `_Program.chained_expressions`
+
+
+def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) -> _Nodes:
+    """The nodes of `files` by class, in one walk (parents before children, as `walk`), and
+    the outermost expressions that hold an operator chain."""
+    by_type: defaultdict[type[ast.Node], list[ast.Node]] = defaultdict(list)
+    chained: list[ast.Expr] = []
+    for f in files:
+        stack: list[ast.Node] = [f.program]
+        while stack:
+            top = stack.pop()
+            if not isinstance(top, ast.Expr):
+                by_type[type(top)].append(top)
+                stack.extend(reversed(CHILDREN[type(top)](top)))
+                continue
+            # An outermost expression: all its nodes now, noting whether an operator has another
+            # one as its operand, or the model regrouped one of them.
+            has_chain = False
+            inner: list[ast.Node] = [top]
+            while inner:
+                node = inner.pop()
+                cls = type(node)
+                by_type[cls].append(node)
+                if rewritten and id(node) in rewritten:
+                    has_chain = True
+                if cls in LEAVES:
+                    continue
+                inner.extend(reversed(CHILDREN[cls](node)))
+                if cls is ast.Binary and not has_chain:
+                    has_chain = _operand_is_operator(node.left) or _operand_is_operator(node.right)  # type: ignore[attr-defined]
+            if has_chain:
+                chained.append(top)
+    return _Nodes(dict(by_type), chained)
+
+
+def _operand_is_operator(e: ast.Expr) -> bool:
+    return isinstance(e, ast.Binary) and not e.parenthesized
 
 
 class _Within:
@@ -195,7 +261,7 @@ class _Within:
         return first < len(starts) and starts[first] < s.span.end
 
 
-def statements(body: ast.Statement, planning: bool = False) -> Iterator[tuple[ast.Statement, bool]]:
+def statements(body: ast.Statement, planning: bool = False) -> Iterator[_Placed]:
     """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
     stack = [(body, planning)]
     while stack:
@@ -463,10 +529,10 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
 
 @_lint("W0105")
 def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
-    for owner, body in program.bodies(program.root_files):
+    for owner, found in program.body_statements(program.root_files):
         if owner is not None and id(owner) in program.planning_only:
             continue
-        for s, planning in statements(body):
+        for s, planning in found:
             if planning:
                 continue
             if isinstance(s, ast.Pick):
@@ -751,7 +817,13 @@ Shape = int | tuple[Op, "Shape", "Shape"]
 @_lint("W0110")
 def mixed_precedence(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
-    stack: list[ast.Expr] = [n for n in _top_expressions(program) if isinstance(n, ast.Expr)]
+    for top in program.chained_expressions():
+        yield from _mixed_chains(model, top)
+
+
+def _mixed_chains(model: Model, top: ast.Expr) -> Iterator[diag.Diagnostic]:
+    """W0110's warnings about the chains in the expression `top`."""
+    stack = [top]
     while stack:
         e = model.effective(stack.pop())
         family = _family(model, e)
@@ -885,17 +957,6 @@ def _grouped(shape: Shape) -> list[tuple[int, int]]:
 
     visit(shape, None, False)
     return out
-
-
-def _top_expressions(program: _Program) -> Iterator[ast.Node]:
-    """The outermost expressions of the root files."""
-    stack: list[ast.Node] = [f.program for f in program.root_files]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, ast.Expr):
-            yield node
-        else:
-            stack.extend(children(node))
 
 
 def _sub_expressions(e: ast.Node) -> Iterator[ast.Expr]:
@@ -1060,8 +1121,8 @@ _ENDING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL, ast.Hoo
 def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     ended: set[int] = set()
-    for _, body in program.bodies(model.files):
-        for s, _ in statements(body):
+    for _, found in program.body_statements(model.files):
+        for s, _ in found:
             if isinstance(s, ast.HookStmt) and s.hook in _ENDING_HOOKS:
                 action = model.target(s.action)
                 if action is not None:
