@@ -105,7 +105,12 @@ class _Program:
     def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
         """The statements of the root files of `kinds` that pass `test`, to ask which of them
         a statement holds (without walking its body: nested loops would make that quadratic)."""
-        return _Within(s for kind in kinds for s in self.nodes(kind) if test(s))
+        classes = frozenset(kinds)
+        return self._all_statements.where(lambda s: type(s) in classes and test(s))
+
+    @cached_property
+    def _all_statements(self) -> _Within:
+        return _Within.of(s for kind in _ALL_STATEMENTS for s in self.nodes(kind))
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
@@ -119,9 +124,11 @@ class _Program:
             symbol = r.symbol
             if r.declaration or id(symbol) in found:
                 continue
-            own = symbol.decl.span if symbol.kind in _USABLE_KINDS and symbol.decl is not None else None
-            if own is None or r.span.source is not own.source or not own.start <= r.span.start < own.end:
-                found.add(id(symbol))
+            if symbol.decl is not None and symbol.kind in _USABLE_KINDS:
+                own, at = symbol.decl.span, r.span
+                if at.source is own.source and own.start <= at.start < own.end:
+                    continue  # in its own declaration
+            found.add(id(symbol))
         return found
 
     def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
@@ -199,13 +206,17 @@ def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) ->
     the outermost expressions that hold an operator chain."""
     by_type: defaultdict[type[ast.Node], list[ast.Node]] = defaultdict(list)
     chained: list[ast.Expr] = []
+    # The loop runs once per node of the program: its names are local.
+    children, leaves, expr, binary = CHILDREN, LEAVES, ast.Expr, ast.Binary
     for f in files:
         stack: list[ast.Node] = [f.program]
         while stack:
             top = stack.pop()
-            if not isinstance(top, ast.Expr):
-                by_type[type(top)].append(top)
-                stack.extend(reversed(CHILDREN[type(top)](top)))
+            cls = type(top)
+            if not isinstance(top, expr):
+                by_type[cls].append(top)
+                if cls not in leaves:
+                    stack.extend(reversed(children[cls](top)))
                 continue
             # An outermost expression: all its nodes now, noting whether an operator has another
             # one as its operand, or the model regrouped one of them.
@@ -217,10 +228,10 @@ def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) ->
                 by_type[cls].append(node)
                 if rewritten and id(node) in rewritten:
                     has_chain = True
-                if cls in LEAVES:
+                if cls in leaves:
                     continue
-                inner.extend(reversed(CHILDREN[cls](node)))
-                if cls is ast.Binary and not has_chain:
+                inner.extend(reversed(children[cls](node)))
+                if cls is binary and not has_chain:
                     has_chain = _operand_is_operator(node.left) or _operand_is_operator(node.right)  # type: ignore[attr-defined]
             if has_chain:
                 chained.append(top)
@@ -231,32 +242,55 @@ def _operand_is_operator(e: ast.Expr) -> bool:
     return isinstance(e, ast.Binary) and not e.parenthesized
 
 
+_Starts = tuple[list[int], list[ast.Statement]]
+
+
 class _Within:
     """Statements by where they start, per file. The statements inside another one (`statements`
-    of it, itself included) are those that start within its span: spans nest like the tree."""
+    of it, itself included) are those that start within its span: spans nest like the tree.
+    They are listed when first asked about: a lint with nothing to ask never pays for it."""
 
-    def __init__(self, found: Iterable[ast.Statement]) -> None:
-        by_source: dict[int, list[tuple[int, ast.Statement]]] = {}
-        for s in found:
-            by_source.setdefault(id(s.span.source), []).append((s.span.start, s))
-        self.starts: dict[int, list[int]] = {}
-        self.found: dict[int, list[ast.Statement]] = {}
-        for key, pairs in by_source.items():
-            pairs.sort(key=lambda pair: pair[0])
-            self.starts[key] = [start for start, _ in pairs]
-            self.found[key] = [s for _, s in pairs]
+    def __init__(self, index: Callable[[], dict[int, _Starts]]) -> None:
+        self._index = index
+
+    @staticmethod
+    def of(found: Iterable[ast.Statement]) -> _Within:
+        def index() -> dict[int, _Starts]:
+            by_source: dict[int, list[tuple[int, ast.Statement]]] = {}
+            for s in found:
+                by_source.setdefault(id(s.span.source), []).append((s.span.start, s))
+            out: dict[int, _Starts] = {}
+            for key, pairs in by_source.items():
+                pairs.sort(key=lambda pair: pair[0])
+                out[key] = ([start for start, _ in pairs], [s for _, s in pairs])
+            return out
+
+        return _Within(index)
+
+    def where(self, test: Callable[[ast.Statement], bool]) -> _Within:
+        """The statements of these that pass `test` (kept in order: no sorting again)."""
+
+        def index() -> dict[int, _Starts]:
+            out: dict[int, _Starts] = {}
+            for key, (starts, found) in self._by_source.items():
+                kept = [k for k, s in enumerate(found) if test(s)]
+                out[key] = ([starts[k] for k in kept], [found[k] for k in kept])
+            return out
+
+        return _Within(index)
+
+    @cached_property
+    def _by_source(self) -> dict[int, _Starts]:
+        """Per source (by id), the starts of its statements and the statements, in order."""
+        return self._index()
 
     def inside(self, s: ast.Statement) -> list[ast.Statement]:
-        starts = self.starts.get(id(s.span.source))
-        if starts is None:
-            return []
+        starts, found = self._by_source.get(id(s.span.source), ([], []))
         first = bisect_left(starts, s.span.start)
-        return self.found[id(s.span.source)][first : bisect_left(starts, s.span.end, first)]
+        return found[first : bisect_left(starts, s.span.end, first)]
 
     def any_inside(self, s: ast.Statement) -> bool:
-        starts = self.starts.get(id(s.span.source))
-        if starts is None:
-            return False
+        starts, _ = self._by_source.get(id(s.span.source), ([], []))
         first = bisect_left(starts, s.span.start)
         return first < len(starts) and starts[first] < s.span.end
 
@@ -265,10 +299,13 @@ def statements(body: ast.Statement, planning: bool = False) -> Iterator[_Placed]
     """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
     stack = [(body, planning)]
     while stack:
-        s, inside = stack.pop()
-        yield s, inside
-        inner = inside or isinstance(s, ast.Solve | ast.Search)
-        stack.extend((c, inner) for c in reversed(sub_statements(s)))
+        placed = stack.pop()
+        yield placed
+        s, inside = placed
+        inner = sub_statements(s)
+        if inner:
+            planned = inside or isinstance(s, ast.Solve | ast.Search)
+            stack.extend([(c, planned) for c in reversed(inner)])
 
 
 def keyword_span(node: ast.Node, keyword: str) -> Span:
@@ -468,8 +505,8 @@ def _missing_instances(
     shown: list[list[str]] = []
     count = 0
     finite_domains = [domains[i] or () for i in finite]
-    for combo in itertools.product(*finite_domains):
-        keys = tuple(_key(v) for v in combo)
+    domain_keys = [[_key(v) for v in d] for d in finite_domains]
+    for combo, keys in zip(itertools.product(*finite_domains), itertools.product(*domain_keys), strict=True):
         if keys in exact:
             continue
         at = dict(zip(finite, keys, strict=True))
@@ -734,7 +771,8 @@ def _constant(model: Model, e: ast.Expr) -> bool | None:
     if not isinstance(e, ast.Binary):
         return None
     if e.op in (Op.AND, Op.OR, Op.IMPLIES) or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
-        p, q = _constant(model, e.left), _constant(model, e.right)
+        p = _constant(model, e.left)
+        q = None if p is None else _constant(model, e.right)
         if p is None or q is None:
             return None
         return {Op.AND: p and q, Op.OR: p or q, Op.IMPLIES: not p or q, Op.EQ: p == q, Op.NE: p != q}[e.op]
@@ -810,6 +848,12 @@ _GOLOG_PRECEDENCE: dict[Op, int] = {
     Op.POW: 3,
 }
 
+# The operators that always chain, by family (`==` and `!=` do between booleans).
+_FAMILIES: dict[Op, str] = {
+    **dict.fromkeys(ast.ARITHMETIC_OPS, "arithmetic"),
+    **dict.fromkeys(ast.BOOLEAN_OPS, "boolean"),
+}
+
 # A chain's tree: a leaf (operand index) or (operator, left, right).
 Shape = int | tuple[Op, "Shape", "Shape"]
 
@@ -866,11 +910,10 @@ def _family(model: Model, e: ast.Expr) -> str | None:
     """`arithmetic` or `boolean` when `e` is an operator of that chain family."""
     if not isinstance(e, ast.Binary):
         return None
-    if e.op in ast.ARITHMETIC_OPS:
-        return "arithmetic"
-    if e.op in ast.BOOLEAN_OPS or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
+    family = _FAMILIES.get(e.op)
+    if family is None and e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right):
         return "boolean"
-    return None
+    return family
 
 
 def _in_chain(model: Model, e: ast.Expr, family: str) -> bool:
