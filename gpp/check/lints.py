@@ -14,7 +14,7 @@ from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from functools import cache, cached_property
+from functools import cached_property
 from pathlib import Path
 from typing import Any, TypeVar, assert_never, get_args
 
@@ -34,11 +34,16 @@ Op = ast.BinaryOp
 _Placed = tuple[ast.Statement, bool]
 N = TypeVar("N", bound=ast.Node)
 
-# `pick`/quantifier variables, parameters: everything W0102 and W0111 look at.
-_LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})
+# `pick`/quantifier variables, parameters: everything W0102 and W0111 look at. (Tuples: a
+# membership test compares identities, cheaper than hashing an enum member.)
+_LOCAL_KINDS = (SymbolKind.PARAMETER, SymbolKind.VARIABLE)
 # W0101 looks at these kinds of globals.
-_USABLE_KINDS = frozenset(
-    {SymbolKind.FLUENT, SymbolKind.ACTION, SymbolKind.FUNCTION, SymbolKind.EXOG_FUNCTION, SymbolKind.PROCEDURE}
+_USABLE_KINDS = (
+    SymbolKind.FLUENT,
+    SymbolKind.ACTION,
+    SymbolKind.FUNCTION,
+    SymbolKind.EXOG_FUNCTION,
+    SymbolKind.PROCEDURE,
 )
 # Called by the runtime, not by the program.
 _ENTRY_POINTS = frozenset({"main", "postcond"})
@@ -502,6 +507,8 @@ def _missing_instances(
     size = math.prod(len(d) for d in domains if d is not None)
     if size > MAX_INSTANCES or size * max(1, len(partial)) > 50 * MAX_INSTANCES:
         return None
+    if any(all(x is _ANY for x in p) for p in relevant):
+        return [], 0, []  # a default entry, `(p1, ..., pn) = ...`, covers every instance
     shown: list[list[str]] = []
     count = 0
     finite_domains = [domains[i] or () for i in finite]
@@ -950,12 +957,13 @@ def golog_tree(operators: Sequence[Op]) -> Shape:
     otherwise the chain is split before the last operand."""
     prec = [_GOLOG_PRECEDENCE[op] for op in operators]
 
-    @cache
     def root(i: int, j: int) -> int:
-        """Index of the root operator of the tree of operands i..j."""
-        if j == i + 1:
-            return i
-        return i if prec[root(i + 1, j)] > prec[i] else j - 1
+        """Index of the root operator of the tree of operands i..j: that of i+1..j, built
+        first, if it binds tighter than operator i, working back from j-1..j."""
+        r = j - 1
+        for k in range(j - 2, i - 1, -1):
+            r = k if prec[r] > prec[k] else j - 1
+        return r
 
     def build(i: int, j: int) -> Shape:
         if i == j:
