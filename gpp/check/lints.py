@@ -261,13 +261,14 @@ class _Within:
     @staticmethod
     def of(found: Iterable[ast.Statement]) -> _Within:
         def index() -> dict[int, _Starts]:
-            by_source: dict[int, list[tuple[int, ast.Statement]]] = {}
+            by_source: defaultdict[int, list[ast.Statement]] = defaultdict(list)
             for s in found:
-                by_source.setdefault(id(s.span.source), []).append((s.span.start, s))
+                by_source[id(s.span.source)].append(s)
             out: dict[int, _Starts] = {}
-            for key, pairs in by_source.items():
-                pairs.sort(key=lambda pair: pair[0])
-                out[key] = ([start for start, _ in pairs], [s for _, s in pairs])
+            for key, listed in by_source.items():
+                starts = [s.span.start for s in listed]
+                order = sorted(range(len(listed)), key=starts.__getitem__)  # stable: ties keep their order
+                out[key] = ([starts[k] for k in order], [listed[k] for k in order])
             return out
 
         return _Within(index)
@@ -1010,12 +1011,17 @@ def _grouped(shape: Shape) -> list[tuple[int, int]]:
     return out
 
 
-def _sub_expressions(e: ast.Node) -> Iterator[ast.Expr]:
-    for child in children(e):
-        if isinstance(child, ast.Expr):
-            yield child
+def _sub_expressions(e: ast.Node) -> list[ast.Expr]:
+    """The outermost expressions below `e` (its operands, a compound literal's field values...)."""
+    found: list[ast.Expr] = []
+    stack = list(reversed(children(e)))
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Expr):
+            found.append(node)
         else:
-            yield from _sub_expressions(child)
+            stack.extend(reversed(children(node)))
+    return found
 
 
 # ---------------------------------------------------------------- W0111 shadowed symbol
