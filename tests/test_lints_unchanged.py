@@ -48,6 +48,11 @@ GENERATED: dict[str, Callable[[], str]] = {
     "genprog 250 lines, seed 2, nesting 1": lambda: generate_program(250, seed=2, nesting=1),
     "genprog 120 lines, seed 3, nesting 9": lambda: generate_program(120, seed=3, nesting=9),
     "nested expression 60": lambda: nested_expression_program(60),
+    # Used only in their own bodies: unused (W0101).
+    "self-recursion": lambda: (
+        "number function f(number n) = if (n > 0) f(n - 1) else 0\n"
+        "procedure p() { p(); }\naction a() {}\nprocedure main() { a(); }\n"
+    ),
     **{f"test_lints trigger {code}": partial(str, text) for code, text in sorted(TRIGGERS.items())},
     **{f"pathological: {name}": partial(make, min(n, 12)) for name, (make, n) in sorted(FAMILIES.items())},
 }
