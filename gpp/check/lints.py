@@ -27,7 +27,7 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr
-from gpp.syntax.walk import CHILDREN, LEAVES, children, sub_statements, walk
+from gpp.syntax.walk import LEAVES, PUSH_CHILDREN, children, sub_statements, walk
 
 Op = ast.BinaryOp
 # A statement, and whether it is lexically inside `solve` or `search`.
@@ -212,7 +212,7 @@ def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) ->
     by_type: defaultdict[type[ast.Node], list[ast.Node]] = defaultdict(list)
     chained: list[ast.Expr] = []
     # The loop runs once per node of the program: its names are local.
-    children, leaves, expr, binary = CHILDREN, LEAVES, ast.Expr, ast.Binary
+    push, leaves, expr, binary = PUSH_CHILDREN, LEAVES, ast.Expr, ast.Binary
     for f in files:
         stack: list[ast.Node] = [f.program]
         while stack:
@@ -221,7 +221,7 @@ def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) ->
             if not isinstance(top, expr):
                 by_type[cls].append(top)
                 if cls not in leaves:
-                    stack.extend(reversed(children[cls](top)))
+                    push[cls](top, stack)
                 continue
             # An outermost expression: all its nodes now, noting whether an operator has another
             # one as its operand, or the model regrouped one of them.
@@ -235,7 +235,7 @@ def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) ->
                     has_chain = True
                 if cls in leaves:
                     continue
-                inner.extend(reversed(children[cls](node)))
+                push[cls](node, inner)
                 if cls is binary and not has_chain:
                     has_chain = _operand_is_operator(node.left) or _operand_is_operator(node.right)  # type: ignore[attr-defined]
             if has_chain:

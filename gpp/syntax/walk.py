@@ -13,11 +13,13 @@ import types
 import typing
 from collections.abc import Callable, Iterator
 from dataclasses import fields
-from typing import assert_never
+from typing import TypeVar, assert_never
 
 from gpp.syntax import ast
 
 Children = Callable[[ast.Node], tuple[ast.Node, ...]]
+PushChildren = Callable[[ast.Node, list[ast.Node]], None]
+T = TypeVar("T")
 
 # How a field holds nodes, by its annotation.
 _ONE, _MANY, _UNKNOWN = "one", "many", "unknown"
@@ -64,42 +66,54 @@ def _nodes_in(value: object) -> tuple[ast.Node, ...]:
     return ()
 
 
-def _generate(cls: type[ast.Node]) -> tuple[Children, bool]:
-    """The children function of `cls` (one tuple display over its node fields, in field order),
-    and whether the class has no field that can hold a node."""
+def _generate(cls: type[ast.Node]) -> None:
+    """Write the functions of `cls` into the tables: its children as one tuple display over its
+    node fields in field order, and the pushing of them onto a stack, last field first."""
     try:
         hints = typing.get_type_hints(cls)
     except (NameError, TypeError):  # an annotation that cannot be evaluated: test every value
         hints = {}
     parts: list[str] = []
+    pushes: list[str] = []
     for f in fields(cls):
         holds, optional = _holds(hints[f.name]) if f.name in hints else (_UNKNOWN, True)
         value = f"n.{f.name}"
-        if holds is None:
-            continue
         if holds == _UNKNOWN:
             parts.append(f"*_nodes_in({value})")
+            pushes.append(f"stack.extend(_nodes_in({value})[::-1])")
         elif holds == _MANY:
             parts.append(f"*({value} or ())" if optional else f"*{value}")
-        else:
+            pushes.append(f"stack.extend(({value} or ())[::-1])" if optional else f"stack.extend({value}[::-1])")
+        elif holds == _ONE:
             parts.append(f"*(() if {value} is None else ({value},))" if optional else value)
+            pushes.append(f"if {value} is not None: stack.append({value})" if optional else f"stack.append({value})")
+    source = [
+        "def children(n):",
+        f"    return ({''.join(p + ', ' for p in parts)})",
+        "def push(n, stack):",
+        *(f"    {p}" for p in reversed(pushes)),
+        "    pass",
+    ]
     namespace: dict[str, object] = {"_nodes_in": _nodes_in}
-    exec(f"def children(n):\n    return ({''.join(p + ', ' for p in parts)})\n", namespace)
-    return typing.cast(Children, namespace["children"]), not parts
+    exec("\n".join(source), namespace)
+    CHILDREN[cls] = typing.cast(Children, namespace["children"])
+    PUSH_CHILDREN[cls] = typing.cast(PushChildren, namespace["push"])
+    if not parts:
+        LEAVES.add(cls)
 
 
-class _ChildrenTable(dict[type, Children]):
-    """The children function of each node class, generated when a class is first seen."""
+class _Table(dict[type, T]):
+    """A function of each node class, generated when a class is first seen."""
 
-    def __missing__(self, cls: type) -> Children:
-        function, leaf = _generate(cls)
-        if leaf:
-            LEAVES.add(cls)
-        self[cls] = function
-        return function
+    def __missing__(self, cls: type) -> T:
+        _generate(cls)
+        return self[cls]
 
 
-CHILDREN: dict[type, Children] = _ChildrenTable()
+# The children of a node, in source order.
+CHILDREN: dict[type, Children] = _Table()
+# Push the children of a node onto a stack, so that popping gives them in source order.
+PUSH_CHILDREN: dict[type, PushChildren] = _Table()
 # The node classes seen so far that have no child fields: a walk need not ask for their children.
 LEAVES: set[type] = set()
 
@@ -134,12 +148,12 @@ def sub_statements(s: ast.Statement) -> tuple[ast.Statement, ...]:
 
 def walk(node: ast.Node) -> Iterator[ast.Node]:
     """`node` and all nodes below it, parents before children (iterative: no recursion limit)."""
-    table = CHILDREN
+    push = PUSH_CHILDREN
     stack = [node]
     while stack:
         n = stack.pop()
         yield n
-        stack.extend(reversed(table[type(n)](n)))
+        push[type(n)](n, stack)
 
 
 def path_to(node: ast.Node, offset: int) -> list[ast.Node]:
