@@ -151,7 +151,7 @@ class _Program:
         for owner, body in self.bodies(files):
             found = self._statements.get(id(body))
             if found is None:
-                found = self._statements[id(body)] = list(statements(body))
+                found = self._statements[id(body)] = statements(body)
             yield owner, found
 
     @cached_property
@@ -301,17 +301,20 @@ class _Within:
         return first < len(starts) and starts[first] < s.span.end
 
 
-def statements(body: ast.Statement, planning: bool = False) -> Iterator[_Placed]:
-    """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
+def statements(body: ast.Statement, planning: bool = False) -> list[_Placed]:
+    """Every statement in `body` (parents first, in source order), with whether it is
+    lexically inside `solve` or `search`."""
+    found: list[_Placed] = []
     stack = [(body, planning)]
     while stack:
         placed = stack.pop()
-        yield placed
+        found.append(placed)
         s, inside = placed
         inner = sub_statements(s)
         if inner:
             planned = inside or isinstance(s, ast.Solve | ast.Search)
             stack.extend([(c, planned) for c in reversed(inner)])
+    return found
 
 
 def keyword_span(node: ast.Node, keyword: str) -> Span:
@@ -442,8 +445,8 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         symbol = model.target(decl.name)
         if symbol is None or symbol.decl is not decl or symbol.span is None:
             continue
-        names = ", ".join(p.name for p in symbol.params)
         if decl.initially is None:
+            names = ", ".join(p.name for p in symbol.params)
             yield diag.warning(
                 "W0103",
                 f"fluent `{symbol.name}` has no initial values",
@@ -457,6 +460,7 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         if missing is None or not missing[0]:
             continue
         patterns, count, open_params = missing
+        names = ", ".join(p.name for p in symbol.params)
         instances = [f"`{symbol.name}({', '.join(p)})`" for p in patterns]
         if count > len(instances):
             instances.append(f"{count - len(instances)} more instance{'s' * (count - len(instances) > 1)}")
@@ -878,6 +882,8 @@ def _mixed_chains(model: Model, top: ast.Expr) -> Iterator[diag.Diagnostic]:
     stack = [top]
     while stack:
         e = model.effective(stack.pop())
+        if type(e) in LEAVES:
+            continue  # a name or a literal: no chain, nothing below
         family = _family(model, e)
         if family is None:
             stack.extend(_sub_expressions(e))
