@@ -12,7 +12,7 @@ import itertools
 import math
 from bisect import bisect_left
 from collections import defaultdict
-from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -115,7 +115,18 @@ class _Program:
 
     @cached_property
     def _all_statements(self) -> _Within:
-        return _Within.of(s for kind in _ALL_STATEMENTS for s in self.nodes(kind))
+        """Every statement of the root files: those of their bodies, the only place for one."""
+
+        def index() -> dict[int, _Starts]:
+            out: dict[int, _Starts] = {}
+            for f in self.root_files:
+                listed = [s for _, found in self.body_statements([f]) for s, _ in found]
+                starts = [s.span.start for s in listed]
+                order = sorted(range(len(listed)), key=starts.__getitem__)  # stable: ties keep their order
+                out[id(f.source)] = ([starts[k] for k in order], [listed[k] for k in order])
+            return out
+
+        return _Within(index)
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
@@ -257,21 +268,6 @@ class _Within:
 
     def __init__(self, index: Callable[[], dict[int, _Starts]]) -> None:
         self._index = index
-
-    @staticmethod
-    def of(found: Iterable[ast.Statement]) -> _Within:
-        def index() -> dict[int, _Starts]:
-            by_source: defaultdict[int, list[ast.Statement]] = defaultdict(list)
-            for s in found:
-                by_source[id(s.span.source)].append(s)
-            out: dict[int, _Starts] = {}
-            for key, listed in by_source.items():
-                starts = [s.span.start for s in listed]
-                order = sorted(range(len(listed)), key=starts.__getitem__)  # stable: ties keep their order
-                out[key] = ([starts[k] for k in order], [listed[k] for k in order])
-            return out
-
-        return _Within(index)
 
     def where(self, test: Callable[[ast.Statement], bool]) -> _Within:
         """The statements of these that pass `test` (kept in order: no sorting again)."""
