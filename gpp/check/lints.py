@@ -213,6 +213,8 @@ class _Program:
 
 @dataclass(frozen=True, slots=True)
 class _Nodes:
+    """What one walk of the root files finds (`_index_nodes`)."""
+
     by_type: dict[type[ast.Node], list[ast.Node]]
     chained: list[ast.Expr]  # see `_Program.chained_expressions`
 
