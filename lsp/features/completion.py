@@ -9,6 +9,7 @@ variables in scope, keywords, and declaration snippets at the top level.
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from lsprotocol import types
@@ -19,7 +20,7 @@ from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, S
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.resources import stdlib_dir
 from gpp.syntax.lexer import Token
-from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Document, comments, document, position
+from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo, position
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
@@ -74,7 +75,7 @@ def completion(result: CheckResult, path: Path, offset: int) -> list[types.Compl
     if doc is None:
         return []
     offset = max(0, min(offset, len(doc.text)))
-    if any(start < offset <= end for start, end in comments(doc.file)):
+    if any(start < offset <= end for start, end in memo(result).comments(doc.file)):
         return []
     ctx = context_at(doc.file.tokens, offset)
     return _Completer(doc, ctx, offset).items()
@@ -87,7 +88,7 @@ class _Completer:
         self.ctx = ctx
         self.offset = offset
         self.out: dict[str, types.CompletionItem] = {}
-        self.docs = DocComments(doc.result)
+        self.memo = memo(doc.result)
 
     def items(self) -> list[types.CompletionItem]:
         p = self.ctx.position
@@ -153,17 +154,19 @@ class _Completer:
             self.out[item.label] = item
 
     def symbol_item(self, symbol: Symbol, rank: str = _GLOBAL) -> None:
-        text = self.docs.of(symbol)
-        self.add(
-            types.CompletionItem(
-                label=symbol.name,
-                kind=COMPLETION_KIND[symbol.kind],
-                detail=symbol.signature(),
-                label_details=_label_details(symbol),
-                documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if text else None,
-                preselect=True if rank == _EXPECTED else None,
-            ),
-            rank,
+        # Built once per checked program (the next request on it reuses the item).
+        self.add(self.memo.item(symbol, rank, lambda: self._symbol_item(symbol, rank)), rank)
+
+    def _symbol_item(self, symbol: Symbol, rank: str) -> types.CompletionItem:
+        text = self.memo.docs.of(symbol)
+        return types.CompletionItem(
+            label=symbol.name,
+            kind=COMPLETION_KIND[symbol.kind],
+            detail=symbol.signature(),
+            label_details=_label_details(symbol),
+            documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if text else None,
+            preselect=True if rank == _EXPECTED else None,
+            sort_text=f"{rank}{symbol.name}",
         )
 
     def in_action_body(self) -> bool:
@@ -175,12 +178,11 @@ class _Completer:
 
     def sections(self, words: list[str]) -> None:
         for w in words:
-            item = types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword, insert_text=f"{w}:")
-            self.add(item, _KEYWORD)
+            self.add(_keyword_item(w, f"{w}:"), _KEYWORD)
 
     def keywords(self, words: list[str]) -> None:
         for w in words:
-            self.add(types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword), _KEYWORD)
+            self.add(_keyword_item(w, None), _KEYWORD)
 
     def snippets(self) -> None:
         for label, detail, body in DECLARATION_SNIPPETS:
@@ -372,6 +374,15 @@ class _Completer:
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
+
+
+@functools.cache
+def _keyword_item(word: str, insert_text: str | None) -> types.CompletionItem:
+    """A keyword (or an action's section, inserted with its colon): built once, then shared
+    by every answer (nobody changes it)."""
+    return types.CompletionItem(
+        label=word, kind=types.CompletionItemKind.Keyword, insert_text=insert_text, sort_text=f"{_KEYWORD}{word}"
+    )
 
 
 def _label_details(symbol: Symbol) -> types.CompletionItemLabelDetails:
