@@ -101,7 +101,7 @@ class Session:
         self._documents: dict[Path, Document] = {}
         self._lock = threading.Lock()
         # The includes of files on disk, by (mtime, size) when read, and of open documents, by
-        # their text (both forgotten by `rescan`, when a file may have appeared).
+        # their text when all were found (both forgotten by `rescan`).
         self._disk_includes: dict[Path, tuple[tuple[int, int], tuple[Path, ...]]] = {}
         self._open_includes: dict[Path, tuple[str, tuple[Path, ...]]] = {}
         # Which files include which, for the includes it was built from.
@@ -177,7 +177,9 @@ class Session:
         if cached is not None and cached[0] == text:
             return cached[1]
         found = self._resolve_includes(path, text, opened)
-        self._open_includes[path] = (text, found)
+        if len(found) == len(_INCLUDE.findall(text)):
+            # (An include not found is looked for again next time: the file may be created.)
+            self._open_includes[path] = (text, found)
         return found
 
     def _resolve_includes(self, path: Path, text: str, opened: dict[Path, str]) -> tuple[Path, ...]:

@@ -93,11 +93,15 @@ def _empty() -> list[object]:
     return []
 
 
+def _no_completion() -> types.CompletionList:
+    return types.CompletionList(is_incomplete=False, items=[])
+
+
 def register_features(server: GppServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ","]))
-    @guarded(_empty)
-    async def completion(ls: GppServer, params: types.CompletionParams) -> list[types.CompletionItem]:
-        return await at(ls, params.text_document.uri, params.position, features.completion, [])
+    @guarded(_no_completion)
+    async def completion(ls: GppServer, params: types.CompletionParams) -> types.CompletionList:
+        return await at(ls, params.text_document.uri, params.position, features.completion_list, _no_completion())
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     @guarded(_none)

@@ -452,10 +452,15 @@ async def test_completion(client: LanguageClient, workspace: Path) -> None:
         types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(6, 5))
     )
     result, path = direct(workspace)
-    want = features.completion(result, path, FEATURES.index("go(kitchen)") + 1)
-    items = got.items if isinstance(got, types.CompletionList) else got
-    assert plain(items) == plain(want)
-    assert {"at", "go", "main", "while"} <= {i.label for i in items or ()}
+    offset = FEATURES.index("go(kitchen)") + 1
+    assert isinstance(got, types.CompletionList)
+    assert plain(got) == plain(features.completion_list(result, path, offset))
+    # After `g`: the items with a `g` in their name, of all those that fit here; the editor is
+    # told that the list is incomplete, to ask again as the word changes.
+    everything = features.completion(result, path, offset)
+    assert {"at", "go", "main", "while"} <= {i.label for i in everything}
+    assert [i.label for i in got.items] == [i.label for i in everything if "g" in i.label.casefold()]
+    assert "go" in {i.label for i in got.items} and got.is_incomplete
 
 
 @in_module_loop

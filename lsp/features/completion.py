@@ -81,6 +81,37 @@ def completion(result: CheckResult, path: Path, offset: int) -> list[types.Compl
     return _Completer(doc, ctx, offset).items()
 
 
+def completion_list(result: CheckResult, path: Path, offset: int) -> types.CompletionList:
+    """`completion` as the language server answers it: only the items whose label holds the
+    word typed before the cursor, its letters in order (what every editor's filter keeps), so
+    that a large program's hundreds of names are not sent on every keystroke. When some were
+    left out, the list says it is incomplete: the editor asks again as the word changes."""
+    items = completion(result, path, offset)
+    doc = document(result, path)
+    word = typed_word(doc.text, offset) if doc is not None else ""
+    if not word:
+        return types.CompletionList(is_incomplete=False, items=items)
+    kept = [i for i in items if _holds(i.filter_text or i.label, word)]
+    return types.CompletionList(is_incomplete=len(kept) < len(items), items=kept)
+
+
+def typed_word(text: str, offset: int) -> str:
+    """The name typed before `offset` (letters, digits and `_`, not starting with a digit)."""
+    offset = max(0, min(offset, len(text)))
+    start = offset
+    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
+        start -= 1
+    while start < offset and text[start].isdigit():
+        start += 1
+    return text[start:offset]
+
+
+def _holds(label: str, word: str) -> bool:
+    """Are the letters of `word` in `label`, in order (ignoring case)?"""
+    rest = iter(label.casefold())
+    return all(c in rest for c in word.casefold())
+
+
 class _Completer:
     def __init__(self, doc: Document, ctx: Context, offset: int) -> None:
         self.doc = doc
