@@ -6,7 +6,8 @@ For generated programs of 1,000 and 10,000 lines it measures, as the client sees
 * edit -> diagnostics: the time from sending a `didChange` (one character typed) to receiving
   the `publishDiagnostics` for that version, for an edit on the last line and one in the middle
   of the document;
-* completion and hover round trips on the analysed document (no edit pending);
+* completion and hover round trips on the analysed document (no edit pending), and completion
+  as an editor asks for it, at once after typing a letter (the check of that version running);
 and, in-process, where an edit's analysis spends its time (the parse of the changed file, the
 code model and type check, the lints). Times are medians (and 90th percentiles) over repeated
 runs; the targets of the language server (issue 10) are printed beside them.
@@ -49,6 +50,7 @@ TARGETS = {
     ("1,000 lines", "edit end -> diags"): 0.050,
     ("1,000 lines", "edit middle -> diags"): 0.050,
     ("1,000 lines", "completion"): 0.010,
+    ("1,000 lines", "completion after key"): 0.010,
 }
 
 
@@ -130,6 +132,24 @@ async def measure(client: Client, folder: Path, lines: int, edits: int, requests
         requests, lambda: client.text_document_completion_async(types.CompletionParams(doc, pos))
     )
     results["hover"] = await timed(requests, lambda: client.text_document_hover_async(types.HoverParams(doc, pos)))
+    # Completion as an editor asks for it: a letter typed (`co|unt0` -> `cou|unt0`), and at
+    # once the request, while that version's check runs. (Then the letter goes again; each
+    # round starts with the analysis idle.)
+    after: list[float] = []
+    typed = types.Position(line, char + 1)
+    for _ in range(max(3, requests // 10)):
+        for k in range(2):
+            version += 1
+            identifier = types.VersionedTextDocumentIdentifier(uri=uri, version=version)
+            rng = types.Range(pos, pos if k == 0 else typed)
+            change = types.TextDocumentContentChangePartial(range=rng, text="u" if k == 0 else "")
+            t0 = time.perf_counter()
+            client.text_document_did_change(types.DidChangeTextDocumentParams(identifier, [change]))
+            if k == 0:
+                await client.text_document_completion_async(types.CompletionParams(doc, typed))
+                after.append(time.perf_counter() - t0)
+            await client.published_at(uri, version)
+    results["completion after key"] = after
     return results
 
 

@@ -13,7 +13,8 @@ Threads:
   previous rounds (gpp.session.Collector);
 * the request thread runs the features (completion, hover, ...) on the latest check of the
   document's current version, so that a request does not wait behind a running analysis
-  unless the document changed since the last one.
+  unless the document changed since the last one. Completion does not wait even then: it
+  answers from the last check and the text typed since (features.completion_after_edit).
 
 Every handler catches what goes wrong, logs it to the client (window/logMessage) and answers
 with an empty result: the server never stops answering whatever the document.
@@ -251,6 +252,15 @@ class GppServer(LanguageServer):
                 await asyncio.wait_for(self._round_done.wait(), max(0.0, deadline - loop.time()))
             except TimeoutError:
                 return None
+
+    def earlier_check(self, path: Path) -> tuple[CheckResult, str] | None:
+        """When a document changed since its last check: that check (of the program it
+        belongs to first) and the document's text now; else None."""
+        doc = self.session.document(path)
+        known = self.results.get(path)
+        if doc is None or known is None or known[0] == doc.version or not known[1]:
+            return None
+        return known[1][0], doc.text
 
     async def on_request_thread(self, fn: Callable[[], R]) -> R:
         return await asyncio.wrap_future(self.requests.submit(fn))

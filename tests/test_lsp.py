@@ -277,6 +277,33 @@ async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published
     assert len(versions) < len(typed)  # coalesced: not one analysis per keystroke
 
 
+@in_module_loop
+async def test_completion_right_after_a_keystroke_does_not_wait_for_the_check(
+    client: LanguageClient, workspace: Path
+) -> None:
+    body = "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(1000))
+    text = body + "procedure main() {\n    x\n}\n"
+    path = workspace / "keystroke.gpp"
+    uri = open_doc(client, path, text)
+    await diagnostics(client, uri, 1)
+    change(client, uri, 2, [((1001, 4, 1001, 5), "v99")])  # `x` becomes `v99`, as typed
+    got = await client.text_document_completion_async(
+        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(1001, 7))
+    )
+    # Answered from the check of version 1 while version 2's runs: its diagnostics are not out.
+    assert 2 not in [p.version for p in published(client).of(uri)]
+    assert isinstance(got, types.CompletionList) and got.is_incomplete
+    # The names holding `v`, `9`, `9` in order, as a check of the new text has them.
+    now = text.replace("    x\n", "    v99\n")
+    resolved = path.resolve()
+    want = features.completion_list(
+        check_program(resolved, overrides={resolved: now}), resolved, now.index("v99\n") + 3
+    )
+    assert [i.label for i in got.items] == [i.label for i in want.items]
+    assert {"v99", "v199", "v989", "v909"} <= {i.label for i in got.items} and "v98" not in {i.label for i in got.items}
+    await diagnostics(client, uri, 2)
+
+
 # ---------------------------------------------------------------- other ways to start it
 
 

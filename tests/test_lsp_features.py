@@ -565,6 +565,36 @@ def test_the_servers_completion_list_keeps_the_names_that_hold_the_typed_word(tm
     assert [i.label for i in whole.items] == [i.label for i in F.completion(doc.result, doc.path, at_paren)]
 
 
+def test_completion_right_after_an_edit_answers_from_the_last_check(tmp_path: Path) -> None:
+    checked = BLOCKS.replace("    build(a);\n", "    build(a);\n    c\n")
+    doc = Doc.check(checked, tmp_path / "e.gpp", errors_allowed=True)
+
+    def answers(now: str, offset: int) -> set[str]:
+        found = F.completion_after_edit(doc.result, doc.path, now, offset)
+        assert found is not None and found.is_incomplete
+        # The same items as a check of the new text gives there.
+        fresh = Doc.check(now, tmp_path / "e.gpp", errors_allowed=True)
+        want = F.completion_list(fresh.result, fresh.path, offset)
+        assert [i.label for i in found.items] == [i.label for i in want.items]
+        return {i.label for i in found.items}
+
+    # `l` typed after `c`: the checked program at `c|`, filtered with `cl`.
+    now = checked.replace("    c\n", "    cl\n")
+    assert answers(now, now.index("    cl\n") + len("    cl")) == {"clear", "cancel"}
+    # A change after the cursor only.
+    now = checked.replace("build(x);\n}", "build(x); build(a);\n}")
+    assert {"clear", "cancel", "choose", "stack"} <= answers(now, now.index("    c\n") + len("    c"))
+    # A bracket typed (the place changed), or a line pasted: the caller must wait.
+    now = checked.replace("    c\n", "    clear(\n")
+    assert F.completion_after_edit(doc.result, doc.path, now, now.index("    clear(\n") + len("    clear(")) is None
+    now = checked.replace("    c\n", "    stack(a, b);\n    c\n")
+    assert F.completion_after_edit(doc.result, doc.path, now, now.index("    c\n") + len("    c")) is None
+    # (Nothing changed: the check's own answer.)
+    offset = checked.index("    c\n") + len("    c")
+    same = F.completion_after_edit(doc.result, doc.path, checked, offset)
+    assert same is not None and same.items == F.completion_list(doc.result, doc.path, offset).items
+
+
 @pytest.mark.parametrize(
     ("before", "word"), [("x = count_2", "count_2"), ("f(a1", "a1"), ("12ab", "ab"), ("x + ", ""), ("", "")]
 )

@@ -95,6 +95,60 @@ def completion_list(result: CheckResult, path: Path, offset: int) -> types.Compl
     return types.CompletionList(is_incomplete=len(kept) < len(items), items=kept)
 
 
+def completion_after_edit(result: CheckResult, path: Path, text: str, offset: int) -> types.CompletionList | None:
+    """Completion at `offset` in `text`, the document as it is now, from `result`, a check of
+    it before its latest edits (the check of `text` is still running: an editor asks for
+    completion as soon as a character is typed). This answers when what changed since the
+    check is a part of the word before the cursor (letters typed or deleted) or lies after
+    the cursor: what fits there is taken from the checked program at the same place, and
+    filtered with the word typed in `text`; the list is marked incomplete, so that the editor
+    asks again at the next keystroke. Otherwise (brackets typed, a line pasted, ...: the
+    place may have changed) None: the caller waits for the current check."""
+    doc = document(result, path)
+    if doc is None:
+        return None
+    checked = doc.text
+    offset = max(0, min(offset, len(text)))
+    start, checked_end, now_end = changed_stretch(checked, text)
+    word = typed_word(text, offset)
+    if start >= offset:
+        at = offset  # the text before the cursor is as checked
+    elif start >= offset - len(word) and now_end <= offset and _is_name_part(checked[start:checked_end]):
+        at = start  # in the word being typed: where it was checked
+    else:
+        return None
+    items = completion(result, path, at)
+    if any(i.text_edit is not None for i in items):
+        return None  # (their ranges are positions in the checked text)
+    return types.CompletionList(is_incomplete=True, items=[i for i in items if _holds(i.filter_text or i.label, word)])
+
+
+def _is_name_part(text: str) -> bool:
+    return all(c.isalnum() or c == "_" for c in text)
+
+
+def changed_stretch(before: str, after: str) -> tuple[int, int, int]:
+    """Where `after` differs from `before`: (start, end in `before`, end in `after`), the
+    common beginning and ending left out."""
+    n = min(len(before), len(after))
+    lo, hi = 0, n  # the common beginning's length is in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if before[lo:mid] == after[lo:mid]:
+            lo = mid
+        else:
+            hi = mid - 1
+    start = lo
+    lo, hi = 0, n - start  # the common ending's length, not overlapping the beginning
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if before[len(before) - mid : len(before) - lo] == after[len(after) - mid : len(after) - lo]:
+            lo = mid
+        else:
+            hi = mid - 1
+    return start, len(before) - lo, len(after) - lo
+
+
 def typed_word(text: str, offset: int) -> str:
     """The name typed before `offset` (letters, digits and `_`, not starting with a digit)."""
     offset = max(0, min(offset, len(text)))
