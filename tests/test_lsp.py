@@ -255,14 +255,24 @@ async def _until(condition: object, timeout: float = 20.0) -> None:
         await asyncio.sleep(0.01)
 
 
+def fluents(count: int) -> str:
+    """`count` lines, one fluent each: a program whose check takes a while."""
+    return "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(count))
+
+
+async def open_checked(client: LanguageClient, path: Path, text: str) -> str:
+    """Open a document and wait for the diagnostics of its first version."""
+    uri = open_doc(client, path, text)
+    await diagnostics(client, uri, 1)
+    return uri
+
+
 @in_module_loop
 async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published(
     client: LanguageClient, workspace: Path
 ) -> None:
-    body = "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(400))
-    text = body + "procedure main() {\n}\n"
-    uri = open_doc(client, workspace / "typing.gpp", text)
-    await diagnostics(client, uri, 1)
+    body = fluents(400)
+    uri = await open_checked(client, workspace / "typing.gpp", body + "procedure main() {\n}\n")
     typed = "v1() = v2() + w;"
     for k, ch in enumerate(typed):  # one keystroke each, at the start of the line of `}`
         change(client, uri, k + 2, [((401, k, 401, k), ch)])
@@ -281,11 +291,9 @@ async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published
 async def test_completion_right_after_a_keystroke_does_not_wait_for_the_check(
     client: LanguageClient, workspace: Path
 ) -> None:
-    body = "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(1000))
-    text = body + "procedure main() {\n    x\n}\n"
+    text = fluents(1000) + "procedure main() {\n    x\n}\n"
     path = workspace / "keystroke.gpp"
-    uri = open_doc(client, path, text)
-    await diagnostics(client, uri, 1)
+    uri = await open_checked(client, path, text)
     change(client, uri, 2, [((1001, 4, 1001, 5), "v99")])  # `x` becomes `v99`, as typed
     got = await client.text_document_completion_async(
         types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(1001, 7))

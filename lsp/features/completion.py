@@ -10,6 +10,8 @@ variables in scope, keywords, and declaration snippets at the top level.
 from __future__ import annotations
 
 import functools
+import re
+from collections.abc import Callable
 from pathlib import Path
 
 from lsprotocol import types
@@ -71,14 +73,22 @@ _EXPECTED, _LOCAL, _GLOBAL, _KEYWORD = "0", "1", "2", "3"
 
 
 def completion(result: CheckResult, path: Path, offset: int) -> list[types.CompletionItem]:
+    return _complete(result, path, offset, "")[0]
+
+
+def _complete(result: CheckResult, path: Path, offset: int, word: str) -> tuple[list[types.CompletionItem], bool]:
+    """The items that fit at `offset`, only those holding `word` (its letters in order, see `_holder`), and whether
+    any were left out for it."""
     doc = document(result, path)
     if doc is None:
-        return []
+        return [], False
     offset = max(0, min(offset, len(doc.text)))
     if any(start < offset <= end for start, end in memo(result).comments(doc.file)):
-        return []
+        return [], False
     ctx = context_at(doc.file.tokens, offset)
-    return _Completer(doc, ctx, offset).items()
+    completer = _Completer(doc, ctx, offset, word)
+    items = completer.items()
+    return items, completer.left_out
 
 
 def completion_list(result: CheckResult, path: Path, offset: int) -> types.CompletionList:
@@ -86,13 +96,10 @@ def completion_list(result: CheckResult, path: Path, offset: int) -> types.Compl
     word typed before the cursor, its letters in order (what every editor's filter keeps), so
     that a large program's hundreds of names are not sent on every keystroke. When some were
     left out, the list says it is incomplete: the editor asks again as the word changes."""
-    items = completion(result, path, offset)
     doc = document(result, path)
     word = typed_word(doc.text, offset) if doc is not None else ""
-    if not word:
-        return types.CompletionList(is_incomplete=False, items=items)
-    kept = [i for i in items if _holds(i.filter_text or i.label, word)]
-    return types.CompletionList(is_incomplete=len(kept) < len(items), items=kept)
+    items, left_out = _complete(result, path, offset, word)
+    return types.CompletionList(is_incomplete=left_out, items=items)
 
 
 def completion_after_edit(result: CheckResult, path: Path, text: str, offset: int) -> types.CompletionList | None:
@@ -117,10 +124,10 @@ def completion_after_edit(result: CheckResult, path: Path, text: str, offset: in
         at = start  # in the word being typed: where it was checked
     else:
         return None
-    items = completion(result, path, at)
+    items, _ = _complete(result, path, at, word)
     if any(i.text_edit is not None for i in items):
         return None  # (their ranges are positions in the checked text)
-    return types.CompletionList(is_incomplete=True, items=[i for i in items if _holds(i.filter_text or i.label, word)])
+    return types.CompletionList(is_incomplete=True, items=items)
 
 
 def _is_name_part(text: str) -> bool:
@@ -160,15 +167,19 @@ def typed_word(text: str, offset: int) -> str:
     return text[start:offset]
 
 
-def _holds(label: str, word: str) -> bool:
-    """Are the letters of `word` in `label`, in order (ignoring case)?"""
-    rest = iter(label.casefold())
-    return all(c in rest for c in word.casefold())
+@functools.lru_cache(maxsize=64)
+def _holder(word: str) -> Callable[[str], re.Match[str] | None]:
+    """A search for the letters of `word` in order, ignoring case (`co` finds `sCOre`)."""
+    return re.compile(".*?".join(re.escape(c) for c in word), re.IGNORECASE | re.DOTALL).search
 
 
 class _Completer:
-    def __init__(self, doc: Document, ctx: Context, offset: int) -> None:
+    def __init__(self, doc: Document, ctx: Context, offset: int, word: str = "") -> None:
         self.doc = doc
+        # Only the items holding `word` are kept; `left_out` says whether any were not.
+        self.word = word
+        self.holds = _holder(word)
+        self.left_out = False
         self.model: Model = doc.model
         self.ctx = ctx
         self.offset = offset
@@ -234,11 +245,17 @@ class _Completer:
     def add(self, item: types.CompletionItem, rank: str = _GLOBAL) -> None:
         # (The parser's recovery may invent a declaration without a name.)
         if item.label and item.label not in self.out:
+            if self.word and not self.holds(item.filter_text or item.label):
+                self.left_out = True
+                return
             if item.sort_text is None:
                 item.sort_text = f"{rank}{item.label}"
             self.out[item.label] = item
 
     def symbol_item(self, symbol: Symbol, rank: str = _GLOBAL) -> None:
+        if self.word and not self.holds(symbol.name):
+            self.left_out = True  # (not even looked up: a large program has thousands)
+            return
         # Built once per checked program (the next request on it reuses the item).
         self.add(self.memo.item(symbol, rank, lambda: self._symbol_item(symbol, rank)), rank)
 
