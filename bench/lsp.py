@@ -179,12 +179,13 @@ def phases(lines: int, runs: int) -> dict[str, float]:
     return best
 
 
-async def start(pythonpath: str | None) -> Client:
+async def start(checkout: str | None) -> Client:
+    """A server of this checkout of gpp, or of another. (`python -m gpp` imports gpp from the
+    working directory first: the server runs in its checkout.)"""
     client = Client()
-    env = None
-    if pythonpath is not None:
-        env = {**os.environ, "PYTHONPATH": pythonpath}
-    await client.start_io(*SERVER, env=env)
+    folder = Path(checkout) if checkout is not None else Path(__file__).resolve().parent.parent
+    env = {**os.environ, "PYTHONPATH": str(folder)}
+    await client.start_io(*SERVER, env=env, cwd=str(folder))
     await client.initialize_async(types.InitializeParams(capabilities=types.ClientCapabilities()))
     client.initialized(types.InitializedParams())
     return client
