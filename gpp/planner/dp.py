@@ -58,6 +58,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from gpp.planner.bounds import Bound
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
@@ -171,9 +172,11 @@ def solve_plan(
     span: Span | None = None,
     progress: ProgressCallback | None = None,
     progress_interval: float = 1.0,
+    bound: Bound | None = None,
 ) -> Plan:
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
-    takes longer than `progress_interval` seconds reports a `Progress` about every interval."""
+    takes longer than `progress_interval` seconds reports a `Progress` about every interval.
+    `bound`: from gpp.planner.bounds.solve_bound, for branch and bound (None: none)."""
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
@@ -280,6 +283,10 @@ def solve_plan(
             cost = o.cost
             target = o.target
             if cost:
+                if bound is not None and feasible and value_of(target) + bound(h - cost) <= value:
+                    stats.pruned += 1  # cannot be strictly better (gpp.planner.bounds)
+                    depth = h  # what it skipped is not known: keep the result for this h only
+                    continue
                 # `best(target, h - cost, 0)`, the lookups written out (most options are known).
                 left = h - cost
                 if left <= 0:
