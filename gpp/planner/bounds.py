@@ -76,6 +76,10 @@ from gpp.syntax.walk import walk
 # A bound on the value of the rest of a branch with h steps of horizon left.
 Bound = Callable[[int], float]
 
+# The two bounds (see the module docstring).
+PER_STEP = "per step"
+GOAL_LOOP = "goal ends the loop"
+
 # Pruning is enabled up to this horizon (see the module docstring).
 MAX_HORIZON = 1000
 
@@ -141,6 +145,7 @@ class BoundAnalysis:
     reason: str | None  # why pruning is off (None: it is on)
     span: Span | None = None  # where the reason is
     bound: Bound | None = field(default=None, compare=False)
+    kind: str | None = None  # PER_STEP or GOAL_LOOP (None: no bound)
 
     @property
     def enabled(self) -> bool:
@@ -216,8 +221,11 @@ class _Analysis:
                 fact = Fact(False, fact.low, fact.high, fact.whole) if fact is not None else _UNKNOWN
             self.fluents[symbol.name] = fact
         assignments = self._assignments()
-        for rounds in range(_ROUNDS + 2):
-            changed = False
+        # Once intervals are given up, every further change makes a fact weaker for good (an
+        # interval lost, `null` or a fraction possible): a few more rounds reach the fixpoint.
+        rounds = 0
+        while True:
+            changed, rounds = False, rounds + 1
             for name, value in assignments:
                 old = self.fluents.get(name, _UNKNOWN)
                 new = old.join(self._quietly(value) if value is not None else _UNKNOWN)
@@ -227,8 +235,6 @@ class _Analysis:
                     self.fluents[name], changed = new, True
             if not changed:
                 return
-        for name in self.fluents:  # pragma: no cover - the widening above always converges
-            self.fluents[name] = _UNKNOWN
 
     def _quietly(self, e: ast.Expr) -> Fact:
         """The fact of `e` where it does not matter whether it can raise (an error there
@@ -451,6 +457,71 @@ class _Analysis:
             case _:
                 raise Unsafe(f"`{type(s).__name__}` statements are not analysed", s.span)
 
+    # ---------------------------------------------------------------- the goal loop
+
+    def goal_loop(self, solve: ast.Solve) -> tuple[Fact, Fact] | None:
+        """For a `solve` whose body is `while (!G) S` and whose reward is `if (G) a else b`
+        (through functions without parameters) with the same G reading no variable, and S a
+        statement each run of which makes at most one step, that step costed and last: the
+        facts of `a` and `b`. None if the `solve` is not of that form."""
+        body = solve.body
+        while isinstance(body, ast.Block) and len(body.body) == 1:
+            body = body.body[0]
+        if not isinstance(body, ast.While) or not self._one_step(body.body):
+            return None
+        condition = self.model.effective(body.condition)
+        reward = self.model.effective(solve.reward)
+        while isinstance(reward, ast.Call) and not reward.args:
+            symbol = self.model.target(reward)
+            decl = symbol.decl if symbol is not None and symbol.kind is SymbolKind.FUNCTION else None
+            if not isinstance(decl, ast.FunctionDecl) or decl.body is None:
+                return None
+            reward = self.model.effective(decl.body)
+        if not (
+            isinstance(condition, ast.Unary)
+            and condition.op is ast.UnaryOp.NOT
+            and isinstance(reward, ast.Conditional)
+            and self._same_goal(condition.operand, reward.condition)
+        ):
+            return None
+        return self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+
+    def _same_goal(self, a: ast.Expr, b: ast.Expr) -> bool:
+        """`a` and `b` are the same expression, and read no variable (so they mean the same
+        in the loop's condition and in the reward)."""
+        a, b = self.model.effective(a), self.model.effective(b)
+        if a != b:
+            return False
+        for node in walk(a):
+            if isinstance(node, ast.Name):
+                target = self.model.target(node)
+                if target is None:
+                    return False
+                if target.kind is not SymbolKind.SYMBOL and not (
+                    target.kind is SymbolKind.VARIABLE and isinstance(target.decl, ast.Quantified)
+                ):
+                    return False
+        return True
+
+    def _one_step(self, s: ast.Statement) -> bool:
+        """Every run of `s` makes at most one step, a costed one, and `s` is done after it."""
+        match s:
+            case ast.Block():
+                return not s.body or (len(s.body) == 1 and self._one_step(s.body[0]))
+            case ast.Assign():
+                return True
+            case ast.CallStmt():
+                symbol = self.model.target(s.call)
+                return symbol is not None and symbol.kind is SymbolKind.ACTION
+            case ast.Pick():
+                return self._one_step(s.body)
+            case ast.Choose():
+                return all(self._one_step(x) for x in s.alternatives)
+            case ast.If():
+                return self._one_step(s.then) and (s.otherwise is None or self._one_step(s.otherwise))
+            case _:
+                return False
+
     def _arguments(self, call: ast.Expr, symbol: Symbol) -> None:
         assert isinstance(call, ast.Call)
         for p, a in zip(symbol.params, call.args, strict=True):
@@ -525,12 +596,22 @@ def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
         reward = analysis._quietly(solve.reward)
         known = reward.bounded
         return BoundAnalysis(reward.low if known else None, reward.high if known else None, e.reason, e.span)
+    goal = analysis.goal_loop(solve)
+    if goal is not None:
+        reached, otherwise = goal
+        last = max(reached.high, otherwise.high)
+        per_step = max(otherwise.high, 0.0)
+
+        def until_goal(h: int) -> float:
+            return max(0.0, last + (h - 1) * per_step) if h > 0 else 0.0
+
+        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP)
     per_step = max(high, 0.0)
 
     def bound(h: int) -> float:
         return per_step * h
 
-    return BoundAnalysis(low, high, None, None, bound)
+    return BoundAnalysis(low, high, None, None, bound, PER_STEP)
 
 
 def solve_bound(model: Model, solve: ast.Solve, horizon: int) -> Bound | None:

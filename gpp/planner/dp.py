@@ -185,6 +185,7 @@ def solve_plan(
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
+    ceiling = [bound(left) for left in range(horizon + 1)] if bound is not None else []
 
     def intern(p: Prog, s: State, a: Activities) -> _Config:
         key = (p, s, a)
@@ -283,10 +284,12 @@ def solve_plan(
             cost = o.cost
             target = o.target
             if cost:
-                if bound is not None and feasible and value_of(target) + bound(h - cost) <= value:
-                    stats.pruned += 1  # cannot be strictly better (gpp.planner.bounds)
-                    depth = h  # what it skipped is not known: keep the result for this h only
-                    continue
+                if ceiling and feasible:  # branch and bound (gpp.planner.bounds)
+                    r = target.reward
+                    if (value_of(target) if r is None else r) + ceiling[max(h - cost, 0)] <= value:
+                        stats.pruned += 1  # it cannot be strictly better
+                        depth = h  # what it skipped is not known: keep the result for this h only
+                        continue
                 # `best(target, h - cost, 0)`, the lookups written out (most options are known).
                 left = h - cost
                 if left <= 0:

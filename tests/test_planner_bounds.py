@@ -1,0 +1,236 @@
+"""Branch and bound in the production `solve` planner (gpp.planner.bounds, gpp.planner.dp).
+
+* On random programs and rewards (those of test_planner_properties, programs whose loop ends at
+  the goal the reward pays for, and programs with a division by zero on some branches) the
+  production planner, pruning wherever the analysis allows it, returns exactly the reference's
+  result, error included; when the analysis enables pruning, the reference never raises.
+* A program whose error lies only in a branch the bound would skip: the analysis refuses, so
+  the error is reported; pruning with the bound anyway would have hidden it.
+* On a program built to show it, the bound prunes (node counts with and without).
+* The analysis: what it proves, and why it refuses.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from hypothesis import event, given, settings
+from hypothesis import strategies as st
+from test_planner_properties import (
+    PROPERTY,
+    Case,
+    World,
+    _action_call,
+    attempt,
+    cases,
+    conditions,
+    outcome,
+    statements,
+    worlds,
+)
+
+from gpp.check import check_text
+from gpp.planner.bounds import GOAL_LOOP, PER_STEP, analyse, solve_bound
+from gpp.planner.dp import solve_plan
+from gpp.planner.problem import PlanningProblem, first_solve
+from gpp.runtime.errors import GppRuntimeError
+
+# Appended, not put first: bench/lsp.py must not hide the lsp package.
+sys.path.append(str(Path(__file__).resolve().parent.parent / "bench"))
+from planner import tower_problem  # noqa: E402
+
+# ---------------------------------------------------------------- random programs
+
+
+def _with_reward(w: World, reward: str, extra: str = "") -> World:
+    """`w` with another reward function (the last line of its text) and `extra` declarations."""
+    lines = w.text.rstrip("\n").split("\n")
+    assert lines[-1].startswith("number function reward()")
+    return replace(w, text="\n".join([*lines[:-1], extra, reward]) + "\n")
+
+
+@st.composite
+def goal_cases(draw: st.DrawFn) -> Case:
+    """`while (!goal()) choose { ... }` with one costed step per alternative, and a reward that
+    pays one amount at the goal and another elsewhere: the loop-ends-at-the-goal bound."""
+    w = draw(worlds())
+    condition = draw(conditions(w, [], 1))
+    at_goal, elsewhere = draw(st.integers(-3, 9)), draw(st.integers(-3, 3))
+    goal = f"bool function goal() = {condition}"
+    w = _with_reward(w, f"number function reward() = if (goal()) {at_goal} else {elsewhere}", goal)
+
+    def one_step() -> str:
+        if draw(st.booleans()):
+            return f"{_action_call(draw, w, [])};"
+        return f"pick (D v) {_action_call(draw, w, ['v'])};"
+
+    alternatives = " ".join(one_step() for _ in range(draw(st.integers(1, 4))))
+    return Case(w, f"while (!goal()) choose {{ {alternatives} }}", draw(st.integers(1, 5)))
+
+
+@st.composite
+def risky_cases(draw: st.DrawFn) -> Case:
+    """A division by a fluent that some branches set to 0: the reference raises on those."""
+    w = draw(worlds())
+    extra = (
+        "number fluent den() { initially: () = 1; }\n"
+        "action zero() { effect: den() = 0; }\n"
+        "action risky() { precondition: 6 / den() > 1 }"
+    )
+    lines = w.text.rstrip("\n").split("\n")
+    w = _with_reward(w, lines[-1], extra)
+    parts = draw(st.lists(statements(w, [], 1), min_size=1, max_size=3))
+    parts.insert(draw(st.integers(0, len(parts))), f"choose {{ {_action_call(draw, w, [])}; zero(); }}")
+    parts.append(f"choose {{ {_action_call(draw, w, [])}; risky(); }}")
+    return Case(w, "{ " + " ".join(parts) + " }", draw(st.integers(1, 4)))
+
+
+@given(st.one_of(cases(), goal_cases(), risky_cases()))
+@settings(PROPERTY, max_examples=150)
+def test_pruning_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
+    pb = case.problem()
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    event(f"pruning: {analysis.kind or 'off'}")
+    reference = attempt(pb, "reference")
+    assert outcome(attempt(pb, "production")) == outcome(reference)
+    if analysis.enabled:
+        assert not isinstance(reference, GppRuntimeError), "the analysis proved this `solve` cannot raise"
+
+
+# ---------------------------------------------------------------- an error only in a skipped branch
+
+HIDDEN_ERROR = """
+number fluent den() { initially: () = 1; }
+bool fluent done() { initially: () = false; }
+action complete() { effect: done() = true; }
+action zero() { effect: den() = 0; }
+action risky() { precondition: 6 / den() > 1 }
+number function reward() = if (done()) 0 else -1
+procedure main() {
+    solve(3, reward()) choose { complete(); { zero(); risky(); } }
+}
+"""
+
+
+def problem(text: str) -> PlanningProblem:
+    result = check_text(text, lint=False)
+    assert result.errors == 0, [d.message for d in result.diagnostics]
+    return first_solve(result.model)
+
+
+def test_an_error_in_a_branch_the_bound_would_skip_is_reported() -> None:
+    pb = problem(HIDDEN_ERROR)
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert (analysis.reason, analysis.enabled) == ("`/` by a value that may be 0", False)
+    assert analysis.span is not None and analysis.span.text == "den()"
+    reference = attempt(pb, "reference")
+    assert isinstance(reference, GppRuntimeError) and reference.message == "division by zero"
+    assert outcome(attempt(pb, "production")) == outcome(reference)
+    # The bound itself holds (the reward is at most 0): pruning with it regardless would skip
+    # `zero(); risky()` after `complete()` earned 0, and hide the error.
+    unchecked = solve_plan(pb.sem, pb.prog, pb.state, pb.acts, pb.horizon, pb.reward, pb.span, bound=lambda h: 0.0)
+    assert (unchecked.feasible, unchecked.value, unchecked.actions()) == (True, -1.0, ["complete()"])
+
+
+# ---------------------------------------------------------------- what it prunes
+
+
+def hazards(blocks: int, trap: int, horizon: int) -> str:
+    """Visit `horizon` places of `blocks`, one of which is a trap that costs 10 per step from
+    then on: the best plan avoids it, and is worth 0, the most the reward can give."""
+    names = [f"d{i}" for i in range(blocks)]
+    return f"""
+symbol domain D = {{{", ".join(names)}}}
+bool fluent visited(D x) {{ initially: (x) = false; }}
+bool fluent trap(D x) {{ initially: (x) = false; ({names[trap]}) = true; }}
+action visit(D x) {{ precondition: !visited(x) effect: visited(x) = true; }}
+number function reward() = if (exists(D x) visited(x) & trap(x)) -10 else 0
+procedure main() {{ solve({horizon}, reward()) while (true) pick (D x) visit(x); }}
+"""
+
+
+@pytest.mark.parametrize("trap", [0, 7])
+def test_the_bound_prunes_on_a_reward_with_a_small_maximum(trap: int) -> None:
+    pb = problem(hazards(8, trap, 6))
+    pruned, full = pb.production(), pb.production(prune=False)
+    assert (pruned.feasible, pruned.value, pruned.steps) == (full.feasible, full.value, full.steps)
+    assert pruned.value == 0.0 and "visit(d%d)" % trap not in pruned.actions()
+    # Without the bound: every set of at most 5 of the 8 places visited is expanded (with 6
+    # visited the horizon is reached).
+    assert full.stats.nodes == sum((1, 8, 28, 56, 70, 56))
+    if trap == 7:
+        # The first option is always worth the bound: every later one is skipped.
+        assert pruned.stats.nodes == 6
+    else:
+        assert pruned.stats.nodes < full.stats.nodes // 2
+
+
+def test_the_towers_bound_is_the_goal_loop_one() -> None:
+    pb = tower_problem(3, 8)
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert (analysis.reason, analysis.kind, analysis.reward_low, analysis.reward_high) == (None, GOAL_LOOP, -1, 100)
+    assert analysis.bound is not None and [analysis.bound(h) for h in range(4)] == [0.0, 100.0, 100.0, 100.0]
+    pruned, full = pb.production(), pb.production(prune=False)
+    assert (pruned.value, pruned.steps) == (full.value, full.steps)
+    assert pruned.stats.nodes < full.stats.nodes
+
+
+# ---------------------------------------------------------------- the analysis
+
+WORLD = """
+symbol domain D = {a, b}
+symbol domain E = {a, b, c}
+D fluent at() { initially: () = a; }
+E fluent wide() { initially: () = c; }
+number fluent n() { initially: () = 0; }
+number fluent grow() { initially: () = 0; }
+bool fluent p(D x) { initially: (x) = false; }
+action go(D x) { precondition: at() != x effect: at() = x; }
+action tick() { effect: n() = (n() + 1) % 3; }
+action inc() { effect: grow() = grow() + 1; }
+action put(E y) { effect: wide() = y; }
+"""
+
+
+@pytest.mark.parametrize(
+    ("reward", "body", "reason"),
+    [
+        ("n()", "while (true) pick (D x) go(x);", None),
+        ("if (p(a)) 5 else n() * 2 - 1", "{ test(p(a)); tick(); choose { go(a); go(b); } }", None),
+        ("grow()", "inc();", "the reward is not a whole number in a known interval"),
+        ("n() / 2", "tick();", "the reward is not a whole number in a known interval"),
+        ("1", "if (grow() + 1 > 2) tick();", "an operand of arithmetic that may be `null` or unbounded"),
+        ("1", "if (6 % n() == 1) tick();", "`%` by a value that may be 0"),
+        ("1", "while (true) { test(p(a)); tick(); }", "a test inside a loop (a loop of free steps is an error)"),
+        ("1", "pick (E y) go(y);", "a value that may be outside domain `D`"),
+        ("1", "at() = wide();", "a value that may be outside domain `D`"),
+        ("1", "{ put(c); wide() = at(); }", None),
+        ("1", "{ start(tick()); end(tick()); }", "`HookStmt` statements are not analysed"),
+        ("1", "again();", "procedure `again` is recursive"),
+    ],
+)
+def test_the_analysis_proves_or_says_why_not(reward: str, body: str, reason: str | None) -> None:
+    text = WORLD + "procedure again() { tick(); again(); }\n"
+    text += f"number function r() = {reward}\nprocedure main() {{ solve(4, r()) {body} }}\n"
+    pb = problem(text)
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert analysis.reason == reason
+    assert analysis.kind == (PER_STEP if reason is None else None)
+
+
+def test_no_bound_beyond_exact_sums_or_the_largest_horizon() -> None:
+    pb = problem(WORLD + "number function r() = if (p(a)) 1000000000000 else 0\nprocedure main() { solve(4, r()) go(b); }\n")
+    assert pb.solve is not None
+    assert solve_bound(pb.sem.model, pb.solve, 4) is not None
+    assert solve_bound(pb.sem.model, pb.solve, 9000) is None  # 10**12 * 9001 >= 2**53
+    small = problem(WORLD + "number function r() = n()\nprocedure main() { solve(4, r()) go(b); }\n")
+    assert small.solve is not None
+    assert solve_bound(small.sem.model, small.solve, 1000) is not None
+    assert solve_bound(small.sem.model, small.solve, 1001) is None
