@@ -27,6 +27,7 @@ from test_planner_properties import (
     attempt,
     cases,
     conditions,
+    looping_cases,
     outcome,
     statements,
     worlds,
@@ -40,7 +41,7 @@ from gpp.runtime.errors import GppRuntimeError
 
 # Appended, not put first: bench/lsp.py must not hide the lsp package.
 sys.path.append(str(Path(__file__).resolve().parent.parent / "bench"))
-from planner import tower_problem  # noqa: E402
+from planner import tower_problem
 
 # ---------------------------------------------------------------- random programs
 
@@ -72,6 +73,40 @@ def goal_cases(draw: st.DrawFn) -> Case:
 
 
 @st.composite
+def choice_cases(draw: st.DrawFn) -> Case:
+    """Choices between action calls, one after the other: many options whose values are close."""
+    w = draw(worlds())
+
+    def alternative() -> str:
+        if draw(st.booleans()):
+            return f"{_action_call(draw, w, [])};"
+        return f"pick (D v) {_action_call(draw, w, ['v'])};"
+
+    rounds = draw(st.integers(1, 3))
+    body = " ".join(
+        "choose { " + " ".join(alternative() for _ in range(draw(st.integers(2, 4)))) + " }" for _ in range(rounds)
+    )
+    return Case(w, "{ " + body + " }", draw(st.integers(max(1, rounds - 1), rounds + 1)))
+
+
+@st.composite
+def tight_cases(draw: st.DrawFn) -> Case:
+    """A reward of at most 0 (penalties only): every option that earns 0 from here on is worth
+    the bound, so the bound prunes often and exactly at the edge (equal values)."""
+    base = draw(st.one_of(cases(max_horizon=3), looping_cases(max_horizon=3), goal_cases(), choice_cases()))
+    terms = " + ".join(
+        f"(if ({draw(conditions(base.world, [], 1))}) 0 else {draw(st.integers(-2, -1))})"
+        for _ in range(draw(st.integers(1, 2)))
+    )
+    lines = base.world.text.rstrip("\n").split("\n")
+    w = replace(base.world, text="\n".join([*lines[:-1], f"number function reward() = {terms}"]) + "\n")
+    if "goal()" in base.body:  # keep the goal loop's bound: the reward pays at the goal
+        paid = w.text.replace("number function reward() =", "number function reward() = if (goal()) 0 else")
+        w = replace(w, text=paid)
+    return Case(w, base.body, base.horizon)
+
+
+@st.composite
 def risky_cases(draw: st.DrawFn) -> Case:
     """A division by a fluent that some branches set to 0: the reference raises on those."""
     w = draw(worlds())
@@ -88,7 +123,7 @@ def risky_cases(draw: st.DrawFn) -> Case:
     return Case(w, "{ " + " ".join(parts) + " }", draw(st.integers(1, 4)))
 
 
-@given(st.one_of(cases(), goal_cases(), risky_cases()))
+@given(st.one_of(cases(), goal_cases(), tight_cases(), risky_cases()))
 @settings(PROPERTY, max_examples=150)
 def test_pruning_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
     pb = case.problem()
@@ -137,6 +172,34 @@ def test_an_error_in_a_branch_the_bound_would_skip_is_reported() -> None:
     assert (unchecked.feasible, unchecked.value, unchecked.actions()) == (True, -1.0, ["complete()"])
 
 
+# ---------------------------------------------------------------- the memo
+
+LATER_IS_LONGER = """
+bool fluent lit() { initially: () = false; }
+action on() { effect: lit() = true; }
+action idle() { }
+number function reward() = if (lit()) 1 else 0
+procedure main() {
+    solve(3, reward()) {
+        choose { idle(); test(true); }
+        choose { on(); { idle(); on(); on(); } }
+    }
+}
+"""
+
+
+def test_a_result_that_skipped_an_option_is_kept_for_its_horizon_only() -> None:
+    # The second `choose` is met with 2 steps left (after `idle()`), where `on()` is worth 1 and
+    # the longer branch, worth at most 0 + 1, is skipped; then with 3 steps left (after the
+    # test), where the longer branch is worth 0 + 1 + 1. The first result must not be reused.
+    pb = problem(LATER_IS_LONGER)
+    assert pb.solve is not None and analyse(pb.sem.model, pb.solve).kind == PER_STEP
+    pruned, reference = pb.production(), pb.reference()
+    assert (pruned.value, pruned.actions()) == (reference.value, reference.actions())
+    assert (pruned.value, pruned.actions()) == (2.0, ["idle()", "on()", "on()"])
+    assert pruned.stats.pruned >= 1
+
+
 # ---------------------------------------------------------------- what it prunes
 
 
@@ -159,7 +222,7 @@ def test_the_bound_prunes_on_a_reward_with_a_small_maximum(trap: int) -> None:
     pb = problem(hazards(8, trap, 6))
     pruned, full = pb.production(), pb.production(prune=False)
     assert (pruned.feasible, pruned.value, pruned.steps) == (full.feasible, full.value, full.steps)
-    assert pruned.value == 0.0 and "visit(d%d)" % trap not in pruned.actions()
+    assert pruned.value == 0.0 and f"visit(d{trap})" not in pruned.actions()
     # Without the bound: every set of at most 5 of the 8 places visited is expanded (with 6
     # visited the horizon is reached).
     assert full.stats.nodes == sum((1, 8, 28, 56, 70, 56))
@@ -226,7 +289,8 @@ def test_the_analysis_proves_or_says_why_not(reward: str, body: str, reason: str
 
 
 def test_no_bound_beyond_exact_sums_or_the_largest_horizon() -> None:
-    pb = problem(WORLD + "number function r() = if (p(a)) 1000000000000 else 0\nprocedure main() { solve(4, r()) go(b); }\n")
+    large = "number function r() = if (p(a)) 1000000000000 else 0\n"
+    pb = problem(WORLD + large + "procedure main() { solve(4, r()) go(b); }\n")
     assert pb.solve is not None
     assert solve_bound(pb.sem.model, pb.solve, 4) is not None
     assert solve_bound(pb.sem.model, pb.solve, 9000) is None  # 10**12 * 9001 >= 2**53

@@ -69,9 +69,7 @@ class PlanningProblem:
     def production(self, prune: bool = True) -> Plan:
         """The production planner's plan; `prune`: with branch and bound where it is exact."""
         bound = solve_bound(self.sem.model, self.solve, self.horizon) if prune and self.solve is not None else None
-        return solve_plan(
-            self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, bound=bound
-        )
+        return solve_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, bound=bound)
 
     def reference(self, budget: int | None = None) -> Plan:
         return reference_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, budget)
@@ -97,7 +95,8 @@ def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:
     if not isinstance(horizon, int | float) or isinstance(horizon, bool) or horizon != int(horizon):
         raise ValueError(f"the horizon of the `solve` is not a whole number: {show(horizon)}")
     reward = make_reward(sem, solve, EMPTY_FRAME)
-    return PlanningProblem(sem, Code(solve.body, EMPTY_FRAME), state, Activities(), int(horizon), reward, solve.span, solve)
+    start = Code(solve.body, EMPTY_FRAME)
+    return PlanningProblem(sem, start, state, Activities(), int(horizon), reward, solve.span, solve)
 
 
 def procedure_body(model: Model, procedure: str = "main") -> tuple[Semantics, Prog]:
