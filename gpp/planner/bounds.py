@@ -10,6 +10,16 @@ branch that stops earns 0. So the best value of any configuration with h steps l
 U(h) = max(M, 0) * h, and an option whose step leads to a state worth r is worth at most
 r + U(h - cost).
 
+A tighter bound where the program's termination is known: when the body of the `solve` is
+`while (!G) S`, the reward is `if (G) a else b` (through functions without parameters) with
+the same G reading no variable, and every run of S makes at most one step, a costed one, after
+which S is done. Then after every costed step the loop tests G: if G holds, the program is
+final and makes no further step. So in a branch of k >= 1 costed steps the first k - 1 lead to
+states where G does not hold (each worth at most B, the bound of `b`), and the last to a state
+worth at most max(A, B) (A the bound of `a`): the value is at most (k - 1) * B + max(A, B).
+The largest over 0 <= k <= h is U(h) = max(0, max(A, B) + (h - 1) * max(B, 0)) for h >= 1. On
+the blocks world towers (A = 100, B = -1) that is 100, where the first bound gives 100 * h.
+
 Why skipping such an option is exact. The production planner (gpp.planner.dp) takes the
 options of a node in the reference's order and keeps the first best one: a later option
 replaces the incumbent only if it is feasible and strictly better. If r + U(h - cost) <= v for
@@ -31,7 +41,7 @@ raise. Each part must be in a fragment where that is evident:
   `|`, `->`, `==`, `!=`, quantifiers over finite types, `if ... else ...`; ordering and
   arithmetic only on operands proven never `null` and, for arithmetic, in a finite interval (no
   overflow); `/` and `%` only by a divisor whose interval excludes 0 (`%` on whole numbers);
-  nothing else (no lists, fields, `**`, strings functions, exogenous functions, the clock);
+  nothing else (no lists, fields, `**`, `length`, `to_string`, exogenous functions, the clock);
 * statements: blocks, `if`, `while`, `choose`, `pick`, calls of actions and of procedures
   that are not recursive, assignments to whole fluent instances; a test (the only free step
   here) never inside a loop, and at most FREE_STEP_LIMIT of them on any path, so no run of
@@ -55,8 +65,8 @@ MAX_HORIZON (with at most FREE_STEP_LIMIT free steps that keeps every branch far
 recursion limit the planners share), so a skipped subtree cannot hide a "planning went too
 deep" error either.
 
-Anything outside the fragment makes `solve_bound` return a `BoundAnalysis` with the reason and
-no bound: the planner then explores what the reference explores.
+Anything outside the fragment gives no bound (`analyse` says why, and where): the planner
+then explores everything the reference explores.
 """
 
 from __future__ import annotations

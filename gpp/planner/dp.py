@@ -23,14 +23,25 @@ What makes it fast, and why each keeps the result identical to the reference's:
    same cost have the same value; the later one can never be strictly better, and ties go to
    the earlier, so the later one is skipped.
 
-No bound on the remaining reward is used (no branch and bound). A true bound exists when the
-reward takes finitely many values (its maximum times the remaining horizon), but skipping an
-option because of it skips a subtree the reference explores, and what happens there is part
-of the reference's result: an error (a division by zero in a precondition, a value outside its
-domain, a loop without a costed step) raised in a pruned subtree would not be raised. Only an
-analysis proving that a subtree cannot raise would make such pruning exact. (On the blocks
-world towers the bound would not prune anyway: with the goal worth 100 and a step -1, a bound
-of 100 per remaining step never falls below the value of a plan found.)
+6. Branch and bound, only where gpp.planner.bounds proves it exact. It gives a bound U(h) on
+   the value of any configuration with h steps left (the largest reward times h, or tighter
+   when the loop ends at the goal the reward pays for), or none. A costed option leading to a
+   state worth r is skipped when a feasible incumbent is worth v >= r + U(h - cost): the
+   option's value is at most v, and only a strictly better option replaces the incumbent
+   (ties go to the earlier one), so the node's choice and value are the reference's (and its
+   longest run of free steps: a costed option adds none). The comparison is exact
+   (whole-number rewards, sums below 2**53). The subtree skipped is one the reference
+   explores; the bounds module proves that nothing in it can raise (no division by a
+   possible 0, no domain check that can fail, no loop of free steps, ...), so no error of the
+   reference is lost (the reward, which cannot raise either, may be evaluated where the
+   reference does not); where it cannot prove that, there is no bound.
+   The memo: a result computed with an option skipped is still the exact best branch for its
+   remaining horizon h, so it is kept for h (memo[h]). It is not horizon-independent: with
+   more horizon U grows and the skipped option might win. So a skip counts as if the subtree
+   had reached the horizon (depth = h): the result is never settled for h' > h, and neither
+   is any result above it (each parent's depth is then its own horizon as well).
+   On the towers of bench/planner.py the bound (100, from the goal loop) prunes little: an
+   option is skipped only when an earlier one reaches the goal in at most two steps.
 
 `final` and `trans` are called through gpp.planner.successors: the semantics' definitions
 specialised once per program point (tests/test_planner_successors.py checks them against the
@@ -288,6 +299,7 @@ def solve_plan(
                     r = target.reward
                     if (value_of(target) if r is None else r) + ceiling[max(h - cost, 0)] <= value:
                         stats.pruned += 1  # it cannot be strictly better
+                        stats.bound_skips += 1
                         depth = h  # what it skipped is not known: keep the result for this h only
                         continue
                 # `best(target, h - cost, 0)`, the lookups written out (most options are known).
