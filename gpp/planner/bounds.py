@@ -182,6 +182,8 @@ class _Analysis:
         self.model = model
         self.fluents: dict[str, Fact] = {}
         self.functions: list[str] = []  # the functions being analysed (a recursion is unsafe)
+        # A function's fact for the facts of its arguments (forgotten when a fluent's changes).
+        self.function_facts: dict[tuple[str, tuple[Fact, ...]], Fact | Unsafe] = {}
         self.procedures: list[str] = []
         self.checked_actions: set[str] = set()
         self.tests: dict[tuple[str, bool], int] = {}  # procedure's tests, per in-loop flag
@@ -243,6 +245,7 @@ class _Analysis:
                     new = Fact(new.nonnull)  # still growing: give its interval up
                 if new != old:
                     self.fluents[name], changed = new, True
+                    self.function_facts.clear()
             if not changed:
                 return
 
@@ -325,11 +328,20 @@ class _Analysis:
                 raise Unsafe(f"function `{symbol.name}` has no body", e.span)
             if symbol.name in self.functions:
                 raise Unsafe(f"function `{symbol.name}` is recursive", e.span)
-            self.functions.append(symbol.name)
-            try:
-                return self.expr(decl.body, {id(p): a for p, a in zip(symbol.params, args, strict=True)})
-            finally:
-                self.functions.pop()
+            key = (symbol.name, tuple(args))
+            known = self.function_facts.get(key)
+            if known is None:
+                self.functions.append(symbol.name)
+                try:
+                    known = self.expr(decl.body, {id(p): a for p, a in zip(symbol.params, args, strict=True)})
+                except Unsafe as unsafe:
+                    known = unsafe
+                finally:
+                    self.functions.pop()
+                self.function_facts[key] = known
+            if isinstance(known, Unsafe):
+                raise known
+            return known
         raise Unsafe(f"`{symbol.name}` ({symbol.kind.value}) is not known while planning", e.span)
 
     def _operand(self, e: ast.Expr, env: dict[int, Fact], span: Span) -> Fact:
