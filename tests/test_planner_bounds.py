@@ -34,7 +34,7 @@ from test_planner_properties import (
 )
 
 from gpp.check import check_text
-from gpp.planner.bounds import GOAL_LOOP, PER_STEP, analyse, solve_bound
+from gpp.planner.bounds import PER_STEP, STEPS_TO_GOAL, analyse, solve_bound
 from gpp.planner.dp import solve_plan
 from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.runtime.errors import GppRuntimeError
@@ -54,11 +54,23 @@ def _with_reward(w: World, reward: str, extra: str = "") -> World:
 
 
 @st.composite
+def goal_conditions(draw: st.DrawFn, w: World) -> str:
+    """A goal: a random condition, or (for the steps-to-the-goal bound) a conjunction of
+    literals on distinct fluent instances."""
+    if draw(st.booleans()):
+        return draw(conditions(w, [], 1))
+    instances = sorted({f"{f.name}({v})" if f.unary else f"{f.name}()" for f in w.fluents for v in w.values})
+    chosen = draw(st.lists(st.sampled_from(instances), min_size=1, max_size=3, unique=True))
+    return " & ".join(f"{draw(st.sampled_from(['', '!']))}{atom}" for atom in chosen)
+
+
+@st.composite
 def goal_cases(draw: st.DrawFn) -> Case:
     """`while (!goal()) choose { ... }` with one costed step per alternative, and a reward that
-    pays one amount at the goal and another elsewhere: the loop-ends-at-the-goal bound."""
+    pays one amount at the goal and another elsewhere: the loop-ends-at-the-goal bound, and
+    the steps-to-the-goal bound when the goal is a conjunction of literals."""
     w = draw(worlds())
-    condition = draw(conditions(w, [], 1))
+    condition = draw(goal_conditions(w))
     at_goal, elsewhere = draw(st.integers(-3, 9)), draw(st.integers(-3, 3))
     goal = f"bool function goal() = {condition}"
     w = _with_reward(w, f"number function reward() = if (goal()) {at_goal} else {elsewhere}", goal)
@@ -70,6 +82,40 @@ def goal_cases(draw: st.DrawFn) -> Case:
 
     alternatives = " ".join(one_step() for _ in range(draw(st.integers(1, 4))))
     return Case(w, f"while (!goal()) choose {{ {alternatives} }}", draw(st.integers(1, 5)))
+
+
+SWITCHES = """
+symbol domain D = {d0, d1, d2}
+bool fluent on(D x) { initially: (x) = false; }
+bool fluent lit(D x) { initially: (x) = false; }
+action set(D x) { precondition: !on(x) effect: on(x) = true; }
+action clear(D x) { effect: on(x) = false; }
+action both(D x) { effect: on(x) = true; lit(x) = !lit(x); }
+action shine(D x) { precondition: on(x) effect: lit(x) = true; }
+"""
+
+
+@st.composite
+def switch_cases(draw: st.DrawFn) -> Case:
+    """Switches to set, to reach a goal of literals on distinct switches (false at the start):
+    the steps-to-the-goal bound, with actions that write one or two instances."""
+    instances = [f"{f}(d{i})" for f in ("on", "lit") for i in range(3)]
+    chosen = draw(st.lists(st.sampled_from(instances), min_size=1, max_size=3, unique=True))
+    goal = " & ".join(f"{draw(st.sampled_from(['', '', '!']))}{atom}" for atom in chosen)
+    at_goal, elsewhere = draw(st.integers(0, 9)), draw(st.integers(-2, 1))
+
+    def alternative() -> str:
+        action = draw(st.sampled_from(["set", "clear", "both", "shine"]))
+        if draw(st.booleans()):
+            return f"pick (D v) {action}(v);"
+        return f"{action}(d{draw(st.integers(0, 2))});"
+
+    alternatives = " ".join(alternative() for _ in range(draw(st.integers(1, 4))))
+    text = (
+        SWITCHES + f"bool function goal() = {goal}\nnumber function reward() = if (goal()) {at_goal} else {elsewhere}\n"
+    )
+    world = World(("d0", "d1", "d2"), (), None, (), text)
+    return Case(world, f"while (!goal()) choose {{ {alternatives} }}", draw(st.integers(1, 6)))
 
 
 @st.composite
@@ -123,7 +169,7 @@ def risky_cases(draw: st.DrawFn) -> Case:
     return Case(w, "{ " + " ".join(parts) + " }", draw(st.integers(1, 4)))
 
 
-@given(st.one_of(cases(), goal_cases(), tight_cases(), risky_cases()))
+@given(st.one_of(cases(), goal_cases(), switch_cases(), tight_cases(), risky_cases()))
 @settings(PROPERTY, max_examples=150)
 def test_pruning_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
     pb = case.problem()
@@ -168,7 +214,9 @@ def test_an_error_in_a_branch_the_bound_would_skip_is_reported() -> None:
     assert outcome(attempt(pb, "production")) == outcome(reference)
     # The bound itself holds (the reward is at most 0): pruning with it regardless would skip
     # `zero(); risky()` after `complete()` earned 0, and hide the error.
-    unchecked = solve_plan(pb.sem, pb.prog, pb.state, pb.acts, pb.horizon, pb.reward, pb.span, bound=lambda h: 0.0)
+    unchecked = solve_plan(
+        pb.sem, pb.prog, pb.state, pb.acts, pb.horizon, pb.reward, pb.span, bound=lambda state, h: 0.0
+    )
     assert (unchecked.feasible, unchecked.value, unchecked.actions()) == (True, -1.0, ["complete()"])
 
 
@@ -221,15 +269,23 @@ def test_the_bound_prunes_on_a_reward_with_a_small_maximum(trap: int) -> None:
         assert pruned.stats.nodes < full.stats.nodes // 2
 
 
-def test_the_towers_bound_is_the_goal_loop_one() -> None:
-    pb = tower_problem(3, 8)
+def test_the_towers_bound_counts_the_steps_to_the_goal() -> None:
+    pb = tower_problem(4, 10)
     assert pb.solve is not None
     analysis = analyse(pb.sem.model, pb.solve)
-    assert (analysis.reason, analysis.kind, analysis.reward_low, analysis.reward_high) == (None, GOAL_LOOP, -1, 100)
+    assert (analysis.reason, analysis.kind, analysis.reward_low, analysis.reward_high) == (None, STEPS_TO_GOAL, -1, 100)
+    assert analysis.goal_atoms is not None and len(analysis.goal_atoms) == 4
+    assert (analysis.writes_per_step, analysis.goal_values) == (1, (100, -1))
+    # Without the steps: the goal pays 100 once, at the last step, whatever the horizon.
     assert analysis.bound is not None and [analysis.bound(h) for h in range(4)] == [0.0, 100.0, 100.0, 100.0]
+    bound = solve_bound(pb.sem, pb.solve, pb.horizon)
+    assert bound is not None
+    # From the start all four blocks are misplaced: at least 4 steps, so at most 100 - 3; with
+    # 3 steps left the goal is out of reach, and 0 is the bound of not reaching it.
+    assert [bound(pb.state, h) for h in range(6)] == [0.0, 0.0, 0.0, 0.0, 97.0, 97.0]
     pruned, full = pb.production(), pb.production(prune=False)
     assert (pruned.value, pruned.steps) == (full.value, full.steps)
-    assert pruned.stats.nodes < full.stats.nodes
+    assert full.stats.nodes == 392 and pruned.stats.nodes < 392 // 10
 
 
 # ---------------------------------------------------------------- the analysis
@@ -280,9 +336,9 @@ def test_no_bound_beyond_exact_sums_or_the_largest_horizon() -> None:
     large = "number function r() = if (p(a)) 1000000000000 else 0\n"
     pb = problem(WORLD + large + "procedure main() { solve(4, r()) go(b); }\n")
     assert pb.solve is not None
-    assert solve_bound(pb.sem.model, pb.solve, 4) is not None
-    assert solve_bound(pb.sem.model, pb.solve, 9000) is None  # 10**12 * 9001 >= 2**53
+    assert solve_bound(pb.sem, pb.solve, 4) is not None
+    assert solve_bound(pb.sem, pb.solve, 9000) is None  # 10**12 * 9001 >= 2**53
     small = problem(WORLD + "number function r() = n()\nprocedure main() { solve(4, r()) go(b); }\n")
     assert small.solve is not None
-    assert solve_bound(small.sem.model, small.solve, 1000) is not None
-    assert solve_bound(small.sem.model, small.solve, 1001) is None
+    assert solve_bound(small.sem, small.solve, 1000) is not None
+    assert solve_bound(small.sem, small.solve, 1001) is None

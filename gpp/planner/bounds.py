@@ -79,6 +79,9 @@ from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, DomainType, ListType, Sym, Type
 from gpp.planner.guards import FREE_STEP_LIMIT
+from gpp.runtime.compiled import Env
+from gpp.runtime.semantics import Semantics
+from gpp.runtime.state import State
 from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
@@ -89,6 +92,10 @@ Bound = Callable[[int], float]
 # The two bounds (see the module docstring).
 PER_STEP = "per step"
 GOAL_LOOP = "goal ends the loop"
+STEPS_TO_GOAL = "steps to the goal"
+
+# A bound on the value of the rest of a branch from a state with h steps of horizon left.
+StateBound = Callable[[State, int], float]
 
 # Pruning is enabled up to this horizon (see the module docstring).
 MAX_HORIZON = 1000
@@ -155,7 +162,12 @@ class BoundAnalysis:
     reason: str | None  # why pruning is off (None: it is on)
     span: Span | None = None  # where the reason is
     bound: Bound | None = field(default=None, compare=False)
-    kind: str | None = None  # PER_STEP or GOAL_LOOP (None: no bound)
+    kind: str | None = None  # PER_STEP, GOAL_LOOP or STEPS_TO_GOAL (None: no bound)
+    # STEPS_TO_GOAL: the goal's conjuncts, the most fluent instances one step writes, and the
+    # bounds of the reward at the goal and elsewhere.
+    goal_atoms: tuple[ast.Expr, ...] | None = None
+    writes_per_step: int = 1
+    goal_values: tuple[float, float] | None = None
 
     @property
     def enabled(self) -> bool:
@@ -481,11 +493,11 @@ class _Analysis:
 
     # ---------------------------------------------------------------- the goal loop
 
-    def goal_loop(self, solve: ast.Solve) -> tuple[Fact, Fact] | None:
+    def goal_loop(self, solve: ast.Solve) -> tuple[ast.Expr, Fact, Fact] | None:
         """For a `solve` whose body is `while (!G) S` and whose reward is `if (G) a else b`
         (through functions without parameters) with the same G reading no variable, and S a
         statement each run of which makes at most one step, that step costed and last: the
-        facts of `a` and `b`. None if the `solve` is not of that form."""
+        condition G and the facts of `a` and `b`. None if the `solve` is not of that form."""
         body = solve.body
         while isinstance(body, ast.Block) and len(body.body) == 1:
             body = body.body[0]
@@ -506,7 +518,78 @@ class _Analysis:
             and self._same_goal(condition.operand, reward.condition)
         ):
             return None
-        return self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+        return reward.condition, self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+
+    def goal_atoms(self, goal: ast.Expr) -> tuple[ast.Expr, ...] | None:
+        """The conjuncts of `goal` (through functions without parameters), if each reads
+        fluent instances named by constants only, no two the same instance. None otherwise."""
+        conjuncts: list[ast.Expr] = []
+
+        def split(e: ast.Expr) -> bool:
+            e = self.model.effective(e)
+            if isinstance(e, ast.Binary) and e.op is ast.BinaryOp.AND:
+                return split(e.left) and split(e.right)
+            if isinstance(e, ast.Call) and not e.args:
+                symbol = self.model.target(e)
+                if symbol is not None and symbol.kind is SymbolKind.FUNCTION:
+                    decl = symbol.decl
+                    return isinstance(decl, ast.FunctionDecl) and decl.body is not None and split(decl.body)
+            conjuncts.append(e)
+            return True
+
+        if not split(goal):
+            return None
+        seen: set[tuple[str, tuple[object, ...]]] = set()
+        for conjunct in conjuncts:
+            reads = self._instances(conjunct)
+            if reads is None or reads & seen:
+                return None
+            seen |= reads
+        return tuple(conjuncts)
+
+    def _instances(self, e: ast.Expr) -> set[tuple[str, tuple[object, ...]]] | None:
+        """The fluent instances `e` reads, if it reads nothing else that can change (no
+        variable, no function) and names them by constants."""
+        e = self.model.effective(e)
+        match e:
+            case ast.NumberLit() | ast.BoolLit() | ast.StringLit() | ast.NullLit():
+                return set()
+            case ast.Name():
+                target = self.model.target(e)
+                return set() if target is not None and target.kind is SymbolKind.SYMBOL else None
+            case ast.Unary():
+                return self._instances(e.operand)
+            case ast.Binary():
+                left, right = self._instances(e.left), self._instances(e.right)
+                return None if left is None or right is None else left | right
+            case ast.Call():
+                symbol = self.model.target(e)
+                if symbol is None or symbol.kind is not SymbolKind.FLUENT or symbol.predefined:
+                    return None
+                args: list[object] = []
+                for a in e.args:
+                    a = self.model.effective(a)
+                    if isinstance(a, ast.NumberLit | ast.BoolLit | ast.StringLit):
+                        args.append(a.value)
+                        continue
+                    target = self.model.target(a) if isinstance(a, ast.Name) else None
+                    if target is None or target.kind is not SymbolKind.SYMBOL:
+                        return None
+                    args.append(Sym(target.name))
+                return {(symbol.name, tuple(args))}
+            case _:
+                return None
+
+    def writes_per_step(self) -> int:
+        """The most fluent instances one step of the analysed program writes: an assignment
+        writes one, an action one per effect."""
+        most = 1
+        for name in self.checked_actions:
+            decl = self.model.globals[name].decl
+            if isinstance(decl, ast.ActionDecl):
+                effects = sum(len(s.effects) for s in decl.sections or () if isinstance(s, ast.EffectSection))
+                most = max(most, effects)
+        return most
 
     def _same_goal(self, a: ast.Expr, b: ast.Expr) -> bool:
         """`a` and `b` are the same expression, and read no variable (so they mean the same
@@ -620,13 +703,18 @@ def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
         return BoundAnalysis(reward.low if known else None, reward.high if known else None, e.reason, e.span)
     goal = analysis.goal_loop(solve)
     if goal is not None:
-        reached, otherwise = goal
-        last = max(reached.high, otherwise.high)
-        per_step = max(otherwise.high, 0.0)
+        condition, reached, otherwise = goal
+        at_goal, elsewhere = reached.high, otherwise.high
+        last = max(at_goal, elsewhere)
+        per_step = max(elsewhere, 0.0)
 
         def until_goal(h: int) -> float:
             return max(0.0, last + (h - 1) * per_step) if h > 0 else 0.0
 
+        atoms = analysis.goal_atoms(condition)
+        writes = analysis.writes_per_step()
+        if atoms is not None:
+            return BoundAnalysis(low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, (at_goal, elsewhere))
         return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP)
     per_step = max(high, 0.0)
 
@@ -636,13 +724,44 @@ def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
     return BoundAnalysis(low, high, None, None, bound, PER_STEP)
 
 
-def solve_bound(model: Model, solve: ast.Solve, horizon: int) -> Bound | None:
+def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | None:
     """The bound the production planner may prune with for `solve` at `horizon`, or None."""
     if not 0 <= horizon <= MAX_HORIZON:
         return None
-    result = analyse(model, solve)
-    if result.bound is None or result.reward_low is None or result.reward_high is None:
+    result = analyse(sem.model, solve)
+    bound = result.bound
+    if bound is None or result.reward_low is None or result.reward_high is None:
         return None
     if max(abs(result.reward_low), abs(result.reward_high)) * (horizon + 1) >= _EXACT:
         return None  # sums of rewards might not be exact
-    return result.bound
+    table = [bound(h) for h in range(horizon + 1)]
+    if result.goal_atoms is None or result.goal_values is None:
+        return lambda state, h: table[h]
+    return _steps_to_goal(sem, result.goal_atoms, result.writes_per_step, *result.goal_values)
+
+
+def _steps_to_goal(
+    sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, at_goal: float, elsewhere: float
+) -> StateBound:
+    """U(s, h) of the goal loop with the steps the goal still needs from s (module docstring)."""
+    evaluators = [sem.program.expr(atom) for atom in atoms]
+    ctx = sem.ctx
+    needed: dict[State, int] = {}
+
+    def bound(state: State, h: int) -> float:
+        if h <= 0:
+            return 0.0
+        n = needed.get(state)
+        if n is None:
+            env = Env(state, {}, ctx)
+            false = sum(1 for evaluate in evaluators if evaluate(env) is not True)
+            n = needed[state] = -(-false // writes)
+        if n == 0:
+            return 0.0  # the goal holds: the loop is over, no further step
+        never = h * elsewhere if elsewhere > 0 else 0.0
+        if n > h:
+            return never
+        reach = (h - 1 if elsewhere > 0 else n - 1) * elsewhere + at_goal
+        return max(never, reach)
+
+    return bound

@@ -69,7 +69,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from gpp.planner.bounds import Bound
+from gpp.planner.bounds import StateBound
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
@@ -183,7 +183,7 @@ def solve_plan(
     span: Span | None = None,
     progress: ProgressCallback | None = None,
     progress_interval: float = 1.0,
-    bound: Bound | None = None,
+    bound: StateBound | None = None,
 ) -> Plan:
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
     takes longer than `progress_interval` seconds reports a `Progress` about every interval.
@@ -196,7 +196,6 @@ def solve_plan(
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
-    ceiling = [bound(left) for left in range(horizon + 1)] if bound is not None else []
 
     def intern(p: Prog, s: State, a: Activities) -> _Config:
         key = (p, s, a)
@@ -295,9 +294,9 @@ def solve_plan(
             cost = o.cost
             target = o.target
             if cost:
-                if ceiling and feasible:  # branch and bound (gpp.planner.bounds)
+                if bound is not None and feasible:  # branch and bound (gpp.planner.bounds)
                     r = target.reward
-                    if (value_of(target) if r is None else r) + ceiling[max(h - cost, 0)] <= value:
+                    if (value_of(target) if r is None else r) + bound(target.state, max(h - cost, 0)) <= value:
                         stats.pruned += 1  # it cannot be strictly better
                         stats.bound_skips += 1
                         depth = h  # what it skipped is not known: keep the result for this h only

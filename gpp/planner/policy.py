@@ -212,7 +212,7 @@ class PlanHolder:
             from gpp.planner.problem import make_reward
 
             reward = make_reward(planning, stmt, self.frame)
-            bound = solve_bound(planning.model, stmt, self.horizon)
+            bound = solve_bound(planning, stmt, self.horizon)
             return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress, bound=bound)
         from gpp.planner.search import search_plan
 

@@ -68,7 +68,7 @@ class PlanningProblem:
 
     def production(self, prune: bool = True) -> Plan:
         """The production planner's plan; `prune`: with branch and bound where it is exact."""
-        bound = solve_bound(self.sem.model, self.solve, self.horizon) if prune and self.solve is not None else None
+        bound = solve_bound(self.sem, self.solve, self.horizon) if prune and self.solve is not None else None
         return solve_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, bound=bound)
 
     def reference(self, budget: int | None = None) -> Plan:
