@@ -20,6 +20,21 @@ worth at most max(A, B) (A the bound of `a`): the value is at most (k - 1) * B +
 The largest over 0 <= k <= h is U(h) = max(0, max(A, B) + (h - 1) * max(B, 0)) for h >= 1. On
 the blocks world towers (A = 100, B = -1) that is 100, where the first bound gives 100 * h.
 
+Tighter still, from the state (STEPS_TO_GOAL): when moreover G is a conjunction (through
+functions without parameters) of conjuncts that each read only fluent instances named by
+constants (`loc(a) == table`), no instance read by two conjuncts. A conjunct that is not true
+in s can only become true when a step writes an instance it reads; one step writes at most W
+instances (an assignment one, an action one per effect; W is the most over the actions the
+`solve` can call), and each of them is read by at most one conjunct. So with m conjuncts not
+true in s, reaching G takes at least n = ceil(m / W) more steps. From a state s after a costed
+step (the loop is about to test G), with h steps left:
+  * m = 0: G holds, the loop is over, the rest is worth 0;
+  * else a branch that never reaches G is worth at most k * B for its k <= h steps, so at most
+    max(0, h * B); one that reaches G at its step k >= n (k <= h) at most (k - 1) * B + A,
+    largest at k = n if B <= 0, at k = h if B > 0; if n > h no branch reaches G.
+U(s, h) is the larger of the two. On the towers every block not yet in place is a conjunct
+not true: from the start of the tower of five with 10 steps left, U = 100 - 4 = 96.
+
 Why skipping such an option is exact. The production planner (gpp.planner.dp) takes the
 options of a node in the reference's order and keeps the first best one: a later option
 replaces the incumbent only if it is feasible and strictly better. If r + U(h - cost) <= v for
