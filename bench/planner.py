@@ -268,7 +268,7 @@ def profile(blocks_list: list[int]) -> None:
 def bound_table(runs: int) -> None:
     """Nodes and CPU seconds of the production planner with and without branch and bound
     (interleaved, best of `runs`), on the towers and on the hazards case."""
-    problems = [(f"tower {b}, {h}", tower_program(b, h)) for b, h in ((3, 8), (4, 10), (5, 10), (6, 14))]
+    problems = [(f"tower {b}, {h}", tower_program(b, h)) for b, h in ((3, 8), (4, 10), (5, 10), (6, 14), (7, 14))]
     problems += [
         (f"hazards {p}/{trap}, {h}", hazards_program(p, trap, h))
         for p, trap, h in ((8, 0, 6), (8, 7, 6), (10, 0, 8), (10, 9, 8), (12, 0, 10), (12, 11, 10))
