@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 import threading
-from collections import OrderedDict
+from collections import Counter, OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +25,7 @@ from gpp import diagnostics as diag
 from gpp.resources import stdlib_dir
 from gpp.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
+from gpp.syntax.incremental import reparse
 from gpp.syntax.lexer import Token
 from gpp.syntax.parser import ParseResult, parse
 
@@ -71,10 +72,16 @@ class ParseCache:
 
     Syntax trees are immutable, so one parse can serve every check that includes the file.
     At most `limit` files are kept (the least recently used go first). Thread-safe.
+
+    A file that comes back with other text is re-parsed incrementally (`incremental.reparse`:
+    only the declarations the edit touched are parsed again) unless `incremental` is off;
+    `reparses` counts how each such file was parsed: "splice", "tail" or "full".
     """
 
-    def __init__(self, limit: int = 512) -> None:
+    def __init__(self, limit: int = 512, *, incremental: bool = True) -> None:
         self.limit = limit
+        self.incremental = incremental
+        self.reparses: Counter[str] = Counter()
         self._parsed: OrderedDict[Path, tuple[str, ParseResult]] = OrderedDict()
         self._disk: dict[Path, tuple[int, int, str, NotText | None]] = {}
         self._lock = threading.Lock()
@@ -101,9 +108,13 @@ class ParseCache:
                 self._parsed.move_to_end(path)
                 self.hits += 1
                 return entry[1]
-        result = parse(Source(text, display_path(path), str(path)))
+        source = Source(text, display_path(path), str(path))
+        reparsed = reparse(entry[0], entry[1], source) if entry is not None and self.incremental else None
+        result = parse(source) if reparsed is None else reparsed.result
         with self._lock:
             self.misses += 1
+            if entry is not None:
+                self.reparses["full" if reparsed is None else reparsed.how] += 1
             self._parsed[path] = (text, result)
             self._parsed.move_to_end(path)
             while len(self._parsed) > self.limit:
