@@ -94,7 +94,12 @@ def _node_code(tp: Any, value: str, depth: int = 0) -> str | None:
     """Python code for the relocated `value` of type `tp` (a node, a tuple of nodes, either or
     None), or None when the value holds no span (it is copied as it is)."""
     if _is_node(tp):
-        return f"R[type({value})]({value}, src, d)"
+        if any(c is not tp and issubclass(c, tp) for c in _node_classes()):
+            return f"R[type({value})]({value}, src, d)"
+        # A field of a leaf class calls its relocator directly (if the value is of that class:
+        # the builder's children are untyped).
+        leaf = tp.__name__
+        return f"(r_{leaf}({value}, src, d) if type({value}) is C_{leaf} else R[type({value})]({value}, src, d))"
     origin = typing.get_origin(tp)
     args = typing.get_args(tp)
     if origin in (types.UnionType, typing.Union):
