@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from gpp.source import Source, Span
 from gpp.syntax import ast
-from gpp.syntax.incremental import relocate
+from gpp.syntax.incremental import fragment_text, relocate
 from gpp.syntax.loader import ParseCache
 from gpp.syntax.parser import ParseResult, parse
 
@@ -280,3 +280,17 @@ def test_the_comparison_sees_a_span_that_differs() -> None:
     assert a == b  # AST equality ignores spans...
     with pytest.raises(AssertionError):
         assert_same_tree(b, a)  # ...the comparison of the tests does not
+
+
+def test_the_fragment_is_parsed_at_its_own_lines_and_columns() -> None:
+    """The text a fragment is parsed in has the whole file's line and column at every offset of
+    the fragment, whatever the line breaks before it (`\\n`, `\\r\\n`, a lone `\\r`)."""
+    text = "action a() { }\r\n// one\rnumber fluent f() { initially: () = 1; }\n\n  action b() { }\r\n"
+    source = Source(text)
+    lo = text.index("  action b")
+    padded = fragment_text(source, source, lo, len(text))
+    assert len(padded) == len(text)
+    assert padded[lo:] == text[lo:] and not padded[:lo].strip()
+    assert [Source(padded).line_col(k) for k in range(lo, len(text) + 1)] == [
+        source.line_col(k) for k in range(lo, len(text) + 1)
+    ]

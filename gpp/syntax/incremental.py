@@ -250,7 +250,7 @@ class _Old:
         return i
 
 
-def _padded(source: Source, old_source: Source, lo: int, hi: int) -> str:
+def fragment_text(source: Source, old_source: Source, lo: int, hi: int) -> str:
     """The text parsed for the fragment [lo, hi) of `source`: blank before lo (with the line
     breaks of the text before lo's line, which is the old text there), the fragment, nothing
     after it."""
@@ -262,7 +262,7 @@ def _padded(source: Source, old_source: Source, lo: int, hi: int) -> str:
 
 def _parse_fragment(source: Source, old_source: Source, lo: int, hi: int) -> ParseResult:
     text = source.text
-    source.text = _padded(source, old_source, lo, hi)
+    source.text = fragment_text(source, old_source, lo, hi)
     source._line_starts = None
     try:
         return parse(source)
