@@ -294,3 +294,14 @@ def test_the_fragment_is_parsed_at_its_own_lines_and_columns() -> None:
     assert [Source(padded).line_col(k) for k in range(lo, len(text) + 1)] == [
         source.line_col(k) for k in range(lo, len(text) + 1)
     ]
+
+
+@pytest.mark.parametrize("edited", ["list[Pose1] fluent", "number fluent count1"])
+def test_a_stray_token_before_the_edit_is_parsed_again(edited: str) -> None:
+    """A stray `;` after a declaration (an error), then an error typed one or two declarations
+    further: the tail starts at the declaration before the `;` (where the parser meets the `;`
+    after the `}` as in the whole file), not between the `;` and the declaration after it."""
+    at = PROGRAM.index("\n", PROGRAM.index("compound Pose1"))
+    stray = PROGRAM[:at] + ";" + PROGRAM[at:]
+    later = stray.index(edited, at) + len(edited) + 1
+    assert reparse_how(stray, stray[:later] + "x(" + stray[later:]) == "tail"
