@@ -84,6 +84,8 @@ def check_step(cache: ParseCache, text: str) -> ParseResult:
 
 SNIPPETS = [
     " ",
+    "\r\n",
+    "\r",
     "\n",
     "x",
     "1",

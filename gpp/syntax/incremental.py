@@ -31,6 +31,7 @@ and their final `Source` directly.
 from __future__ import annotations
 
 import dataclasses
+import threading
 import types
 import typing
 from bisect import bisect_left, bisect_right
@@ -70,14 +71,25 @@ class Reparsed:
 # ---------------------------------------------------------------- relocation
 
 Relocator = Callable[[Any, Source, int], Any]
+# Made on first use (generating them takes a few tens of milliseconds, which a command that
+# parses each file once need not pay), complete before any thread sees them.
 _RELOCATORS: dict[type, Relocator] = {}
+_GENERATING = threading.Lock()
+
+
+def relocators() -> dict[type, Relocator]:
+    """The relocator of each syntax node class: (node, source, delta) -> a copy of the node with
+    every span moved by `delta` into `source`."""
+    if not _RELOCATORS:
+        with _GENERATING:
+            if not _RELOCATORS:
+                _RELOCATORS.update(_generate_relocators())
+    return _RELOCATORS
 
 
 def relocate(node: ast.Node, source: Source, delta: int) -> Any:
     """A copy of `node` with every span moved by `delta` into `source`."""
-    if not _RELOCATORS:
-        _generate_relocators()
-    return _RELOCATORS[type(node)](node, source, delta)
+    return relocators()[type(node)](node, source, delta)
 
 
 def _node_classes() -> list[type[ast.Node]]:
@@ -133,11 +145,12 @@ def _slot_setter(cls: type, name: str) -> Any:
     raise TypeError(f"{cls.__name__} has no slot {name}")
 
 
-def _generate_relocators() -> None:
+def _generate_relocators() -> dict[type, Relocator]:
     """One function per syntax node class: `object.__new__`, then each field set through its
     slot, spans made the same way (`Span(...)` and the node classes' own `__init__` would go
     through `object.__setattr__`, at more than twice the cost)."""
-    names: dict[str, Any] = {"S": Span, "R": _RELOCATORS, "new": object.__new__}
+    table: dict[type, Relocator] = {}
+    names: dict[str, Any] = {"S": Span, "R": table, "new": object.__new__}
     for slot in ("source", "start", "end"):
         names[f"S_{slot}"] = _slot_setter(Span, slot)
     lines: list[str] = []
@@ -163,6 +176,7 @@ def _generate_relocators() -> None:
                 lines.append(f"    {setter}(o, {code or f'n.{f.name}'})")
         lines += ["    return o", f"R[C_{name}] = r_{name}"]
     exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), names)
+    return table
 
 
 def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
@@ -345,9 +359,7 @@ def reparse(old_text: str, old: ParseResult, source: Source) -> Reparsed | None:
 
 def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseResult) -> ParseResult:
     """Old declarations [0, i), the fragment's, old declarations [j, n) moved by delta."""
-    if not _RELOCATORS:
-        _generate_relocators()
-    reloc = _RELOCATORS
+    reloc = relocators()
     with paused_gc():
         decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
         decls.extend(frag.program.declarations)
