@@ -10,16 +10,16 @@ are relocated (`relocate`, per-class code generated once from the AST's dataclas
 The result is exactly what `parse` of the new text gives, or there is none (None: the caller
 parses the whole file) when that is not certain:
 
-* the old parse has an error before the end of the region, or the fragment has any diagnostic
-  (error recovery can cross declaration boundaries): then the file is parsed again from the
-  declaration before the region to its end, keeping only the declarations before it, if the old
-  parse has no diagnostic there;
-* a boundary is not a clean one (the declaration before it does not end with `;` or `}`, or
-  the fragment leaves a brace, a string or a comment open, so that lexing would go on
-  differently after it);
+* when the fragment has any diagnostic, or the old parse has one before the end of the region
+  (error recovery can cross declaration boundaries), the file is parsed again from the
+  declaration before the region to its end (the "tail"), keeping only the declarations before
+  that one, if the old parse has no diagnostic up to its end;
+* the fragment starts and ends at clean boundaries: where the declaration before ends with `;`
+  or `}` (else it grows to the next such boundary); a fragment that leaves a brace, a string
+  or a comment open is parsed as a tail (an open string or comment is a lexical error);
 * legacy forms (gpp.syntax.legacy, one diagnostic for all the sigils of a file) or the nesting
-  limit (gpp.syntax.depth) appear in the old or the new diagnostics, or an `#include` is in the
-  region (the loader resolves includes from the declarations).
+  limit (gpp.syntax.depth) in the old or the new diagnostics, an `#include` in the region, or an
+  old diagnostic before the tail would start: None.
 
 The fragment is parsed as the file itself: the new `Source` holds, while it is parsed, text of
 the same length whose part before the fragment is blank (with the same line breaks before the
@@ -277,7 +277,7 @@ def fragment_text(source: Source, old_source: Source, lo: int, hi: int) -> str:
 def _parse_fragment(source: Source, old_source: Source, lo: int, hi: int) -> ParseResult:
     text = source.text
     source.text = fragment_text(source, old_source, lo, hi)
-    source._line_starts = None
+    source._line_starts = None  # the line table is made again from the text it now holds
     try:
         return parse(source)
     finally:
