@@ -315,10 +315,11 @@ def _has_include(decls: Sequence[ast.Decl]) -> bool:
 # ---------------------------------------------------------------- the re-parse
 
 
-def reparse(old_text: str, old: ParseResult, source: Source) -> Reparsed | None:
+def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: bool = False) -> Reparsed | None:
     """The parse of `source` (the new text of the file whose text was `old_text` and whose parse
     was `old`), made by parsing only what the edit touched; None when that cannot be done
-    exactly (the caller then parses the whole file)."""
+    exactly (the caller then parses the whole file). With `splice_only`, only a splice of at
+    most half the new text is tried (the caller has another old parse to try)."""
     new_text = source.text
     if any(d.code in _NOT_LOCAL for d in old.diagnostics):
         return None
@@ -337,10 +338,14 @@ def reparse(old_text: str, old: ParseResult, source: Source) -> Reparsed | None:
     lo = info.ends[i - 1] if i > 0 else 0
     hi_old = info.starts[j] if j < n else len(old_text)
     old_source = old.program.span.source
+    if splice_only and 2 * (hi_old + delta - lo) > len(new_text):
+        return None
     if first_diag >= hi_old and not _has_include(info.decls[i:j]):
         frag = _parse_fragment(source, old_source, lo, hi_old + delta)
         if not frag.diagnostics and _lexes_cleanly(frag.tokens) and not _has_include(frag.program.declarations):
             return Reparsed(_splice(source, info, i, j, delta, frag), "splice", hi_old + delta - lo)
+    if splice_only:
+        return None
     # The tail: from the declaration before the touched ones (so that the parser meets the
     # first changed token after a declaration, as it does in the whole file) to the end. That
     # declaration, and those before it, must have been parsed without a diagnostic, and

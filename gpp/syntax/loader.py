@@ -138,8 +138,8 @@ class ParseCache:
     def _reparse(entry: tuple[_Parsed, _Parsed | None], source: Source) -> Reparsed | None:
         last, clean = entry
         if clean is not None and clean is not last:
-            spliced = reparse(*clean, source)
-            if spliced is not None and spliced.how == "splice":
+            spliced = reparse(*clean, source, splice_only=True)
+            if spliced is not None:
                 return spliced
         return reparse(*last, source)
 
