@@ -102,11 +102,11 @@ def _is_node(tp: Any) -> bool:
     return isinstance(tp, type) and issubclass(tp, ast.Node)
 
 
-def _node_code(tp: Any, value: str, depth: int = 0) -> str | None:
+def _node_code(tp: Any, value: str, leaves: frozenset[type], depth: int = 0) -> str | None:
     """Python code for the relocated `value` of type `tp` (a node, a tuple of nodes, either or
     None), or None when the value holds no span (it is copied as it is)."""
     if _is_node(tp):
-        if any(c is not tp and issubclass(c, tp) for c in _node_classes()):
+        if tp not in leaves:
             return f"R[type({value})]({value}, src, d)"
         # A field of a leaf class calls its relocator directly (if the value is of that class:
         # the builder's children are untyped).
@@ -116,12 +116,12 @@ def _node_code(tp: Any, value: str, depth: int = 0) -> str | None:
     args = typing.get_args(tp)
     if origin in (types.UnionType, typing.Union):
         present = [a for a in args if a is not type(None)]
-        if all(_node_code(a, value, depth) is None for a in present):
+        if all(_node_code(a, value, leaves, depth) is None for a in present):
             return None
         if all(_is_node(a) for a in present):
             code = f"R[type({value})]({value}, src, d)"
         elif len(present) == 1:
-            code = str(_node_code(present[0], value, depth))
+            code = str(_node_code(present[0], value, leaves, depth))
         else:
             raise TypeError(f"cannot relocate a field of type {tp}")
         return code if len(present) == len(args) else f"None if {value} is None else {code}"
@@ -129,7 +129,7 @@ def _node_code(tp: Any, value: str, depth: int = 0) -> str | None:
         if len(args) != 2 or args[1] is not Ellipsis:
             raise TypeError(f"cannot relocate a field of type {tp}")
         item = f"x{depth}"
-        inner = _node_code(args[0], item, depth + 1)
+        inner = _node_code(args[0], item, leaves, depth + 1)
         return None if inner is None else f"tuple([{inner} for {item} in {value}])"
     if isinstance(tp, type) and issubclass(tp, (str, int, float, Enum)):
         return None
@@ -154,7 +154,10 @@ def _generate_relocators() -> dict[type, Relocator]:
     for slot in ("source", "start", "end"):
         names[f"S_{slot}"] = _slot_setter(Span, slot)
     lines: list[str] = []
-    for cls in _node_classes():
+    classes = _node_classes()
+    # The classes no other node class derives from.
+    leaves = frozenset(c for c in classes if not any(d is not c and issubclass(d, c) for d in classes))
+    for cls in classes:
         hints = typing.get_type_hints(cls, vars(ast), {"Source": Source, "Span": Span})
         name = cls.__name__
         names[f"C_{name}"] = cls
@@ -172,7 +175,7 @@ def _generate_relocators() -> dict[type, Relocator]:
                     f"    {setter}(o, s)",
                 ]
             else:
-                code = _node_code(hints[f.name], f"n.{f.name}")
+                code = _node_code(hints[f.name], f"n.{f.name}", leaves)
                 lines.append(f"    {setter}(o, {code or f'n.{f.name}'})")
         lines += ["    return o", f"R[C_{name}] = r_{name}"]
     exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), names)
