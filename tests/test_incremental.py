@@ -307,3 +307,12 @@ def test_a_stray_token_before_the_edit_is_parsed_again(edited: str) -> None:
     stray = PROGRAM[:at] + ";" + PROGRAM[at:]
     later = stray.index(edited, at) + len(edited) + 1
     assert reparse_how(stray, stray[:later] + "x(" + stray[later:]) == "tail"
+
+
+@pytest.mark.parametrize("typo", ["effectt", "precondtion", "initialy"])
+def test_an_old_error_whose_hint_reads_the_edited_declaration(typo: str) -> None:
+    """The error in `q` says "did you mean `effect:`?" because of a name in `p` on the line
+    before: renaming it changes the message, so the old error cannot be kept as it is."""
+    old = f"action a() {{ }}\naction b() {{ }}\n\n\nprocedure p() {{ {typo}(); }}\nprocedure q() {{ x = ; }}\n"
+    assert parse(Source(old)).diagnostics[0].help is not None
+    assert reparse_how(old, old.replace(typo, "abc")) == "tail"

@@ -311,6 +311,13 @@ def _lexes_cleanly(tokens: Sequence[Token]) -> bool:
     return depth == 0 and not pending
 
 
+def _far_below(source: Source, boundary: int, offset: int) -> bool:
+    """Is `offset` at least two lines below the line of `boundary`? A syntax error's message
+    looks at the token before the error and at the names on the error's line and the line before
+    it (`did you mean ...?`), so an error that far below a boundary reads nothing above it."""
+    return offset >= boundary and source.line_col(offset)[0] >= source.line_col(boundary)[0] + 2
+
+
 def _has_include(decls: Sequence[ast.Decl]) -> bool:
     return any(type(d) is ast.Include for d in decls)
 
@@ -331,7 +338,9 @@ def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: boo
     b_old = len(old_text) - s
     delta = len(new_text) - len(old_text)
     info = _Old(old)
-    first_diag = min((sp.start for d in old.diagnostics for sp in _diagnostic_spans(d)), default=len(old_text) + 1)
+    old_source = old.program.span.source
+    # Where the old parse's first diagnostic (any of its spans) is, if it has one.
+    first_diag = min((sp.start for d in old.diagnostics for sp in _diagnostic_spans(d)), default=None)
     # Declarations [0, i) end before the edit; [j, n) start after it.
     i = info.boundary_before(bisect_left(info.ends, a))
     j = bisect_right(info.starts, b_old)
@@ -340,10 +349,10 @@ def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: boo
         j += 1
     lo = info.ends[i - 1] if i > 0 else 0
     hi_old = info.starts[j] if j < n else len(old_text)
-    old_source = old.program.span.source
     if splice_only and 2 * (hi_old + delta - lo) > len(new_text):
         return None
-    if first_diag >= hi_old and not _has_include(info.decls[i:j]):
+    clean = first_diag is None or _far_below(old_source, hi_old, first_diag)
+    if clean and not _has_include(info.decls[i:j]):
         frag = _parse_fragment(source, old_source, lo, hi_old + delta)
         if not frag.diagnostics and _lexes_cleanly(frag.tokens) and not _has_include(frag.program.declarations):
             return Reparsed(_splice(source, info, i, j, delta, frag), "splice", hi_old + delta - lo)
@@ -352,15 +361,21 @@ def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: boo
     # The tail: from the declaration before the touched ones (so that the parser meets the
     # first changed token after a declaration, as it does in the whole file) to the end. That
     # declaration, and those before it, must have been parsed without a diagnostic, and
-    # directly one after the other (no stray token between them).
+    # directly one after the other (no stray token between them); it starts early enough that
+    # the errors after it are far below the declarations kept (`_far_below`).
+    first_error = a if first_diag is None else min(a, first_diag)
     c = i - 1
-    while c > 0 and not (info.clean_after(c - 1) and info.adjacent(c - 1)):
+    while c > 0 and not (
+        info.clean_after(c - 1) and info.adjacent(c - 1) and _far_below(old_source, info.ends[c - 1], first_error)
+    ):
         c -= 1
-    if c <= 0 or first_diag < info.ends[c] or _has_include(info.decls[c:]):
+    if c <= 0 or (first_diag is not None and first_diag < info.ends[c]) or _has_include(info.decls[c:]):
         return None
     lo = info.ends[c - 1]
     frag = _parse_fragment(source, old_source, lo, len(new_text))
-    if any(d.code in _NOT_LOCAL for d in frag.diagnostics) or _has_include(frag.program.declarations):
+    if any(d.code in _NOT_LOCAL or not _far_below(source, lo, d.span.start) for d in frag.diagnostics):
+        return None
+    if _has_include(frag.program.declarations):
         return None
     return Reparsed(_splice(source, info, c, n, delta, frag), "tail", len(new_text) - lo)
 
