@@ -108,6 +108,8 @@ SNIPPETS = [
     "}\n{",
     "if (",
     "ö",
+    "effectt(); ",
+    "procedur ",
 ]
 # Where edits are made: anywhere, or next to what changes lexing or nesting.
 MARKS = ['"', "//", "/*", "*/", "{", "}", ";", "\n", "#include", "component"]

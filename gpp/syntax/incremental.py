@@ -11,7 +11,8 @@ The result is exactly what `parse` of the new text gives, or there is none (None
 parses the whole file) when that is not certain:
 
 * when the fragment has any diagnostic, or the old parse has one before the end of the region
-  (error recovery can cross declaration boundaries), the file is parsed again from the
+  or less than two lines below it (error recovery can cross declaration boundaries, and an
+  error's message reads the line before it), the file is parsed again from the
   declaration before the region to its end (the "tail"), keeping only the declarations before
   that one, if the old parse has no diagnostic up to its end;
 * the fragment starts and ends at clean boundaries: where the declaration before ends with `;`
