@@ -8,34 +8,46 @@ and nodes its rule matched; methods pick their parts by token type and node clas
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any, TypeVar
 
 from gpp import diagnostics as diag
-from gpp.numbers import literal_value
 from gpp.source import Source, Span
 from gpp.syntax import ast
-from gpp.syntax.lexer import Token, unescape_string
+from gpp.syntax.lexer import Token, number_value, unescape_string
 
 Child = Any  # a Token, an ast.Node or (for a few helper rules) a tuple of them
 N = TypeVar("N", bound=ast.Node)
 
+# A parse makes a Span for about every token. `Span(...)` runs the frozen dataclass's
+# `__init__`, which sets each field through `object.__setattr__`; setting the slots directly
+# makes the same object in half the time.
+_new = object.__new__
+_set_source: Callable[[Span, Source], None] = getattr(Span, "source").__set__  # noqa: B009
+_set_start: Callable[[Span, int], None] = getattr(Span, "start").__set__  # noqa: B009
+_set_end: Callable[[Span, int], None] = getattr(Span, "end").__set__  # noqa: B009
 
-def _start(child: Child) -> int:
-    return child.start if type(child) is Token else child.span.start
+
+def make_span(source: Source, start: int, end: int) -> Span:
+    """`Span(source, start, end)`, made faster."""
+    span: Span = _new(Span)
+    _set_source(span, source)
+    _set_start(span, start)
+    _set_end(span, end)
+    return span
 
 
-def _end(child: Child) -> int:
-    return child.end if type(child) is Token else child.span.end
+# The operators by their text (calling an Enum class to look a member up is slow).
+_BINARY_OPS = {op.value: op for op in ast.BinaryOp}
 
 
 def _nodes(children: Sequence[Child], kind: type[N]) -> tuple[N, ...]:
-    return tuple(c for c in children if isinstance(c, kind))
+    return tuple([c for c in children if isinstance(c, kind)])
 
 
 def _statements(children: Sequence[Child]) -> tuple[ast.Statement, ...]:
-    return tuple(c for c in children if isinstance(c, ast.Statement))
+    return tuple([c for c in children if isinstance(c, ast.Statement)])
 
 
 def _first(children: Sequence[Child], kind: type[N]) -> N:
@@ -60,13 +72,19 @@ class AstBuilder:
     # ---------------------------------------------------------------- helpers
 
     def span(self, children: Sequence[Child]) -> Span:
-        return Span(self.source, _start(children[0]), _end(children[-1]))
+        first = children[0]
+        last = children[-1]
+        return make_span(
+            self.source,
+            first.start if type(first) is Token else first.span.start,
+            last.end if type(last) is Token else last.span.end,
+        )
 
     def tspan(self, token: Token) -> Span:
-        return Span(self.source, token.start, token.end)
+        return make_span(self.source, token.start, token.end)
 
     def ident(self, token: Token) -> ast.Ident:
-        return ast.Ident(span=Span(self.source, token.start, token.end), name=token.value)
+        return ast.Ident(span=make_span(self.source, token.start, token.end), name=token.value)
 
     def idents(self, children: Sequence[Child]) -> tuple[ast.Ident, ...]:
         return tuple(self.ident(t) for t in _tokens(children, "NAME"))
@@ -315,12 +333,15 @@ class AstBuilder:
     def binary(self, c: list[Child]) -> ast.Binary:
         left, op, right = c
         return ast.Binary(
-            span=Span(self.source, left.span.start, right.span.end), op=ast.BinaryOp(op.value), left=left, right=right
+            span=make_span(self.source, left.span.start, right.span.end),
+            op=_BINARY_OPS[op.value],
+            left=left,
+            right=right,
         )
 
     def unary(self, c: list[Child]) -> ast.Expr:
         op, operand = c
-        span = Span(self.source, op.start, operand.span.end)
+        span = make_span(self.source, op.start, operand.span.end)
         if op.value == "+":
             result: ast.Expr = replace(operand, span=span) if type(operand) is ast.NumberLit else operand
             return result
@@ -348,9 +369,9 @@ class AstBuilder:
     def number(self, c: list[Child]) -> ast.NumberLit:
         text: str = c[0].value
         # A literal beyond the range of numbers is an error already (E0004, from the lexer).
-        literal = literal_value(text)
+        literal = number_value(text)
         value: int | float = math.inf if literal is None else literal
-        return ast.NumberLit(span=self.tspan(c[0]), value=value)
+        return ast.NumberLit(span=make_span(self.source, c[0].start, c[0].end), value=value)
 
     def string(self, c: list[Child]) -> ast.StringLit:
         return ast.StringLit(span=self.tspan(c[0]), value=unescape_string(c[0].value))
@@ -365,7 +386,8 @@ class AstBuilder:
         return ast.NullLit(span=self.tspan(c[0]))
 
     def name(self, c: list[Child]) -> ast.Name:
-        return ast.Name(span=self.tspan(c[0]), name=c[0].value)
+        token = c[0]
+        return ast.Name(span=make_span(self.source, token.start, token.end), name=token.value)
 
     def call(self, c: list[Child]) -> ast.Call:
         return ast.Call(span=self.span(c), name=self.ident(c[0]), args=_nodes(c, ast.Expr))
@@ -420,11 +442,11 @@ class AstBuilder:
         )
 
     def clock_binary(self, c: list[Child]) -> ast.ClockBinary:
-        return ast.ClockBinary(span=self.span(c), op=ast.BinaryOp(c[1].value), left=c[0], right=c[2])
+        return ast.ClockBinary(span=self.span(c), op=_BINARY_OPS[c[1].value], left=c[0], right=c[2])
 
     def clock_bound(self, c: list[Child]) -> ast.ClockBound:
         return ast.ClockBound(
-            span=self.span(c), clock=self.ident(c[0]), op=ast.BinaryOp(c[1].value), bound=self.number([c[2]])
+            span=self.span(c), clock=self.ident(c[0]), op=_BINARY_OPS[c[1].value], bound=self.number([c[2]])
         )
 
     def clock_not(self, c: list[Child]) -> ast.ClockNot:
