@@ -7,10 +7,14 @@ program: a faster parser must find exactly what the parser before it found.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
+import pytest
 from parse_corpus import FINGERPRINTS, corpus, digest, dump, fingerprints
 
+from gpp.syntax import ast
+from gpp.syntax.build import fast_constructor
 from gpp.syntax.parser import parse
 
 
@@ -40,3 +44,25 @@ def test_the_digest_sees_a_changed_span() -> None:
     assert digest(data) == digest(dump(text, parse))
     data["program"]["declarations"][0]["name"]["span"][1] += 1
     assert digest(data) != digest(dump(text, parse))
+
+
+NODE_CLASSES = sorted(
+    (c for c in vars(ast).values() if isinstance(c, type) and issubclass(c, ast.Node) and dataclasses.is_dataclass(c)),
+    key=lambda c: c.__name__,
+)
+
+
+@pytest.mark.parametrize("cls", NODE_CLASSES, ids=lambda c: c.__name__)
+def test_a_fast_constructor_makes_the_node_the_dataclass_makes(cls: type[ast.Node]) -> None:
+    make = fast_constructor(cls)
+    fields = dataclasses.fields(cls)
+    given = {f.name: f"value of {f.name}" for f in fields}
+    required = {f.name: f"value of {f.name}" for f in fields if f.default is dataclasses.MISSING}
+    for kwargs in (given, required):
+        fast, slow = make(**kwargs), cls(**kwargs)
+        assert type(fast) is cls
+        assert [getattr(fast, f.name) for f in fields] == [getattr(slow, f.name) for f in fields]
+    with pytest.raises(TypeError):
+        make(**required, unknown=1)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        setattr(make(**required), fields[0].name, None)
