@@ -117,11 +117,12 @@ class AstBuilder:
     def span(self, children: Sequence[Child]) -> Span:
         first = children[0]
         last = children[-1]
-        return make_span(
-            self.source,
-            first.start if type(first) is Token else first.span.start,
-            last.end if type(last) is Token else last.span.end,
-        )
+        # make_span, inlined: the builder makes a span for almost every reduction.
+        span: Span = _new(Span)
+        _set_source(span, self.source)
+        _set_start(span, first.start if type(first) is Token else first.span.start)
+        _set_end(span, last.end if type(last) is Token else last.span.end)
+        return span
 
     def tspan(self, token: Token) -> Span:
         return make_span(self.source, token.start, token.end)
@@ -433,7 +434,8 @@ class AstBuilder:
         return _Name(span=make_span(self.source, token.start, token.end), name=token.value)
 
     def call(self, c: list[Child]) -> ast.Call:
-        return _Call(span=self.span(c), name=self.ident(c[0]), args=_nodes(c, ast.Expr))
+        # NAME ( [expr (, expr)*] ): the arguments are every other child
+        return _Call(span=self.span(c), name=self.ident(c[0]), args=tuple(c[2:-1:2]))
 
     def paren(self, c: list[Child]) -> ast.Expr:
         inner: ast.Expr = c[1]

@@ -242,8 +242,11 @@ def _terminal_order(t: str) -> tuple[int, str]:
 _Pushed = tuple[int, "_Pushed"] | None
 _Overlay = tuple[int, _Pushed]
 
-# Results of `_Parser.unit_chain`, per table set; they depend on the tables only.
+# Results of `_Parser.unit_chain`, per table set; they depend on the tables only. By the state
+# below and the state reached (after a shift), or by the state below and the nonterminal
+# reduced (after a reduction).
 _UNIT_CHAINS: dict[int, dict[tuple[int, int, str], int]] = {}
+_GOTO_CHAINS: dict[int, dict[tuple[int, str, str], int]] = {}
 
 
 # How the parser reduces by a rule: a pass-through (`?rule` with one child), by calling its
@@ -317,6 +320,7 @@ class _Parser:
         # Index of the token up to which errors are not reported (cascade suppression).
         self.quiet_until = -1
         self.unit_cache = _UNIT_CHAINS.setdefault(id(tables), {})
+        self.goto_cache = _GOTO_CHAINS.setdefault(id(tables), {})
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()
@@ -329,7 +333,7 @@ class _Parser:
 
     def run(self) -> ast.Program:
         t = self.tables
-        actions, gotos, end_state = t.actions, t.gotos, t.end_state
+        actions, end_state = t.actions, t.end_state
         # What to do for each reduce action x < 0, indexed by x itself (the list is reversed:
         # rules[-1 - r] is rule r): its size, what it produces, its builder and its kind.
         rules: list[tuple[int, str, Callable[[list[Any]], Any] | None, int]] = [
@@ -337,6 +341,7 @@ class _Parser:
             for r in reversed(t.rules)
         ]
         unit_cache = self.unit_cache
+        goto_cache = self.goto_cache
         max_stack = MAX_OPEN
         state = t.start_state
         ss: list[int] = [state]
@@ -369,10 +374,10 @@ class _Parser:
                 continue
             size, origin, callback, kind = rules[x]
             if kind == _UNIT:
-                key = (ss[-2], state, tt)
-                state = unit_cache.get(key, -1)
+                unit_key = (ss[-2], state, tt)
+                state = unit_cache.get(unit_key, -1)
                 if state < 0:
-                    state = unit_cache[key] = self.unit_chain(key[0], origin, tt)
+                    state = unit_cache[unit_key] = self.unit_chain(unit_key[0], origin, tt)
                 ss[-1] = state
                 continue
             if size:
@@ -390,7 +395,11 @@ class _Parser:
             else:
                 children = _flatten(children)
                 value = children if type(children) is _Splice else _Splice(children)
-            state = gotos[ss[-1]][origin]
+            # The goto, and the pass-through reductions that follow it on this lookahead.
+            key = (ss[-1], origin, tt)
+            state = goto_cache.get(key, -1)
+            if state < 0:
+                state = goto_cache[key] = self.unit_chain(key[0], origin, tt)
             if state == end_state and tt == "$END":
                 assert isinstance(value, ast.Program)
                 return value
