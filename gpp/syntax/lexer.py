@@ -198,6 +198,15 @@ _TOKEN_RE = re.compile(
     re.VERBOSE | re.DOTALL,
 )
 
+# The number of the group of each kind of token (comparing numbers is faster than names).
+_SECTION, _NAME, _PUNCT, _NUMBER, _UNDERSCORE_NAME, _WIDE_NAME, _STRING = (
+    _TOKEN_RE.groupindex[kind]
+    for kind in ("section", "name", "punct", "number", "underscore_name", "wide_name", "string")
+)
+_INCLUDE, _OPEN_COMMENT, _SIGIL, _OPEN_STRING, _EOF = (
+    _TOKEN_RE.groupindex[kind] for kind in ("include", "open_comment", "sigil", "open_string", "eof")
+)
+
 # Token kinds after which a top-level '{' cannot continue the declaration, so it opens the
 # legacy main block.
 _ENDS_DECLARATION = frozenset({"SEMI", "RBRACE", "NUMBER", "STRING", "RBRACKET", "TRUE", "FALSE", "NULL"})
@@ -225,10 +234,10 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
     platform_pending = False
     wide_names: set[str] = set()
     for m in _TOKEN_RE.finditer(text):
-        kind: str = m.lastgroup  # type: ignore[assignment]  # one alternative always matches
-        start, pos = m.span(kind)
-        if kind == "name":
-            value = m.group(kind)
+        kind = m.lastindex
+        start, pos = m.span(kind)  # type: ignore[arg-type]  # one alternative always matches
+        if kind == _NAME:
+            value = text[start:pos]
             ttype = keywords.get(value)
             if ttype is None:
                 ttype = "NAME"
@@ -236,8 +245,8 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                     ttype = platform_keywords[value]
             elif ttype == "COMPONENT" or ttype == "CONSTRAINTS":
                 platform_pending = True
-        elif kind == "punct":
-            value = m.group(kind)
+        elif kind == _PUNCT:
+            value = text[start:pos]
             ttype = punctuation[value]
             if value == "{":
                 if depth == 0 and (not tokens or tokens[-1].type in _ENDS_DECLARATION):
@@ -255,47 +264,47 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             elif value == "=" and tokens and tokens[-1].type in _NAMEABLE_KEYWORDS:
                 # `start = x` in a mapping: the keyword is an argument name.
                 tokens[-1].type = "NAME"
-        elif kind == "number":
-            value = m.group(kind)
+        elif kind == _NUMBER:
+            value = text[start:pos]
             ttype = "NUMBER"
             if number_value(value) is None:
                 errors.append(LexError("E0004", "number literal is too large", start, pos, RANGE_TEXT))
-        elif kind == "section":
-            value = m.group(kind)
+        elif kind == _SECTION:
+            value = text[start:pos]
             ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
-        elif kind == "string":
-            value = m.group(kind)
+        elif kind == _STRING:
+            value = text[start:pos]
             ttype = "STRING"
-        elif kind == "eof":
+        elif kind == _EOF:
             break
-        elif kind == "underscore_name":
-            value = m.group(kind)
+        elif kind == _UNDERSCORE_NAME:
+            value = text[start:pos]
             ttype = "NAME"
             errors.append(LexError("E0003", "a name cannot start with '_'", start, pos, "names start with a letter"))
-        elif kind == "wide_name":
+        elif kind == _WIDE_NAME:
             # Letters beyond ASCII: one error per distinct name, and the name stays a name so
             # that its declaration and its uses still fit together.
-            value = m.group(kind)
+            value = text[start:pos]
             ttype = "NAME"
             if value not in wide_names:
                 wide_names.add(value)
                 errors.append(_non_ascii_name(value, start, pos))
-        elif kind == "include":
-            value = m.group(kind)
+        elif kind == _INCLUDE:
+            value = text[start:pos]
             ttype = "INCLUDE"
-        elif kind == "sigil":
-            value = m.group(kind)
+        elif kind == _SIGIL:
+            value = text[start:pos]
             ttype = "SIGIL"  # legacy `?function`, `$domain`, `§room`: gpp.syntax.legacy rewrites it
-        elif kind == "open_comment":
+        elif kind == _OPEN_COMMENT:
             errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
             break
-        elif kind == "open_string":
+        elif kind == _OPEN_STRING:
             errors.append(
                 LexError("E0002", "unterminated string literal", start, start + 1, "no closing '\"' on this line")
             )
             # Read the rest of the line as the string so that parsing can go on.
             ttype = "STRING"
-            value = m.group(kind) + '"'
+            value = text[start:pos] + '"'
         else:
             last = errors[-1] if errors else None
             if last is not None and last.code == "E0001" and last.end == start:
@@ -303,7 +312,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                 errors[-1] = LexError("E0001", "unexpected characters", last.start, pos, "not valid here")
             else:
                 errors.append(
-                    LexError("E0001", f"unexpected character {m.group(kind)!r}", start, pos, "not valid here")
+                    LexError("E0001", f"unexpected character {text[start:pos]!r}", start, pos, "not valid here")
                 )
             continue
         append(Token(ttype, value, start, pos))
