@@ -110,9 +110,14 @@ def digest(data: object) -> str:
     return hashlib.sha256(json.dumps(data, sort_keys=True, ensure_ascii=True).encode()).hexdigest()[:24]
 
 
-def fingerprints(parse: Callable[[Source], Any]) -> dict[str, str]:
+def dumps(parse: Callable[[Source], Any]) -> dict[str, tuple[str, dict[str, Any]]]:
+    """Each program's text and dump, by name."""
+    return {name: (text, dump(text, parse)) for name, text in corpus()}
+
+
+def fingerprints(dumped: dict[str, tuple[str, dict[str, Any]]]) -> dict[str, str]:
     """The digest of each program's text and of its dump, by name."""
-    return {name: digest([digest(text), dump(text, parse)]) for name, text in corpus()}
+    return {name: digest([digest(text), data]) for name, (text, data) in dumped.items()}
 
 
 def main() -> None:
@@ -121,7 +126,7 @@ def main() -> None:
     args = ap.parse_args()
     from gpp.syntax.parser import parse
 
-    found = fingerprints(parse)
+    found = fingerprints(dumps(parse))
     if args.update:
         FINGERPRINTS.write_text(json.dumps(found, indent=1, sort_keys=True) + "\n", encoding="utf-8")
         print(f"wrote {len(found)} fingerprints to {FINGERPRINTS.relative_to(ROOT)}")
