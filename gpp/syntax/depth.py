@@ -43,12 +43,13 @@ def limit_nesting(program: ast.Program, tokens: Sequence[Token]) -> tuple[ast.Pr
     each of them."""
     found: list[diag.Diagnostic] = []
     kept: list[ast.Decl] = []
+    starts = [t.start for t in tokens]
     for decl in program.declarations:
         # A node with children owns at least one token of its own (an operator, a bracket, a
         # keyword), so a tree cannot be much deeper than its tokens are many: only a
         # declaration with about MAX_NESTING tokens or more needs a look.
-        first = bisect_left(tokens, decl.span.start, key=_start)
-        count = bisect_left(tokens, decl.span.end, lo=first, key=_start) - first
+        first = bisect_left(starts, decl.span.start)
+        count = bisect_left(starts, decl.span.end, lo=first) - first
         deep = _too_deep(decl) if 2 * count + 8 > MAX_NESTING else None
         if deep is None:
             kept.append(decl)
@@ -57,10 +58,6 @@ def limit_nesting(program: ast.Program, tokens: Sequence[Token]) -> tuple[ast.Pr
     if not found:
         return program, found
     return ast.Program(span=program.span, declarations=tuple(kept)), found
-
-
-def _start(token: Token) -> int:
-    return token.start
 
 
 def _too_deep(root: ast.Node) -> ast.Node | None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import lru_cache
 
 from gpp.numbers import RANGE_TEXT, literal_value
 from gpp.source import Source, Span
@@ -160,28 +161,36 @@ PUNCTUATION: dict[str, str] = {
 }
 
 _SECTION_RE = "|".join(SECTION_WORDS)
-_PUNCT_RE = "|".join(re.escape(p) for p in sorted(PUNCTUATION, key=len, reverse=True))
+# The punctuation, longest first where one is the start of another; `.` before a digit starts a
+# number and `/*` an unterminated comment, so neither is read as punctuation.
+_PUNCT_RE = r"=>|->|\*\*|[=!<>]=|[(){}\[\];,:=*|&!<>+\-%\\]|\.(?![0-9])|/(?!\*)"
+assert set(re.findall(_PUNCT_RE, " ".join(PUNCTUATION))) == set(PUNCTUATION)
 
 # Whitespace and comments are skipped by the same match that reads the next token, so the
-# scanner makes one regex call per token.
+# scanner makes one regex step per token (whitespace first: comments are rare). The
+# alternatives come most frequent first; a section
+# word is tried only where a token starts with the letter of one.
 _TOKEN_RE = re.compile(
     r"""
-    (?:[ \t\r\n\f\v]+|//[^\n]*|/\*(?:[^*]|\*(?!/))*\*/)*
+    [ \t\r\n\f\v]*(?:(?://[^\n]*|/\*(?:[^*]|\*(?!/))*\*/)[ \t\r\n\f\v]*)*
     (?:
-      (?P<section>(?:"""
+      (?P<section>(?=["""
+    + "".join(sorted({w[0] for w in SECTION_WORDS}))
+    + r"""])(?:"""
     + _SECTION_RE
     + r""")\b[ \t\r\n\f\v]*:)
-    | (?P<name>[A-Za-z_][A-Za-z0-9_]*(?![^\W_]))
-    | (?P<wide_name>[^\W\d]\w*)
-    | (?P<number>(?:[0-9]+\.[0-9]*|\.[0-9]+|[0-9]+)(?:[eE][+-]?[0-9]+)?)
-    | (?P<string>"(?:[^"\\]|\\[\s\S])*")
-    | (?P<include>\#include\b)
-    | (?P<open_comment>/\*)
+    | (?P<name>[A-Za-z][A-Za-z0-9_]*(?![^\W_]))
     | (?P<punct>"""
     + _PUNCT_RE
     + r""")
+    | (?P<number>(?:[0-9]+\.[0-9]*|\.[0-9]+|[0-9]+)(?:[eE][+-]?[0-9]+)?)
+    | (?P<underscore_name>_[A-Za-z0-9_]*(?![^\W_]))
+    | (?P<wide_name>[^\W\d]\w*)
+    | (?P<string>"(?:[^"\\]|\\[\s\S])*")
+    | (?P<include>\#include\b)
+    | (?P<open_comment>/\*)
     | (?P<sigil>[?$\u00a7](?=[A-Za-z]))
-    | (?P<open_string>")
+    | (?P<open_string>"[^\n]*)
     | (?P<eof>\Z)
     | (?P<bad>.)
     )
@@ -189,9 +198,25 @@ _TOKEN_RE = re.compile(
     re.VERBOSE | re.DOTALL,
 )
 
+# The number of the group of each kind of token (comparing numbers is faster than names).
+_SECTION, _NAME, _PUNCT, _NUMBER, _UNDERSCORE_NAME, _WIDE_NAME, _STRING = (
+    _TOKEN_RE.groupindex[kind]
+    for kind in ("section", "name", "punct", "number", "underscore_name", "wide_name", "string")
+)
+_INCLUDE, _OPEN_COMMENT, _SIGIL, _OPEN_STRING, _EOF = (
+    _TOKEN_RE.groupindex[kind] for kind in ("include", "open_comment", "sigil", "open_string", "eof")
+)
+
 # Token kinds after which a top-level '{' cannot continue the declaration, so it opens the
 # legacy main block.
 _ENDS_DECLARATION = frozenset({"SEMI", "RBRACE", "NUMBER", "STRING", "RBRACKET", "TRUE", "FALSE", "NULL"})
+
+
+@lru_cache(maxsize=4096)
+def number_value(text: str) -> int | float | None:
+    """`gpp.numbers.literal_value` of a number literal, remembered: the lexer checks each
+    literal's range and the builder takes its value."""
+    return literal_value(text)
 
 
 def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
@@ -200,42 +225,31 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
     tokens: list[Token] = []
     errors: list[LexError] = []
     append = tokens.append
-    match = _TOKEN_RE.match
     keywords = KEYWORDS
     punctuation = PUNCTUATION
+    platform_keywords = PLATFORM_KEYWORDS
     depth = 0
     # Brace depth at which a `component`/`constraints` body was opened, or -1 outside one.
     platform_depth = -1
     platform_pending = False
-    prev_type = ""
     wide_names: set[str] = set()
-    pos = 0
-    n = len(text)
-    while pos < n:
-        m = match(text, pos)
-        assert m is not None  # the last alternative matches any character
-        kind = m.lastgroup
-        assert kind is not None
-        start = m.start(kind)
-        pos = m.end()
-        if kind == "eof":
-            break
-        value = m.group(kind)
-        if kind == "name":
-            ttype = keywords.get(value, "NAME")
-            if ttype == "NAME":
-                if platform_depth >= 0 and value in PLATFORM_KEYWORDS:
-                    ttype = PLATFORM_KEYWORDS[value]
-                elif value[0] == "_":
-                    errors.append(
-                        LexError("E0003", "a name cannot start with '_'", start, pos, "names start with a letter")
-                    )
+    for m in _TOKEN_RE.finditer(text):
+        kind = m.lastindex
+        start, pos = m.span(kind)  # type: ignore[arg-type]  # one alternative always matches
+        if kind == _NAME:
+            value = text[start:pos]
+            ttype = keywords.get(value)
+            if ttype is None:
+                ttype = "NAME"
+                if platform_depth >= 0 and value in platform_keywords:
+                    ttype = platform_keywords[value]
             elif ttype == "COMPONENT" or ttype == "CONSTRAINTS":
                 platform_pending = True
-        elif kind == "punct":
+        elif kind == _PUNCT:
+            value = text[start:pos]
             ttype = punctuation[value]
             if value == "{":
-                if depth == 0 and (prev_type in _ENDS_DECLARATION or not tokens):
+                if depth == 0 and (not tokens or tokens[-1].type in _ENDS_DECLARATION):
                     ttype = "MAIN_LBRACE"
                 if platform_pending:
                     platform_depth = depth
@@ -247,34 +261,44 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                     platform_depth = -1
             elif value == "*" and platform_depth < 0:
                 ttype = "MUL_OP"
-            elif value == "=" and prev_type in _NAMEABLE_KEYWORDS:
+            elif value == "=" and tokens and tokens[-1].type in _NAMEABLE_KEYWORDS:
                 # `start = x` in a mapping: the keyword is an argument name.
                 tokens[-1].type = "NAME"
-        elif kind == "wide_name":
+        elif kind == _NUMBER:
+            value = text[start:pos]
+            ttype = "NUMBER"
+            if number_value(value) is None:
+                errors.append(LexError("E0004", "number literal is too large", start, pos, RANGE_TEXT))
+        elif kind == _SECTION:
+            value = text[start:pos]
+            ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
+        elif kind == _STRING:
+            value = text[start:pos]
+            ttype = "STRING"
+        elif kind == _EOF:
+            break
+        elif kind == _UNDERSCORE_NAME:
+            value = text[start:pos]
+            ttype = "NAME"
+            errors.append(LexError("E0003", "a name cannot start with '_'", start, pos, "names start with a letter"))
+        elif kind == _WIDE_NAME:
             # Letters beyond ASCII: one error per distinct name, and the name stays a name so
             # that its declaration and its uses still fit together.
+            value = text[start:pos]
             ttype = "NAME"
             if value not in wide_names:
                 wide_names.add(value)
                 errors.append(_non_ascii_name(value, start, pos))
-        elif kind == "number":
-            ttype = "NUMBER"
-            if literal_value(value) is None:
-                errors.append(LexError("E0004", "number literal is too large", start, pos, RANGE_TEXT))
-        elif kind == "string":
-            ttype = "STRING"
-        elif kind == "section":
-            ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
-        elif kind == "include":
+        elif kind == _INCLUDE:
+            value = text[start:pos]
             ttype = "INCLUDE"
-        elif kind == "sigil":
+        elif kind == _SIGIL:
+            value = text[start:pos]
             ttype = "SIGIL"  # legacy `?function`, `$domain`, `§room`: gpp.syntax.legacy rewrites it
-        elif kind == "open_comment":
+        elif kind == _OPEN_COMMENT:
             errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
             break
-        elif kind == "open_string":
-            line_end = text.find("\n", start)
-            pos = n if line_end < 0 else line_end
+        elif kind == _OPEN_STRING:
             errors.append(
                 LexError("E0002", "unterminated string literal", start, start + 1, "no closing '\"' on this line")
             )
@@ -287,10 +311,11 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
                 # A run of stray characters is one problem, not one per character.
                 errors[-1] = LexError("E0001", "unexpected characters", last.start, pos, "not valid here")
             else:
-                errors.append(LexError("E0001", f"unexpected character {value!r}", start, pos, "not valid here"))
+                errors.append(
+                    LexError("E0001", f"unexpected character {text[start:pos]!r}", start, pos, "not valid here")
+                )
             continue
         append(Token(ttype, value, start, pos))
-        prev_type = ttype
     return tokens, errors
 
 

@@ -26,7 +26,7 @@ from gpp.syntax.build import AstBuilder
 from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
 from gpp.syntax.legacy import modernize
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
-from gpp.syntax.tables import Tables, first_sets, load_tables
+from gpp.syntax.tables import Rule, Tables, first_sets, load_tables
 
 
 @dataclass(frozen=True, slots=True)
@@ -242,8 +242,25 @@ def _terminal_order(t: str) -> tuple[int, str]:
 _Pushed = tuple[int, "_Pushed"] | None
 _Overlay = tuple[int, _Pushed]
 
-# Results of `_Parser.unit_chain`, per table set; they depend on the tables only.
+# Results of `_Parser.unit_chain`, per table set; they depend on the tables only. By the state
+# below and the state reached (after a shift), or by the state below and the nonterminal
+# reduced (after a reduction).
 _UNIT_CHAINS: dict[int, dict[tuple[int, int, str], int]] = {}
+_GOTO_CHAINS: dict[int, dict[tuple[int, str, str], int]] = {}
+
+
+# How the parser reduces by a rule: a pass-through (`?rule` with one child), by calling its
+# builder with the children as they are or with spliced children joined in (`_flatten`), or
+# as an inlined helper rule whose children join the parent's (its own spliced ones first).
+_UNIT, _BUILD, _BUILD_FLAT, _SPLICE, _SPLICE_FLAT = range(5)
+
+
+def _reduction_kind(rule: Rule) -> int:
+    if rule.unit:
+        return _UNIT
+    if rule.splice:
+        return _SPLICE_FLAT if rule.has_splices else _SPLICE
+    return _BUILD_FLAT if rule.has_splices else _BUILD
 
 
 class _Splice(list[Any]):
@@ -303,6 +320,7 @@ class _Parser:
         # Index of the token up to which errors are not reported (cascade suppression).
         self.quiet_until = -1
         self.unit_cache = _UNIT_CHAINS.setdefault(id(tables), {})
+        self.goto_cache = _GOTO_CHAINS.setdefault(id(tables), {})
         # Repairs tried at each token (by identity), to stop a repair that makes no progress.
         self.repairs: dict[int, int] = {}
         self.quiet_tokens: set[int] = set()
@@ -315,26 +333,31 @@ class _Parser:
 
     def run(self) -> ast.Program:
         t = self.tables
-        actions, gotos, end_state = t.actions, t.gotos, t.end_state
-        rules: list[tuple[int, str, Callable[[list[Any]], Any] | None, bool, bool, bool]] = [
-            (r.size, r.origin, getattr(self.builder, r.builder) if r.builder else None, r.unit, r.splice, r.has_splices)
-            for r in t.rules
+        actions, end_state = t.actions, t.end_state
+        # What to do for each reduce action x < 0, indexed by x itself (the list is reversed:
+        # rules[-1 - r] is rule r): its size, what it produces, its builder and its kind.
+        rules: list[tuple[int, str, Callable[[list[Any]], Any] | None, int]] = [
+            (r.size, r.origin, getattr(self.builder, r.builder) if r.builder else None, _reduction_kind(r))
+            for r in reversed(t.rules)
         ]
         unit_cache = self.unit_cache
+        goto_cache = self.goto_cache
         max_stack = MAX_OPEN
-        ss: list[int] = [t.start_state]
+        state = t.start_state
+        ss: list[int] = [state]
         vs: list[Any] = []
         tokens = self.tokens
         i = 0
         while True:
             tok = tokens[i]
             tt = tok.type
-            x = actions[ss[-1]].get(tt)
+            x = actions[state].get(tt)
             if x is None:
                 recovered = self.recover(i, ss, vs)
                 if recovered is None:
                     return self.partial_program(vs)
                 i = recovered
+                state = ss[-1]
                 continue
             if x >= 0:
                 if len(ss) > max_stack:
@@ -342,20 +365,20 @@ class _Parser:
                     if resumed is None:
                         return self.partial_program(vs)
                     i = resumed
+                    state = ss[-1]
                     continue
                 ss.append(x)
                 vs.append(tok)
+                state = x
                 i += 1
                 continue
-            size, origin, callback, unit, splice, has_splices = rules[-1 - x]
-            if unit:
-                below = ss[-2]
-                key = (below, ss[-1], tt)
-                top = unit_cache.get(key)
-                if top is None:
-                    top = self.unit_chain(below, origin, tt)
-                    unit_cache[key] = top
-                ss[-1] = top
+            size, origin, callback, kind = rules[x]
+            if kind == _UNIT:
+                unit_key = (ss[-2], state, tt)
+                state = unit_cache.get(unit_key, -1)
+                if state < 0:
+                    state = unit_cache[unit_key] = self.unit_chain(unit_key[0], origin, tt)
+                ss[-1] = state
                 continue
             if size:
                 children = vs[-size:]
@@ -363,17 +386,24 @@ class _Parser:
                 del vs[-size:]
             else:
                 children = []
-            if has_splices:
-                children = _flatten(children)
-            if splice:
-                value = children if type(children) is _Splice else _Splice(children)
-            else:
+            if kind == _BUILD:
                 value = callback(children)  # type: ignore[misc]
-            g = gotos[ss[-1]][origin]
-            if g == end_state and tt == "$END":
+            elif kind == _BUILD_FLAT:
+                value = callback(_flatten(children))  # type: ignore[misc]
+            elif kind == _SPLICE:
+                value = _Splice(children)
+            else:
+                children = _flatten(children)
+                value = children if type(children) is _Splice else _Splice(children)
+            # The goto, and the pass-through reductions that follow it on this lookahead.
+            key = (ss[-1], origin, tt)
+            state = goto_cache.get(key, -1)
+            if state < 0:
+                state = goto_cache[key] = self.unit_chain(key[0], origin, tt)
+            if state == end_state and tt == "$END":
                 assert isinstance(value, ast.Program)
                 return value
-            ss.append(g)
+            ss.append(state)
             vs.append(value)
 
     def unit_chain(self, below: int, origin: str, tt: str) -> int:
