@@ -30,6 +30,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from gpp.model.symbols import Symbol, SymbolKind
+from gpp.planner.codegen import TransGen
+from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
@@ -55,12 +57,12 @@ FinalFn = Callable[[State, Activities], bool]
 _EMPTY = State()
 
 
-def _never(state: State, acts: Activities) -> bool:
+def never(state: State, acts: Activities) -> bool:
     """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
     return False
 
 
-def _always(state: State, acts: Activities) -> bool:
+def always(state: State, acts: Activities) -> bool:
     return True
 
 
@@ -71,7 +73,7 @@ def _nothing(state: State, acts: Activities) -> list[Successor]:
 class Successors:
     """`final` and `trans` of `sem` (planning mode), specialised per program point on first use."""
 
-    def __init__(self, sem: Semantics) -> None:
+    def __init__(self, sem: Semantics, generate: bool = True) -> None:
         assert sem.planning
         self.sem = sem
         self.program = sem.program
@@ -80,6 +82,10 @@ class Successors:
         self._final: dict[Prog, FinalFn] = {}
         self._code_trans: dict[tuple[int, Frame, frozenset[int]], TransFn] = {}
         self._code_final: dict[tuple[int, Frame], FinalFn] = {}
+        # Generate the source of `trans` per program point (False: the closures only).
+        self.generate = generate
+        self.sources: list[str] = []  # the generated functions' source, in the order made
+        self._units = 0
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
         f = self._trans.get(p)
@@ -96,6 +102,17 @@ class Successors:
     # ---------------------------------------------------------------- continuations
 
     def trans_fn(self, p: Prog) -> TransFn:
+        """`trans` of `p`: generated source for a statement, a sequence or the rest of a block
+        (gpp.planner.codegen), else the closures below."""
+        if self.generate and isinstance(p, Code | Seq | Rest):
+            self._units += 1
+            gen = TransGen(self, f"trans_{self._units}")
+            fn = gen.build(p)
+            self.sources.append(gen.unit.source)
+            return fn
+        return self.closure_trans_fn(p)
+
+    def closure_trans_fn(self, p: Prog) -> TransFn:
         sem = self.sem
         match p:
             case Done():
@@ -129,7 +146,7 @@ class Successors:
         sem = self.sem
         match p:
             case Done():
-                return _always
+                return always
             case Code():
                 return self.code_final(p.stmt, p.frame)
             case Rest():
@@ -143,9 +160,9 @@ class Successors:
     def _all(parts: list[FinalFn]) -> FinalFn:
         """All of `parts`, in order, stopping at the first false one (as `all` does)."""
         if not parts:
-            return _always
-        if parts[0] is _never:
-            return _never
+            return always
+        if parts[0] is never:
+            return never
         if len(parts) == 1:
             return parts[0]
 
@@ -167,29 +184,29 @@ class Successors:
         sem = self.sem
         match s:
             case ast.Test() | ast.Assign() | ast.ListStmt() | ast.HookStmt() | ast.During():
-                return _never
+                return never
             case ast.CallStmt() if sem.callee(s).kind is not SymbolKind.PROCEDURE:
-                return _never
+                return never
             case ast.Block():
                 return self._all([self.code_final(x, frame) for x in s.body])
             case ast.Choose():
                 parts = [self.code_final(x, frame) for x in s.alternatives]
-                if all(f is _never for f in parts):
-                    return _never
+                if all(f is never for f in parts):
+                    return never
                 return lambda state, acts: any(f(state, acts) for f in parts)
             case ast.Pick() if s.values is None:
                 bodies = [self.code_final(s.body, f) for f in sem.pick_frames(s, frame)]
-                if all(f is _never for f in bodies):
-                    return _never
+                if all(f is never for f in bodies):
+                    return never
                 return lambda state, acts: any(f(state, acts) for f in bodies)
             case ast.Solve() | ast.Search():
                 return self.code_final(s.body, frame)
             case ast.While():
-                condition, body, variables, ctx = self._condition(s.condition), s.body, frame.vars, sem.ctx
+                holds, body = self.condition_fn(s.condition, frame), s.body
                 body_final: list[FinalFn] = []  # built on first use
 
                 def final_while(state: State, acts: Activities) -> bool:
-                    if condition(Env(state, variables, ctx)) is not True:
+                    if not holds(state):
                         return True
                     if not body_final:
                         body_final.append(self.code_final(body, frame))
@@ -213,6 +230,24 @@ class Successors:
 
     def _condition(self, e: ast.Expr) -> Evaluator:
         return self.program.expr(e)
+
+    def condition_fn(self, e: ast.Expr, frame: Frame) -> Callable[[State], bool]:
+        """`e is True` in a state, with the bindings of `frame`: generated source
+        (gpp.runtime.codegen), or the compiled closure for what that does not write out."""
+        condition, variables, ctx = self._condition(e), frame.vars, self.sem.ctx
+        if self.generate:
+            self._units += 1
+            unit = Unit(f"condition_{self._units}", "state")
+            try:
+                test = ExprGen(self.program, unit).condition(e, variables)
+            except Unsupported:
+                pass
+            else:
+                unit.emit(0, f"return {test.value is True!r}" if test.const else f"return {test.text}")
+                fn: Callable[[State], bool] = unit.build()
+                self.sources.append(unit.source)
+                return fn
+        return lambda state: condition(Env(state, variables, ctx)) is True
 
     def _make_code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
@@ -289,7 +324,7 @@ class Successors:
         if guard.static:
             # Once the guard found its conjuncts true, the action's precondition need not
             # evaluate them again (those that read only fluents: they have the same value).
-            action = self.program.action(self._guarded_call(s).name)
+            action = self.program.action(self.guarded_call(s).name)
             pure = frozenset(
                 id(check)
                 for check, expr in action.precondition
@@ -310,7 +345,7 @@ class Successors:
 
         return trans_guarded_pick
 
-    def _guarded_call(self, s: ast.Pick) -> Symbol:
+    def guarded_call(self, s: ast.Pick) -> Symbol:
         """The action called inside the `pick`s of a pick guard."""
         body: ast.Statement = s
         while isinstance(body, ast.Pick):
