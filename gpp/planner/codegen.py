@@ -25,19 +25,21 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from gpp.model.symbols import SymbolKind
+from gpp.model.types import Sym
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported
-from gpp.runtime.compiled import Env, reads_only_variables
+from gpp.runtime.compiled import Effect, Env, Evaluator, check_domain, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import DONE, Code, Done, DoStep, Frame, Prog, Rest, Semantics, Seq, TestStep
-from gpp.runtime.state import ActivityStatus, State
+from gpp.runtime.state import Activities, ActivityStatus, State, identical, item_hash
 from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
 
 if TYPE_CHECKING:
-    from gpp.planner.successors import FinalFn, Successors, TransFn
+    from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
 
 _EMPTY = State()
+_PLAIN = (Sym, str, type(None))
 
 # Nesting deeper than this (a long block, a deep continuation) calls the closures instead.
 MAX_DEPTH = 40
@@ -151,7 +153,9 @@ class TransGen:
             case ast.While():
                 test, _ = self.condition(s.condition, frame.vars)
                 unit.emit(d, f"# while ({_snippet(s.condition.span)})")
-                self.guarded(d, test, lambda d: self.code(d, s.body, frame, self.seq(Code(s, frame), wrap), frozenset()))
+                self.guarded(
+                    d, test, lambda d: self.code(d, s.body, frame, self.seq(Code(s, frame), wrap), frozenset())
+                )
             case ast.If():
                 test, _ = self.condition(s.condition, frame.vars)
                 unit.emit(d, f"# if ({_snippet(s.condition.span)})")
@@ -296,3 +300,120 @@ def _conjunction(tests: list[str]) -> str:
     if tests == ["False"]:
         return "False"
     return " and ".join(tests)
+
+
+class ApplyGen:
+    """Writes `apply` of one action step (planning: its effects at once), when every effect
+    assigns a whole fluent instance whose arguments read only the action's parameters and no
+    two assign the same instance: what `Semantics.apply` does for it then (the semantics'
+    "effect plan"), step for step, with the slots, the parameters and the values known in
+    advance folded in. None for any other action (the semantics applies it)."""
+
+    def __init__(self, successors: Successors, name: str) -> None:
+        self.sem = successors.sem
+        self.program = successors.program
+        self.unit = Unit(name, "state, acts")
+        self.exprs = ExprGen(self.program, self.unit)
+
+    def build(self, step: DoStep) -> ApplyFn | None:
+        program, unit, g = self.program, self.unit, step.action
+        action = program.action(g.name)
+        decl = action.decl
+        written = [e for section in decl.sections or () for e in _effects_of(section)] if decl else []
+        if len(written) != len(action.effects) or not all(effect.static_target for effect in action.effects):
+            return None
+        bindings = dict(zip(action.param_ids, g.args, strict=True))
+        env = Env(_EMPTY, bindings, self.sem.ctx)
+        try:
+            slots = [
+                program.slot(effect.target.fluent, tuple(a(env) for a in effect.target.args))
+                for effect in action.effects
+            ]
+        except GppRuntimeError:
+            return None
+        if len(set(slots)) < len(slots):
+            return None
+        unit.emit(0, f"# {g.text}")
+        one = self._one_constant(action.effects, written, slots, bindings)
+        if one is not None:
+            slot, value = one
+            # `updated` of one constant value: its hash and its comparisons worked out here.
+            v = unit.const(value, show(value))
+            known = f"{item_hash(slot, value)}, {identical(value, program.initial(slot))}, {type(value) in _PLAIN}"
+            unit.emit(0, f"# {_snippet(action.effects[0].span)}")
+            unit.emit(0, f"return state.updated_one({slot}, {v}, {known}), acts")
+            fn_one: ApplyFn = unit.build()
+            return fn_one
+        unit.emit(0, "_pending = {}")
+        initial = unit.const(program.initial, "CompiledProgram.initial")
+        for effect, e, slot in zip(action.effects, written, slots, strict=True):
+            span = effect.value_span if effect.value_span is not None else effect.target.span
+            unit.emit(0, f"# {_snippet(effect.span)}")
+            d = 0
+            if effect.condition is not None:
+                assert e.condition is not None
+                test, _ = self.condition(e.condition, bindings, effect.condition)
+                if test == "False":
+                    continue
+                if test != "True":
+                    unit.emit(0, f"if {test}:")
+                    d = 1
+            value = self.value(e.value, bindings, effect.value)
+            domain_ok = False
+            if value[1]:
+                try:
+                    check_domain(value[2], effect.target.value_type, span)
+                    domain_ok = True
+                except GppRuntimeError:
+                    pass
+            unit.emit(d, f"_value = {value[0]}")
+            if not domain_ok:
+                check = unit.const(check_domain, "check_domain")
+                unit.emit(d, f"{check}(_value, {unit.const(effect.target.value_type)}, {unit.const(span, 'its span')})")
+            unit.emit(d, f"_pending[{slot}] = _value")
+        unit.emit(0, f"return state.updated(_pending, {initial}), acts")
+        fn: Callable[[State, Activities], tuple[State, Activities]] = unit.build()
+        return fn
+
+    def _one_constant(
+        self, effects: tuple[Effect, ...], written: list[ast.Effect], slots: list[int], bindings: dict[int, Value]
+    ) -> tuple[int, Value] | None:
+        """The slot and value of the one effect, when it is unconditional and its value a
+        constant in the target's domain."""
+        if len(effects) != 1 or effects[0].condition is not None:
+            return None
+        effect = effects[0]
+        try:
+            v = self.exprs.expr(written[0].value, bindings)
+        except Unsupported:
+            return None
+        if not v.const:
+            return None
+        span = effect.value_span if effect.value_span is not None else effect.target.span
+        try:
+            check_domain(v.value, effect.target.value_type, span)
+        except GppRuntimeError:
+            return None
+        return slots[0], v.value
+
+    def _env(self, bindings: dict[int, Value]) -> str:
+        return f"Env(state, {self.unit.const(bindings, 'the parameters')}, {self.unit.const(self.sem.ctx, 'context')})"
+
+    def condition(self, e: ast.Expr, bindings: dict[int, Value], closure: Evaluator) -> tuple[str, bool]:
+        try:
+            v = self.exprs.condition(e, bindings)
+        except Unsupported:
+            return f"({self.unit.const(closure, 'a compiled expression')}({self._env(bindings)}) is True)", True
+        return (repr(v.value is True) if v.const else v.text), False
+
+    def value(self, e: ast.Expr, bindings: dict[int, Value], closure: Evaluator) -> tuple[str, bool, Value]:
+        """The source of the value, whether it is a constant, and the constant."""
+        try:
+            v = self.exprs.expr(e, bindings)
+        except Unsupported:
+            return f"{self.unit.const(closure, 'a compiled expression')}({self._env(bindings)})", False, None
+        return self.exprs.text(v), v.const, v.value
+
+
+def _effects_of(section: ast.ActionSection) -> tuple[ast.Effect, ...]:
+    return section.effects if isinstance(section, ast.EffectSection) else ()

@@ -54,8 +54,10 @@ records the longest run of free steps its subtree starts with.
 
 from __future__ import annotations
 
+import gc
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
@@ -69,21 +71,29 @@ from gpp.source import Span
 
 Config = tuple[Prog, State, Activities]
 
-# Never settled: every remaining horizon is below it.
-_UNSETTLED = 1 << 62
 
-
-@dataclass(frozen=True, slots=True)
 class _Result:
     """The best branch from a configuration: feasible or not, its value, and its first step
-    and the result of the rest (None: it stops here)."""
+    and the result of the rest (None: it stops here). Never changed once made (a plain class
+    rather than a frozen dataclass: one is made per node, and this is cheaper to make)."""
 
-    feasible: bool
-    value: float
-    depth: int  # the most costed steps on a branch of the subtree (== horizon: it was reached)
-    free_run: int  # the most free steps a branch of the subtree starts with
-    step: PolicyStep | None = None
-    rest: _Result | None = None
+    __slots__ = ("depth", "feasible", "free_run", "rest", "step", "value")
+
+    def __init__(
+        self,
+        feasible: bool,
+        value: float,
+        depth: int,
+        free_run: int,
+        step: PolicyStep | None = None,
+        rest: _Result | None = None,
+    ) -> None:
+        self.feasible = feasible
+        self.value = value
+        self.depth = depth  # the most costed steps on a branch of the subtree (== horizon: it was reached)
+        self.free_run = free_run  # the most free steps a branch of the subtree starts with
+        self.step = step
+        self.rest = rest
 
     def steps(self) -> tuple[PolicyStep, ...]:
         out: list[PolicyStep] = []
@@ -116,19 +126,18 @@ class _Config:
         "acts",
         "expanded",
         "final",
+        "live",
         "memo",
         "on_path",
         "options",
         "prog",
         "reward",
         "seen",
-        "settled",
-        "settled_from",
         "state",
         "successors",
     )
 
-    def __init__(self, prog: Prog, state: State, acts: Activities) -> None:
+    def __init__(self, prog: Prog, state: State, acts: Activities, horizon: int) -> None:
         self.prog = prog
         self.state = state
         self.acts = acts
@@ -136,13 +145,30 @@ class _Config:
         self.final = False
         self.successors: list[tuple[Prog, Step]] = []
         self.options: list[_Option | None] = []  # None: a duplicate of an earlier option
+        self.live: list[_Option] | None = None  # the options but the duplicates, once all are made
         self.seen: set[tuple[int, int]] | None = None
-        self.memo: dict[int, _Result] = {}
-        # The result for every remaining horizon >= settled_from (see 4 above).
-        self.settled_from = _UNSETTLED
-        self.settled: _Result = _LEAF
+        # The result for each remaining horizon (None: not known yet). A result known for
+        # every horizon above some depth (see 4 above) is stored for each of them: it is
+        # told from one for its horizon alone by its depth, which is below the horizon.
+        self.memo: list[_Result | None] = [None] * (horizon + 1)
         self.on_path: set[int] = set()  # remaining horizons this configuration is on the path with
         self.reward: float | None = None
+
+
+@contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Python's cyclic garbage collector off while planning. Planning allocates millions of
+    objects that all stay alive until the plan is made (configurations, options, results),
+    and every full collection walks all of them again: with seven blocks that was a quarter
+    of the time. Reference counting still frees what is dropped; cycles made meanwhile are
+    collected once the collector is back on."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,17 +203,31 @@ def solve_plan(
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
-    configs: dict[Config, _Config] = {}
+    # The configurations met, by continuation, then (state, activities). A continuation is
+    # found by its identity first (`trans` returns the same objects again and again), so a
+    # continuation is hashed and compared once per object, not once per option.
+    configs: dict[Prog, dict[tuple[State, Activities], _Config]] = {}
+    by_id: dict[int, tuple[Prog, dict[tuple[State, Activities], _Config]]] = {}
+    met = 0  # configurations met
     successors = Successors(sem)
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
 
     def intern(p: Prog, s: State, a: Activities) -> _Config:
-        key = (p, s, a)
-        c = configs.get(key)
+        nonlocal met
+        entry = by_id.get(id(p))
+        if entry is None or entry[0] is not p:
+            table = configs.get(p)
+            if table is None:
+                table = configs[p] = {}
+            entry = by_id[id(p)] = (p, table)  # keeps p alive, so its id is not reused
+        table = entry[1]
+        key = (s, a)
+        c = table.get(key)
         if c is None:
-            c = configs[key] = _Config(p, s, a)
+            c = table[key] = _Config(p, s, a, horizon)
+            met += 1
         return c
 
     def value_of(c: _Config) -> float:
@@ -204,7 +244,7 @@ def solve_plan(
         if i < len(c.options):
             return c.options[i]
         q, step = c.successors[i]
-        s2, a2 = sem.apply(step, c.state, c.acts)
+        s2, a2 = successors.apply(step, c.state, c.acts)
         target = intern(q, s2, a2)
         key = (id(target), step.cost)
         if c.seen is None:
@@ -218,12 +258,20 @@ def solve_plan(
         c.options.append(made)
         return made
 
+    def made(c: _Config) -> Iterator[_Option]:
+        """The options of `c` but the duplicates, made as they are reached."""
+        options = c.options
+        for i in range(len(c.successors)):
+            o = options[i] if i < len(options) else option(c, i)
+            if o is not None:
+                yield o
+
     def report() -> None:
         nonlocal next_report
         now = time.perf_counter()
         if now >= next_report and progress is not None:
             next_report = now + progress_interval
-            progress(Progress(stats.nodes, len(configs), best_so_far(), now - started))
+            progress(Progress(stats.nodes, met, best_so_far(), now - started))
 
     def best_so_far() -> float | None:
         if not root_best:
@@ -237,17 +285,12 @@ def solve_plan(
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
             return _LEAF
-        if h >= c.settled_from:
-            known: _Result | None = c.settled
-            if c.settled.feasible:
+        known = c.memo[h]
+        if known is not None:
+            if known.feasible or known.depth >= h:
                 stats.cache_hits += 1
             else:
-                stats.pruned += 1
-        else:
-            known = c.memo.get(h)
-            if known is not None:
-                stats.cache_hits += 1
-        if known is not None:
+                stats.pruned += 1  # known infeasible for every horizon (see 4 above)
             if run + known.free_run > FREE_STEP_LIMIT:
                 raise free_run_error(span)
             return known
@@ -268,15 +311,11 @@ def solve_plan(
         chosen: _Option | None = None
         chosen_rest: _Result | None = None
         depth = free_run = 0
-        options = c.options
-        n = len(c.successors)
+        hits = infeasible = 0  # memo hits, and hits of a result infeasible at every horizon
         # All options are made after the first expansion; until then they are made as reached.
-        walk: Iterable[_Option | None] = (
-            options if len(options) == n else (options[i] if i < len(options) else option(c, i) for i in range(n))
-        )
+        live = c.live
+        walk: Iterable[_Option] = live if live is not None else made(c)
         for o in walk:
-            if o is None:
-                continue
             cost = o.cost
             target = o.target
             if cost:
@@ -284,20 +323,15 @@ def solve_plan(
                 left = h - cost
                 if left <= 0:
                     rest = _LEAF
-                elif left >= target.settled_from:
-                    rest = target.settled
-                    if rest.feasible:
-                        stats.cache_hits += 1
-                    else:
-                        stats.pruned += 1
-                    if rest.free_run > FREE_STEP_LIMIT:
-                        raise free_run_error(span)
                 else:
-                    known = target.memo.get(left)
+                    known = target.memo[left]
                     if known is None:
                         rest = expand(target, left, 0)
                     else:
-                        stats.cache_hits += 1
+                        if known.feasible or known.depth >= left:
+                            hits += 1
+                        else:
+                            infeasible += 1
                         if known.free_run > FREE_STEP_LIMIT:
                             raise free_run_error(span)
                         rest = known
@@ -324,18 +358,25 @@ def solve_plan(
                 if c is root and h == horizon:
                     root_best.append(value)
         c.on_path.discard(h)
+        stats.cache_hits += hits
+        stats.pruned += infeasible
+        if live is None and c.live is None and len(c.options) == len(c.successors):
+            c.live = [o for o in c.options if o is not None]
         if chosen is None:
             result = _Result(feasible, value if feasible else 0.0, depth, free_run)
         else:
             result = _Result(True, value, depth, free_run, chosen.policy_step, chosen_rest)
+        memo = c.memo
         if depth < h:
-            c.settled_from, c.settled = depth + 1, result
+            # The same result for every horizon above depth (see 4 above).
+            for k in range(depth + 1, len(memo)):
+                memo[k] = result
         else:
-            c.memo[h] = result
+            memo[h] = result
         return result
 
     root = intern(prog, state, acts)
-    with deep_recursion(span):
+    with deep_recursion(span), _collector_paused():
         result = best(root, horizon, 0)
     value = value_of(root) + result.value if result.feasible else 0.0
     stats.pruned += sem.pruned_bindings

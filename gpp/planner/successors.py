@@ -30,7 +30,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.planner.codegen import TransGen
+from gpp.planner.codegen import ApplyGen, TransGen
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
@@ -44,6 +44,7 @@ from gpp.runtime.semantics import (
     Rest,
     Semantics,
     Seq,
+    Step,
     Successor,
     TestStep,
 )
@@ -53,6 +54,7 @@ from gpp.syntax import ast
 
 TransFn = Callable[[State, Activities], list[Successor]]
 FinalFn = Callable[[State, Activities], bool]
+ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
 
 _EMPTY = State()
 
@@ -86,6 +88,26 @@ class Successors:
         self.generate = generate
         self.sources: list[str] = []  # the generated functions' source, in the order made
         self._units = 0
+        # Step object id -> (the step, its generated `apply` or None: the semantics applies it).
+        self._apply: dict[int, tuple[Step, ApplyFn | None]] = {}
+
+    def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
+        """`Semantics.apply`; for an action step, generated source made once per step object
+        (gpp.planner.codegen.ApplyGen) when the action's effects allow it."""
+        known = self._apply.get(id(step))
+        if known is None or known[0] is not step:
+            fn: ApplyFn | None = None
+            if self.generate and isinstance(step, DoStep):
+                self._units += 1
+                gen = ApplyGen(self, f"apply_{self._units}")
+                fn = gen.build(step)
+                if fn is not None:
+                    self.sources.append(gen.unit.source)
+            known = self._apply[id(step)] = (step, fn)
+        fn = known[1]
+        if fn is None:
+            return self.sem.apply(step, state, acts)
+        return fn(state, acts)
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
         f = self._trans.get(p)

@@ -64,12 +64,12 @@ def _ordered(a: Value, b: Value, op: str, spans: list[Span], i: int) -> bool:
     if isinstance(a, Sym):
         a, b = a.name, b.name  # type: ignore[union-attr]
     if op == "<":
-        return a < b  # type: ignore[operator, no-any-return]
+        return a < b  # type: ignore[operator]
     if op == "<=":
-        return a <= b  # type: ignore[operator, no-any-return]
+        return a <= b  # type: ignore[operator]
     if op == ">":
-        return a > b  # type: ignore[operator, no-any-return]
-    return a >= b  # type: ignore[operator, no-any-return]
+        return a > b  # type: ignore[operator]
+    return a >= b  # type: ignore[operator]
 
 
 # The names generated code finds as globals.
