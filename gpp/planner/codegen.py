@@ -26,11 +26,11 @@ from typing import TYPE_CHECKING
 
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import Sym
-from gpp.runtime.codegen import ExprGen, Unit, Unsupported
+from gpp.runtime.codegen import ExprGen, Unit, Unsupported, build_units
 from gpp.runtime.compiled import Effect, Env, Evaluator, check_domain, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import DONE, Code, Done, DoStep, Frame, Prog, Rest, Semantics, Seq, TestStep
-from gpp.runtime.state import Activities, ActivityStatus, State, identical, item_hash
+from gpp.runtime.state import ActivityStatus, State, identical, item_hash
 from gpp.runtime.values import Value, show
 from gpp.source import Span
 from gpp.syntax import ast
@@ -62,16 +62,28 @@ class TransGen:
         self.unit = Unit(name, "state, acts")
         self.exprs = ExprGen(self.program, self.unit)
         self.seq = Semantics.seq
+        # The action steps the function returns, with their `apply` written (None: not).
+        self.applies: list[tuple[DoStep, ApplyGen | None]] = []
+        self.sources: list[str] = []
 
     def build(self, p: Prog) -> TransFn:
+        """The function, compiled together with `apply` of the action steps it returns."""
         unit = self.unit
         unit.emit(0, "_status = acts.status")
         unit.emit(0, "_idle = not len(acts)  # no activity: none is running")
         unit.emit(0, "out = []")
         self.prog(0, p, DONE)
         unit.emit(0, "return out")
-        fn: TransFn = unit.build()
-        return fn
+        written = [(step, gen) for step, gen in self.applies if gen is not None]
+        fns = build_units([unit, *(gen.unit for _, gen in written)])
+        for step, gen in self.applies:
+            if gen is None:
+                self.successors.register_apply(step, None)
+        for (step, _), fn in zip(written, fns[1:], strict=True):
+            self.successors.register_apply(step, fn)
+        self.sources = [unit.source, *(gen.unit.source for _, gen in written)]
+        trans: TransFn = fns[0]
+        return trans
 
     # ---------------------------------------------------------------- continuations
 
@@ -266,14 +278,13 @@ class TransGen:
     def action(self, d: int, s: ast.CallStmt, frame: Frame, wrap: Prog, known: frozenset[int]) -> None:
         """An action call with arguments that read only variables: its ground action is known."""
         sem, call = self.sem, s.call
-        closure = self.successors.code_trans(s, frame, known)
         if not isinstance(call, ast.Call) or not all(reads_only_variables(sem.model, a) for a in call.args):
-            self.leaf(d, closure, wrap)
+            self.leaf(d, self.successors.code_trans(s, frame, known), wrap)
             return
         try:
             action, g = sem.ground_call(call, frame, _EMPTY)
-        except GppRuntimeError:
-            self.leaf(d, closure, wrap)  # raised again, where the semantics raises it
+        except GppRuntimeError:  # raised again, where the semantics raises it
+            self.leaf(d, self.successors.code_trans(s, frame, known), wrap)
             return
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         running = self.unit.const(ActivityStatus.RUNNING, "ActivityStatus.RUNNING")
@@ -288,7 +299,12 @@ class TransGen:
             if test == "False":
                 break
         self.unit.emit(d, f"# {g.text}")
-        self.guarded(d, _conjunction(tests), lambda d: self.append(d, DONE, DoStep(g, s.span), wrap, g.text))
+        step = DoStep(g, s.span)
+        test = _conjunction(tests)
+        if test != "False":
+            gen = ApplyGen(self.successors, self.successors.unit_name("apply"))
+            self.applies.append((step, gen if gen.write(step) else None))
+        self.guarded(d, test, lambda d: self.append(d, DONE, step, wrap, g.text))
 
 
 def _conjunction(tests: list[str]) -> str:
@@ -316,12 +332,20 @@ class ApplyGen:
         self.exprs = ExprGen(self.program, self.unit)
 
     def build(self, step: DoStep) -> ApplyFn | None:
+        """The function, or None (the semantics applies the step)."""
+        if not self.write(step):
+            return None
+        fn: ApplyFn = self.unit.build()
+        return fn
+
+    def write(self, step: DoStep) -> bool:
+        """Write the function; False if this action is left to the semantics."""
         program, unit, g = self.program, self.unit, step.action
         action = program.action(g.name)
         decl = action.decl
         written = [e for section in decl.sections or () for e in _effects_of(section)] if decl else []
         if len(written) != len(action.effects) or not all(effect.static_target for effect in action.effects):
-            return None
+            return False
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         env = Env(_EMPTY, bindings, self.sem.ctx)
         try:
@@ -330,9 +354,9 @@ class ApplyGen:
                 for effect in action.effects
             ]
         except GppRuntimeError:
-            return None
+            return False
         if len(set(slots)) < len(slots):
-            return None
+            return False
         unit.emit(0, f"# {g.text}")
         one = self._one_constant(action.effects, written, slots, bindings)
         if one is not None:
@@ -342,8 +366,7 @@ class ApplyGen:
             known = f"{item_hash(slot, value)}, {identical(value, program.initial(slot))}, {type(value) in _PLAIN}"
             unit.emit(0, f"# {_snippet(action.effects[0].span)}")
             unit.emit(0, f"return state.updated_one({slot}, {v}, {known}), acts")
-            fn_one: ApplyFn = unit.build()
-            return fn_one
+            return True
         unit.emit(0, "_pending = {}")
         initial = unit.const(program.initial, "CompiledProgram.initial")
         for effect, e, slot in zip(action.effects, written, slots, strict=True):
@@ -372,8 +395,7 @@ class ApplyGen:
                 unit.emit(d, f"{check}(_value, {unit.const(effect.target.value_type)}, {unit.const(span, 'its span')})")
             unit.emit(d, f"_pending[{slot}] = _value")
         unit.emit(0, f"return state.updated(_pending, {initial}), acts")
-        fn: Callable[[State, Activities], tuple[State, Activities]] = unit.build()
-        return fn
+        return True
 
     def _one_constant(
         self, effects: tuple[Effect, ...], written: list[ast.Effect], slots: list[int], bindings: dict[int, Value]

@@ -151,7 +151,7 @@ class _Config:
         # every horizon above some depth (see 4 above) is stored for each of them: it is
         # told from one for its horizon alone by its depth, which is below the horizon.
         self.memo: list[_Result | None] = [None] * (horizon + 1)
-        self.on_path: set[int] = set()  # remaining horizons this configuration is on the path with
+        self.on_path = 0  # bit h: this configuration is on the path with remaining horizon h
         self.reward: float | None = None
 
 
@@ -203,11 +203,13 @@ def solve_plan(
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
-    # The configurations met, by continuation, then (state, activities). A continuation is
-    # found by its identity first (`trans` returns the same objects again and again), so a
-    # continuation is hashed and compared once per object, not once per option.
-    configs: dict[Prog, dict[tuple[State, Activities], _Config]] = {}
-    by_id: dict[int, tuple[Prog, dict[tuple[State, Activities], _Config]]] = {}
+    # The configurations met, by continuation, then activities, then state. A continuation
+    # and activities are found by their identity first (`trans` returns the same
+    # continuations again and again, and an action step keeps the activities object), so
+    # they are hashed and compared once per object, not once per option.
+    Table = dict[State, _Config]
+    by_prog: dict[Prog, dict[Activities, Table]] = {}
+    by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
     met = 0  # configurations met
     successors = Successors(sem)
     rewards: dict[State, float] = {}
@@ -216,17 +218,19 @@ def solve_plan(
 
     def intern(p: Prog, s: State, a: Activities) -> _Config:
         nonlocal met
-        entry = by_id.get(id(p))
-        if entry is None or entry[0] is not p:
-            table = configs.get(p)
+        entry = by_id.get((id(p), id(a)))
+        if entry is None or entry[0] is not p or entry[1] is not a:
+            tables = by_prog.get(p)
+            if tables is None:
+                tables = by_prog[p] = {}
+            table = tables.get(a)
             if table is None:
-                table = configs[p] = {}
-            entry = by_id[id(p)] = (p, table)  # keeps p alive, so its id is not reused
-        table = entry[1]
-        key = (s, a)
-        c = table.get(key)
+                table = tables[a] = {}
+            entry = by_id[id(p), id(a)] = (p, a, table)  # keeps p and a alive: ids not reused
+        table = entry[2]
+        c = table.get(s)
         if c is None:
-            c = table[key] = _Config(p, s, a, horizon)
+            c = table[s] = _Config(p, s, a, horizon)
             met += 1
         return c
 
@@ -240,29 +244,27 @@ def solve_plan(
             c.reward = v
         return v
 
-    def option(c: _Config, i: int) -> _Option | None:
-        if i < len(c.options):
-            return c.options[i]
-        q, step = c.successors[i]
-        s2, a2 = successors.apply(step, c.state, c.acts)
-        target = intern(q, s2, a2)
-        key = (id(target), step.cost)
-        if c.seen is None:
-            c.seen = set()
-        made: _Option | None = None
-        if key in c.seen:
-            stats.pruned += 1
-        else:
-            c.seen.add(key)
-            made = _Option(target, step, (c.prog, step, q))
-        c.options.append(made)
-        return made
-
     def made(c: _Config) -> Iterator[_Option]:
-        """The options of `c` but the duplicates, made as they are reached."""
-        options = c.options
-        for i in range(len(c.successors)):
-            o = options[i] if i < len(options) else option(c, i)
+        """The options of `c` but the duplicates, made as they are reached (steps applied in
+        the reference's order, so that an error surfaces where it would)."""
+        options, state, acts = c.options, c.state, c.acts
+        for i, (q, step) in enumerate(c.successors):
+            if i < len(options):
+                o = options[i]
+            else:
+                s2, a2 = successors.apply(step, state, acts)
+                target = intern(q, s2, a2)
+                key = (id(target), step.cost)
+                seen = c.seen
+                if seen is None:
+                    seen = c.seen = set()
+                if key in seen:
+                    stats.pruned += 1
+                    o = None
+                else:
+                    seen.add(key)
+                    o = _Option(target, step, (c.prog, step, q))
+                options.append(o)
             if o is not None:
                 yield o
 
@@ -301,7 +303,7 @@ def solve_plan(
         stats.nodes += 1
         if progress is not None and not stats.nodes % _PROGRESS_EVERY:
             report()
-        c.on_path.add(h)
+        c.on_path |= 1 << h
         if not c.expanded:
             c.final = successors.final(c.prog, c.state, c.acts)
             c.successors = successors.trans(c.prog, c.state, c.acts)
@@ -342,7 +344,7 @@ def solve_plan(
                 reward_after = target.reward
                 v = (value_of(target) if reward_after is None else reward_after) + rest.value
             else:
-                if h in target.on_path:
+                if target.on_path >> h & 1:
                     raise free_loop_error(target.prog, o.step)
                 if run + 1 > FREE_STEP_LIMIT:
                     raise free_run_error(span)
@@ -357,7 +359,7 @@ def solve_plan(
                 feasible, value, chosen, chosen_rest = True, v, o, rest
                 if c is root and h == horizon:
                     root_best.append(value)
-        c.on_path.discard(h)
+        c.on_path &= ~(1 << h)
         stats.cache_hits += hits
         stats.pruned += infeasible
         if live is None and c.live is None and len(c.options) == len(c.successors):
@@ -369,8 +371,7 @@ def solve_plan(
         memo = c.memo
         if depth < h:
             # The same result for every horizon above depth (see 4 above).
-            for k in range(depth + 1, len(memo)):
-                memo[k] = result
+            memo[depth + 1 :] = [result] * (len(memo) - depth - 1)
         else:
             memo[h] = result
         return result

@@ -98,8 +98,7 @@ class Successors:
         if known is None or known[0] is not step:
             fn: ApplyFn | None = None
             if self.generate and isinstance(step, DoStep):
-                self._units += 1
-                gen = ApplyGen(self, f"apply_{self._units}")
+                gen = ApplyGen(self, self.unit_name("apply"))
                 fn = gen.build(step)
                 if fn is not None:
                     self.sources.append(gen.unit.source)
@@ -108,6 +107,15 @@ class Successors:
         if fn is None:
             return self.sem.apply(step, state, acts)
         return fn(state, acts)
+
+    def register_apply(self, step: Step, fn: ApplyFn | None) -> None:
+        """`apply` of this step object is `fn` (None: the semantics')."""
+        self._apply[id(step)] = (step, fn)
+
+    def unit_name(self, prefix: str) -> str:
+        """A name for a generated function, unique in this planning."""
+        self._units += 1
+        return f"{prefix}_{self._units}"
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
         f = self._trans.get(p)
@@ -127,10 +135,9 @@ class Successors:
         """`trans` of `p`: generated source for a statement, a sequence or the rest of a block
         (gpp.planner.codegen), else the closures below."""
         if self.generate and isinstance(p, Code | Seq | Rest):
-            self._units += 1
-            gen = TransGen(self, f"trans_{self._units}")
+            gen = TransGen(self, self.unit_name("trans"))
             fn = gen.build(p)
-            self.sources.append(gen.unit.source)
+            self.sources.extend(gen.sources)
             return fn
         return self.closure_trans_fn(p)
 
@@ -258,8 +265,7 @@ class Successors:
         (gpp.runtime.codegen), or the compiled closure for what that does not write out."""
         condition, variables, ctx = self._condition(e), frame.vars, self.sem.ctx
         if self.generate:
-            self._units += 1
-            unit = Unit(f"condition_{self._units}", "state")
+            unit = Unit(self.unit_name("condition"), "state")
             try:
                 test = ExprGen(self.program, unit).condition(e, variables)
             except Unsupported:

@@ -131,18 +131,23 @@ class Unit:
 
     def build(self) -> Callable[..., Any]:
         """Compile the unit once and return the function."""
+        return build_units([self])[0]
+
+    def write(self) -> str:
+        """The unit's source: a factory `_make_<name>` taking the constants, returning the function."""
         header = [f"# {name} = {note}" for name, note in zip(self._names(), self.notes, strict=True)]
         args = ", ".join(self._names())
         body = self._prologue() + (self.lines or ["        pass"])
         self.source = "\n".join(
-            [*header, f"def _make({args}):", f"    def {self.name}({self.params}):", *body, f"    return {self.name}"]
+            [
+                *header,
+                f"def _make_{self.name}({args}):",
+                f"    def {self.name}({self.params}):",
+                *body,
+                f"    return {self.name}",
+            ]
         )
-        if os.environ.get(DUMP_VARIABLE):
-            print(self.source, end="\n\n", file=sys.stderr)
-        namespace = dict(NAMESPACE)
-        exec(compile(self.source, f"<gpp generated {self.name}>", "exec"), namespace)
-        made: Callable[..., Any] = namespace["_make"](*self.consts)  # type: ignore[operator]
-        return made
+        return self.source
 
     def _prologue(self) -> list[str]:
         if not self.reads:
@@ -154,6 +159,17 @@ class Unit:
 
     def _names(self) -> list[str]:
         return [f"k{i}" for i in range(len(self.consts))]
+
+
+def build_units(units: list[Unit]) -> list[Callable[..., Any]]:
+    """Compile units together (one call of `compile`, the costly part for small ones) and
+    return their functions, in order. Unit names must differ."""
+    source = "\n\n".join(unit.write() for unit in units)
+    if os.environ.get(DUMP_VARIABLE):
+        print(source, end="\n\n", file=sys.stderr)
+    namespace = dict(NAMESPACE)
+    exec(compile(source, f"<gpp generated {units[0].name}>", "exec"), namespace)
+    return [namespace[f"_make_{unit.name}"](*unit.consts) for unit in units]  # type: ignore[operator]
 
 
 def _short(text: str) -> str:
