@@ -289,15 +289,20 @@ class TransGen:
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         running = self.unit.const(ActivityStatus.RUNNING, "ActivityStatus.RUNNING")
         tests = [f"(_idle or _status({self.unit.const(g, g.text)}) is not {running})"]
+        raises = False  # a conjunct before this one can raise
         for check, expr in action.precondition:
             if id(check) in known:
                 continue  # true whenever this runs
-            test, _ = self.condition(expr, bindings)
+            test, can_raise = self.condition(expr, bindings)
             if test == "True":
                 continue
+            if test == "False" and not raises:
+                self.unit.emit(d, f"# {g.text}: its precondition never holds")
+                return
             tests.append(test)
             if test == "False":
                 break
+            raises = raises or can_raise
         self.unit.emit(d, f"# {g.text}")
         step = DoStep(g, s.span)
         test = _conjunction(tests)

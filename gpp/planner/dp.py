@@ -160,8 +160,9 @@ def _collector_paused() -> Iterator[None]:
     """Python's cyclic garbage collector off while planning. Planning allocates millions of
     objects that all stay alive until the plan is made (configurations, options, results),
     and every full collection walks all of them again: with seven blocks that was a quarter
-    of the time. Reference counting still frees what is dropped; cycles made meanwhile are
-    collected once the collector is back on."""
+    of the time. Reference counting still frees what is dropped, and `release` below breaks
+    the cycles between configurations before the collector is back on (its first collection
+    then has little to look at)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
@@ -376,9 +377,23 @@ def solve_plan(
             memo[h] = result
         return result
 
+    def release() -> None:
+        """Break the cycles between configurations (an option holds the configuration it leads
+        to), so that reference counting frees them all: none is left for the collector."""
+        for tables in by_prog.values():
+            for table in tables.values():
+                for c in table.values():
+                    c.options.clear()
+                    c.live = None
+        by_prog.clear()
+        by_id.clear()
+
     root = intern(prog, state, acts)
     with deep_recursion(span), _collector_paused():
-        result = best(root, horizon, 0)
+        try:
+            result = best(root, horizon, 0)
+        finally:
+            release()
     value = value_of(root) + result.value if result.feasible else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started

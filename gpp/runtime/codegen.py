@@ -93,6 +93,9 @@ class Unit:
         # those compared with symbols, whose symbol name is kept in `_n<slot>` (None: not a symbol).
         self.reads: dict[int, str] = {}
         self.symbol_reads: set[int] = set()
+        # Quantifiers that only compare fluents (they neither raise nor change anything),
+        # evaluated once at the start into `_q<n>` (their source -> the name).
+        self.hoisted: dict[str, str] = {}
         self.params = params
         self.lines: list[str] = []
         self.consts: list[object] = []
@@ -111,6 +114,13 @@ class Unit:
             name = self._const_names[id(value)] = f"k{len(self.consts)}"
             self.consts.append(value)
             self.notes.append(note or _short(repr(value)))
+        return name
+
+    def hoist(self, text: str) -> str:
+        """The name of a local holding the value of `text`, computed at the start."""
+        name = self.hoisted.get(text)
+        if name is None:
+            name = self.hoisted[text] = f"_q{len(self.hoisted) + 1}"
         return name
 
     def span(self, span: Span) -> int:
@@ -155,6 +165,7 @@ class Unit:
         lines = [f"_held = {self.state}.held()"]
         lines += [f"_s{slot} = _held.get({slot}, {initial})" for slot, initial in self.reads.items()]
         lines += [f"_n{slot} = _s{slot}.name if type(_s{slot}) is Sym else None" for slot in sorted(self.symbol_reads)]
+        lines += [f"{name} = {text}" for text, name in self.hoisted.items()]
         return ["        " + line for line in lines]
 
     def _names(self) -> list[str]:
@@ -348,6 +359,7 @@ class ExprGen:
         if len(values) > MAX_UNROLL:
             raise Unsupported
         exists = e.quantifier is ast.Quantifier.EXISTS
+        spans = len(self.unit.spans)
         # exists: the first value whose body holds decides; forall: the first that does not.
         terms: list[str] = []
         for v in values:
@@ -362,11 +374,25 @@ class ExprGen:
             terms.append(body.text)
         if not terms:
             return _constant(not exists)
-        if len(terms) == 1:
-            return Val(False, text=terms[0], boolean=True)
-        word = " or " if exists else " and "
-        return Val(False, text="(" + word.join(terms) + ")", boolean=True)
+        text = terms[0] if len(terms) == 1 else "(" + (" or " if exists else " and ").join(terms) + ")"
+        if len(self.unit.spans) == spans:
+            # Nothing in it can raise: computed once, at the start (the same quantifier is
+            # often read for many bindings: `clear(y)` for every `x`).
+            text = self.unit.hoist(text)
+        return Val(False, text=text, boolean=True)
 
 
 def _is_bool(v: Val) -> bool:
     return v.boolean if not v.const else type(v.value) is bool
+
+
+def state_function(program: CompiledProgram, e: ast.Expr, variables: dict[int, Value], name: str) -> Unit | None:
+    """A unit computing the value of `e` in a state (`def name(state)`), with these values of
+    its variables; None when the generator does not write `e` out (its closure evaluates it)."""
+    unit = Unit(name, "state")
+    try:
+        v = ExprGen(program, unit).expr(e, variables)
+    except Unsupported:
+        return None
+    unit.emit(0, f"return {ExprGen(program, unit).text(v)}")
+    return unit

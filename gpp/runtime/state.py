@@ -69,11 +69,11 @@ class State:
         h = self._hash
         old = values.get(slot, _ABSENT)
         if old is not _ABSENT:
-            if _identical(value, old):
+            if old is value or (type(old) is type(value) and old == value):  # _identical, inline
                 return State(values, h, self._plain)
             del values[slot]
             if h is not None:
-                h ^= _item_hash(slot, old)
+                h ^= hash((slot, type(old).__name__, old))  # _item_hash, inline
         keep = self._plain
         if not initial:
             values[slot] = value
