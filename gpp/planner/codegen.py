@@ -287,8 +287,7 @@ class TransGen:
             self.leaf(d, self.successors.code_trans(s, frame, known), wrap)
             return
         bindings = dict(zip(action.param_ids, g.args, strict=True))
-        running = self.unit.const(ActivityStatus.RUNNING, "ActivityStatus.RUNNING")
-        tests = [f"(_idle or _status({self.unit.const(g, g.text)}) is not {running})"]
+        tests: list[str] = []
         raises = False  # a conjunct before this one can raise
         for check, expr in action.precondition:
             if id(check) in known:
@@ -305,7 +304,8 @@ class TransGen:
             raises = raises or can_raise
         self.unit.emit(d, f"# {g.text}")
         step = DoStep(g, s.span)
-        test = _conjunction(tests)
+        running = self.unit.const(ActivityStatus.RUNNING, "ActivityStatus.RUNNING")
+        test = _conjunction([f"(_idle or _status({self.unit.const(g, g.text)}) is not {running})", *tests])
         if test != "False":
             gen = ApplyGen(self.successors, self.successors.unit_name("apply"))
             self.applies.append((step, gen if gen.write(step) else None))

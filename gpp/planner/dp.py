@@ -198,9 +198,12 @@ def solve_plan(
     span: Span | None = None,
     progress: ProgressCallback | None = None,
     progress_interval: float = 1.0,
+    generate: bool = True,
 ) -> Plan:
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
-    takes longer than `progress_interval` seconds reports a `Progress` about every interval."""
+    takes longer than `progress_interval` seconds reports a `Progress` about every interval.
+    `generate=False`: `trans` and `apply` by the closures of gpp.planner.successors only (no
+    generated source; for tests and benchmarks)."""
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
@@ -212,7 +215,7 @@ def solve_plan(
     by_prog: dict[Prog, dict[Activities, Table]] = {}
     by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
     met = 0  # configurations met
-    successors = Successors(sem)
+    successors = Successors(sem, generate)
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
