@@ -63,7 +63,7 @@ from dataclasses import dataclass
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.planner.successors import Successors
+from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
@@ -216,6 +216,9 @@ def solve_plan(
     by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
     met = 0  # configurations met
     successors = Successors(sem, generate)
+    # By the identity of a step or a continuation: its `apply`, its `final` and `trans`.
+    applies: dict[int, tuple[Step, ApplyFn]] = {}
+    functions: dict[int, tuple[Prog, FinalFn, TransFn]] = {}
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
@@ -256,7 +259,10 @@ def solve_plan(
             if i < len(options):
                 o = options[i]
             else:
-                s2, a2 = successors.apply(step, state, acts)
+                entry = applies.get(id(step))
+                if entry is None or entry[0] is not step:
+                    entry = applies[id(step)] = (step, successors.apply_fn(step))  # keeps step alive
+                s2, a2 = entry[1](state, acts)
                 target = intern(q, s2, a2)
                 key = (id(target), step.cost)
                 seen = c.seen
@@ -309,15 +315,19 @@ def solve_plan(
             report()
         c.on_path |= 1 << h
         if not c.expanded:
-            c.final = successors.final(c.prog, c.state, c.acts)
-            c.successors = successors.trans(c.prog, c.state, c.acts)
+            p = c.prog
+            fns = functions.get(id(p))
+            if fns is None or fns[0] is not p:
+                fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
+            c.final = fns[1](c.state, c.acts)
+            c.successors = fns[2](c.state, c.acts)
             c.expanded = True
         feasible = c.final
         value = 0.0
         chosen: _Option | None = None
         chosen_rest: _Result | None = None
         depth = free_run = 0
-        hits = infeasible = 0  # memo hits, and hits of a result infeasible at every horizon
+        hits = infeasible = 0  # memo hits, and those of a result infeasible at every horizon
         # All options are made after the first expansion; until then they are made as reached.
         live = c.live
         walk: Iterable[_Option] = live if live is not None else made(c)
@@ -334,10 +344,9 @@ def solve_plan(
                     if known is None:
                         rest = expand(target, left, 0)
                     else:
-                        if known.feasible or known.depth >= left:
-                            hits += 1
-                        else:
-                            infeasible += 1
+                        hits += 1
+                        if not known.feasible and known.depth < left:
+                            infeasible += 1  # known infeasible for every horizon (see 4 above)
                         if known.free_run > FREE_STEP_LIMIT:
                             raise free_run_error(span)
                         rest = known
@@ -364,7 +373,7 @@ def solve_plan(
                 if c is root and h == horizon:
                     root_best.append(value)
         c.on_path &= ~(1 << h)
-        stats.cache_hits += hits
+        stats.cache_hits += hits - infeasible
         stats.pruned += infeasible
         if live is None and c.live is None and len(c.options) == len(c.successors):
             c.live = [o for o in c.options if o is not None]

@@ -94,6 +94,10 @@ class Successors:
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
         """`Semantics.apply`; for an action step, generated source made once per step object
         (gpp.planner.codegen.ApplyGen) when the action's effects allow it."""
+        return self.apply_fn(step)(state, acts)
+
+    def apply_fn(self, step: Step) -> ApplyFn:
+        """`apply` of `step` as a function of (state, activities) (see `apply`)."""
         known = self._apply.get(id(step))
         if known is None or known[0] is not step:
             fn: ApplyFn | None = None
@@ -105,8 +109,9 @@ class Successors:
             known = self._apply[id(step)] = (step, fn)
         fn = known[1]
         if fn is None:
-            return self.sem.apply(step, state, acts)
-        return fn(state, acts)
+            sem_apply = self.sem.apply
+            return lambda state, acts: sem_apply(step, state, acts)
+        return fn
 
     def register_apply(self, step: Step, fn: ApplyFn | None) -> None:
         """`apply` of this step object is `fn` (None: the semantics')."""
@@ -118,16 +123,24 @@ class Successors:
         return f"{prefix}_{self._units}"
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
+        return self.trans_of(p)(state, acts)
+
+    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+        return self.final_of(p)(state, acts)
+
+    def trans_of(self, p: Prog) -> TransFn:
+        """`trans` of `p` as a function of (state, activities), made once per continuation."""
         f = self._trans.get(p)
         if f is None:
             f = self._trans[p] = self.trans_fn(p)
-        return f(state, acts)
+        return f
 
-    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+    def final_of(self, p: Prog) -> FinalFn:
+        """`final` of `p` as a function of (state, activities), made once per continuation."""
         f = self._final.get(p)
         if f is None:
             f = self._final[p] = self.final_fn(p)
-        return f(state, acts)
+        return f
 
     # ---------------------------------------------------------------- continuations
 
