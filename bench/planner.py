@@ -203,7 +203,10 @@ def targets(runs: int) -> None:
 # Where a function's own time goes, by the file (and, for hashing, the function) it is in.
 CATEGORIES = (
     ("planner loop and memo (dp)", ("gpp/planner/dp.py",)),
-    ("trans/final (successors, semantics)", ("gpp/planner/successors.py", "gpp/runtime/semantics.py")),
+    (
+        "trans/final (successors, semantics, codegen)",
+        ("gpp/planner/successors.py", "gpp/runtime/semantics.py", "gpp/planner/codegen.py", "gpp/runtime/codegen.py"),
+    ),
     ("expressions: preconditions, conditions (compiled)", ("gpp/runtime/compiled.py",)),
     ("state updates and hashing (state)", ("gpp/runtime/state.py",)),
     ("reward", ("gpp/planner/problem.py",)),
@@ -224,6 +227,8 @@ def profile(blocks_list: list[int]) -> None:
         groups: dict[str, float] = {}
         for (filename, _, name), (_, _, own, _, _) in entries.items():
             group = next((g for g, files in CATEGORIES if any(filename.endswith(f) for f in files)), None)
+            if filename.startswith("<gpp generated"):
+                group = "generated code: trans, apply, conditions, reward (codegen)"
             if group is None:
                 group = "hashing and comparing (dict, hash, __eq__)" if name in _HASHING else "other builtins"
             groups[group] = groups.get(group, 0.0) + own

@@ -188,7 +188,8 @@ class TransGen:
             case ast.Choose():
                 for alternative in s.alternatives:
                     self.code(d, alternative, frame, wrap, frozenset())
-            case ast.Pick() if s.values is None:
+            case ast.Pick() if s.values is None or all(reads_only_variables(self.sem.model, v) for v in s.values):
+                # `pick (x in {...})`: values that read only variables are the same every time.
                 self.pick(d, s, frame, wrap, known)
             case ast.Solve() | ast.Search():
                 self.code(d, s.body, frame, wrap, frozenset())
@@ -227,7 +228,11 @@ class TransGen:
         if guard is not None and not guard.static:
             self.leaf(d, successors.code_trans(s, frame, known), wrap)
             return
-        frames = self.sem.pick_frames(s, frame)
+        try:
+            frames = self.sem.pick_frames(s, frame)
+        except GppRuntimeError:  # raised again, where the semantics raises it
+            self.leaf(d, successors.code_trans(s, frame, known), wrap)
+            return
         if guard is None:
             for f in frames:
                 self.code(d, s.body, f, wrap, known)

@@ -32,18 +32,34 @@ analysis proving that a subtree cannot raise would make such pruning exact. (On 
 world towers the bound would not prune anyway: with the goal worth 100 and a step -1, a bound
 of 100 per remaining step never falls below the value of a plan found.)
 
-`final` and `trans` are called through gpp.planner.successors: the semantics' definitions
-specialised once per program point (tests/test_planner_successors.py checks them against the
-semantics on random programs).
+`final`, `trans` and `apply` are called through gpp.planner.successors: for each program point
+met, Python source generated from the semantics' definitions (gpp.planner.codegen: the
+conditions, the `pick` values and guards, each action's precondition with its arguments
+folded in, the successors as constants, each action step's effects), compiled once per
+planning; what the generator does not write out runs the semantics' definitions specialised
+as closures. tests/test_planner_successors.py checks both against the semantics on random
+programs and on block towers.
 
 How it is laid out, for speed (none of it changes what is computed):
 
-* every configuration is interned once into a `_Config`, which holds its expansion, its
-  horizon-independent result and its memo (remaining horizon -> result): after the first
-  meeting, a configuration is never hashed again, and memo keys are small ints;
+* every configuration is interned once into a `_Config`, found by the identity of its
+  continuation and activities first (the generated `trans` returns the same objects), then by
+  its state; it holds its expansion and its memo, a list indexed by the remaining horizon (a
+  horizon-independent result, see 4, is stored for every horizon it holds for, and told from
+  the others by its depth being below the horizon): after the first meeting, a configuration
+  is never hashed again;
 * an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
+  once all options of a configuration are made, the duplicates are dropped from the list
+  walked;
 * a result holds its first step and the result of the rest (a linked list): choosing a
-  branch costs no copy of its steps; the plan's steps are collected once at the end.
+  branch costs no copy of its steps; the plan's steps are collected once at the end;
+* Python's cyclic garbage collector is off while planning (all that planning allocates stays
+  alive until the plan is made, and every full collection walked all of it again); the
+  cycles between configurations are broken when planning ends, so reference counting frees
+  them.
+
+Where a bound would be checked: in `expand`, before an option's subtree is looked at (before
+`target.memo[left]` / `expand(target, left, 0)`), with the value of the best option so far.
 
 A run of free steps (tests) that comes back to a configuration it passed is the reference's
 "loop without a costed step" error, detected at the same point: the nodes on the current path

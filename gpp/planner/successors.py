@@ -1,6 +1,11 @@
 """`final` and `trans` specialised to a program point, once per planning: what the production
 planner calls instead of gpp.runtime.semantics on every configuration.
 
+`trans` of a statement, a sequence or the rest of a block is generated Python source
+(gpp.planner.codegen, compiled with `apply` of the action steps it returns), as is a `while`
+condition in `final`; the closures below are what that source calls for the parts it does
+not write out, and what runs with `generate=False`.
+
 The planner meets the same few program points in thousands of states. For each of them this
 module builds, once, a function of (state, activities) that does exactly what
 `Semantics.final` / `Semantics.trans` (planning mode) do for that point, with everything that
@@ -48,7 +53,7 @@ from gpp.runtime.semantics import (
     Successor,
     TestStep,
 )
-from gpp.runtime.state import Activities, ActivityStatus, State
+from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
@@ -90,6 +95,7 @@ class Successors:
         self._units = 0
         # Step object id -> (the step, its generated `apply` or None: the semantics applies it).
         self._apply: dict[int, tuple[Step, ApplyFn | None]] = {}
+        self._apply_by_action: dict[GroundAction, ApplyFn | None] = {}
 
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
         """`Semantics.apply`; for an action step, generated source made once per step object
@@ -99,15 +105,20 @@ class Successors:
     def apply_fn(self, step: Step) -> ApplyFn:
         """`apply` of `step` as a function of (state, activities) (see `apply`)."""
         known = self._apply.get(id(step))
-        if known is None or known[0] is not step:
-            fn: ApplyFn | None = None
-            if self.generate and isinstance(step, DoStep):
+        if known is not None and known[0] is step:
+            fn = known[1]
+        elif isinstance(step, DoStep) and self.generate:
+            # A step the generated code did not make (the closures make a new one each time):
+            # found by its action, generated once per action.
+            if step.action in self._apply_by_action:
+                fn = self._apply_by_action[step.action]
+            else:
                 gen = ApplyGen(self, self.unit_name("apply"))
-                fn = gen.build(step)
+                fn = self._apply_by_action[step.action] = gen.build(step)
                 if fn is not None:
                     self.sources.append(gen.unit.source)
-            known = self._apply[id(step)] = (step, fn)
-        fn = known[1]
+        else:
+            fn = None
         if fn is None:
             sem_apply = self.sem.apply
             return lambda state, acts: sem_apply(step, state, acts)
@@ -198,6 +209,19 @@ class Successors:
             case _:
                 return lambda state, acts: sem.final(p, state, acts)
 
+    def _static_values(self, s: ast.Pick, frame: Frame) -> bool:
+        """The values of a `pick` are the same whenever it is reached: those of a domain, or
+        `{...}` of values that read only variables (and do not raise)."""
+        if s.values is None:
+            return True
+        if not all(reads_only_variables(self.model, v) for v in s.values):
+            return False
+        try:
+            self.sem.pick_frames(s, frame)
+        except GppRuntimeError:
+            return False
+        return True
+
     @staticmethod
     def _all(parts: list[FinalFn]) -> FinalFn:
         """All of `parts`, in order, stopping at the first false one (as `all` does)."""
@@ -236,7 +260,7 @@ class Successors:
                 if all(f is never for f in parts):
                     return never
                 return lambda state, acts: any(f(state, acts) for f in parts)
-            case ast.Pick() if s.values is None:
+            case ast.Pick() if self._static_values(s, frame):
                 bodies = [self.code_final(s.body, f) for f in sem.pick_frames(s, frame)]
                 if all(f is never for f in bodies):
                     return never
