@@ -26,16 +26,16 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 from gpp.model.symbols import SymbolKind
-from gpp.model.types import Sym
+from gpp.model.types import Sym, Type
 from gpp.runtime.compiled import CompiledProgram, Env, domain_values
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.values import Value, same
 from gpp.source import Span
 from gpp.syntax import ast
+from gpp.syntax.walk import walk
 
 Op = ast.BinaryOp
 
@@ -104,8 +104,6 @@ class Unit:
         self.spans: list[Span] = []
         self._temps = 0
         self.source = ""
-        # The spans of the errors the generated code raises, found by index.
-        self.spans_name = self.const(self.spans, "the unit's spans")
 
     def const(self, value: object, note: str = "") -> str:
         """The name of a constant (the same object, the same name)."""
@@ -188,15 +186,20 @@ def _short(text: str) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-@dataclass(frozen=True, slots=True)
 class Val:
-    """An expression's generated value: a constant (folded), or source text."""
+    """An expression's generated value: a constant (folded), or source text. Never changed
+    once made (a plain class: thousands are made per program point)."""
 
-    const: bool
-    value: Value = None
-    text: str = ""
-    boolean: bool = False  # the text's value is always a bool
-    slot: int | None = None  # the text reads this fluent instance (`_s<slot>`)
+    __slots__ = ("boolean", "const", "slot", "text", "value")
+
+    def __init__(
+        self, const: bool, value: Value = None, text: str = "", boolean: bool = False, slot: int | None = None
+    ) -> None:
+        self.const = const
+        self.value = value
+        self.text = text
+        self.boolean = boolean  # the text's value is always a bool
+        self.slot = slot  # the text reads this fluent instance (`_s<slot>`)
 
 
 def _constant(v: Value) -> Val:
@@ -211,6 +214,23 @@ class ExprGen:
         self.model = program.model
         self.unit = unit
         self._inlining: list[str] = []
+        # Quantifiers written, by (expression, variables): the same text for the same values.
+        self._quantifiers: dict[tuple[int, frozenset[tuple[int, type, Value]]], Val] = {}
+        self._free: dict[int, tuple[int, ...] | None] = {}  # a quantifier's id -> the variables it reads
+
+    def _variables_read(self, e: ast.Quantified, bound: int) -> tuple[int, ...] | None:
+        """The variables (and parameters) `e` reads, but its own; None if the checker
+        rewrote a part of it (then it is not cached)."""
+        found: set[int] = set()
+        for node in walk(e):
+            if self.model.effective(node) is not node:  # type: ignore[arg-type]
+                return None
+            if isinstance(node, ast.Name):
+                target = self.model.target(node)
+                if target is not None and target.kind in (SymbolKind.VARIABLE, SymbolKind.PARAMETER):
+                    found.add(id(target))
+        found.discard(bound)
+        return tuple(sorted(found))
 
     # ---------------------------------------------------------------- conditions
 
@@ -322,7 +342,8 @@ class ExprGen:
             return self._equal(e, scope, negate=op is Op.NE)
         if op in (Op.LT, Op.LE, Op.GT, Op.GE):
             left, right = self.expr(e.left, scope), self.expr(e.right, scope)
-            spans = self.unit.spans_name
+            # The spans of the errors the generated code raises, found by index.
+            spans = self.unit.const(self.unit.spans, "the unit's spans")
             index = self.unit.span(e.span)
             return Val(
                 False,
@@ -358,6 +379,25 @@ class ExprGen:
         values = domain_values(variable.type, self.model)
         if len(values) > MAX_UNROLL:
             raise Unsupported
+        # Values told apart by type too (1, 1.0 and true are one dict key); others not kept.
+        key = None
+        if id(e) not in self._free:
+            self._free[id(e)] = self._variables_read(e, id(variable))
+        free = self._free[id(e)]
+        if free is not None and all(k in scope and type(scope[k]) in _KEYED for k in free):
+            key = (id(e), frozenset((k, type(scope[k]), scope[k]) for k in free))
+            known = self._quantifiers.get(key)
+            if known is not None:
+                return known
+        made = self._unrolled(e, scope, variable.type)
+        if key is not None:
+            self._quantifiers[key] = made
+        return made
+
+    def _unrolled(self, e: ast.Quantified, scope: dict[int, Value], domain: Type | None) -> Val:
+        variable = self.model.target(e.var)
+        assert variable is not None
+        values = domain_values(domain, self.model)
         exists = e.quantifier is ast.Quantifier.EXISTS
         spans = len(self.unit.spans)
         # exists: the first value whose body holds decides; forall: the first that does not.
@@ -380,6 +420,10 @@ class ExprGen:
             # often read for many bindings: `clear(y)` for every `x`).
             text = self.unit.hoist(text)
         return Val(False, text=text, boolean=True)
+
+
+# Types whose values are keys of the quantifier cache as they are (with their type).
+_KEYED = (Sym, str, type(None), bool, int, float)
 
 
 def _is_bool(v: Val) -> bool:
