@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from test_planner_properties import PROPERTY, Case, cases, looping_cases, staggered_cases
 
 from gpp.check import check_text
+from gpp.planner import successors as successors_module
 from gpp.planner.dp import solve_plan
 from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.planner.successors import Successors
@@ -287,3 +288,17 @@ def test_the_generated_source_is_readable_and_dumped_on_request(
     monkeypatch.delenv(DUMP_VARIABLE)
     Successors(pb.sem).trans(pb.prog, pb.state, pb.acts)
     assert capsys.readouterr().err == ""
+
+
+def test_past_the_limit_of_generated_continuations_the_closures_run(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A planning that meets more continuations than MAX_TRANS_UNITS generates source for the
+    first ones only; the others run the closures, with the same results."""
+    monkeypatch.setattr(successors_module, "MAX_TRANS_UNITS", 1)
+    pb = first_solve(check_text(tower_program(3, 4, twice=True), lint=False).model)
+    configurations = reachable(pb.sem, (pb.prog, pb.state, pb.acts))
+    assert compare_all(pb, configurations) == 0
+    fast = Successors(pb.sem)
+    for p, s, a in configurations:
+        fast.trans(p, s, a)
+    assert sum("def trans_" in source for source in fast.sources) == 1
+    assert len({p for p, _, _ in configurations}) > 1

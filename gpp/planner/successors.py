@@ -63,6 +63,11 @@ ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
 
 _EMPTY = State()
 
+# At most this many continuations get generated source per planning; the others run the
+# closures. Writing and compiling a function costs a millisecond or more, which a planning
+# that meets thousands of continuations once each (a deep recursion) would not earn back.
+MAX_TRANS_UNITS = 200
+
 
 def never(state: State, acts: Activities) -> bool:
     """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
@@ -93,6 +98,7 @@ class Successors:
         self.generate = generate
         self.sources: list[str] = []  # the generated functions' source, in the order made
         self._units = 0
+        self._trans_units = 0
         # Step object id -> (the step, its generated `apply` or None: the semantics applies it).
         self._apply: dict[int, tuple[Step, ApplyFn | None]] = {}
         self._apply_by_action: dict[GroundAction, ApplyFn | None] = {}
@@ -158,7 +164,8 @@ class Successors:
     def trans_fn(self, p: Prog) -> TransFn:
         """`trans` of `p`: generated source for a statement, a sequence or the rest of a block
         (gpp.planner.codegen), else the closures below."""
-        if self.generate and isinstance(p, Code | Seq | Rest):
+        if self.generate and isinstance(p, Code | Seq | Rest) and self._trans_units < MAX_TRANS_UNITS:
+            self._trans_units += 1
             gen = TransGen(self, self.unit_name("trans"))
             fn = gen.build(p)
             self.sources.extend(gen.sources)
