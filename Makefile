@@ -57,6 +57,8 @@ test: browser lint typecheck pytest
 bench: $(VENV)/.installed
 	$(BIN)/python bench/startup.py
 	$(BIN)/python bench/parse_speed.py
+	$(BIN)/python bench/incparse.py
+	$(BIN)/python bench/lints.py --sizes 1000 10000
 	$(BIN)/python bench/lsp.py
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py

@@ -1,19 +1,27 @@
 """Language server latency: a real `gpp lsp` over stdio, driven like an editor.
 
-Run: .venv/bin/python bench/lsp.py [--quick]
+Run: .venv/bin/python bench/lsp.py [--quick] [--against OTHER_CHECKOUT]
 
 For generated programs of 1,000 and 10,000 lines it measures, as the client sees it:
 * edit -> diagnostics: the time from sending a `didChange` (one character typed) to receiving
-  the `publishDiagnostics` for that version;
-* completion and hover round trips on the analysed document (no edit pending);
+  the `publishDiagnostics` for that version, for an edit on the last line and one in the middle
+  of the document;
+* completion and hover round trips on the analysed document (no edit pending), and completion
+  as an editor asks for it, at once after typing a letter (the check of that version running);
 and, in-process, where an edit's analysis spends its time (the parse of the changed file, the
-code model and type check, the lints). Times are medians (and 90th percentiles) over repeated runs.
+code model and type check, the lints). Times are medians (and 90th percentiles) over repeated
+runs; the targets of the language server (issue 10) are printed beside them.
+
+`--against DIR` also runs the server of another checkout of gpp (say, `git worktree add
+/tmp/gpp-main main`), program by program in turn with this one, and prints both medians and
+their ratio: a comparison on a loaded machine that both sides see alike.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import os
 import statistics
 import sys
 import tempfile
@@ -37,6 +45,13 @@ from gpp.syntax.loader import load
 from gpp.syntax.parser import parse
 
 SERVER = [sys.executable, "-m", "gpp", "lsp"]
+# What the language server should reach (issue 10), by (program, what).
+TARGETS = {
+    ("1,000 lines", "edit end -> diags"): 0.050,
+    ("1,000 lines", "edit middle -> diags"): 0.050,
+    ("1,000 lines", "completion"): 0.010,
+    ("1,000 lines", "completion after key"): 0.010,
+}
 
 
 class Client(LanguageClient):
@@ -93,21 +108,21 @@ async def measure(client: Client, folder: Path, lines: int, edits: int, requests
     t0 = time.perf_counter()
     first = await client.published_at(uri, 1)
     results: dict[str, list[float]] = {"open": [first - t0]}
-    # Type a space at the start of the last line and delete it again, one version each.
+    # Type a space at the start of a line and delete it again, one version each: on the last
+    # line (the easiest case for incremental work), then on the middle one.
     source = Source(text)
-    last_line = source.line_count() - 2
     version = 1
-    changes: list[float] = []
-    for k in range(edits):
-        version += 1
-        rng = types.Range(types.Position(last_line, 0), types.Position(last_line, 0 if k % 2 == 0 else 1))
-        change = types.TextDocumentContentChangePartial(range=rng, text=" " if k % 2 == 0 else "")
-        t0 = time.perf_counter()
-        client.text_document_did_change(
-            types.DidChangeTextDocumentParams(types.VersionedTextDocumentIdentifier(uri=uri, version=version), [change])
-        )
-        changes.append(await client.published_at(uri, version) - t0)
-    results["edit -> diagnostics"] = changes
+    for where, line in (("end", source.line_count() - 2), ("middle", source.line_count() // 2)):
+        changes: list[float] = []
+        for k in range(edits):
+            version += 1
+            rng = types.Range(types.Position(line, 0), types.Position(line, 0 if k % 2 == 0 else 1))
+            change = types.TextDocumentContentChangePartial(range=rng, text=" " if k % 2 == 0 else "")
+            identifier = types.VersionedTextDocumentIdentifier(uri=uri, version=version)
+            t0 = time.perf_counter()
+            client.text_document_did_change(types.DidChangeTextDocumentParams(identifier, [change]))
+            changes.append(await client.published_at(uri, version) - t0)
+        results[f"edit {where} -> diags"] = changes
     # A position inside the body of a procedure, on a name.
     offset = text.rindex("count0(") + 2
     line, char = source.lsp_position(offset)
@@ -117,6 +132,24 @@ async def measure(client: Client, folder: Path, lines: int, edits: int, requests
         requests, lambda: client.text_document_completion_async(types.CompletionParams(doc, pos))
     )
     results["hover"] = await timed(requests, lambda: client.text_document_hover_async(types.HoverParams(doc, pos)))
+    # Completion as an editor asks for it: a letter typed (`co|unt0` -> `cou|unt0`), and at
+    # once the request, while that version's check runs. (Then the letter goes again; each
+    # round starts with the analysis idle.)
+    after: list[float] = []
+    typed = types.Position(line, char + 1)
+    for _ in range(max(3, requests // 10)):
+        for k in range(2):
+            version += 1
+            identifier = types.VersionedTextDocumentIdentifier(uri=uri, version=version)
+            rng = types.Range(pos, pos if k == 0 else typed)
+            change = types.TextDocumentContentChangePartial(range=rng, text="u" if k == 0 else "")
+            t0 = time.perf_counter()
+            client.text_document_did_change(types.DidChangeTextDocumentParams(identifier, [change]))
+            if k == 0:
+                await client.text_document_completion_async(types.CompletionParams(doc, typed))
+                after.append(time.perf_counter() - t0)
+            await client.published_at(uri, version)
+    results["completion after key"] = after
     return results
 
 
@@ -146,43 +179,99 @@ def phases(lines: int, runs: int) -> dict[str, float]:
     return best
 
 
-async def main_async(quick: bool) -> None:
-    sizes = [(1000, 10 if quick else 30, 50 if quick else 200), (10000, 3 if quick else 8, 20 if quick else 50)]
+async def start(checkout: str | None) -> Client:
+    """A server of this checkout of gpp, or of another. (`python -m gpp` imports gpp from the
+    working directory first: the server runs in its checkout.)"""
     client = Client()
-    t0 = time.perf_counter()
-    await client.start_io(*SERVER)
+    folder = Path(checkout) if checkout is not None else Path(__file__).resolve().parent.parent
+    env = {**os.environ, "PYTHONPATH": str(folder)}
+    await client.start_io(*SERVER, env=env, cwd=str(folder))
     await client.initialize_async(types.InitializeParams(capabilities=types.ClientCapabilities()))
     client.initialized(types.InitializedParams())
-    print(f"server start + initialize: {time.perf_counter() - t0:.2f} s")
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for lines, edits, requests in sizes:
-            found = await measure(client, Path(tmp), lines, edits, requests)
-            for what, values in found.items():
-                rows.append((f"{lines:,} lines", what, len(values), statistics.median(values), percentile(values, 0.9)))
+    return client
+
+
+async def stop(client: Client) -> None:
     await client.shutdown_async(None)
     client.exit(None)
     await client.stop()
+
+
+Row = tuple[str, str, list[float]]
+
+
+async def run_servers(quick: bool, against: str | None, sizes: list[int]) -> tuple[list[Row], list[Row]]:
+    """The rows of this checkout's server and, with `against`, of the other's (each program
+    measured by one server, then by the other)."""
+    runs = {1000: (10 if quick else 30, 50 if quick else 200), 10000: (3 if quick else 8, 20 if quick else 50)}
+    t0 = time.perf_counter()
+    client = await start(None)
+    print(f"server start + initialize: {time.perf_counter() - t0:.2f} s")
+    other = await start(against) if against is not None else None
+    rows: list[Row] = []
+    other_rows: list[Row] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for lines in sizes:
+            edits, requests = runs[lines]
+            for server, out, folder in ((client, rows, "this"), (other, other_rows, "other")):
+                if server is None:
+                    continue
+                (Path(tmp) / folder).mkdir(exist_ok=True)
+                found = await measure(server, Path(tmp) / folder, lines, edits, requests)
+                out.extend((f"{lines:,} lines", what, values) for what, values in found.items())
+    await stop(client)
+    if other is not None:
+        await stop(other)
+    return rows, other_rows
+
+
+def ms(seconds: float | None) -> str:
+    return "" if seconds is None else f"{seconds * 1000:.1f} ms"
+
+
+def table_row(cells: list[tuple[str, int]]) -> str:
+    """A Markdown table row: (text, width) cells, numbers right-aligned (width < 0: left)."""
+    return "| " + " | ".join(f"{text:<{-w}}" if w < 0 else f"{text:>{w}}" for text, w in cells) + " |"
+
+
+async def main_async(quick: bool, against: str | None, sizes: list[int]) -> None:
+    rows, other_rows = await run_servers(quick, against, sizes)
+    widths = [-13, -20, 4, 9, 9, 7] + ([9, 10] if against is not None else [])
+    names = ["program", "what", "runs", "median", "p90", "target", "other", "other/this"]
     print()
-    print(f"| {'program':<13} | {'what':<20} | {'runs':>4} | {'median':>9} | {'p90':>9} |")
-    print(f"|{'-' * 15}|{'-' * 22}|{'-' * 6}|{'-' * 11}|{'-' * 11}|")
-    for program, what, n, med, p90 in rows:
-        print(f"| {program:<13} | {what:<20} | {n:>4} | {med * 1000:>6.1f} ms | {p90 * 1000:>6.1f} ms |")
+    print(table_row(list(zip(names, widths, strict=False))))
+    print("|" + "|".join("-" * (abs(w) + 2) for w in widths) + "|")
+    for k, (program, what, values) in enumerate(rows):
+        med = statistics.median(values)
+        target = TARGETS.get((program, what))
+        cells = [program, what, str(len(values)), ms(med), ms(percentile(values, 0.9))]
+        cells.append("" if target is None else f"{target * 1000:.0f} ms")
+        if against is not None:
+            other_med = statistics.median(other_rows[k][2])
+            cells += [ms(other_med), f"{other_med / med:.2f}x"]
+        print(table_row(list(zip(cells, widths, strict=True))))
     print()
     print("where an edit's analysis goes (in-process, best of runs):")
     print()
     print(f"| {'program':<13} | {'phase':<36} | {'time':>9} |")
     print(f"|{'-' * 15}|{'-' * 38}|{'-' * 11}|")
-    for lines in (1000, 10000):
+    for lines in sizes:
         for name, seconds in phases(lines, 2 if quick else 5).items():
             print(f"| {f'{lines:,} lines':<13} | {name:<36} | {seconds * 1000:>6.1f} ms |")
+    print(f"\nload average: {' '.join(Path('/proc/loadavg').read_text().split()[:3])}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="fewer runs")
+    parser.add_argument("--against", metavar="DIR", help="also run the server of this other checkout of gpp")
+    parser.add_argument(
+        "--lines", type=int, choices=[1000, 10000], action="append", help="only this program size (repeatable)"
+    )
     args = parser.parse_args()
-    asyncio.run(main_async(args.quick))
+    if args.against is not None and not (Path(args.against) / "gpp" / "__init__.py").is_file():
+        parser.error(f"--against: {args.against} is no checkout of gpp (no gpp/__init__.py in it)")
+    asyncio.run(main_async(args.quick, args.against, args.lines or [1000, 10000]))
 
 
 if __name__ == "__main__":

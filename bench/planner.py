@@ -4,6 +4,7 @@ of examples/blocks_planning.gpp, for horizons up to 14.
 Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
      .venv/bin/python bench/planner.py --targets [--runs N]
      .venv/bin/python bench/planner.py --profile [--blocks 6 7]
+     .venv/bin/python bench/planner.py --bound [--runs N]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
 planner (gpp.planner.reference, the plain recursive definition) and prints their node counts,
@@ -24,18 +25,25 @@ and reports the peak memory of the process.
 goes, grouped (the planner's loop and memo, `trans` and `final`, expressions, effects and
 state updates, the reward, hashing and comparing), then the functions with the most time of
 their own. cProfile slows every call down alike, so the shares matter, not the seconds.
+
+--bound compares the production planner with and without the branch and bound of
+gpp.planner.bounds (the same plan, checked): nodes, options skipped by the bound, CPU seconds
+(interleaved, best of --runs), on the towers and on a case built for it (visit places avoiding
+a trap: the best plan is worth 0, the most the reward can give).
 """
 
 from __future__ import annotations
 
 import argparse
 import cProfile
+import math
 import pstats
 import resource
 import time
 from dataclasses import dataclass
 
 from gpp.check import check_text
+from gpp.planner.bounds import analyse
 from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.planner.reference import NodeBudgetExceeded
 
@@ -69,10 +77,29 @@ procedure main() {{
 """
 
 
-def tower_problem(blocks: int, horizon: int) -> PlanningProblem:
-    result = check_text(tower_program(blocks, horizon), lint=False)
+def hazards_program(places: int, trap: int, horizon: int) -> str:
+    """Visit `horizon` of `places` places, one at a time; place `trap` is a trap that costs 10
+    for every step from then on. The best plan avoids it and is worth 0, the most the reward
+    can give: a case for the branch and bound of gpp.planner.bounds."""
+    names = [f"d{i}" for i in range(places)]
+    return f"""
+symbol domain D = {{{", ".join(names)}}}
+bool fluent visited(D x) {{ initially: (x) = false; }}
+bool fluent trap(D x) {{ initially: (x) = false; ({names[trap]}) = true; }}
+action visit(D x) {{ precondition: !visited(x) effect: visited(x) = true; }}
+number function reward() = if (exists(D x) visited(x) & trap(x)) -10 else 0
+procedure main() {{ solve({horizon}, reward()) while (true) pick (D x) visit(x); }}
+"""
+
+
+def problem_of(text: str) -> PlanningProblem:
+    result = check_text(text, lint=False)
     assert result.errors == 0, [d.message for d in result.diagnostics]
     return first_solve(result.model)
+
+
+def tower_problem(blocks: int, horizon: int) -> PlanningProblem:
+    return problem_of(tower_program(blocks, horizon))
 
 
 @dataclass
@@ -182,6 +209,7 @@ def targets(runs: int) -> None:
         before_seconds, before_nodes = BEFORE[(blocks, horizon)]
         nodes = plan.stats.nodes
         same = plan.actions() == reversal(blocks) and plan.value == 100 - blocks
+        verdict = "unchanged" if same and nodes == before_nodes else "fewer nodes" if same else "CHANGED"
         cells = [
             f"{blocks} blocks, {horizon}",
             f"{nodes:,}",
@@ -192,7 +220,7 @@ def targets(runs: int) -> None:
             f"{before_seconds / best:.1f}x",
             f"{target:g}",
             "yes" if best < target else "no",
-            "unchanged" if same and nodes == before_nodes else "CHANGED",
+            verdict if nodes <= before_nodes else "CHANGED",
         ]
         print("  ".join(c.rjust(12) for c in cells), flush=True)
     # ru_maxrss is in KiB on Linux.
@@ -242,6 +270,45 @@ def profile(blocks_list: list[int]) -> None:
             print(f"  {own / total:6.1%}  {calls:>10,} calls  {name} ({where}:{line})")
 
 
+def bound_table(runs: int) -> None:
+    """Nodes and CPU seconds of the production planner with and without branch and bound
+    (interleaved, best of `runs`), on the towers and on the hazards case."""
+    problems = [(f"tower {b}, {h}", tower_program(b, h)) for b, h in ((3, 8), (4, 10), (5, 10), (6, 14), (7, 14))]
+    problems += [
+        (f"hazards {p}/{trap}, {h}", hazards_program(p, trap, h))
+        for p, trap, h in ((8, 0, 6), (8, 7, 6), (10, 0, 8), (10, 9, 8), (12, 0, 10), (12, 11, 10))
+    ]
+    header = ["problem", "bound", "nodes", "nodes b&b", "node ratio", "skipped", "cpu s", "cpu s b&b", "time ratio"]
+    print("  ".join(h.rjust(14) for h in header))
+    for name, text in problems:
+        pb = problem_of(text)
+        assert pb.solve is not None
+        analysis = analyse(pb.sem.model, pb.solve)
+        best = {False: math.inf, True: math.inf}
+        plans = {}
+        for _ in range(runs):
+            for prune in (False, True):
+                started = time.process_time()
+                plans[prune] = pb.production(prune)
+                best[prune] = min(best[prune], time.process_time() - started)
+        full, pruned = plans[False], plans[True]
+        assert (full.feasible, full.value, full.steps) == (pruned.feasible, pruned.value, pruned.steps)
+        cells = [
+            name,
+            analysis.kind or "none",
+            f"{full.stats.nodes:,}",
+            f"{pruned.stats.nodes:,}",
+            f"{full.stats.nodes / pruned.stats.nodes:.1f}",
+            f"{pruned.stats.bound_skips:,}",
+            f"{best[False]:.3f}",
+            f"{best[True]:.3f}",
+            f"{best[False] / best[True]:.2f}",
+        ]
+        print("  ".join(c.rjust(14) for c in cells), flush=True)
+    with open("/proc/loadavg", encoding="ascii") as load:
+        print(f"load average: {load.read().split()[0]}")
+
+
 _HASHING = {"<method 'get' of 'dict' objects>", "<built-in method builtins.hash>", "__eq__", "__hash__"}
 
 
@@ -254,7 +321,11 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=3, help="runs per target problem, best taken (default 3)")
     parser.add_argument("--profile", action="store_true", help="where the time of `solve` goes (cProfile)")
     parser.add_argument("--blocks", type=int, nargs="+", default=[6, 7], help="towers to profile (default 6 7)")
+    parser.add_argument("--bound", action="store_true", help="nodes with and without branch and bound")
     args = parser.parse_args()
+    if args.bound:
+        bound_table(args.runs)
+        return
     if args.targets:
         targets(args.runs)
         return

@@ -22,6 +22,7 @@ not toggled around each check while other threads run.
 
 from __future__ import annotations
 
+import gc
 import os
 import queue
 import re
@@ -99,8 +100,12 @@ class Session:
         self.folders = [f.resolve() for f in folders]
         self._documents: dict[Path, Document] = {}
         self._lock = threading.Lock()
-        # The includes of files on disk, by (mtime, size) when read.
+        # The includes of files on disk, by (mtime, size) when read, and of open documents, by
+        # their text when all were found (both forgotten by `rescan`).
         self._disk_includes: dict[Path, tuple[tuple[int, int], tuple[Path, ...]]] = {}
+        self._open_includes: dict[Path, tuple[str, tuple[Path, ...]]] = {}
+        # Which files include which, for the includes it was built from.
+        self._included_by: tuple[dict[Path, tuple[Path, ...]], dict[Path, list[Path]]] = ({}, {})
         self._workspace_files: list[Path] | None = None
         # The latest check of each program: its inputs (file, parse, includes) and the result.
         self._checked: dict[Path, tuple[tuple[object, ...], CheckResult]] = {}
@@ -125,6 +130,7 @@ class Session:
         with self._lock:
             self._documents.pop(resolved, None)
         self._checked.pop(resolved, None)  # its program's check, kept no longer
+        self._open_includes.pop(resolved, None)
 
     def document(self, path: Path) -> Document | None:
         with self._lock:
@@ -139,8 +145,11 @@ class Session:
         self.rescan()
 
     def rescan(self) -> None:
-        """Forget the list of workspace files (a file was created, deleted or saved)."""
+        """Forget the list of workspace files and the includes read (a file was created,
+        deleted or saved)."""
         self._workspace_files = None
+        self._disk_includes.clear()
+        self._open_includes.clear()
 
     # ------------------------------------------------------------ the include index
 
@@ -164,7 +173,14 @@ class Session:
             found = self._resolve_includes(path, text, opened)
             self._disk_includes[path] = (stamp, found)
             return found
-        return self._resolve_includes(path, text, opened)
+        cached = self._open_includes.get(path)
+        if cached is not None and cached[0] == text:
+            return cached[1]
+        found = self._resolve_includes(path, text, opened)
+        if len(found) == len(_INCLUDE.findall(text)):
+            # (An include not found is looked for again next time: the file may be created.)
+            self._open_includes[path] = (text, found)
+        return found
 
     def _resolve_includes(self, path: Path, text: str, opened: dict[Path, str]) -> tuple[Path, ...]:
         found: list[Path] = []
@@ -200,12 +216,7 @@ class Session:
         at most MAX_PROGRAMS), or `path` itself when nothing includes it."""
         path = path.resolve()
         opened = overrides if overrides is not None else self._texts()
-        known = list(dict.fromkeys([*opened, *self.workspace_files()]))
-        includes = {f: self.includes_of(f, opened) for f in known}
-        included_by: dict[Path, list[Path]] = {}
-        for f, targets in includes.items():
-            for t in targets:
-                included_by.setdefault(t, []).append(f)
+        included_by = self._included_by_index(opened)
         ancestors: list[Path] = []
         todo = list(included_by.get(path, ()))
         while todo:
@@ -218,6 +229,19 @@ class Session:
         tops = [a for a in ancestors if not included_by.get(a)] or ancestors  # a cycle: any of them
         tops.sort(key=lambda a: (a not in opened, str(a)))
         return tops[:MAX_PROGRAMS]
+
+    def _included_by_index(self, opened: dict[Path, str]) -> dict[Path, list[Path]]:
+        """The files that include each known file (open documents first), rebuilt only when
+        the includes of some file changed."""
+        known = dict.fromkeys([*opened, *self.workspace_files()])
+        includes = {f: self.includes_of(f, opened) for f in known}
+        if includes != self._included_by[0]:
+            included_by: dict[Path, list[Path]] = {}
+            for f, targets in includes.items():
+                for t in targets:
+                    included_by.setdefault(t, []).append(f)
+            self._included_by = (includes, included_by)
+        return self._included_by[1]
 
     # ------------------------------------------------------------ checking
 
@@ -280,6 +304,70 @@ def diagnostics_in(results: Sequence[CheckResult], path: Path) -> list[diag.Diag
                 seen.add(key)
                 found.append(d)
     return found
+
+
+class Collector:
+    """When the cyclic garbage collector runs in a process that checks again and again.
+
+    A check allocates a tree, a model and results (hundreds of thousands of objects for a
+    large program) that live until the next check and then die as garbage in cycles. Left to
+    itself, the collector scans them in the middle of the next check: tens of milliseconds for
+    a young generation full of a new tree, hundreds for a full collection. So, around each
+    round of checks:
+
+    * `pause` (before a round): the collector stops; the first time, what the process holds
+      then (its modules, the stable part of the heap) is frozen (`gc.freeze`: left out of
+      every later scan; nothing of it is garbage);
+    * `settle` (after the round, its results published): one full collection frees the
+      previous round's results, and the collector runs again as it did before `pause`.
+
+    Nothing stays behind: after each `settle` the heap holds the latest results only. A round
+    followed by another at once (edits coalesced while it ran) stays paused, but at most
+    `max_paused` rounds in a row, so a long burst of typing does not pile up garbage.
+    """
+
+    def __init__(self, max_paused: int = 8) -> None:
+        self.max_paused = max_paused
+        self.collections = 0
+        self.paused_rounds = 0
+        self._resume: bool | None = None  # while paused: whether the collector ran before
+        self._frozen = False
+
+    @property
+    def paused(self) -> bool:
+        return self._resume is not None
+
+    def pause(self) -> None:
+        """Before a round of checks."""
+        if self._resume is None:
+            self._resume = gc.isenabled()
+            gc.disable()
+            if not self._frozen:
+                gc.collect()
+                gc.freeze()
+                self._frozen = True
+        self.paused_rounds += 1
+        if self.paused_rounds > self.max_paused:
+            self.settle()
+            self.pause()
+
+    def settle(self) -> None:
+        """After a round, its results published: collect, and let the collector run again."""
+        if self._resume is None:
+            return
+        gc.collect()
+        self.collections += 1
+        if self._resume:
+            gc.enable()
+        self._resume = None
+        self.paused_rounds = 0
+
+    def release(self) -> None:
+        """Settle, and unfreeze what `pause` froze (when the session ends)."""
+        self.settle()
+        if self._frozen:
+            gc.unfreeze()
+            self._frozen = False
 
 
 class AnalysisThread:

@@ -93,11 +93,25 @@ def _empty() -> list[object]:
     return []
 
 
+def _no_completion() -> types.CompletionList:
+    return types.CompletionList(is_incomplete=False, items=[])
+
+
 def register_features(server: GppServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ","]))
-    @guarded(_empty)
-    async def completion(ls: GppServer, params: types.CompletionParams) -> list[types.CompletionItem]:
-        return await at(ls, params.text_document.uri, params.position, features.completion, [])
+    @guarded(_no_completion)
+    async def completion(ls: GppServer, params: types.CompletionParams) -> types.CompletionList:
+        uri, where = params.text_document.uri, params.position
+        path = uri_to_path(uri)
+        earlier = ls.earlier_check(path)
+        if earlier is not None:
+            # Typed since the last check: answer from it now rather than wait for the next.
+            result, text = earlier
+            offset = Source(text).lsp_offset(where.line, where.character)
+            found = await ls.on_request_thread(lambda: features.completion_after_edit(result, path, text, offset))
+            if found is not None:
+                return found
+        return await at(ls, uri, where, features.completion_list, _no_completion())
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     @guarded(_none)

@@ -8,9 +8,13 @@ Threads:
   belong to. Edits that arrive while it works are coalesced into one next round, and a result
   is published only if its document has not changed since: a stale analysis is dropped, never
   published over a newer one;
+* the garbage collector does not run during a round of checks: once the diagnostics are out
+  and no edit came for SETTLE_AFTER_SECONDS, the analysis thread collects the garbage of the
+  previous rounds (gpp.session.Collector);
 * the request thread runs the features (completion, hover, ...) on the latest check of the
   document's current version, so that a request does not wait behind a running analysis
-  unless the document changed since the last one.
+  unless the document changed since the last one. Completion does not wait even then: it
+  answers from the last check and the text typed since (features.completion_after_edit).
 
 Every handler catches what goes wrong, logs it to the client (window/logMessage) and answers
 with an empty result: the server never stops answering whatever the document.
@@ -21,6 +25,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import functools
+import sys
 import traceback
 from collections.abc import Awaitable, Callable, Sequence
 from concurrent.futures import Future
@@ -36,7 +41,7 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 from gpp import __version__
 from gpp import diagnostics as diag
 from gpp.check import CheckResult
-from gpp.session import AnalysisThread, LspEdit, Session, diagnostics_in
+from gpp.session import AnalysisThread, Collector, LspEdit, Session, diagnostics_in
 from gpp.source import Span
 from lsp.codes_doc import code_url
 
@@ -50,6 +55,8 @@ _SEVERITY = {
     diag.Severity.WARNING: types.DiagnosticSeverity.Warning,
     diag.Severity.NOTE: types.DiagnosticSeverity.Information,
 }
+# How long after a round of checks, if no edit came since, the garbage collector catches up.
+SETTLE_AFTER_SECONDS = 0.5
 # How long a request waits for the analysis of the document's current version.
 _WAIT_SECONDS = 30.0
 
@@ -113,6 +120,8 @@ class GppServer(LanguageServer):
         self.session = Session()
         self.analysis = AnalysisThread("gpp-analysis")
         self.requests = AnalysisThread("gpp-requests")
+        # The garbage collector waits while a round of checks runs (gpp.session.Collector).
+        self.collector = Collector()
         self.uris: dict[Path, str] = {}
         # The latest checks of each open document: (version, the programs' results).
         self.results: dict[Path, tuple[int, list[CheckResult]]] = {}
@@ -121,6 +130,7 @@ class GppServer(LanguageServer):
         self._running = False
         self._again = False
         self._round_done: asyncio.Event | None = None
+        self._settle: asyncio.TimerHandle | None = None
 
     # ------------------------------------------------------------ logging
 
@@ -149,12 +159,16 @@ class GppServer(LanguageServer):
             self._again = True
             return
         self._running = True
+        if self._settle is not None:
+            self._settle.cancel()  # typing goes on: collect later
+            self._settle = None
         loop = asyncio.get_running_loop()
         future = self.analysis.submit(self._analyze)
         future.add_done_callback(lambda f: loop.call_soon_threadsafe(self._analyzed, f))
 
     def _analyze(self) -> dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]:
         """On the analysis thread: check every open document's programs."""
+        self.collector.pause()
         snapshot = self.session.snapshot()
         texts = {p: d.text for p, d in snapshot.items()}
         out: dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException] = {}
@@ -208,6 +222,15 @@ class GppServer(LanguageServer):
         if self._again:
             self._again = False
             self.schedule()
+        elif self.collector.paused:
+            # Collect the garbage of the rounds once the typing pauses.
+            loop = asyncio.get_running_loop()
+            self._settle = loop.call_later(SETTLE_AFTER_SECONDS, self._settle_now)
+
+    def _settle_now(self) -> None:
+        self._settle = None
+        if not self._running:
+            self.analysis.submit(self.collector.settle)
 
     async def result_for(self, uri: str) -> tuple[CheckResult, Path] | None:
         """The check of the program (the first one) a document belongs to, for its current
@@ -230,6 +253,15 @@ class GppServer(LanguageServer):
                 await asyncio.wait_for(self._round_done.wait(), max(0.0, deadline - loop.time()))
             except TimeoutError:
                 return None
+
+    def earlier_check(self, path: Path) -> tuple[CheckResult, str] | None:
+        """When a document changed since its last check: that check (of the program it
+        belongs to first) and the document's text now; else None."""
+        doc = self.session.document(path)
+        known = self.results.get(path)
+        if doc is None or known is None or known[0] == doc.version or not known[1]:
+            return None
+        return known[1][0], doc.text
 
     async def on_request_thread(self, fn: Callable[[], R]) -> R:
         return await asyncio.wrap_future(self.requests.submit(fn))
@@ -394,9 +426,17 @@ def make_server() -> GppServer:
     return server
 
 
+# How often a thread that holds the interpreter lock lets a waiting one run (Python's default
+# is every 5 ms): a request answered while a check runs needs the lock a dozen times, on the
+# event loop and on the request thread, and waited 5 ms each time.
+SWITCH_INTERVAL_SECONDS = 0.001
+
+
 def serve_stdio() -> None:
+    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
     make_server().start_io()
 
 
 def serve_tcp(host: str, port: int) -> None:
+    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
     make_server().start_tcp(host, port)

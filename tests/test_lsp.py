@@ -255,14 +255,24 @@ async def _until(condition: object, timeout: float = 20.0) -> None:
         await asyncio.sleep(0.01)
 
 
+def fluents(count: int) -> str:
+    """`count` lines, one fluent each: a program whose check takes a while."""
+    return "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(count))
+
+
+async def open_checked(client: LanguageClient, path: Path, text: str) -> str:
+    """Open a document and wait for the diagnostics of its first version."""
+    uri = open_doc(client, path, text)
+    await diagnostics(client, uri, 1)
+    return uri
+
+
 @in_module_loop
 async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published(
     client: LanguageClient, workspace: Path
 ) -> None:
-    body = "".join(f"number fluent v{i}() {{ initially: () = {i}; }}\n" for i in range(400))
-    text = body + "procedure main() {\n}\n"
-    uri = open_doc(client, workspace / "typing.gpp", text)
-    await diagnostics(client, uri, 1)
+    body = fluents(400)
+    uri = await open_checked(client, workspace / "typing.gpp", body + "procedure main() {\n}\n")
     typed = "v1() = v2() + w;"
     for k, ch in enumerate(typed):  # one keystroke each, at the start of the line of `}`
         change(client, uri, k + 2, [((401, k, 401, k), ch)])
@@ -275,6 +285,31 @@ async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published
     assert versions == sorted(versions) and len(set(versions)) == len(versions)
     assert versions[-1] == last
     assert len(versions) < len(typed)  # coalesced: not one analysis per keystroke
+
+
+@in_module_loop
+async def test_completion_right_after_a_keystroke_does_not_wait_for_the_check(
+    client: LanguageClient, workspace: Path
+) -> None:
+    text = fluents(1000) + "procedure main() {\n    x\n}\n"
+    path = workspace / "keystroke.gpp"
+    uri = await open_checked(client, path, text)
+    change(client, uri, 2, [((1001, 4, 1001, 5), "v99")])  # `x` becomes `v99`, as typed
+    got = await client.text_document_completion_async(
+        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(1001, 7))
+    )
+    # Answered from the check of version 1 while version 2's runs: its diagnostics are not out.
+    assert 2 not in [p.version for p in published(client).of(uri)]
+    assert isinstance(got, types.CompletionList) and got.is_incomplete
+    # The names holding `v`, `9`, `9` in order, as a check of the new text has them.
+    now = text.replace("    x\n", "    v99\n")
+    resolved = path.resolve()
+    want = features.completion_list(
+        check_program(resolved, overrides={resolved: now}), resolved, now.index("v99\n") + 3
+    )
+    assert [i.label for i in got.items] == [i.label for i in want.items]
+    assert {"v99", "v199", "v989", "v909"} <= {i.label for i in got.items} and "v98" not in {i.label for i in got.items}
+    await diagnostics(client, uri, 2)
 
 
 # ---------------------------------------------------------------- other ways to start it
@@ -452,10 +487,15 @@ async def test_completion(client: LanguageClient, workspace: Path) -> None:
         types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(6, 5))
     )
     result, path = direct(workspace)
-    want = features.completion(result, path, FEATURES.index("go(kitchen)") + 1)
-    items = got.items if isinstance(got, types.CompletionList) else got
-    assert plain(items) == plain(want)
-    assert {"at", "go", "main", "while"} <= {i.label for i in items or ()}
+    offset = FEATURES.index("go(kitchen)") + 1
+    assert isinstance(got, types.CompletionList)
+    assert plain(got) == plain(features.completion_list(result, path, offset))
+    # After `g`: the items with a `g` in their name, of all those that fit here; the editor is
+    # told that the list is incomplete, to ask again as the word changes.
+    everything = features.completion(result, path, offset)
+    assert {"at", "go", "main", "while"} <= {i.label for i in everything}
+    assert [i.label for i in got.items] == [i.label for i in everything if "g" in i.label.casefold()]
+    assert "go" in {i.label for i in got.items} and got.is_incomplete
 
 
 @in_module_loop

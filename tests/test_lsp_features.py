@@ -548,6 +548,86 @@ def test_completion_at_top_level_offers_declaration_snippets(tmp_path: Path) -> 
     assert [i.label for i in items if i.kind is types.CompletionItemKind.Enum] == ["block", "place"]
 
 
+def test_the_servers_completion_list_keeps_the_names_that_hold_the_typed_word(tmp_path: Path) -> None:
+    text = BLOCKS.replace("    build(a);\n", "    build(a);\n    sTk@\n")
+    offset = text.index("@")
+    doc = Doc.check(text.replace("@", "", 1), tmp_path / "c.gpp", errors_allowed=True)
+    everything = F.completion(doc.result, doc.path, offset)
+    found = F.completion_list(doc.result, doc.path, offset)
+    # `stack` (s..t..k in order, any case) is kept; `build` and the keywords are left out.
+    assert [i.label for i in found.items] == ["stack"]
+    assert found.is_incomplete and len(everything) > 10
+    assert found.items[0] == next(i for i in everything if i.label == "stack")
+    # With no word typed (after `(`): everything, and the list is complete.
+    at_paren = BLOCKS.index("build(a)") + len("build(")
+    whole = F.completion_list(doc.result, doc.path, at_paren)
+    assert not whole.is_incomplete
+    assert [i.label for i in whole.items] == [i.label for i in F.completion(doc.result, doc.path, at_paren)]
+
+
+def test_completion_right_after_an_edit_answers_from_the_last_check(tmp_path: Path) -> None:
+    checked = BLOCKS.replace("    build(a);\n", "    build(a);\n    c\n")
+    doc = Doc.check(checked, tmp_path / "e.gpp", errors_allowed=True)
+
+    def answers(now: str, offset: int) -> set[str]:
+        found = F.completion_after_edit(doc.result, doc.path, now, offset)
+        assert found is not None and found.is_incomplete
+        # The same items as a check of the new text gives there.
+        fresh = Doc.check(now, tmp_path / "e.gpp", errors_allowed=True)
+        want = F.completion_list(fresh.result, fresh.path, offset)
+        assert [i.label for i in found.items] == [i.label for i in want.items]
+        return {i.label for i in found.items}
+
+    # `l` typed after `c`: the checked program at `c|`, filtered with `cl`.
+    now = checked.replace("    c\n", "    cl\n")
+    assert answers(now, now.index("    cl\n") + len("    cl")) == {"clear", "cancel"}
+    # A change after the cursor only.
+    now = checked.replace("build(x);\n}", "build(x); build(a);\n}")
+    assert {"clear", "cancel", "choose", "stack"} <= answers(now, now.index("    c\n") + len("    c"))
+    # A bracket typed (the place changed), or a line pasted: the caller must wait.
+    now = checked.replace("    c\n", "    clear(\n")
+    assert F.completion_after_edit(doc.result, doc.path, now, now.index("    clear(\n") + len("    clear(")) is None
+    now = checked.replace("    c\n", "    stack(a, b);\n    c\n")
+    assert F.completion_after_edit(doc.result, doc.path, now, now.index("    c\n") + len("    c")) is None
+    # (Nothing changed: the check's own answer.)
+    offset = checked.index("    c\n") + len("    c")
+    same = F.completion_after_edit(doc.result, doc.path, checked, offset)
+    assert same is not None and same.items == F.completion_list(doc.result, doc.path, offset).items
+
+
+@pytest.mark.parametrize(
+    ("before", "word"), [("x = count_2", "count_2"), ("f(a1", "a1"), ("12ab", "ab"), ("x + ", ""), ("", "")]
+)
+def test_the_typed_word_is_the_name_before_the_cursor(before: str, word: str) -> None:
+    from lsp.features.completion import typed_word
+
+    assert typed_word(before + " rest", len(before)) == word
+
+
+def test_completion_items_are_built_once_per_check_and_forgotten_with_it(tmp_path: Path) -> None:
+    import gc
+    import weakref
+
+    from lsp.features.common import _memos
+
+    doc = Doc.check(BLOCKS, tmp_path / "m.gpp")
+    at = doc.at("build(a)") + 2
+    first = {i.label: i for i in F.completion(doc.result, doc.path, at)}
+    again = {i.label: i for i in F.completion(doc.result, doc.path, at)}
+    assert first["stack"] is again["stack"] and first == again
+    # A new check of the same text: new items, equal to the old ones.
+    other = Doc.check(BLOCKS, tmp_path / "m.gpp")
+    fresh = {i.label: i for i in F.completion(other.result, other.path, at)}
+    assert fresh["stack"] is not first["stack"] and fresh == first
+    # What is remembered for a check does not keep it alive.
+    gone = weakref.ref(doc.result)
+    key = id(doc.result)
+    assert key in _memos
+    del doc
+    gc.collect()
+    assert gone() is None and key not in _memos
+
+
 @pytest.mark.parametrize(("label", "body"), [(label, body) for label, _, body in DECLARATION_SNIPPETS])
 def test_each_declaration_snippet_expands_to_valid_golog(tmp_path: Path, label: str, body: str) -> None:
     text = _plain(body)

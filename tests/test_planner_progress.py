@@ -40,7 +40,9 @@ def test_progress_reports_nodes_configurations_best_value_and_time_as_planning_g
 
 def test_ctrl_c_while_planning_stops_gpp_run_with_exit_code_130_and_a_complete_trace(tmp_path: Path) -> None:
     program = tmp_path / "tower.gpp"
-    program.write_text(tower(7, 14))
+    # Two copies of the loop: no goal-loop bound, so branch and bound (gpp.planner.bounds)
+    # cannot cut the planning short and it runs well past the first second.
+    program.write_text(tower(7, 14, twice=True))
     trace = tmp_path / "trace.jsonl"
     env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
     process = subprocess.Popen(

@@ -4,13 +4,16 @@ analysis thread."""
 
 from __future__ import annotations
 
+import gc
 import sys
+import weakref
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from gpp.check import check_program
-from gpp.session import AnalysisThread, Session, apply_edits, diagnostics_in
+from gpp.session import AnalysisThread, Collector, Session, apply_edits, diagnostics_in
 from gpp.source import Source
 from gpp.syntax.loader import ParseCache, load
 
@@ -142,3 +145,100 @@ def test_the_analysis_thread_checks_deeply_nested_programs() -> None:
     finally:
         thread.close()
     assert sys.getrecursionlimit() >= limit
+
+
+# ---------------------------------------------------------------- the include index
+
+
+def test_the_include_index_follows_edits_and_files_that_change(tmp_path: Path) -> None:
+    (tmp_path / "lib.gpp").write_text("action a() { }\n")
+    (tmp_path / "main.gpp").write_text("procedure main() { }\n")
+    session = Session([tmp_path])
+    lib, main = (tmp_path / "lib.gpp").resolve(), (tmp_path / "main.gpp").resolve()
+    assert session.programs_of(lib) == [lib]
+    # The file on disk changes: its new include is seen (by its changed size and time).
+    (tmp_path / "main.gpp").write_text('#include "lib.gpp"\nprocedure main() { a(); }\n')
+    assert session.programs_of(lib) == [main]
+    # An open buffer of it drops the include, then takes it back.
+    session.open(main, "procedure main() { }\n", 1)
+    assert session.programs_of(lib) == [lib]
+    session.edit(main, [(((0, 0), (0, 0)), '#include "lib.gpp"\n')], 2)
+    assert session.programs_of(lib) == [main]
+    # A buffer naming a file that does not exist yet: found once it is created.
+    session.edit(main, [(((0, 10), (0, 13)), "robot")], 3)
+    assert session.programs_of(lib) == [lib]
+    robot = tmp_path / "robot.gpp"
+    robot.write_text("action a() { }\n")
+    assert session.programs_of(robot) == [main]
+
+
+# ---------------------------------------------------------------- the garbage collector
+
+
+@pytest.fixture
+def collector() -> Iterator[Collector]:
+    made = Collector()
+    try:
+        yield made
+    finally:
+        made.release()
+        gc.enable()
+
+
+class _Cycle:
+    def __init__(self) -> None:
+        self.me = self
+
+
+def _garbage() -> weakref.ref[_Cycle]:
+    """A weak reference to an object that only a collection frees (it refers to itself)."""
+    return weakref.ref(_Cycle())
+
+
+def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Collector) -> None:
+    thresholds = gc.get_threshold()
+    gc.enable()
+    collector.pause()
+    assert not gc.isenabled() and collector.paused
+    dead = _garbage()
+    _ = [[i] for i in range(100_000)]  # allocations that would start collections
+    assert dead() is not None  # none ran
+    collector.settle()
+    assert dead() is None
+    assert gc.isenabled() and gc.get_threshold() == thresholds and not collector.paused
+    assert collector.collections == 1
+    # A process that had the collector off keeps it off.
+    gc.disable()
+    collector.pause()
+    collector.settle()
+    assert not gc.isenabled()
+
+
+def test_a_long_burst_of_rounds_is_collected_every_max_paused_rounds(collector: Collector) -> None:
+    collector.max_paused = 3
+    refs = []
+    for _ in range(3):
+        collector.pause()
+        refs.append(_garbage())
+    assert [r() is not None for r in refs] == [True, True, True] and collector.collections == 0
+    collector.pause()  # the fourth round in a row: the first three are collected first
+    assert [r() is None for r in refs] == [True, True, True] and collector.collections == 1
+    assert collector.paused and not gc.isenabled()
+
+
+def test_a_long_session_does_not_grow_the_heap(collector: Collector, tmp_path: Path) -> None:
+    path = (tmp_path / "a.gpp").resolve()
+    text = "".join(f"action a{i}(number n) {{ }}\nprocedure p{i}() {{ a{i}(1); }}\n" for i in range(40))
+    session = Session()
+    session.open(path, text + "procedure main() { }\n", 1)
+    tracked = []
+    for version in range(2, 14):
+        collector.pause()
+        session.edit(path, [(((80, 19), (80, 19)), " " if version % 2 else "")], version)
+        [result] = session.results_for(path)
+        assert result.errors == 0
+        del result
+        collector.settle()
+        tracked.append(len(gc.get_objects()))
+    # Each round's check replaces the last one's: after the first rounds the heap stays as it was.
+    assert max(tracked[3:]) <= tracked[2] + 100, tracked

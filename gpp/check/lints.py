@@ -11,9 +11,10 @@ from __future__ import annotations
 import itertools
 import math
 from bisect import bisect_left
-from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
+from collections import defaultdict
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
-from functools import cache, cached_property
+from functools import cached_property
 from pathlib import Path
 from typing import Any, TypeVar, assert_never, get_args
 
@@ -26,16 +27,23 @@ from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr
-from gpp.syntax.walk import children, sub_statements, walk
+from gpp.syntax.walk import LEAVES, PUSH_CHILDREN, children, sub_statements, walk
 
 Op = ast.BinaryOp
+# A statement, and whether it is lexically inside `solve` or `search`.
+_Placed = tuple[ast.Statement, bool]
 N = TypeVar("N", bound=ast.Node)
 
-# `pick`/quantifier variables, parameters: everything W0102 and W0111 look at.
-_LOCAL_KINDS = frozenset({SymbolKind.PARAMETER, SymbolKind.VARIABLE})
+# `pick`/quantifier variables, parameters: everything W0102 and W0111 look at. (Tuples: a
+# membership test compares identities, cheaper than hashing an enum member.)
+_LOCAL_KINDS = (SymbolKind.PARAMETER, SymbolKind.VARIABLE)
 # W0101 looks at these kinds of globals.
-_USABLE_KINDS = frozenset(
-    {SymbolKind.FLUENT, SymbolKind.ACTION, SymbolKind.FUNCTION, SymbolKind.EXOG_FUNCTION, SymbolKind.PROCEDURE}
+_USABLE_KINDS = (
+    SymbolKind.FLUENT,
+    SymbolKind.ACTION,
+    SymbolKind.FUNCTION,
+    SymbolKind.EXOG_FUNCTION,
+    SymbolKind.PROCEDURE,
 )
 # Called by the runtime, not by the program.
 _ENTRY_POINTS = frozenset({"main", "postcond"})
@@ -76,6 +84,7 @@ class _Program:
         self.model = model
         self.root_files = [f for f in model.files if f.path in roots]
         self._root_sources = {id(f.source) for f in self.root_files}
+        self._statements: dict[int, list[_Placed]] = {}
 
     def in_root(self, span: Span | None) -> bool:
         return span is not None and id(span.source) in self._root_sources
@@ -85,29 +94,58 @@ class _Program:
             yield from f.program.declarations
 
     @cached_property
-    def _nodes_by_type(self) -> dict[type[ast.Node], list[ast.Node]]:
-        by_type: dict[type[ast.Node], list[ast.Node]] = {}
-        for f in self.root_files:
-            for node in walk(f.program):
-                by_type.setdefault(type(node), []).append(node)
-        return by_type
+    def _nodes(self) -> _Nodes:
+        return _index_nodes(self.root_files, self.model.rewritten)
 
     def nodes(self, kind: type[N]) -> list[N]:
         """The syntax nodes of one class in the root files, in source order per file."""
-        return self._nodes_by_type.get(kind, [])  # type: ignore[return-value]
+        return self._nodes.by_type.get(kind, [])  # type: ignore[return-value]
+
+    def chained_expressions(self) -> list[ast.Expr]:
+        """The outermost expressions of the root files in which an operator has another one as
+        its operand (or that the model regrouped), in source order: the others hold no chain of
+        two operators."""
+        return self._nodes.chained
 
     def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
         """The statements of the root files of `kinds` that pass `test`, to ask which of them
         a statement holds (without walking its body: nested loops would make that quadratic)."""
-        return _Within(s for kind in kinds for s in self.nodes(kind) if test(s))
+        classes = frozenset(kinds)
+        return self._all_statements.where(lambda s: type(s) in classes and test(s))
+
+    @cached_property
+    def _all_statements(self) -> _Within:
+        """Every statement of the root files: those of their bodies, the only place for one."""
+
+        def index() -> dict[int, _Starts]:
+            out: dict[int, _Starts] = {}
+            for f in self.root_files:
+                listed = [s for _, found in self.body_statements([f]) for s, _ in found]
+                starts = [s.span.start for s in listed]
+                order = sorted(range(len(listed)), key=starts.__getitem__)  # stable: ties keep their order
+                out[id(f.source)] = ([starts[k] for k in order], [listed[k] for k in order])
+            return out
+
+        return _Within(index)
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
-        own = symbol.decl.span if symbol.kind in _USABLE_KINDS and symbol.decl is not None else None
-        for r in self.model.references_to(symbol, include_declaration=False):
-            if own is None or r.span.source is not own.source or not own.start <= r.span.start < own.end:
-                return True
-        return False
+        return id(symbol) in self._used
+
+    @cached_property
+    def _used(self) -> set[int]:
+        """The symbols (by id) that `used` says yes to, from one pass over the references."""
+        found: set[int] = set()
+        for r in self.model.references:
+            symbol = r.symbol
+            if r.declaration or id(symbol) in found:
+                continue
+            if symbol.decl is not None and symbol.kind in _USABLE_KINDS:
+                own, at = symbol.decl.span, r.span
+                if at.source is own.source and own.start <= at.start < own.end:
+                    continue  # in its own declaration
+            found.add(id(symbol))
+        return found
 
     def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
         """The statement bodies of the procedures (and legacy main block) in `files`."""
@@ -119,12 +157,20 @@ class _Program:
                     main = self.model.main
                     yield (main if main is not None and main.decl is decl else None), decl.body
 
+    def body_statements(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, list[_Placed]]]:
+        """The `statements` of each body in `files` (as `bodies`), listed once per program."""
+        for owner, body in self.bodies(files):
+            found = self._statements.get(id(body))
+            if found is None:
+                found = self._statements[id(body)] = statements(body)
+            yield owner, found
+
     @cached_property
     def call_sites(self) -> list[_CallSite]:
         """Every procedure call of the whole program (included files too)."""
         sites: list[_CallSite] = []
-        for caller, body in self.bodies(self.model.files):
-            for s, planning in statements(body):
+        for caller, found in self.body_statements(self.model.files):
+            for s, planning in found:
                 if isinstance(s, ast.CallStmt):
                     callee = self.model.target(s.call)
                     if callee is not None and callee.kind is SymbolKind.PROCEDURE:
@@ -152,8 +198,8 @@ class _Program:
     def choosing(self) -> set[int]:
         """Procedures (by id) whose body, following calls, contains a `pick` or `choose`."""
         found: set[int] = set()
-        for caller, body in self.bodies(self.model.files):
-            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements(body)):
+        for caller, statements_ in self.body_statements(self.model.files):
+            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements_):
                 found.add(id(caller))
         changed = True
         while changed:
@@ -165,44 +211,108 @@ class _Program:
         return found
 
 
+@dataclass(frozen=True, slots=True)
+class _Nodes:
+    """What one walk of the root files finds (`_index_nodes`)."""
+
+    by_type: dict[type[ast.Node], list[ast.Node]]
+    chained: list[ast.Expr]  # see `_Program.chained_expressions`
+
+
+def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) -> _Nodes:
+    """The nodes of `files` by class, in one walk (parents before children, as `walk`), and
+    the outermost expressions that hold an operator chain."""
+    by_type: defaultdict[type[ast.Node], list[ast.Node]] = defaultdict(list)
+    chained: list[ast.Expr] = []
+    # The loop runs once per node of the program: its names are local.
+    push, leaves, expr, binary = PUSH_CHILDREN, LEAVES, ast.Expr, ast.Binary
+    for f in files:
+        stack: list[ast.Node] = [f.program]
+        while stack:
+            top = stack.pop()
+            cls = type(top)
+            if not isinstance(top, expr):
+                by_type[cls].append(top)
+                if cls not in leaves:
+                    push[cls](top, stack)
+                continue
+            # An outermost expression: all its nodes now, noting whether an operator has another
+            # one as its operand, or the model regrouped one of them.
+            has_chain = False
+            inner: list[ast.Node] = [top]
+            while inner:
+                node = inner.pop()
+                cls = type(node)
+                by_type[cls].append(node)
+                if rewritten and id(node) in rewritten:
+                    has_chain = True
+                if cls in leaves:
+                    continue
+                push[cls](node, inner)
+                if cls is binary and not has_chain:
+                    has_chain = _operand_is_operator(node.left) or _operand_is_operator(node.right)  # type: ignore[attr-defined]
+            if has_chain:
+                chained.append(top)
+    return _Nodes(dict(by_type), chained)
+
+
+def _operand_is_operator(e: ast.Expr) -> bool:
+    return isinstance(e, ast.Binary) and not e.parenthesized
+
+
+_Starts = tuple[list[int], list[ast.Statement]]
+
+
 class _Within:
     """Statements by where they start, per file. The statements inside another one (`statements`
-    of it, itself included) are those that start within its span: spans nest like the tree."""
+    of it, itself included) are those that start within its span: spans nest like the tree.
+    They are listed when first asked about: a lint with nothing to ask never pays for it."""
 
-    def __init__(self, found: Iterable[ast.Statement]) -> None:
-        by_source: dict[int, list[tuple[int, ast.Statement]]] = {}
-        for s in found:
-            by_source.setdefault(id(s.span.source), []).append((s.span.start, s))
-        self.starts: dict[int, list[int]] = {}
-        self.found: dict[int, list[ast.Statement]] = {}
-        for key, pairs in by_source.items():
-            pairs.sort(key=lambda pair: pair[0])
-            self.starts[key] = [start for start, _ in pairs]
-            self.found[key] = [s for _, s in pairs]
+    def __init__(self, index: Callable[[], dict[int, _Starts]]) -> None:
+        self._index = index
+
+    def where(self, test: Callable[[ast.Statement], bool]) -> _Within:
+        """The statements of these that pass `test` (kept in order: no sorting again)."""
+
+        def index() -> dict[int, _Starts]:
+            out: dict[int, _Starts] = {}
+            for key, (starts, found) in self._by_source.items():
+                kept = [k for k, s in enumerate(found) if test(s)]
+                out[key] = ([starts[k] for k in kept], [found[k] for k in kept])
+            return out
+
+        return _Within(index)
+
+    @cached_property
+    def _by_source(self) -> dict[int, _Starts]:
+        """Per source (by id), the starts of its statements and the statements, in order."""
+        return self._index()
 
     def inside(self, s: ast.Statement) -> list[ast.Statement]:
-        starts = self.starts.get(id(s.span.source))
-        if starts is None:
-            return []
+        starts, found = self._by_source.get(id(s.span.source), ([], []))
         first = bisect_left(starts, s.span.start)
-        return self.found[id(s.span.source)][first : bisect_left(starts, s.span.end, first)]
+        return found[first : bisect_left(starts, s.span.end, first)]
 
     def any_inside(self, s: ast.Statement) -> bool:
-        starts = self.starts.get(id(s.span.source))
-        if starts is None:
-            return False
+        starts, _ = self._by_source.get(id(s.span.source), ([], []))
         first = bisect_left(starts, s.span.start)
         return first < len(starts) and starts[first] < s.span.end
 
 
-def statements(body: ast.Statement, planning: bool = False) -> Iterator[tuple[ast.Statement, bool]]:
-    """Every statement in `body`, with whether it is lexically inside `solve` or `search`."""
+def statements(body: ast.Statement, planning: bool = False) -> list[_Placed]:
+    """Every statement in `body` (parents first, in source order), with whether it is
+    lexically inside `solve` or `search`."""
+    found: list[_Placed] = []
     stack = [(body, planning)]
     while stack:
-        s, inside = stack.pop()
-        yield s, inside
-        inner = inside or isinstance(s, ast.Solve | ast.Search)
-        stack.extend((c, inner) for c in reversed(sub_statements(s)))
+        placed = stack.pop()
+        found.append(placed)
+        s, inside = placed
+        inner = sub_statements(s)
+        if inner:
+            planned = inside or isinstance(s, ast.Solve | ast.Search)
+            stack.extend([(c, planned) for c in reversed(inner)])
+    return found
 
 
 def keyword_span(node: ast.Node, keyword: str) -> Span:
@@ -333,8 +443,8 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         symbol = model.target(decl.name)
         if symbol is None or symbol.decl is not decl or symbol.span is None:
             continue
-        names = ", ".join(p.name for p in symbol.params)
         if decl.initially is None:
+            names = ", ".join(p.name for p in symbol.params)
             yield diag.warning(
                 "W0103",
                 f"fluent `{symbol.name}` has no initial values",
@@ -348,6 +458,7 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         if missing is None or not missing[0]:
             continue
         patterns, count, open_params = missing
+        names = ", ".join(p.name for p in symbol.params)
         instances = [f"`{symbol.name}({', '.join(p)})`" for p in patterns]
         if count > len(instances):
             instances.append(f"{count - len(instances)} more instance{'s' * (count - len(instances) > 1)}")
@@ -399,11 +510,13 @@ def _missing_instances(
     size = math.prod(len(d) for d in domains if d is not None)
     if size > MAX_INSTANCES or size * max(1, len(partial)) > 50 * MAX_INSTANCES:
         return None
+    if any(all(x is _ANY for x in p) for p in relevant):
+        return [], 0, []  # a default entry, `(p1, ..., pn) = ...`, covers every instance
     shown: list[list[str]] = []
     count = 0
     finite_domains = [domains[i] or () for i in finite]
-    for combo in itertools.product(*finite_domains):
-        keys = tuple(_key(v) for v in combo)
+    domain_keys = [[_key(v) for v in d] for d in finite_domains]
+    for combo, keys in zip(itertools.product(*finite_domains), itertools.product(*domain_keys), strict=True):
         if keys in exact:
             continue
         at = dict(zip(finite, keys, strict=True))
@@ -463,10 +576,10 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
 
 @_lint("W0105")
 def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
-    for owner, body in program.bodies(program.root_files):
+    for owner, found in program.body_statements(program.root_files):
         if owner is not None and id(owner) in program.planning_only:
             continue
-        for s, planning in statements(body):
+        for s, planning in found:
             if planning:
                 continue
             if isinstance(s, ast.Pick):
@@ -668,7 +781,8 @@ def _constant(model: Model, e: ast.Expr) -> bool | None:
     if not isinstance(e, ast.Binary):
         return None
     if e.op in (Op.AND, Op.OR, Op.IMPLIES) or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
-        p, q = _constant(model, e.left), _constant(model, e.right)
+        p = _constant(model, e.left)
+        q = None if p is None else _constant(model, e.right)
         if p is None or q is None:
             return None
         return {Op.AND: p and q, Op.OR: p or q, Op.IMPLIES: not p or q, Op.EQ: p == q, Op.NE: p != q}[e.op]
@@ -744,6 +858,12 @@ _GOLOG_PRECEDENCE: dict[Op, int] = {
     Op.POW: 3,
 }
 
+# The operators that always chain, by family (`==` and `!=` do between booleans).
+_FAMILIES: dict[Op, str] = {
+    **dict.fromkeys(ast.ARITHMETIC_OPS, "arithmetic"),
+    **dict.fromkeys(ast.BOOLEAN_OPS, "boolean"),
+}
+
 # A chain's tree: a leaf (operand index) or (operator, left, right).
 Shape = int | tuple[Op, "Shape", "Shape"]
 
@@ -751,9 +871,17 @@ Shape = int | tuple[Op, "Shape", "Shape"]
 @_lint("W0110")
 def mixed_precedence(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
-    stack: list[ast.Expr] = [n for n in _top_expressions(program) if isinstance(n, ast.Expr)]
+    for top in program.chained_expressions():
+        yield from _mixed_chains(model, top)
+
+
+def _mixed_chains(model: Model, top: ast.Expr) -> Iterator[diag.Diagnostic]:
+    """W0110's warnings about the chains in the expression `top`."""
+    stack = [top]
     while stack:
         e = model.effective(stack.pop())
+        if type(e) in LEAVES:
+            continue  # a name or a literal: no chain, nothing below
         family = _family(model, e)
         if family is None:
             stack.extend(_sub_expressions(e))
@@ -794,11 +922,10 @@ def _family(model: Model, e: ast.Expr) -> str | None:
     """`arithmetic` or `boolean` when `e` is an operator of that chain family."""
     if not isinstance(e, ast.Binary):
         return None
-    if e.op in ast.ARITHMETIC_OPS:
-        return "arithmetic"
-    if e.op in ast.BOOLEAN_OPS or (e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right)):
+    family = _FAMILIES.get(e.op)
+    if family is None and e.op in (Op.EQ, Op.NE) and _is_bool(model, e.left, e.right):
         return "boolean"
-    return None
+    return family
 
 
 def _in_chain(model: Model, e: ast.Expr, family: str) -> bool:
@@ -835,12 +962,13 @@ def golog_tree(operators: Sequence[Op]) -> Shape:
     otherwise the chain is split before the last operand."""
     prec = [_GOLOG_PRECEDENCE[op] for op in operators]
 
-    @cache
     def root(i: int, j: int) -> int:
-        """Index of the root operator of the tree of operands i..j."""
-        if j == i + 1:
-            return i
-        return i if prec[root(i + 1, j)] > prec[i] else j - 1
+        """Index of the root operator of the tree of operands i..j: that of i+1..j, built
+        first, if it binds tighter than operator i, working back from j-1..j."""
+        r = j - 1
+        for k in range(j - 2, i - 1, -1):
+            r = k if prec[r] > prec[k] else j - 1
+        return r
 
     def build(i: int, j: int) -> Shape:
         if i == j:
@@ -887,23 +1015,17 @@ def _grouped(shape: Shape) -> list[tuple[int, int]]:
     return out
 
 
-def _top_expressions(program: _Program) -> Iterator[ast.Node]:
-    """The outermost expressions of the root files."""
-    stack: list[ast.Node] = [f.program for f in program.root_files]
+def _sub_expressions(e: ast.Node) -> list[ast.Expr]:
+    """The outermost expressions below `e` (its operands, a compound literal's field values...)."""
+    found: list[ast.Expr] = []
+    stack = list(reversed(children(e)))
     while stack:
         node = stack.pop()
         if isinstance(node, ast.Expr):
-            yield node
+            found.append(node)
         else:
-            stack.extend(children(node))
-
-
-def _sub_expressions(e: ast.Node) -> Iterator[ast.Expr]:
-    for child in children(e):
-        if isinstance(child, ast.Expr):
-            yield child
-        else:
-            yield from _sub_expressions(child)
+            stack.extend(reversed(children(node)))
+    return found
 
 
 # ---------------------------------------------------------------- W0111 shadowed symbol
@@ -1060,8 +1182,8 @@ _ENDING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL, ast.Hoo
 def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     ended: set[int] = set()
-    for _, body in program.bodies(model.files):
-        for s, _ in statements(body):
+    for _, found in program.body_statements(model.files):
+        for s, _ in found:
             if isinstance(s, ast.HookStmt) and s.hook in _ENDING_HOOKS:
                 action = model.target(s.action)
                 if action is not None:
@@ -1136,7 +1258,12 @@ def _still(model: Model, s: ast.Statement) -> bool:
     it)? `test(true)` never waits."""
     if isinstance(s, ast.Test):
         return _constant(model, s.condition) is True
-    return not isinstance(s, ast.CallStmt | ast.HookStmt | ast.During | ast.Solve | ast.Search)
+    return not isinstance(s, _ACTING)
+
+
+# The statements that act, call, plan or wait by themselves (a tuple: isinstance is quicker
+# with it than with a union).
+_ACTING = (ast.CallStmt, ast.HookStmt, ast.During, ast.Solve, ast.Search)
 
 
 def _assigned_fluent(model: Model, s: ast.Assign | ast.ListStmt) -> Symbol | None:

@@ -30,12 +30,19 @@ from gpp.suggest import Suggestion
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 
+# `Reference(...)` without the call of the named tuple's generated `__new__`.
+new_tuple = tuple.__new__
+
 
 class BuilderState:
     """What the phases of the model builder share (see the module docstring)."""
 
     def __init__(self, files: Sequence[ParsedFile]) -> None:
         self.model = Model(list(files))
+        # Bound once: `refer` runs for every name (the builder replaces `model.references`
+        # only after the phases).
+        self._add_reference = self.model.references.append
+        self._targets = self.model.targets
         self.diagnostics: list[diag.Diagnostic] = []
         # Every declaration node of a global (forward ones included), in source order.
         self.declarations: dict[int, list[ast.Decl]] = {}
@@ -75,9 +82,9 @@ class BuilderState:
     def refer(self, span: Span, symbol: Symbol, node: ast.Node | None = None, declaration: bool = False) -> None:
         if self.silent:
             return
-        self.model.references.append(Reference(span, symbol, declaration))
+        self._add_reference(new_tuple(Reference, (span, symbol, declaration)))  # Reference(...), faster
         if node is not None:
-            self.model.targets[id(node)] = symbol
+            self._targets[id(node)] = symbol
 
     def given_twice(self, code: str, what: str, span: Span, first: Span) -> None:
         self.error(

@@ -14,6 +14,9 @@ checker writes, and the references of component members and constraint atoms.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
@@ -34,37 +37,63 @@ class DeclarationChecker(Phase):
         self.checker = checker
 
     def run(self) -> None:
+        # One method per kind of declaration (the others say nothing to check here).
+        kinds: dict[type[ast.Decl], Callable[[Any], None]] = {
+            ast.FluentDecl: self.fluent,
+            ast.ActionDecl: self.action,
+            ast.FunctionDecl: self.function,
+            ast.ProcedureDecl: self.procedure,
+            ast.MainBlock: self.main_block,
+            ast.ComponentDecl: self.component,
+            ast.ConstraintsDecl: self.constraints,
+        }
         for pf in self.model.files:
             for decl in pf.program.declarations:
-                self.check_declaration(decl)
+                check = kinds.get(type(decl))
+                if check is not None:
+                    check(decl)
 
-    def check_declaration(self, decl: ast.Decl) -> None:
+    def fluent(self, decl: ast.FluentDecl) -> None:
         symbol = self.state.decl_symbol.get(id(decl))
-        params = self.state.decl_params.get(id(decl), ())
-        if isinstance(decl, ast.FluentDecl) and decl.initially is not None and symbol is not None:
+        if decl.initially is not None and symbol is not None:
+            params = self.state.decl_params.get(id(decl), ())
             with self.checker.scope(decl.span, params):
                 for init in decl.initially:
                     self.check_initial_value(symbol, params, init)
-        elif isinstance(decl, ast.ActionDecl) and decl.sections is not None and symbol is not None:
+
+    def action(self, decl: ast.ActionDecl) -> None:
+        symbol = self.state.decl_symbol.get(id(decl))
+        if decl.sections is not None and symbol is not None:
+            params = self.state.decl_params.get(id(decl), ())
             with self.checker.scope(decl.span, params):
                 for section in decl.sections:
                     self.check_section(symbol, decl, params, section)
-        elif isinstance(decl, ast.FunctionDecl) and decl.body is not None and symbol is not None:
-            with self.checker.scope(decl.span, params):
+
+    def function(self, decl: ast.FunctionDecl) -> None:
+        symbol = self.state.decl_symbol.get(id(decl))
+        if decl.body is not None and symbol is not None:
+            with self.checker.scope(decl.span, self.state.decl_params.get(id(decl), ())):
                 assert symbol.type is not None
                 value_type = self.decl_value_type(decl, symbol)
                 self.checker.expect(decl.body, value_type, "the function's type", decl.type.span)
-        elif isinstance(decl, ast.ProcedureDecl) and decl.body is not None:
-            with self.checker.scope(decl.span, params):
+
+    def procedure(self, decl: ast.ProcedureDecl) -> None:
+        if decl.body is not None:
+            with self.checker.scope(decl.span, self.state.decl_params.get(id(decl), ())):
                 self.checker.stmt(decl.body)
-        elif isinstance(decl, ast.MainBlock):
-            self.checker.stmt(decl.body)
-        elif isinstance(decl, ast.ComponentDecl) and symbol is not None:
+
+    def main_block(self, decl: ast.MainBlock) -> None:
+        self.checker.stmt(decl.body)
+
+    def component(self, decl: ast.ComponentDecl) -> None:
+        symbol = self.state.decl_symbol.get(id(decl))
+        if symbol is not None:
             self.check_component(symbol, decl)
-        elif isinstance(decl, ast.ConstraintsDecl):
-            for c in decl.constraints:
-                self.spec(c.condition)
-                self.spec(c.requirement)
+
+    def constraints(self, decl: ast.ConstraintsDecl) -> None:
+        for c in decl.constraints:
+            self.spec(c.condition)
+            self.spec(c.requirement)
 
     def decl_value_type(self, decl: ast.FunctionDecl | ast.FluentDecl, symbol: Symbol) -> Type:
         if symbol.decl is decl and symbol.type is not None:

@@ -46,6 +46,8 @@ class Model:
     def __post_init__(self) -> None:
         self._refs_by_source: dict[int, list[Reference]] | None = None
         self._refs_by_symbol: dict[int, list[Reference]] | None = None
+        # Per source (by id): where its references start, in the order of `references_in`.
+        self._starts_by_source: dict[int, list[int]] = {}
         self._declared_symbols: tuple[Sym, ...] | None = None
 
     # ---------------------------------------------------------------- facts
@@ -72,29 +74,50 @@ class Model:
 
     # ---------------------------------------------------------------- indexes
 
-    def _index(self) -> None:
+    # Two indexes, each built on first use: the checker's lints ask only which references a
+    # symbol has, an editor also which references a file has.
+
+    def _index_by_source(self) -> dict[int, list[Reference]]:
         by_source: dict[int, list[Reference]] = {}
+        for r in self.references:
+            key = id(r.span.source)
+            refs = by_source.get(key)
+            if refs is None:
+                by_source[key] = [r]
+            else:
+                refs.append(r)
+        for refs in by_source.values():
+            refs.sort(key=_position)
+        self._refs_by_source = by_source
+        return by_source
+
+    def _index_by_symbol(self) -> dict[int, list[Reference]]:
         by_symbol: dict[int, list[Reference]] = {}
         for r in self.references:
-            by_source.setdefault(id(r.span.source), []).append(r)
-            by_symbol.setdefault(id(r.symbol), []).append(r)
-        for refs in by_source.values():
-            refs.sort(key=lambda r: (r.span.start, -r.span.end))
-        self._refs_by_source = by_source
+            key = id(r.symbol)
+            refs = by_symbol.get(key)
+            if refs is None:
+                by_symbol[key] = [r]
+            else:
+                refs.append(r)
         self._refs_by_symbol = by_symbol
+        return by_symbol
 
     def references_in(self, source: Source) -> list[Reference]:
-        if self._refs_by_source is None:
-            self._index()
-        assert self._refs_by_source is not None
-        return self._refs_by_source.get(id(source), [])
+        by_source = self._refs_by_source
+        if by_source is None:
+            by_source = self._index_by_source()
+        return by_source.get(id(source), [])
 
     # ---------------------------------------------------------------- editor queries
 
     def reference_at(self, source: Source, offset: int) -> Reference | None:
         """The name occurrence (declaration or use) under `offset`."""
         refs = self.references_in(source)
-        i = bisect_right([r.span.start for r in refs], offset)
+        starts = self._starts_by_source.get(id(source))
+        if starts is None:
+            starts = self._starts_by_source[id(source)] = [r.span.start for r in refs]
+        i = bisect_right(starts, offset)
         best: Reference | None = None
         for r in refs[max(0, i - 8) : i]:
             if r.span.start <= offset <= r.span.end and (best is None or r.span.start >= best.span.start):
@@ -109,10 +132,10 @@ class Model:
         return symbol.span
 
     def references_to(self, symbol: Symbol, include_declaration: bool = True) -> list[Reference]:
-        if self._refs_by_symbol is None:
-            self._index()
-        assert self._refs_by_symbol is not None
-        refs = self._refs_by_symbol.get(id(symbol), [])
+        by_symbol = self._refs_by_symbol
+        if by_symbol is None:
+            by_symbol = self._index_by_symbol()
+        refs = by_symbol.get(id(symbol), [])
         return [r for r in refs if include_declaration or not r.declaration]
 
     def node_path(self, source: Source, offset: int) -> list[ast.Node]:
@@ -202,6 +225,11 @@ class Model:
 
             self._declared_symbols = tuple(Sym(s.name) for s in sorted(self.symbols.values(), key=first_named))
         return self._declared_symbols
+
+
+def _position(r: Reference) -> tuple[int, int]:
+    """References of a file in order: by start, the longer one first."""
+    return (r.span.start, -r.span.end)
 
 
 def _type_text(t: ast.TypeExpr) -> str:

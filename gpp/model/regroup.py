@@ -43,22 +43,27 @@ class Regrouper(Phase):
         is rebuilt: `p() == q() & r()` means `p() == (q() & r())`. Returns None when nothing
         changes (almost always, and cheaply: the operand types are only computed when the chain
         has both kinds of operator)."""
-        ops: set[object] = set()
         members: list[int] = []
-        _chain_ops(e, ops, members, root=True)
-        if not (ops & EQUALITY) or not (ops - EQUALITY):
+        equality, other = _chain_ops(e, members)
+        if not (equality and other):
             # Nothing to re-associate here, nor in any sub-chain: do not look again.
             self.reassociated.update(members)
             return None
         items: list[ast.Expr | Op | _Not] = []
+        operators: list[int] = []
         self.state.silent += 1
         try:
-            self.flatten_chain(e, items, root=True)
+            self.flatten_chain(e, items, operators, root=True)
         finally:
             self.state.silent -= 1
         rebuilt, rest = _climb(items, 0)
         assert not rest
         if rebuilt == e:
+            # Each operator of the chain heads a sub-chain whose items are a run of `items`,
+            # built at its own precedence level: climbed alone, that run gives the same tree.
+            # So no sub-chain changes either; looking at each again (typing its operands
+            # silently again, with the same results) would change nothing.
+            self.reassociated.update(operators)
             return None
         if e.parenthesized:
             rebuilt = replace(rebuilt, span=e.span, parenthesized=True)
@@ -67,19 +72,26 @@ class Regrouper(Phase):
         _mark_types(e, self.model.expr_types)
         return rebuilt
 
-    def flatten_chain(self, e: ast.Expr, out: list[ast.Expr | Op | _Not], root: bool = False) -> None:
+    def flatten_chain(
+        self, e: ast.Expr, out: list[ast.Expr | Op | _Not], operators: list[int], root: bool = False
+    ) -> None:
+        """The chain's operands and operators in order, into `out`; the ids of its operator
+        nodes into `operators`."""
         inside = root or not e.parenthesized
         if inside and isinstance(e, ast.Binary) and e.op in BOOL_CHAIN:
-            self.flatten_chain(e.left, out)
+            operators.append(id(e))
+            self.flatten_chain(e.left, out, operators)
             out.append(e.op)
-            self.flatten_chain(e.right, out)
+            self.flatten_chain(e.right, out, operators)
         elif inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+            operators.append(id(e))
             out.append(_Not(e.span))
-            self.flatten_chain(e.operand, out)
+            self.flatten_chain(e.operand, out, operators)
         elif inside and isinstance(e, ast.Binary) and e.op in EQUALITY and self.is_boolean_pair(e):
-            self.flatten_chain(e.left, out)
+            operators.append(id(e))
+            self.flatten_chain(e.left, out, operators)
             out.append(e.op)
-            self.flatten_chain(e.right, out)
+            self.flatten_chain(e.right, out, operators)
         else:
             out.append(e)
 
@@ -87,24 +99,33 @@ class Regrouper(Phase):
         return base(self.type_of(e.left)) is BOOL and base(self.type_of(e.right)) is BOOL
 
 
-def _chain_ops(e: ast.Expr, ops: set[object], members: list[int], root: bool = False) -> None:
-    """The operators of the unparenthesised boolean/equality chain rooted at `e` (parentheses
-    around the whole chain do not end it), and the ids of the chain's nodes. Iterative: a
-    chain of thousands of `&` is a deep tree."""
-    stack = [(e, root)]
+def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:
+    """Whether the unparenthesised boolean/equality chain rooted at `e` (parentheses around
+    the whole chain do not end it) has an `==`/`!=`, and whether it has another operator
+    (`&`, `|`, `->`, `!`); adds the ids of the chain's nodes to `members`. Iterative: a chain
+    of thousands of `&` is a deep tree."""
+    equality = other = False
+    stack = [e]
     while stack:
-        node, is_root = stack.pop()
-        if node.parenthesized and not is_root:
+        node = stack.pop()
+        if node.parenthesized and node is not e:
             continue
-        if isinstance(node, ast.Binary) and (node.op in BOOL_CHAIN or node.op in EQUALITY):
-            ops.add(node.op)
+        if isinstance(node, ast.Binary):
+            op = node.op
+            if op is Op.EQ or op is Op.NE:
+                equality = True
+            elif op is Op.AND or op is Op.OR or op is Op.IMPLIES:
+                other = True
+            else:
+                continue
             members.append(id(node))
-            stack.append((node.left, False))
-            stack.append((node.right, False))
+            stack.append(node.left)
+            stack.append(node.right)
         elif isinstance(node, ast.Unary) and node.op is ast.UnaryOp.NOT:
-            ops.add(ast.UnaryOp.NOT)
+            other = True
             members.append(id(node))
-            stack.append((node.operand, False))
+            stack.append(node.operand)
+    return equality, other
 
 
 _LEVELS: tuple[frozenset[Op], ...] = (

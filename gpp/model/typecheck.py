@@ -24,15 +24,15 @@ rebuilt); reports into the shared state.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
-from typing import assert_never
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
+from typing import Any, assert_never
 
 from gpp import diagnostics as diag
-from gpp.model.builder_state import BuilderState, Phase
+from gpp.model.builder_state import BuilderState, Phase, new_tuple
 from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
 from gpp.model.resolve import TypeResolver
-from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, ScopeRecord, Symbol, SymbolKind
+from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Reference, ScopeRecord, Symbol, SymbolKind
 from gpp.model.types import (
     BOOL,
     ERROR,
@@ -58,7 +58,6 @@ from gpp.model.types import (
 from gpp.source import Span
 from gpp.suggest import suggestion
 from gpp.syntax import ast
-from gpp.syntax.walk import walk
 
 Op = ast.BinaryOp
 
@@ -74,6 +73,29 @@ def is_literal(e: ast.Expr) -> bool:
     return False
 
 
+def _names_in_literal(e: ast.Expr) -> Sequence[ast.Name]:
+    """The bare names in a literal, in source order (most literals are a number or a name)."""
+    if isinstance(e, ast.Name):
+        return (e,)
+    if isinstance(e, ast.CompoundLit | ast.ListLit):
+        names: list[ast.Name] = []
+        _collect_names(e, names)
+        return names
+    return ()
+
+
+def _collect_names(e: ast.Expr, names: list[ast.Name]) -> None:
+    """The names in a literal (`is_literal`), in source order (as a walk meets them)."""
+    if isinstance(e, ast.Name):
+        names.append(e)
+    elif isinstance(e, ast.CompoundLit):
+        for f in e.fields:
+            _collect_names(f.value, names)
+    elif isinstance(e, ast.ListLit):
+        for x in e.elements:
+            _collect_names(x, names)
+
+
 def operator_span(e: ast.Binary) -> Span:
     """The span of a binary expression's operator token (found between its operands)."""
     source = e.span.source
@@ -85,35 +107,108 @@ def operator_span(e: ast.Binary) -> Span:
     return Span(source, start + at, start + at + len(e.op.value))
 
 
+# The operators that may belong to a boolean chain the regrouping rebuilds; any other binary
+# or unary operator starts no chain (gpp.model.regroup would find nothing to do).
+# (Tuples of operators and kinds, not sets, where every expression asks: an enum member's hash
+# is computed in Python, comparing identities is not.)
+_CHAIN_OPS = tuple(BOOL_CHAIN | EQUALITY)
+_BOOL_CHAIN = tuple(BOOL_CHAIN)
+_EQUALITY = tuple(EQUALITY)
+_COMPARISON = tuple(ast.COMPARISON_OPS)
+
+# The kinds a call may name in an expression, as a statement, and (`_ACTION`) in a hook
+# (`start`, `during`, ...).
+_ACTION = (SymbolKind.ACTION,)
+_CALLABLE_IN = {"expression": tuple(EXPRESSION_CALLABLE), "statement": tuple(STATEMENT_CALLABLE)}
+
+# The expressions that may have a value `literal_value` knows.
+_VALUE_KINDS = (ast.Name, ast.NumberLit, ast.StringLit, ast.BoolLit)
+
+_LITERAL_TYPES: dict[type[ast.Expr], Type] = {
+    ast.NumberLit: NUMBER,
+    ast.StringLit: STRING,
+    ast.BoolLit: BOOL,
+    ast.NullLit: NULL,
+}
+
+
+class _Scopes:
+    """The variables visible at a point of a body: one table of the innermost symbol of each
+    name (one look-up per name, however deep the scopes), and per open scope what it hid.
+    Also what `TypeChecker.scope` returns, to end the innermost scope on leaving a `with`
+    block (a class, not a generator: scopes are opened for every body and quantifier)."""
+
+    __slots__ = ("hidden", "visible")
+
+    def __init__(self) -> None:
+        self.visible: dict[str, Symbol] = {}
+        # Per open scope: (name, the symbol it hid or None), in the order they were declared.
+        self.hidden: list[list[tuple[str, Symbol | None]]] = []
+
+    def open(self, symbols: Sequence[Symbol]) -> None:
+        visible = self.visible
+        hidden: list[tuple[str, Symbol | None]] = []
+        for s in symbols:
+            hidden.append((s.name, visible.get(s.name)))
+            visible[s.name] = s
+        self.hidden.append(hidden)
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc: object) -> None:
+        visible = self.visible
+        for name, symbol in reversed(self.hidden.pop()):
+            if symbol is None:
+                del visible[name]
+            else:
+                visible[name] = symbol
+
+
 class TypeChecker(Phase):
     def __init__(self, state: BuilderState, resolver: TypeResolver) -> None:
         super().__init__(state)
         self.resolver = resolver
-        self.scopes: list[dict[str, Symbol]] = []
+        self.scopes = _Scopes()
+        self.variables = self.scopes.visible
         self.reassociated = state.reassociated
         self.regroup = Regrouper(state, self.expr)
+        self.expr_types = self.model.expr_types
+        self.add_reference = self.model.references.append
+        self.targets = self.model.targets
+        # One value per symbol name, for the domain membership of literals.
+        self.symbol_values: dict[str, Sym] = {}
+        # One method per kind of expression (instead of a chain of isinstance).
+        self._expr_kinds: dict[type[ast.Expr], Callable[[Any], Type]] = {
+            ast.Name: self.name,
+            ast.Call: self.call,
+            ast.Unary: self.unary,
+            ast.Binary: self.binary,
+            ast.Quantified: self.quantified,
+            ast.Conditional: self.conditional,
+            ast.FieldAccess: self.field_access,
+            ast.Index: self.index,
+            ast.CompoundLit: self.compound_literal,
+            ast.ListLit: self.list_literal,
+            ast.BuiltinCall: self.builtin_call,
+            ast.Wildcard: self.wildcard,
+        }
 
     # ---------------------------------------------------------------- scopes
 
-    @contextmanager
-    def scope(self, span: Span, symbols: Sequence[Symbol]) -> Iterator[None]:
-        self.scopes.append({s.name: s for s in symbols})
+    def scope(self, span: Span, symbols: Sequence[Symbol]) -> AbstractContextManager[None]:
+        """Open a scope of `symbols` (parameters, a variable) for the `with` block around a
+        body."""
+        self.scopes.open(symbols)
         if not self.state.silent and symbols:
             self.model.scopes.append(ScopeRecord(span, tuple(symbols)))
-        try:
-            yield
-        finally:
-            self.scopes.pop()
+        return self.scopes
 
     def lookup_variable(self, name: str) -> Symbol | None:
-        for scope in reversed(self.scopes):
-            s = scope.get(name)
-            if s is not None:
-                return s
-        return None
+        return self.variables.get(name)
 
     def visible_variables(self) -> set[str]:
-        return {n for scope in self.scopes for n in scope}
+        return set(self.variables)
 
     def new_variable(self, var_type: ast.TypeExpr, var: ast.Ident, decl: ast.Node) -> Symbol:
         symbol = Symbol(var.name, SymbolKind.VARIABLE, var.span, decl=decl, type=self.resolver.resolve_type(var_type))
@@ -141,75 +236,109 @@ class TypeChecker(Phase):
             self.expect(e, target, context, span)
         else:
             self.expr(e)
-        for node in walk(e):
-            if isinstance(node, ast.Name):
-                symbol = self.model.target(node)
-                if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
-                    self.error(
-                        "E0213",
-                        f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
-                        node.span,
-                        "not a literal",
-                        help=help,
-                    )
+        for node in _names_in_literal(e):
+            symbol = self.model.targets.get(id(node))
+            if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
+                self.error(
+                    "E0213",
+                    f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
+                    node.span,
+                    "not a literal",
+                    help=help,
+                )
 
     # ---------------------------------------------------------------- statements
 
     def stmt(self, s: ast.Statement) -> None:
+        # A `match` ending in `assert_never`: a new statement kind makes mypy name this place
+        # (tests/test_statement_kinds.py). The commonest kinds first.
         match s:
-            case ast.Block():
-                for x in s.body:
-                    self.stmt(x)
             case ast.CallStmt():
-                if isinstance(s.call, ast.Call):
-                    self.call(s.call, "statement")
-                else:
-                    self.expr(s.call)
-                    self.error(
-                        "E0104",
-                        "this expression is not a statement",
-                        s.call.span,
-                        "its value would be thrown away",
-                        help="statements call actions or procedures, assign fluents, or `test(...)` a condition",
-                    )
+                self.call_stmt(s)
+            case ast.Block():
+                self.block(s)
             case ast.Assign():
-                target = self.assign_target(s.target)
-                self.expect(s.value, target, "the assigned fluent")
+                self.assign(s)
             case ast.If():
-                self.expect(s.condition, BOOL, "an `if` condition")
-                self.stmt(s.then)
-                if s.otherwise is not None:
-                    self.stmt(s.otherwise)
+                self.if_stmt(s)
             case ast.While():
-                self.expect(s.condition, BOOL, "a `while` condition")
-                self.stmt(s.body)
+                self.while_stmt(s)
             case ast.Test():
-                self.expect(s.condition, BOOL, "a `test`")
+                self.test(s)
             case ast.Choose():
-                for x in s.alternatives:
-                    self.stmt(x)
+                self.choose(s)
             case ast.Concurrent():
-                for x in s.branches:
-                    self.stmt(x)
+                self.concurrent(s)
             case ast.Pick():
                 self.pick(s)
             case ast.Solve():
                 self.solve(s)
             case ast.Search():
-                self.stmt(s.body)
+                self.search(s)
             case ast.During():
-                self.action_call(s.action, "during")
-                self.stmt(s.body)
-                if s.on_fail is not None:
-                    self.stmt(s.on_fail)
-                if s.on_cancel is not None:
-                    self.stmt(s.on_cancel)
+                self.during(s)
             case ast.HookStmt():
-                self.action_call(s.action, s.hook.value)
+                self.hook(s)
             case ast.ListStmt():
                 self.list_stmt(s)
             case _:
                 assert_never(s)
+
+    def block(self, s: ast.Block) -> None:
+        for x in s.body:
+            self.stmt(x)
+
+    def call_stmt(self, s: ast.CallStmt) -> None:
+        if isinstance(s.call, ast.Call):
+            self.call(s.call, "statement")
+        else:
+            self.expr(s.call)
+            self.error(
+                "E0104",
+                "this expression is not a statement",
+                s.call.span,
+                "its value would be thrown away",
+                help="statements call actions or procedures, assign fluents, or `test(...)` a condition",
+            )
+
+    def assign(self, s: ast.Assign) -> None:
+        target = self.assign_target(s.target)
+        self.expect(s.value, target, "the assigned fluent")
+
+    def if_stmt(self, s: ast.If) -> None:
+        self.expect(s.condition, BOOL, "an `if` condition")
+        self.stmt(s.then)
+        if s.otherwise is not None:
+            self.stmt(s.otherwise)
+
+    def while_stmt(self, s: ast.While) -> None:
+        self.expect(s.condition, BOOL, "a `while` condition")
+        self.stmt(s.body)
+
+    def test(self, s: ast.Test) -> None:
+        self.expect(s.condition, BOOL, "a `test`")
+
+    def choose(self, s: ast.Choose) -> None:
+        for x in s.alternatives:
+            self.stmt(x)
+
+    def concurrent(self, s: ast.Concurrent) -> None:
+        for x in s.branches:
+            self.stmt(x)
+
+    def search(self, s: ast.Search) -> None:
+        self.stmt(s.body)
+
+    def during(self, s: ast.During) -> None:
+        self.action_call(s.action, "during")
+        self.stmt(s.body)
+        if s.on_fail is not None:
+            self.stmt(s.on_fail)
+        if s.on_cancel is not None:
+            self.stmt(s.on_cancel)
+
+    def hook(self, s: ast.HookStmt) -> None:
+        self.action_call(s.action, s.hook.value)
 
     def list_stmt(self, s: ast.ListStmt) -> None:
         target = self.assign_target(s.target)
@@ -316,12 +445,16 @@ class TypeChecker(Phase):
     def expect(self, e: ast.Expr, target: Type, context: str, context_span: Span | None = None) -> Type:
         """Type `e` and check that a slot of type `target` accepts it."""
         t = self.expr(e)
-        self.check_fits(e, t, target, context, context_span)
+        if t is not target:
+            self.check_fits(e, t, target, context, context_span)
+        elif target.__class__ is DomainType and e.__class__ in _VALUE_KINDS:
+            # Of the same type, it fits; only a literal's value may still not be in the domain.
+            self.check_member(e, target, context, context_span)
         return t
 
     def check_fits(self, e: ast.Expr, t: Type, target: Type, context: str, context_span: Span | None) -> None:
-        secondary = [diag.Label(context_span, f"{context} is `{target}`")] if context_span else []
         if not assignable(target, t):
+            secondary = self.context_label(target, context, context_span)
             help = None
             if base(target) is STRING and base(t) in (NUMBER, BOOL, SYMBOL):
                 help = "convert it with `to_string(...)`"
@@ -336,9 +469,15 @@ class TypeChecker(Phase):
                 help=help,
             )
             return
-        if isinstance(target, DomainType) and target.defined:
+        if isinstance(target, DomainType):
+            self.check_member(e, target, context, context_span)
+
+    def check_member(self, e: ast.Expr, target: DomainType, context: str, context_span: Span | None) -> None:
+        """A literal in a slot of a domain type: is its value a member?"""
+        if target.defined:
             value = self.literal_value(e)
             if value is not None and not target.contains(value):
+                secondary = self.context_label(target, context, context_span)
                 shown = ", ".join(show_value(v) for v in target.values[:10]) + (
                     ", ..." if len(target.values) > 10 else ""
                 )
@@ -350,113 +489,113 @@ class TypeChecker(Phase):
                     secondary=secondary,
                     notes=[f"`{target}` = {{{shown}}}"],
                 )
-        elif isinstance(target, ListType) and isinstance(e, ast.ListLit):
-            pass  # elements were checked against the literal's own element type
-        elif isinstance(target, CompoundType | ListType):
-            return
+
+    @staticmethod
+    def context_label(target: Type, context: str, context_span: Span | None) -> list[diag.Label]:
+        return [diag.Label(context_span, f"{context} is `{target}`")] if context_span else []
 
     def literal_value(self, e: ast.Expr) -> DomainValue | None:
         if isinstance(e, ast.Name):
-            target = self.model.target(e)
-            return Sym(e.name) if target is not None and target.kind is SymbolKind.SYMBOL else None
+            target = self.model.targets.get(id(e))
+            if target is None or target.kind is not SymbolKind.SYMBOL:
+                return None
+            value = self.symbol_values.get(e.name)
+            if value is None:
+                value = self.symbol_values[e.name] = Sym(e.name)
+            return value
         if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
             return e.value
         return None
 
     def expr(self, e: ast.Expr) -> Type:
-        t = self._expr(e)
-        self.model.expr_types[id(e)] = t
+        """The type of `e` (recorded in `model.expr_types`), checking everything in it."""
+        kind = type(e)
+        t = _LITERAL_TYPES.get(kind)
+        if t is None:
+            t = self._expr_kinds[kind](e)
+        self.expr_types[id(e)] = t
         return t
 
-    def _expr(self, e: ast.Expr) -> Type:
-        if isinstance(e, ast.NumberLit):
-            return NUMBER
-        if isinstance(e, ast.StringLit):
-            return STRING
-        if isinstance(e, ast.BoolLit):
+    def _regrouped(self, e: ast.Binary | ast.Unary) -> Type | None:
+        """The type of the chain `e` regrouped by gpp.model.regroup, or None when it stays."""
+        replacement = self.regroup.reassociate(e)
+        if replacement is None:
+            return None
+        if not self.state.silent:
+            self.model.rewritten[id(e)] = replacement
+        return self.expr(replacement)
+
+    def unary(self, e: ast.Unary) -> Type:
+        if e.op is ast.UnaryOp.NOT:
+            if id(e) not in self.reassociated:
+                regrouped = self._regrouped(e)
+                if regrouped is not None:
+                    return regrouped
+            self.expect_operand(e.operand, BOOL, "!")
             return BOOL
-        if isinstance(e, ast.NullLit):
-            return NULL
-        if isinstance(e, ast.Name):
-            return self.name(e)
-        if isinstance(e, ast.Call):
-            return self.call(e, "expression")
-        if isinstance(e, ast.Binary | ast.Unary) and id(e) not in self.reassociated:
-            replacement = self.regroup.reassociate(e)
-            if replacement is not None:
-                if not self.state.silent:
-                    self.model.rewritten[id(e)] = replacement
-                return self.expr(replacement)
-        if isinstance(e, ast.Unary):
-            if e.op is ast.UnaryOp.NOT:
-                self.expect_operand(e.operand, BOOL, "!")
-                return BOOL
-            self.expect_operand(e.operand, NUMBER, "-")
+        self.expect_operand(e.operand, NUMBER, "-")
+        return NUMBER
+
+    def quantified(self, e: ast.Quantified) -> Type:
+        variable = self.new_variable(e.var_type, e.var, e)
+        vt = variable.type or ERROR
+        if not is_finite(vt):
+            self.error(
+                "E0210",
+                f"`{e.quantifier.value}` over `{vt}` cannot be evaluated",
+                e.var_type.span,
+                f"`{vt}` has infinitely many values",
+                help="quantify over a domain, `bool` or `symbol`",
+            )
+        with self.scope(e.body.span, [variable]):
+            self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")
+        return BOOL
+
+    def conditional(self, e: ast.Conditional) -> Type:
+        self.expect(e.condition, BOOL, "a condition")
+        a = self.expr(e.then)
+        b = self.expr(e.otherwise)
+        common = common_type(a, b)
+        if common is None:
+            self.error(
+                "E0211",
+                f"the branches of this conditional have different types: `{a}` and `{b}`",
+                e.span,
+                secondary=[diag.Label(e.then.span, f"`{a}`"), diag.Label(e.otherwise.span, f"`{b}`")],
+            )
+            return ERROR
+        return common
+
+    def index(self, e: ast.Index) -> Type:
+        subject = self.expr(e.subject)
+        self.expect(e.index, NUMBER, "a list index")
+        if subject is ERROR:
+            return ERROR
+        if isinstance(subject, ListType):
+            return subject.element
+        self.error("E0207", f"`{subject}` cannot be indexed", e.subject.span, "not a list")
+        return ERROR
+
+    def list_literal(self, e: ast.ListLit) -> Type:
+        list_type = self.resolver.resolve_type(e.type)
+        element = list_type.element if isinstance(list_type, ListType) else ERROR
+        for x in e.elements:
+            self.expect(x, element, "the list's element type", e.type.span)
+        return list_type
+
+    def builtin_call(self, e: ast.BuiltinCall) -> Type:
+        arg = self.expr(e.arg)
+        if e.function is ast.Builtin.LENGTH:
+            if arg is not ERROR and not isinstance(arg, ListType):
+                self.error("E0204", f"`length` needs a list, found `{arg}`", e.arg.span, f"this is `{arg}`")
             return NUMBER
-        if isinstance(e, ast.Binary):
-            return self.binary(e)
-        if isinstance(e, ast.Quantified):
-            variable = self.new_variable(e.var_type, e.var, e)
-            vt = variable.type or ERROR
-            if not is_finite(vt):
-                self.error(
-                    "E0210",
-                    f"`{e.quantifier.value}` over `{vt}` cannot be evaluated",
-                    e.var_type.span,
-                    f"`{vt}` has infinitely many values",
-                    help="quantify over a domain, `bool` or `symbol`",
-                )
-            with self.scope(e.body.span, [variable]):
-                self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")
-            return BOOL
-        if isinstance(e, ast.Conditional):
-            self.expect(e.condition, BOOL, "a condition")
-            a = self.expr(e.then)
-            b = self.expr(e.otherwise)
-            common = common_type(a, b)
-            if common is None:
-                self.error(
-                    "E0211",
-                    f"the branches of this conditional have different types: `{a}` and `{b}`",
-                    e.span,
-                    secondary=[diag.Label(e.then.span, f"`{a}`"), diag.Label(e.otherwise.span, f"`{b}`")],
-                )
-                return ERROR
-            return common
-        if isinstance(e, ast.FieldAccess):
-            return self.field_access(e)
-        if isinstance(e, ast.Index):
-            subject = self.expr(e.subject)
-            self.expect(e.index, NUMBER, "a list index")
-            if subject is ERROR:
-                return ERROR
-            if isinstance(subject, ListType):
-                return subject.element
-            self.error("E0207", f"`{subject}` cannot be indexed", e.subject.span, "not a list")
-            return ERROR
-        if isinstance(e, ast.CompoundLit):
-            return self.compound_literal(e)
-        if isinstance(e, ast.ListLit):
-            list_type = self.resolver.resolve_type(e.type)
-            element = list_type.element if isinstance(list_type, ListType) else ERROR
-            for x in e.elements:
-                self.expect(x, element, "the list's element type", e.type.span)
-            return list_type
-        if isinstance(e, ast.BuiltinCall):
-            arg = self.expr(e.arg)
-            if e.function is ast.Builtin.LENGTH:
-                if arg is not ERROR and not isinstance(arg, ListType):
-                    self.error("E0204", f"`length` needs a list, found `{arg}`", e.arg.span, f"this is `{arg}`")
-                return NUMBER
-            if isinstance(arg, CompoundType | ListType) or arg is VOID:
-                self.error(
-                    "E0204", f"`to_string` converts numbers, bools, symbols and strings, not `{arg}`", e.arg.span
-                )
-            return STRING
-        if isinstance(e, ast.Wildcard):
-            self.error("E0213", "`*` stands only in constraint patterns", e.span)
-            return ERROR
-        raise AssertionError(f"unhandled expression {type(e).__name__}")
+        if isinstance(arg, CompoundType | ListType) or arg is VOID:
+            self.error("E0204", f"`to_string` converts numbers, bools, symbols and strings, not `{arg}`", e.arg.span)
+        return STRING
+
+    def wildcard(self, e: ast.Wildcard) -> Type:
+        self.error("E0213", "`*` stands only in constraint patterns", e.span)
+        return ERROR
 
     def expect_operand(self, e: ast.Expr, want: Type, op: str) -> Type:
         t = self.expr(e)
@@ -470,11 +609,15 @@ class TypeChecker(Phase):
 
     def binary(self, e: ast.Binary) -> Type:
         op = e.op
-        if op in BOOL_CHAIN:
+        if op in _CHAIN_OPS and id(e) not in self.reassociated:
+            regrouped = self._regrouped(e)
+            if regrouped is not None:
+                return regrouped
+        if op in _BOOL_CHAIN:
             self.expect_operand(e.left, BOOL, op.value)
             self.expect_operand(e.right, BOOL, op.value)
             return BOOL
-        if op in ast.COMPARISON_OPS:
+        if op in _COMPARISON:
             return self.comparison(e)
         left = self.expr(e.left)
         right = self.expr(e.right)
@@ -514,8 +657,8 @@ class TypeChecker(Phase):
         right = self.expr(e.right)
         if left is ERROR or right is ERROR:
             return BOOL
-        chained = isinstance(e.left, ast.Binary) and e.left.op in ast.COMPARISON_OPS and not e.left.parenthesized
-        if chained and not (e.op in EQUALITY and base(right) is BOOL):
+        chained = isinstance(e.left, ast.Binary) and e.left.op in _COMPARISON and not e.left.parenthesized
+        if chained and not (e.op in _EQUALITY and base(right) is BOOL):
             assert isinstance(e.left, ast.Binary)
             self.error(
                 "E0205",
@@ -525,7 +668,7 @@ class TypeChecker(Phase):
                 help=f"compare each pair and join them with `&`: `a {e.left.op.value} b & b {e.op.value} c`",
             )
             return BOOL
-        if e.op in EQUALITY:
+        if e.op in _EQUALITY:
             if not equatable(left, right):
                 if isinstance(base(left), CompoundType | ListType) or isinstance(base(right), CompoundType | ListType):
                     self.error(
@@ -555,14 +698,21 @@ class TypeChecker(Phase):
         return BOOL
 
     def name(self, e: ast.Name) -> Type:
-        variable = self.lookup_variable(e.name)
-        if variable is not None:
-            self.refer(e.span, variable, e)
-            return variable.type or ERROR
-        symbol = self.model.symbols.get(e.name)
-        if symbol is not None:
-            self.refer(e.span, symbol, e)
-            return SYMBOL
+        found = self.variables.get(e.name)
+        if found is not None:
+            t = found.type or ERROR
+        else:
+            found = self.model.symbols.get(e.name)
+            if found is None:
+                return self.not_a_value(e)
+            t = SYMBOL
+        if not self.state.silent:  # self.refer(e.span, found, e), inline: every name comes here
+            self.add_reference(new_tuple(Reference, (e.span, found, False)))
+            self.targets[id(e)] = found
+        return t
+
+    def not_a_value(self, e: ast.Name) -> Type:
+        """A name that is neither a variable nor a symbol: a global without `()`, or unknown."""
         g = self.model.globals.get(e.name)
         if g is not None and g.kind in EXPRESSION_CALLABLE:
             self.refer(e.span, g, e)
@@ -593,12 +743,13 @@ class TypeChecker(Phase):
         )
         return ERROR
 
-    def call(self, e: ast.Call, context: str) -> Type:
+    def call(self, e: ast.Call, context: str = "expression") -> Type:
+        """A call in an expression, as a statement (`context` "statement") or in a hook
+        (`context` the hook's word)."""
         name = e.name.name
         symbol = self.model.globals.get(name)
-        statement = context != "expression"
         if symbol is None:
-            if statement:
+            if context != "expression":
                 allowed = STATEMENT_CALLABLE if context == "statement" else frozenset({SymbolKind.ACTION})
                 what = "action or procedure" if context == "statement" else "action"
             else:
@@ -615,19 +766,30 @@ class TypeChecker(Phase):
             for a in e.args:
                 self.expr(a)
             return ERROR
-        if not self.call_kind_ok(e, symbol, context):
+        if symbol.kind not in _CALLABLE_IN.get(context, _ACTION) and not self.call_kind_ok(e, symbol, context):
             self.resolve_misused_call(e, symbol)
             return ERROR
-        self.refer(e.name.span, symbol, e)
+        if not self.state.silent:  # self.refer(e.name.span, symbol, e), inline: calls are many
+            self.add_reference(new_tuple(Reference, (e.name.span, symbol, False)))
+            self.targets[id(e)] = symbol
         params = symbol.params
-        if len(e.args) != len(params):
-            self.arity_error(symbol, e.span, len(e.args))
-        for i, a in enumerate(e.args):
-            if i < len(params) and params[i].type is not None:
-                p = params[i]
-                self.expect(a, p.type or ERROR, f"parameter `{p.name}`", p.span)
-            else:
+        args = e.args
+        if len(args) != len(params):
+            self.arity_error(symbol, e.span, len(args))
+        for a, p in zip(args, params, strict=False):  # more or fewer: reported above
+            want = p.type
+            if want is None:
                 self.expr(a)
+                continue
+            # self.expect(a, want, f"parameter `{p.name}`", p.span), inline: the message only
+            # when something does not fit.
+            t = self.expr(a)
+            if t is not want:
+                self.check_fits(a, t, want, f"parameter `{p.name}`", p.span)
+            elif want.__class__ is DomainType and a.__class__ in _VALUE_KINDS:
+                self.check_member(a, want, f"parameter `{p.name}`", p.span)
+        for a in args[len(params) :]:
+            self.expr(a)
         return symbol.type or ERROR
 
     def resolve_misused_call(self, e: ast.Call, symbol: Symbol) -> None:
@@ -639,12 +801,12 @@ class TypeChecker(Phase):
 
     def call_kind_ok(self, e: ast.Call, symbol: Symbol, context: str) -> bool:
         kind = symbol.kind
+        if kind in _CALLABLE_IN.get(context, _ACTION):
+            return True
         name = symbol.name
         described = f"`{name}` is {kind.article} {kind.value}"
         secondary = self.declared_here(symbol)
         if context == "expression":
-            if kind in EXPRESSION_CALLABLE:
-                return True
             self.error(
                 "E0104",
                 f"{described}; only fluents and functions can be used in expressions",
@@ -654,8 +816,6 @@ class TypeChecker(Phase):
             )
             return False
         if context == "statement":
-            if kind in STATEMENT_CALLABLE:
-                return True
             help: str | None
             if kind is SymbolKind.EXOG_ACTION:
                 help = "the platform reports exogenous actions; a program cannot execute them"
@@ -672,8 +832,6 @@ class TypeChecker(Phase):
                 help=help,
             )
             return False
-        if kind is SymbolKind.ACTION:
-            return True
         self.error(
             "E0104",
             f"{described}; `{context}` needs an action",

@@ -177,6 +177,10 @@ def base(t: Type) -> Type:
     return t.element if isinstance(t, DomainType) else t
 
 
+_SCALARS = (BOOL, NUMBER, STRING, SYMBOL)
+_SCALAR_IDS = frozenset(id(t) for t in _SCALARS)
+
+
 def is_error(t: Type) -> bool:
     return t is ERROR
 
@@ -187,7 +191,7 @@ def assignable(target: Type, source: Type) -> bool:
     Domain membership of computed values is checked at run time (SEMANTICS §2.4), so a domain
     accepts any value of its element type here; literals are checked by the caller.
     """
-    if source is NULL or source is ERROR or target is ERROR:
+    if source is NULL or source is ERROR or target is ERROR or target is source:
         return True
     if target == source:
         return True
@@ -205,12 +209,14 @@ def equatable(a: Type, b: Type) -> bool:
     if a is NULL or b is NULL or a is ERROR or b is ERROR:
         return True
     ba, bb = base(a), base(b)
-    return ba == bb and ba in (BOOL, NUMBER, STRING, SYMBOL)
+    # (`is` first: a dataclass's `==` is a call into Python even for the same object.)
+    return (ba is bb or ba == bb) and (id(ba) in _SCALAR_IDS or ba in _SCALARS)
 
 
 def ordered(t: Type) -> bool:
     """May values of this type be compared with `<`?"""
-    return t is ERROR or base(t) in (NUMBER, STRING, SYMBOL)
+    b = base(t)
+    return t is ERROR or b is NUMBER or b is STRING or b is SYMBOL or b in (NUMBER, STRING, SYMBOL)
 
 
 def is_finite(t: Type) -> bool:

@@ -207,11 +207,13 @@ class PlanHolder:
         planning = sem.with_context(self.context, True)
         stmt = self.stmt
         if isinstance(stmt, ast.Solve):
+            from gpp.planner.bounds import solve_bound
             from gpp.planner.dp import solve_plan
             from gpp.planner.problem import make_reward
 
             reward = make_reward(planning, stmt, self.frame)
-            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress)
+            bound = solve_bound(planning, stmt, self.horizon)
+            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress, bound=bound)
         from gpp.planner.search import search_plan
 
         return search_plan(planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy)

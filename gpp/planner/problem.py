@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 from gpp.model.model import Model
 from gpp.model.types import Type
+from gpp.planner.bounds import solve_bound
 from gpp.planner.dp import solve_plan
 from gpp.planner.reference import Reward, reference_node_count, reference_plan
 from gpp.planner.result import Plan
@@ -65,12 +66,15 @@ class PlanningProblem:
     horizon: int
     reward: Reward
     span: Span | None = None
+    solve: ast.Solve | None = None  # the statement, for the bound (gpp.planner.bounds)
 
     def with_horizon(self, horizon: int) -> PlanningProblem:
         return replace(self, horizon=horizon)
 
-    def production(self) -> Plan:
-        return solve_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span)
+    def production(self, prune: bool = True) -> Plan:
+        """The production planner's plan; `prune`: with branch and bound where it is exact."""
+        bound = solve_bound(self.sem, self.solve, self.horizon) if prune and self.solve is not None else None
+        return solve_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, bound=bound)
 
     def reference(self, budget: int | None = None) -> Plan:
         return reference_plan(self.sem, self.prog, self.state, self.acts, self.horizon, self.reward, self.span, budget)
@@ -96,7 +100,8 @@ def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:
     if not isinstance(horizon, int | float) or isinstance(horizon, bool) or horizon != int(horizon):
         raise ValueError(f"the horizon of the `solve` is not a whole number: {show(horizon)}")
     reward = make_reward(sem, solve, EMPTY_FRAME)
-    return PlanningProblem(sem, Code(solve.body, EMPTY_FRAME), state, Activities(), int(horizon), reward, solve.span)
+    start = Code(solve.body, EMPTY_FRAME)
+    return PlanningProblem(sem, start, state, Activities(), int(horizon), reward, solve.span, solve)
 
 
 def procedure_body(model: Model, procedure: str = "main") -> tuple[Semantics, Prog]:

@@ -16,6 +16,7 @@ class PlanStats:
     nodes: int = 0  # configurations expanded (a memo hit is not an expansion)
     cache_hits: int = 0
     pruned: int = 0  # options skipped because they provably cannot win (see gpp.planner.dp)
+    bound_skips: int = 0  # of those, skipped by branch and bound (gpp.planner.bounds)
     reward_evaluations: int = 0
     seconds: float = 0.0
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 import threading
-from collections import OrderedDict
+from collections import Counter, OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +25,7 @@ from gpp import diagnostics as diag
 from gpp.resources import stdlib_dir
 from gpp.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
+from gpp.syntax.incremental import Reparsed, reparse
 from gpp.syntax.lexer import Token
 from gpp.syntax.parser import ParseResult, parse
 
@@ -64,6 +65,10 @@ def display_path(path: Path) -> str:
     return str(path) if rel.startswith("..") else rel
 
 
+# A file's text and its parse.
+_Parsed = tuple[str, ParseResult]
+
+
 class ParseCache:
     """Parsed files by resolved path and text, for a process that checks the same files again
     and again (the language server): a file whose text did not change is not parsed again, and
@@ -71,11 +76,21 @@ class ParseCache:
 
     Syntax trees are immutable, so one parse can serve every check that includes the file.
     At most `limit` files are kept (the least recently used go first). Thread-safe.
+
+    A file that comes back with other text is re-parsed incrementally (`incremental.reparse`:
+    only the declarations the edit touched are parsed again) unless `incremental` is off;
+    `reparses` counts how each such file was parsed: "splice", "tail" or "full". Besides its
+    last parse, the cache keeps a file's last parse without diagnostics: while an edit is under
+    way (the last parse has an error in the declaration being written), the declaration is
+    spliced into that one.
     """
 
-    def __init__(self, limit: int = 512) -> None:
+    def __init__(self, limit: int = 512, *, incremental: bool = True) -> None:
         self.limit = limit
-        self._parsed: OrderedDict[Path, tuple[str, ParseResult]] = OrderedDict()
+        self.incremental = incremental
+        self.reparses: Counter[str] = Counter()
+        # Per file: its last (text, parse), and its last one without diagnostics, if any.
+        self._parsed: OrderedDict[Path, tuple[_Parsed, _Parsed | None]] = OrderedDict()
         self._disk: dict[Path, tuple[int, int, str, NotText | None]] = {}
         self._lock = threading.Lock()
         self.hits = 0
@@ -97,19 +112,36 @@ class ParseCache:
     def parse(self, path: Path, text: str) -> ParseResult:
         with self._lock:
             entry = self._parsed.get(path)
-            if entry is not None and entry[0] == text:
+            if entry is not None and entry[0][0] == text:
                 self._parsed.move_to_end(path)
                 self.hits += 1
-                return entry[1]
-        result = parse(Source(text, display_path(path), str(path)))
+                return entry[0][1]
+        source = Source(text, display_path(path), str(path))
+        reparsed = self._reparse(entry, source) if entry is not None and self.incremental else None
+        result = parse(source) if reparsed is None else reparsed.result
+        if not result.diagnostics:
+            clean: _Parsed | None = (text, result)
+        else:
+            clean = None if entry is None else entry[1]
         with self._lock:
             self.misses += 1
-            self._parsed[path] = (text, result)
+            if entry is not None:
+                self.reparses["full" if reparsed is None else reparsed.how] += 1
+            self._parsed[path] = ((text, result), clean)
             self._parsed.move_to_end(path)
             while len(self._parsed) > self.limit:
                 old, _ = self._parsed.popitem(last=False)
                 self._disk.pop(old, None)
         return result
+
+    @staticmethod
+    def _reparse(entry: tuple[_Parsed, _Parsed | None], source: Source) -> Reparsed | None:
+        last, clean = entry
+        if clean is not None and clean is not last:
+            spliced = reparse(*clean, source, splice_only=True)
+            if spliced is not None:
+                return spliced
+        return reparse(*last, source)
 
 
 def load(

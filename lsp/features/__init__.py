@@ -3,7 +3,12 @@
 character offsets into the file's text; ranges and positions are LSP ones (0-based lines,
 UTF-16 columns). None of them raises, except `rename`/`prepare_rename` with RenameError."""
 
-from lsp.features.completion import COMPLETION_TRIGGER_CHARACTERS, completion
+from lsp.features.completion import (
+    COMPLETION_TRIGGER_CHARACTERS,
+    completion,
+    completion_after_edit,
+    completion_list,
+)
 from lsp.features.info import SIGNATURE_TRIGGER_CHARACTERS, hover, inlay_hints, signature_help
 from lsp.features.navigation import (
     RenameError,
@@ -22,6 +27,8 @@ __all__ = [
     "SIGNATURE_TRIGGER_CHARACTERS",
     "RenameError",
     "completion",
+    "completion_after_edit",
+    "completion_list",
     "definition",
     "document_highlight",
     "document_symbols",

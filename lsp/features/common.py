@@ -4,6 +4,8 @@ the doc comment of a declaration."""
 
 from __future__ import annotations
 
+import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -152,10 +154,12 @@ def comments_alone(file: ParsedFile) -> list[tuple[int, int]]:
 
 class DocComments:
     """Finds the doc comments of declarations: the comments that stand alone on their lines,
-    by the line they end on. One per request, so that each file is scanned once."""
+    by the line they end on. One per checked program (`memo(result).docs`), so that each file
+    is scanned once."""
 
     def __init__(self, result: CheckResult) -> None:
-        self.result = result
+        # (Not the result itself: the memo that keeps this must not keep the result alive.)
+        self.program_files = result.loaded.files
         self.files: dict[int, dict[int, tuple[int, int]]] = {}
 
     def of(self, symbol: Symbol) -> str:
@@ -175,7 +179,7 @@ class DocComments:
     def _alone(self, source: Source) -> dict[int, tuple[int, int]]:
         found = self.files.get(id(source))
         if found is None:
-            pf = next((f for f in self.result.loaded.files if f.source is source), None)
+            pf = next((f for f in self.program_files if f.source is source), None)
             alone = comments_alone(pf) if pf is not None else []
             found = {source.line_col(max(start, end - 1))[0]: (start, end) for start, end in alone}
             self.files[id(source)] = found
@@ -208,7 +212,57 @@ def header_comment(file: ParsedFile) -> str:
 
 
 def doc_comment(result: CheckResult, symbol: Symbol) -> str:
-    return DocComments(result).of(symbol)
+    return memo(result).docs.of(symbol)
+
+
+# ---------------------------------------------------------------- what requests reuse
+
+
+class Memo:
+    """What the features derive from one checked program and may reuse for the next request
+    on it (the language server answers many requests from one check): the comments of its
+    files, their doc comments, completion items. Kept while the check lives (see `memo`); it
+    holds nothing that keeps the check alive."""
+
+    def __init__(self, result: CheckResult) -> None:
+        self.docs = DocComments(result)
+        self._comments: dict[int, tuple[ParsedFile, list[tuple[int, int]]]] = {}
+        self._items: dict[tuple[int, str], tuple[object, types.CompletionItem]] = {}
+
+    def comments(self, file: ParsedFile) -> list[tuple[int, int]]:
+        """`comments(file)`, scanned once."""
+        known = self._comments.get(id(file.source))
+        if known is None or known[0] is not file:
+            known = self._comments[id(file.source)] = (file, comments(file))
+        return known[1]
+
+    def item(self, of: object, variant: str, make: Callable[[], types.CompletionItem]) -> types.CompletionItem:
+        """The completion item `make()` builds for `of` (a symbol of the program) and `variant`
+        (its rank in the list), built once. The item is shared: nobody changes it."""
+        known = self._items.get((id(of), variant))
+        if known is None or known[0] is not of:
+            known = self._items[(id(of), variant)] = (of, make())
+        return known[1]
+
+
+# By the id of the check. (No lock: a dictionary's get, set and pop are atomic, and a lock
+# would deadlock when a collection on the thread that holds it runs `forget`.)
+_memos: dict[int, tuple[weakref.ref[CheckResult], Memo]] = {}
+
+
+def memo(result: CheckResult) -> Memo:
+    """The Memo of a checked program, forgotten when the program's check is."""
+    key = id(result)
+    known = _memos.get(key)
+    if known is not None and known[0]() is result:
+        return known[1]
+
+    def forget(_: object, key: int = key) -> None:
+        _memos.pop(key, None)
+
+    made = Memo(result)
+    _memos[key] = (weakref.ref(result, forget), made)
+    return made
 
 
 def _strip_line(s: str) -> str:

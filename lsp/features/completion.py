@@ -9,6 +9,9 @@ variables in scope, keywords, and declaration snippets at the top level.
 
 from __future__ import annotations
 
+import functools
+import re
+from collections.abc import Callable
 from pathlib import Path
 
 from lsprotocol import types
@@ -19,7 +22,7 @@ from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, S
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.resources import stdlib_dir
 from gpp.syntax.lexer import Token
-from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, DocComments, Document, comments, document, position
+from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo, position
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
 
@@ -70,24 +73,118 @@ _EXPECTED, _LOCAL, _GLOBAL, _KEYWORD = "0", "1", "2", "3"
 
 
 def completion(result: CheckResult, path: Path, offset: int) -> list[types.CompletionItem]:
+    return _complete(result, path, offset, "")[0]
+
+
+def _complete(result: CheckResult, path: Path, offset: int, word: str) -> tuple[list[types.CompletionItem], bool]:
+    """The items that fit at `offset`, only those holding `word` (its letters in order, see `_holder`), and whether
+    any were left out for it."""
     doc = document(result, path)
     if doc is None:
-        return []
+        return [], False
     offset = max(0, min(offset, len(doc.text)))
-    if any(start < offset <= end for start, end in comments(doc.file)):
-        return []
+    if any(start < offset <= end for start, end in memo(result).comments(doc.file)):
+        return [], False
     ctx = context_at(doc.file.tokens, offset)
-    return _Completer(doc, ctx, offset).items()
+    completer = _Completer(doc, ctx, offset, word)
+    items = completer.items()
+    return items, completer.left_out
+
+
+def completion_list(result: CheckResult, path: Path, offset: int) -> types.CompletionList:
+    """`completion` as the language server answers it: only the items whose label holds the
+    word typed before the cursor, its letters in order (what every editor's filter keeps), so
+    that a large program's hundreds of names are not sent on every keystroke. When some were
+    left out, the list says it is incomplete: the editor asks again as the word changes."""
+    doc = document(result, path)
+    word = typed_word(doc.text, offset) if doc is not None else ""
+    items, left_out = _complete(result, path, offset, word)
+    return types.CompletionList(is_incomplete=left_out, items=items)
+
+
+def completion_after_edit(result: CheckResult, path: Path, text: str, offset: int) -> types.CompletionList | None:
+    """Completion at `offset` in `text`, the document as it is now, from `result`, a check of
+    it before its latest edits (the check of `text` is still running: an editor asks for
+    completion as soon as a character is typed). This answers when what changed since the
+    check is a part of the word before the cursor (letters typed or deleted) or lies after
+    the cursor: what fits there is taken from the checked program at the same place, and
+    filtered with the word typed in `text`; the list is marked incomplete, so that the editor
+    asks again at the next keystroke. Otherwise (brackets typed, a line pasted, ...: the
+    place may have changed) None: the caller waits for the current check."""
+    doc = document(result, path)
+    if doc is None:
+        return None
+    checked = doc.text
+    offset = max(0, min(offset, len(text)))
+    start, checked_end, now_end = changed_stretch(checked, text)
+    word = typed_word(text, offset)
+    if start >= offset:
+        at = offset  # the text before the cursor is as checked
+    elif start >= offset - len(word) and now_end <= offset and _is_name_part(checked[start:checked_end]):
+        at = start  # in the word being typed: where it was checked
+    else:
+        return None
+    items, _ = _complete(result, path, at, word)
+    if any(i.text_edit is not None for i in items):
+        return None  # (their ranges are positions in the checked text)
+    return types.CompletionList(is_incomplete=True, items=items)
+
+
+def _is_name_part(text: str) -> bool:
+    return all(c.isalnum() or c == "_" for c in text)
+
+
+def changed_stretch(before: str, after: str) -> tuple[int, int, int]:
+    """Where `after` differs from `before`: (start, end in `before`, end in `after`), the
+    common beginning and ending left out."""
+    n = min(len(before), len(after))
+    lo, hi = 0, n  # the common beginning's length is in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if before[lo:mid] == after[lo:mid]:
+            lo = mid
+        else:
+            hi = mid - 1
+    start = lo
+    lo, hi = 0, n - start  # the common ending's length, not overlapping the beginning
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if before[len(before) - mid : len(before) - lo] == after[len(after) - mid : len(after) - lo]:
+            lo = mid
+        else:
+            hi = mid - 1
+    return start, len(before) - lo, len(after) - lo
+
+
+def typed_word(text: str, offset: int) -> str:
+    """The name typed before `offset` (letters, digits and `_`, not starting with a digit)."""
+    offset = max(0, min(offset, len(text)))
+    start = offset
+    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
+        start -= 1
+    while start < offset and text[start].isdigit():
+        start += 1
+    return text[start:offset]
+
+
+@functools.lru_cache(maxsize=64)
+def _holder(word: str) -> Callable[[str], re.Match[str] | None]:
+    """A search for the letters of `word` in order, ignoring case (`co` finds `sCOre`)."""
+    return re.compile(".*?".join(re.escape(c) for c in word), re.IGNORECASE | re.DOTALL).search
 
 
 class _Completer:
-    def __init__(self, doc: Document, ctx: Context, offset: int) -> None:
+    def __init__(self, doc: Document, ctx: Context, offset: int, word: str = "") -> None:
         self.doc = doc
+        # Only the items holding `word` are kept; `left_out` says whether any were not.
+        self.word = word
+        self.holds = _holder(word)
+        self.left_out = False
         self.model: Model = doc.model
         self.ctx = ctx
         self.offset = offset
         self.out: dict[str, types.CompletionItem] = {}
-        self.docs = DocComments(doc.result)
+        self.memo = memo(doc.result)
 
     def items(self) -> list[types.CompletionItem]:
         p = self.ctx.position
@@ -148,22 +245,30 @@ class _Completer:
     def add(self, item: types.CompletionItem, rank: str = _GLOBAL) -> None:
         # (The parser's recovery may invent a declaration without a name.)
         if item.label and item.label not in self.out:
+            if self.word and not self.holds(item.filter_text or item.label):
+                self.left_out = True
+                return
             if item.sort_text is None:
                 item.sort_text = f"{rank}{item.label}"
             self.out[item.label] = item
 
     def symbol_item(self, symbol: Symbol, rank: str = _GLOBAL) -> None:
-        text = self.docs.of(symbol)
-        self.add(
-            types.CompletionItem(
-                label=symbol.name,
-                kind=COMPLETION_KIND[symbol.kind],
-                detail=symbol.signature(),
-                label_details=_label_details(symbol),
-                documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if text else None,
-                preselect=True if rank == _EXPECTED else None,
-            ),
-            rank,
+        if self.word and not self.holds(symbol.name):
+            self.left_out = True  # (not even looked up: a large program has thousands)
+            return
+        # Built once per checked program (the next request on it reuses the item).
+        self.add(self.memo.item(symbol, rank, lambda: self._symbol_item(symbol, rank)), rank)
+
+    def _symbol_item(self, symbol: Symbol, rank: str) -> types.CompletionItem:
+        text = self.memo.docs.of(symbol)
+        return types.CompletionItem(
+            label=symbol.name,
+            kind=COMPLETION_KIND[symbol.kind],
+            detail=symbol.signature(),
+            label_details=_label_details(symbol),
+            documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text) if text else None,
+            preselect=True if rank == _EXPECTED else None,
+            sort_text=f"{rank}{symbol.name}",
         )
 
     def in_action_body(self) -> bool:
@@ -175,12 +280,11 @@ class _Completer:
 
     def sections(self, words: list[str]) -> None:
         for w in words:
-            item = types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword, insert_text=f"{w}:")
-            self.add(item, _KEYWORD)
+            self.add(_keyword_item(w, f"{w}:"), _KEYWORD)
 
     def keywords(self, words: list[str]) -> None:
         for w in words:
-            self.add(types.CompletionItem(label=w, kind=types.CompletionItemKind.Keyword), _KEYWORD)
+            self.add(_keyword_item(w, None), _KEYWORD)
 
     def snippets(self) -> None:
         for label, detail, body in DECLARATION_SNIPPETS:
@@ -372,6 +476,15 @@ class _Completer:
     def named_type(self, name: str) -> Type | None:
         symbol = self.model.types.get(name)
         return symbol.type if symbol is not None else None
+
+
+@functools.cache
+def _keyword_item(word: str, insert_text: str | None) -> types.CompletionItem:
+    """A keyword (or an action's section, inserted with its colon): built once, then shared
+    by every answer (nobody changes it)."""
+    return types.CompletionItem(
+        label=word, kind=types.CompletionItemKind.Keyword, insert_text=insert_text, sort_text=f"{_KEYWORD}{word}"
+    )
 
 
 def _label_details(symbol: Symbol) -> types.CompletionItemLabelDetails:

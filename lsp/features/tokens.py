@@ -29,7 +29,7 @@ from lsprotocol import types
 from gpp.check import CheckResult
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.source import Source
-from lsp.features.common import KEYWORD_TYPES, comments, document, stdlib_sources
+from lsp.features.common import KEYWORD_TYPES, document, memo, stdlib_sources
 
 TOKEN_TYPES = [
     "fluent",
@@ -92,7 +92,7 @@ def semantic_tokens(result: CheckResult, path: Path) -> list[int]:
             found.append((tok.start, tok.end, _TYPE["string"], 0))
         elif tok.type == "NUMBER":
             found.append((tok.start, tok.end, _TYPE["number"], 0))
-    for start, end in comments(doc.file):
+    for start, end in memo(doc.result).comments(doc.file):
         found.append((start, end, _TYPE["comment"], 0))
     found.sort(key=lambda f: (f[0], -f[1]))
     return encode(source, found)

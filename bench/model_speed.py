@@ -1,0 +1,117 @@
+"""How fast the code model and type check are, against another revision, in one process.
+
+    python bench/model_speed.py [--baseline REV] [--lines 1000 10000] [--runs 15]
+
+Copies gpp/model of the baseline revision (`git show REV:gpp/model/...`) into a temporary
+package, so that both builders run in this process on the same parsed files, interleaved
+(baseline, this tree, baseline, ...): the machine's load touches both alike. Prints the best
+and the median CPU time of each and their ratio, and checks that both give the same model and
+diagnostics (tests/model_fingerprint.py describes them completely). Times vary with the load
+of the machine; the ratio is what to read.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import importlib
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from functools import partial
+from pathlib import Path
+from types import ModuleType
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+sys.path.append(str(ROOT / "tests"))
+
+from genprog import generate_program  # noqa: E402
+from model_fingerprint import describe  # noqa: E402
+
+from gpp.model.build import build_model  # noqa: E402
+from gpp.perf import with_deep_stack  # noqa: E402
+from gpp.syntax.loader import LoadResult, load  # noqa: E402
+
+BASELINE_PACKAGE = "gpp_model_baseline"
+# The last revision before the code model was made faster (bench/model_speed.py was written
+# with the speed-up).
+BEFORE = "92d0a15"
+
+
+def baseline_builder(revision: str, into: Path) -> ModuleType:
+    """gpp.model.build of `revision`, as the module `gpp_model_baseline.build` (its imports of
+    gpp.model.* rewritten to the copy; everything else is this tree's)."""
+    names = subprocess.run(
+        ["git", "ls-tree", "--name-only", f"{revision}:gpp/model"], cwd=ROOT, check=True, capture_output=True, text=True
+    ).stdout.split()
+    package = into / BASELINE_PACKAGE
+    package.mkdir()
+    for name in names:
+        if not name.endswith(".py"):
+            continue
+        text = subprocess.run(
+            ["git", "show", f"{revision}:gpp/model/{name}"], cwd=ROOT, check=True, capture_output=True, text=True
+        ).stdout
+        (package / name).write_text(text.replace("gpp.model.", f"{BASELINE_PACKAGE}."), encoding="utf-8")
+    sys.path.insert(0, str(into))
+    return importlib.import_module(f"{BASELINE_PACKAGE}.build")
+
+
+def timed(fn: Callable[[], object]) -> float:
+    """The CPU time of `fn` on its thread: on a busy machine, the time the thread waited for a
+    core is not counted."""
+    gc.collect()
+
+    def run() -> float:
+        t0 = time.thread_time()
+        fn()
+        return time.thread_time() - t0
+
+    return with_deep_stack(run)
+
+
+def compare(loaded: LoadResult, old_build: Callable[..., object]) -> bool:
+    old_model, old_diagnostics = old_build(loaded.files)  # type: ignore[misc]
+    new_model, new_diagnostics = build_model(loaded.files)
+    return describe(old_model, old_diagnostics) == describe(new_model, new_diagnostics)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--baseline", default=BEFORE, help=f"git revision to compare with (default: {BEFORE}, before the speed-up)"
+    )
+    parser.add_argument("--lines", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument("--runs", type=int, default=15)
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            old = baseline_builder(args.baseline, Path(tmp))
+        except (OSError, subprocess.CalledProcessError) as e:
+            print(f"model_speed: cannot read gpp/model of revision {args.baseline} with git: {e}", file=sys.stderr)
+            return 2
+        print(f"load average: {os.getloadavg()[0]:.2f}; best / median of {args.runs} runs, interleaved")
+        print(f"{'lines':>7} {'baseline ms':>16} {'this tree ms':>16} {'speed-up':>9}  same model")
+        for lines in args.lines:
+            path = ROOT / "bench" / f"model-speed-{lines}.gpp"
+            loaded = load([path], {path.resolve(): generate_program(lines)})
+            same = with_deep_stack(partial(compare, loaded, old.build_model))
+            before: list[float] = []
+            after: list[float] = []
+            for _ in range(args.runs):
+                before.append(timed(partial(old.build_model, loaded.files)))
+                after.append(timed(partial(build_model, loaded.files)))
+            b, a = min(before), min(after)
+            shown_b = f"{b * 1000:.1f} / {statistics.median(before) * 1000:.1f}"
+            shown_a = f"{a * 1000:.1f} / {statistics.median(after) * 1000:.1f}"
+            print(f"{lines:>7} {shown_b:>16} {shown_a:>16} {b / a:>8.2f}x  {'yes' if same else 'NO'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

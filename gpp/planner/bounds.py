@@ -1,0 +1,782 @@
+"""Branch and bound for `solve`, only where it is provably exact: a static analysis of a
+`solve` that gives an upper bound on what the rest of any branch can still earn, and that
+enables it only when skipping a subtree cannot change the result of the reference planner
+(gpp.planner.reference).
+
+The bound. Let M be an upper bound on the reward over every state the program can be in, and
+say the rewards are whole numbers. Every costed step costs at least 1, so a branch with h
+steps of horizon left makes at most h costed steps after this one, each worth at most M; a
+branch that stops earns 0. So the best value of any configuration with h steps left is at most
+U(h) = max(M, 0) * h, and an option whose step leads to a state worth r is worth at most
+r + U(h - cost).
+
+A tighter bound where the program's termination is known: when the body of the `solve` is
+`while (!G) S`, the reward is `if (G) a else b` (through functions without parameters) with
+the same G reading no variable, and every run of S makes at most one step, a costed one, after
+which S is done. Then after every costed step the loop tests G: if G holds, the program is
+final and makes no further step. So in a branch of k >= 1 costed steps the first k - 1 lead to
+states where G does not hold (each worth at most B, the bound of `b`), and the last to a state
+worth at most max(A, B) (A the bound of `a`): the value is at most (k - 1) * B + max(A, B).
+The largest over 0 <= k <= h is U(h) = max(0, max(A, B) + (h - 1) * max(B, 0)) for h >= 1. On
+the blocks world towers (A = 100, B = -1) that is 100, where the first bound gives 100 * h.
+
+Tighter still, from the state (STEPS_TO_GOAL): when moreover G is a conjunction (through
+functions without parameters) of conjuncts that each read only fluent instances named by
+constants (`loc(a) == table`), no instance read by two conjuncts. A conjunct that is not true
+in s can only become true when a step writes an instance it reads; one step writes at most W
+instances (an assignment one, an action one per effect; W is the most over the actions the
+`solve` can call), and each of them is read by at most one conjunct. So with m conjuncts not
+true in s, reaching G takes at least n = ceil(m / W) more steps. From a state s after a costed
+step (the loop is about to test G), with h steps left:
+  * m = 0: G holds, the loop is over, the rest is worth 0;
+  * else a branch that never reaches G is worth at most k * B for its k <= h steps, so at most
+    max(0, h * B); one that reaches G at its step k >= n (k <= h) at most (k - 1) * B + A,
+    largest at k = n if B <= 0, at k = h if B > 0; if n > h no branch reaches G.
+U(s, h) is the larger of the two. On the towers every block not yet in place is a conjunct
+not true: from the start of the tower of five with 10 steps left, U = 100 - 4 = 96.
+
+Why skipping such an option is exact. The production planner (gpp.planner.dp) takes the
+options of a node in the reference's order and keeps the first best one: a later option
+replaces the incumbent only if it is feasible and strictly better. If r + U(h - cost) <= v for
+the value v of a feasible incumbent, the option's true value is <= v, so it can never replace
+it: not when it is lower, and not when it is equal either (ties go to the earlier option). So
+the node's choice and value are the reference's (equal values are skipped: "not strictly
+better" is the whole test; the comparison is exact because every value involved is a sum of
+whole numbers below 2**53, which floats add exactly).
+
+Why the subtree may be skipped at all. What the reference does in a subtree is part of its
+result: an error raised there (a division by zero, a value outside its domain, a loop without
+a costed step, the limit on free steps, a procedure without a body, an exogenous function asked
+offline, ...) is the error of the whole `solve`. So the analysis proves, for the body of the
+`solve` and everything it can reach (procedures it calls, the actions' preconditions and
+effects, the functions in any expression) and for the reward, that no step of planning can
+raise. Each part must be in a fragment where that is evident:
+
+* expressions: literals, variables, fluents, functions with a body (no recursion), `!`, `&`,
+  `|`, `->`, `==`, `!=`, quantifiers over finite types, `if ... else ...`; ordering and
+  arithmetic only on operands proven never `null` and, for arithmetic, in a finite interval (no
+  overflow); `/` and `%` only by a divisor whose interval excludes 0 (`%` on whole numbers);
+  nothing else (no lists, fields, `**`, `length`, `to_string`, exogenous functions, the clock);
+* statements: blocks, `if`, `while`, `choose`, `pick`, calls of actions and of procedures
+  that are not recursive, assignments to whole fluent instances; a test (the only free step
+  here) never inside a loop, and at most FREE_STEP_LIMIT of them on any path, so no run of
+  free steps can repeat a configuration or grow past the limit; nothing concurrent, durative,
+  nested `solve`/`search`, or list operation;
+* a value stored into a domain (an action's argument, a procedure's argument, an assignment,
+  an effect) must come from a type whose values all lie in that domain, so the domain check
+  cannot fail; two effects of one action never write the same fluent;
+* actions: no `senses`; the exogenous actions' effects count among the assignments below.
+
+What a fluent can hold is one fact for the whole program (so it holds in every state planning
+starts from, online too): never `null` if an initial value covers every instance and every
+assignment anywhere in the program (statements, effects of all actions, exogenous ones
+included) stores a value never `null`; for a number, the interval spanned by its initial
+values and everything assigned to it, computed to a fixpoint (a fluent whose interval keeps
+growing, `x = x + 1`, gets no interval, so no arithmetic on it is proven safe). The reward
+must be a number in a finite interval of whole numbers; its upper end is M.
+
+The recursion of planning is bounded too: pruning is only enabled for horizons up to
+MAX_HORIZON (with at most FREE_STEP_LIMIT free steps that keeps every branch far within the
+recursion limit the planners share), so a skipped subtree cannot hide a "planning went too
+deep" error either.
+
+Anything outside the fragment gives no bound (`analyse` says why, and where): the planner
+then explores everything the reference explores.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from gpp.model.model import Model
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.model.types import BOOL, DomainType, ListType, Sym, Type
+from gpp.planner.guards import FREE_STEP_LIMIT
+from gpp.runtime.compiled import Env
+from gpp.runtime.semantics import Semantics
+from gpp.runtime.state import State
+from gpp.source import Span
+from gpp.syntax import ast
+from gpp.syntax.walk import walk
+
+# A bound on the value of the rest of a branch with h steps of horizon left.
+Bound = Callable[[int], float]
+
+# The two bounds (see the module docstring).
+PER_STEP = "per step"
+GOAL_LOOP = "goal ends the loop"
+STEPS_TO_GOAL = "steps to the goal"
+
+# A bound on the value of the rest of a branch from a state with h steps of horizon left.
+StateBound = Callable[[State, int], float]
+
+# Pruning is enabled up to this horizon (see the module docstring).
+MAX_HORIZON = 1000
+
+# Sums of whole numbers below this are exact in floating point.
+_EXACT = float(2**53)
+
+# Intervals beyond this are treated as unknown (far below the largest number, so no overflow).
+_LARGE = 1e300
+
+# Rounds of the fixpoint on fluent intervals before a growing interval is given up.
+_ROUNDS = 16
+
+
+@dataclass(frozen=True, slots=True)
+class Fact:
+    """What is known of the value of an expression in every state: never `null`, and for a
+    number the interval it lies in (None: unknown) and whether it is always whole."""
+
+    nonnull: bool
+    low: float = -math.inf
+    high: float = math.inf
+    whole: bool = False
+
+    @property
+    def bounded(self) -> bool:
+        return self.nonnull and -_LARGE <= self.low <= self.high <= _LARGE
+
+    def join(self, other: Fact) -> Fact:
+        return Fact(
+            self.nonnull and other.nonnull,
+            min(self.low, other.low),
+            max(self.high, other.high),
+            self.whole and other.whole,
+        )
+
+
+_UNKNOWN = Fact(False)
+_SOME = Fact(True)  # never null, nothing else known (a truth value, a symbol)
+
+
+def _number(low: float, high: float, whole: bool) -> Fact:
+    if not (-_LARGE <= low <= high <= _LARGE):
+        return Fact(True)
+    return Fact(True, low, high, whole)
+
+
+class Unsafe(Exception):
+    """Planning this part could raise an error (or the analysis cannot tell)."""
+
+    def __init__(self, reason: str, span: Span | None) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.span = span
+
+
+@dataclass(frozen=True)
+class BoundAnalysis:
+    """The result of the analysis of one `solve`: the reward's interval (if known), and the
+    bound, or the reason why there is none."""
+
+    reward_low: float | None
+    reward_high: float | None
+    reason: str | None  # why pruning is off (None: it is on)
+    span: Span | None = None  # where the reason is
+    bound: Bound | None = field(default=None, compare=False)
+    kind: str | None = None  # PER_STEP, GOAL_LOOP or STEPS_TO_GOAL (None: no bound)
+    # STEPS_TO_GOAL: the goal's conjuncts, the most fluent instances one step writes, and the
+    # bounds of the reward at the goal and elsewhere.
+    goal_atoms: tuple[ast.Expr, ...] | None = None
+    writes_per_step: int = 1
+    goal_values: tuple[float, float] | None = None
+
+    @property
+    def enabled(self) -> bool:
+        return self.bound is not None
+
+
+def _values(model: Model, t: Type | None) -> tuple[object, ...] | None:
+    if t is BOOL:
+        return (False, True)
+    if isinstance(t, DomainType) and t.defined:
+        return t.values
+    return None
+
+
+def _hull(values: tuple[object, ...]) -> Fact:
+    numbers = [v for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    if not numbers or len(numbers) < len(values):
+        return _SOME
+    return _number(min(numbers), max(numbers), all(float(v).is_integer() for v in numbers))
+
+
+class _Analysis:
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self.fluents: dict[str, Fact] = {}
+        self.functions: list[str] = []  # the functions being analysed (a recursion is unsafe)
+        # A function's fact for the facts of its arguments (forgotten when a fluent's changes).
+        self.function_facts: dict[tuple[str, tuple[Fact, ...]], Fact | Unsafe] = {}
+        self.procedures: list[str] = []
+        self.checked_actions: set[str] = set()
+        self.tests: dict[tuple[str, bool], int] = {}  # procedure's tests, per in-loop flag
+        self._fluent_facts()
+
+    # ---------------------------------------------------------------- fluents
+
+    def _assignments(self) -> list[tuple[str, ast.Expr | None]]:
+        """Every (fluent, value) stored anywhere in the program (None: a value not known)."""
+        out: list[tuple[str, ast.Expr | None]] = []
+
+        def fluent_of(target: ast.Expr) -> str | None:
+            while isinstance(target, ast.FieldAccess | ast.Index):
+                target = target.subject
+            symbol = self.model.target(target)
+            return symbol.name if symbol is not None else None
+
+        def add(target: ast.Expr, value: ast.Expr | None) -> None:
+            name = fluent_of(target)
+            if name is not None:
+                whole = isinstance(target, ast.Call)
+                out.append((name, value if whole else None))
+
+        for parsed in self.model.files:  # every declaration: actions (exogenous too), procedures
+            for node in walk(parsed.program):
+                if isinstance(node, ast.Effect | ast.Assign):
+                    add(node.target, node.value)
+                elif isinstance(node, ast.SensesSection | ast.ListStmt):
+                    add(node.target, None)
+        return out
+
+    def _fluent_facts(self) -> None:
+        for symbol in self.model.globals.values():
+            decl = symbol.decl
+            if symbol.kind is not SymbolKind.FLUENT or symbol.predefined or not isinstance(decl, ast.FluentDecl):
+                continue
+            names = [p.name for p in symbol.params]
+            fact: Fact | None = None
+            total = False
+            for init in decl.initially or ():
+                total = total or all(
+                    isinstance(a, ast.Name) and i < len(names) and a.name == names[i] for i, a in enumerate(init.args)
+                )
+                f = self._quietly(init.value)
+                fact = f if fact is None else fact.join(f)
+            if fact is None or not total:
+                fact = Fact(False, fact.low, fact.high, fact.whole) if fact is not None else _UNKNOWN
+            self.fluents[symbol.name] = fact
+        assignments = self._assignments()
+        # Once intervals are given up, every further change makes a fact weaker for good (an
+        # interval lost, `null` or a fraction possible): a few more rounds reach the fixpoint.
+        rounds = 0
+        while True:
+            changed, rounds = False, rounds + 1
+            for name, value in assignments:
+                old = self.fluents.get(name, _UNKNOWN)
+                new = old.join(self._quietly(value) if value is not None else _UNKNOWN)
+                if rounds >= _ROUNDS and (new.low, new.high) != (old.low, old.high):
+                    new = Fact(new.nonnull)  # still growing: give its interval up
+                if new != old:
+                    self.fluents[name], changed = new, True
+                    self.function_facts.clear()
+            if not changed:
+                return
+
+    def _quietly(self, e: ast.Expr) -> Fact:
+        """The fact of `e` where it does not matter whether it can raise (an error there
+        surfaces wherever it is evaluated; only the value is wanted)."""
+        try:
+            return self.expr(e, {})
+        except Unsafe:
+            return _UNKNOWN
+
+    # ---------------------------------------------------------------- expressions
+
+    def expr(self, e: ast.Expr, env: dict[int, Fact]) -> Fact:
+        """The fact of `e` (variables of functions bound in `env`); Unsafe if it can raise."""
+        e = self.model.effective(e)
+        match e:
+            case ast.NumberLit():
+                return _number(e.value, e.value, float(e.value).is_integer())
+            case ast.BoolLit() | ast.StringLit():
+                return _SOME
+            case ast.NullLit():
+                return _UNKNOWN
+            case ast.Name():
+                return self._name(e, env)
+            case ast.Call():
+                return self._call(e, env)
+            case ast.Unary(op=ast.UnaryOp.NOT):
+                self.expr(e.operand, env)
+                return _SOME
+            case ast.Unary():
+                f = self._operand(e.operand, env, e.span)
+                return _number(-f.high, -f.low, f.whole)
+            case ast.Binary():
+                return self._binary(e, env)
+            case ast.Quantified():
+                target = self.model.target(e.var)
+                if target is None or _values(self.model, target.type) is None:
+                    raise Unsafe("a quantifier over a type that is not finite", e.span)
+                self.expr(e.body, env)
+                return _SOME
+            case ast.Conditional():
+                self.expr(e.condition, env)
+                return self.expr(e.then, env).join(self.expr(e.otherwise, env))
+            case _:
+                raise Unsafe(f"`{type(e).__name__}` expressions are not analysed", e.span)
+
+    def _name(self, e: ast.Name, env: dict[int, Fact]) -> Fact:
+        target = self.model.target(e)
+        if target is None:
+            raise Unsafe(f"`{e.name}` is not resolved", e.span)
+        if target.kind is SymbolKind.SYMBOL:
+            return _SOME
+        known = env.get(id(target))
+        if known is not None:
+            return known
+        if target.kind is SymbolKind.VARIABLE:  # of a `pick` or a quantifier: never null
+            decl = target.decl
+            if isinstance(decl, ast.Pick) and decl.values is not None:
+                fact = self.expr(decl.values[0], {})
+                for v in decl.values[1:]:
+                    fact = fact.join(self.expr(v, {}))
+                return fact
+            values = _values(self.model, target.type)
+            return _hull(values) if values is not None else _SOME
+        return _UNKNOWN  # a parameter: any value its caller passes, `null` too
+
+    def _call(self, e: ast.Call, env: dict[int, Fact]) -> Fact:
+        symbol = self.model.target(e)
+        if symbol is None:
+            raise Unsafe(f"`{e.name.name}` is not resolved", e.span)
+        args = [self.expr(a, env) for a in e.args]
+        if symbol.kind is SymbolKind.FLUENT:
+            if symbol.predefined:
+                raise Unsafe(f"`{symbol.name}` reads the clock", e.span)
+            return self.fluents.get(symbol.name, _UNKNOWN)
+        if symbol.kind is SymbolKind.FUNCTION:
+            decl = symbol.decl
+            if not isinstance(decl, ast.FunctionDecl) or decl.body is None:
+                raise Unsafe(f"function `{symbol.name}` has no body", e.span)
+            if symbol.name in self.functions:
+                raise Unsafe(f"function `{symbol.name}` is recursive", e.span)
+            key = (symbol.name, tuple(args))
+            known = self.function_facts.get(key)
+            if known is None:
+                self.functions.append(symbol.name)
+                try:
+                    known = self.expr(decl.body, {id(p): a for p, a in zip(symbol.params, args, strict=True)})
+                except Unsafe as unsafe:
+                    known = unsafe
+                finally:
+                    self.functions.pop()
+                self.function_facts[key] = known
+            if isinstance(known, Unsafe):
+                raise known
+            return known
+        raise Unsafe(f"`{symbol.name}` ({symbol.kind.value}) is not known while planning", e.span)
+
+    def _operand(self, e: ast.Expr, env: dict[int, Fact], span: Span) -> Fact:
+        f = self.expr(e, env)
+        if not f.bounded:
+            raise Unsafe("an operand of arithmetic that may be `null` or unbounded", span)
+        return f
+
+    def _binary(self, e: ast.Binary, env: dict[int, Fact]) -> Fact:
+        op = e.op
+        if op in ast.BOOLEAN_OPS or op in (ast.BinaryOp.EQ, ast.BinaryOp.NE):
+            self.expr(e.left, env)
+            self.expr(e.right, env)
+            return _SOME
+        if op in ast.COMPARISON_OPS:
+            for side in (e.left, e.right):
+                if not self.expr(side, env).nonnull:
+                    raise Unsafe(f"`{op.value}` on a value that may be `null`", side.span)
+            return _SOME
+        a, b = self._operand(e.left, env, e.span), self._operand(e.right, env, e.span)
+        whole = a.whole and b.whole
+        if op in (ast.BinaryOp.ADD, ast.BinaryOp.SUB, ast.BinaryOp.MUL):
+            if op is ast.BinaryOp.ADD:
+                low, high = a.low + b.low, a.high + b.high
+            elif op is ast.BinaryOp.SUB:
+                low, high = a.low - b.high, a.high - b.low
+            else:
+                corners = [a.low * b.low, a.low * b.high, a.high * b.low, a.high * b.high]
+                low, high = min(corners), max(corners)
+            if not (-_LARGE <= low <= high <= _LARGE):
+                raise Unsafe(f"`{op.value}` may overflow", e.span)
+            return _number(low, high, whole)
+        if b.low <= 0 <= b.high:
+            raise Unsafe(f"`{op.value}` by a value that may be 0", e.right.span)
+        if op is ast.BinaryOp.DIV:
+            corners = [a.low / b.low, a.low / b.high, a.high / b.low, a.high / b.high]
+            return _number(min(corners), max(corners), False)
+        if op is ast.BinaryOp.MOD and whole:
+            return _number(0, b.high - 1, True) if b.low > 0 else _number(b.low + 1, 0, True)
+        raise Unsafe(f"`{op.value}` may fail", e.span)
+
+    # ---------------------------------------------------------------- stored values
+
+    def _stored(self, value: ast.Expr, target: Type | None, env: dict[int, Fact]) -> None:
+        """`value` is safe, and storing it into a place of type `target` cannot fail its
+        domain check."""
+        self.expr(value, env)
+        if isinstance(target, ListType):
+            raise Unsafe("a list is stored", value.span)
+        if not isinstance(target, DomainType):
+            return
+        possible = self._possible(value)
+        if possible is None or not all(v is None or target.contains(v) for v in possible):  # type: ignore[arg-type]
+            raise Unsafe(f"a value that may be outside domain `{target.name}`", value.span)
+
+    def _possible(self, e: ast.Expr) -> tuple[object, ...] | None:
+        """The values `e` can have (None: not known), `null` included as None."""
+        e = self.model.effective(e)
+        match e:
+            case ast.NumberLit() | ast.BoolLit():
+                return (e.value,)
+            case ast.NullLit():
+                return (None,)
+            case ast.Name() | ast.Call():
+                target = self.model.target(e)
+                if target is not None and target.kind is SymbolKind.SYMBOL:
+                    return (Sym(target.name),)
+                # Values stored there passed a domain check (a fluent, a parameter of an action
+                # or a procedure), or come from a domain (a `pick`, a quantifier).
+                if target is None or not (
+                    target.kind in (SymbolKind.VARIABLE, SymbolKind.FLUENT)
+                    or (
+                        target.kind is SymbolKind.PARAMETER
+                        and target.owner is not None
+                        and target.owner.kind in (SymbolKind.ACTION, SymbolKind.PROCEDURE)
+                    )
+                ):
+                    return None
+                if isinstance(target.decl, ast.Pick) and target.decl.values is not None:
+                    out: list[object] = []
+                    for v in target.decl.values:
+                        more = self._possible(v)
+                        if more is None:
+                            return None
+                        out.extend(more)
+                    return tuple(out)
+                values = _values(self.model, target.type)
+                return None if values is None else (*values, None)
+            case ast.Conditional():
+                then, otherwise = self._possible(e.then), self._possible(e.otherwise)
+                return None if then is None or otherwise is None else then + otherwise
+            case _:
+                return None
+
+    # ---------------------------------------------------------------- statements
+
+    def statement(self, s: ast.Statement, in_loop: bool) -> int:
+        """Check `s` (Unsafe if planning it could raise); the most tests a run through it makes."""
+        match s:
+            case ast.Block():
+                return sum(self.statement(x, in_loop) for x in s.body)
+            case ast.If():
+                self.expr(s.condition, {})
+                then = self.statement(s.then, in_loop)
+                return then + (self.statement(s.otherwise, in_loop) if s.otherwise is not None else 0)
+            case ast.While():
+                self.expr(s.condition, {})
+                self.statement(s.body, True)
+                return 0
+            case ast.Test():
+                if in_loop:
+                    raise Unsafe("a test inside a loop (a loop of free steps is an error)", s.span)
+                self.expr(s.condition, {})
+                return 1
+            case ast.Choose():
+                return sum(self.statement(x, in_loop) for x in s.alternatives)
+            case ast.Pick():
+                target = self.model.target(s.var)
+                if s.values is not None:
+                    for v in s.values:
+                        self.expr(v, {})
+                elif target is None or _values(self.model, target.type) is None:
+                    raise Unsafe("a `pick` over a type that is not finite", s.span)
+                return self.statement(s.body, in_loop)
+            case ast.CallStmt():
+                return self._call_statement(s, in_loop)
+            case ast.Assign():
+                if not isinstance(s.target, ast.Call):
+                    raise Unsafe("an assignment to a part of a fluent", s.span)
+                for a in s.target.args:
+                    self.expr(a, {})
+                fluent = self.model.target(s.target)
+                self._stored(s.value, fluent.type if fluent is not None else None, {})
+                return 0
+            case _:
+                raise Unsafe(f"`{type(s).__name__}` statements are not analysed", s.span)
+
+    # ---------------------------------------------------------------- the goal loop
+
+    def goal_loop(self, solve: ast.Solve) -> tuple[ast.Expr, Fact, Fact] | None:
+        """For a `solve` whose body is `while (!G) S` and whose reward is `if (G) a else b`
+        (through functions without parameters) with the same G reading no variable, and S a
+        statement each run of which makes at most one step, that step costed and last: the
+        condition G and the facts of `a` and `b`. None if the `solve` is not of that form."""
+        body = solve.body
+        while isinstance(body, ast.Block) and len(body.body) == 1:
+            body = body.body[0]
+        if not isinstance(body, ast.While) or not self._one_step(body.body):
+            return None
+        condition = self.model.effective(body.condition)
+        reward = self.model.effective(solve.reward)
+        while isinstance(reward, ast.Call) and not reward.args:
+            symbol = self.model.target(reward)
+            decl = symbol.decl if symbol is not None and symbol.kind is SymbolKind.FUNCTION else None
+            if not isinstance(decl, ast.FunctionDecl) or decl.body is None:
+                return None
+            reward = self.model.effective(decl.body)
+        if not (
+            isinstance(condition, ast.Unary)
+            and condition.op is ast.UnaryOp.NOT
+            and isinstance(reward, ast.Conditional)
+            and self._same_goal(condition.operand, reward.condition)
+        ):
+            return None
+        return reward.condition, self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+
+    def goal_atoms(self, goal: ast.Expr) -> tuple[ast.Expr, ...] | None:
+        """The conjuncts of `goal` (through functions without parameters), if each reads
+        fluent instances named by constants only, no two the same instance. None otherwise."""
+        conjuncts: list[ast.Expr] = []
+
+        def split(e: ast.Expr) -> bool:
+            e = self.model.effective(e)
+            if isinstance(e, ast.Binary) and e.op is ast.BinaryOp.AND:
+                return split(e.left) and split(e.right)
+            if isinstance(e, ast.Call) and not e.args:
+                symbol = self.model.target(e)
+                if symbol is not None and symbol.kind is SymbolKind.FUNCTION:
+                    decl = symbol.decl
+                    return isinstance(decl, ast.FunctionDecl) and decl.body is not None and split(decl.body)
+            conjuncts.append(e)
+            return True
+
+        if not split(goal):
+            return None
+        seen: set[tuple[str, tuple[object, ...]]] = set()
+        for conjunct in conjuncts:
+            reads = self._instances(conjunct)
+            if reads is None or reads & seen:
+                return None
+            seen |= reads
+        return tuple(conjuncts)
+
+    def _instances(self, e: ast.Expr) -> set[tuple[str, tuple[object, ...]]] | None:
+        """The fluent instances `e` reads, if it reads nothing else that can change (no
+        variable, no function) and names them by constants."""
+        e = self.model.effective(e)
+        match e:
+            case ast.NumberLit() | ast.BoolLit() | ast.StringLit() | ast.NullLit():
+                return set()
+            case ast.Name():
+                target = self.model.target(e)
+                return set() if target is not None and target.kind is SymbolKind.SYMBOL else None
+            case ast.Unary():
+                return self._instances(e.operand)
+            case ast.Binary():
+                left, right = self._instances(e.left), self._instances(e.right)
+                return None if left is None or right is None else left | right
+            case ast.Call():
+                symbol = self.model.target(e)
+                if symbol is None or symbol.kind is not SymbolKind.FLUENT or symbol.predefined:
+                    return None
+                args: list[object] = []
+                for a in e.args:
+                    a = self.model.effective(a)
+                    if isinstance(a, ast.NumberLit | ast.BoolLit | ast.StringLit):
+                        args.append(a.value)
+                        continue
+                    target = self.model.target(a) if isinstance(a, ast.Name) else None
+                    if target is None or target.kind is not SymbolKind.SYMBOL:
+                        return None
+                    args.append(Sym(target.name))
+                return {(symbol.name, tuple(args))}
+            case _:
+                return None
+
+    def writes_per_step(self) -> int:
+        """The most fluent instances one step of the analysed program writes: an assignment
+        writes one, an action one per effect."""
+        most = 1
+        for name in self.checked_actions:
+            decl = self.model.globals[name].decl
+            if isinstance(decl, ast.ActionDecl):
+                effects = sum(len(s.effects) for s in decl.sections or () if isinstance(s, ast.EffectSection))
+                most = max(most, effects)
+        return most
+
+    def _same_goal(self, a: ast.Expr, b: ast.Expr) -> bool:
+        """`a` and `b` are the same expression, and read no variable (so they mean the same
+        in the loop's condition and in the reward)."""
+        a, b = self.model.effective(a), self.model.effective(b)
+        if a != b:
+            return False
+        for node in walk(a):
+            if isinstance(node, ast.Name):
+                target = self.model.target(node)
+                if target is None:
+                    return False
+                if target.kind is not SymbolKind.SYMBOL and not (
+                    target.kind is SymbolKind.VARIABLE and isinstance(target.decl, ast.Quantified)
+                ):
+                    return False
+        return True
+
+    def _one_step(self, s: ast.Statement) -> bool:
+        """Every run of `s` makes at most one step, a costed one, and `s` is done after it."""
+        match s:
+            case ast.Block():
+                return not s.body or (len(s.body) == 1 and self._one_step(s.body[0]))
+            case ast.Assign():
+                return True
+            case ast.CallStmt():
+                symbol = self.model.target(s.call)
+                return symbol is not None and symbol.kind is SymbolKind.ACTION
+            case ast.Pick():
+                return self._one_step(s.body)
+            case ast.Choose():
+                return all(self._one_step(x) for x in s.alternatives)
+            case ast.If():
+                return self._one_step(s.then) and (s.otherwise is None or self._one_step(s.otherwise))
+            case _:
+                return False
+
+    def _arguments(self, call: ast.Expr, symbol: Symbol) -> None:
+        assert isinstance(call, ast.Call)
+        for p, a in zip(symbol.params, call.args, strict=True):
+            self._stored(a, p.type, {})
+
+    def _call_statement(self, s: ast.CallStmt, in_loop: bool) -> int:
+        symbol = self.model.target(s.call)
+        if symbol is None or not isinstance(s.call, ast.Call):
+            raise Unsafe("a call that is not resolved", s.span)
+        self._arguments(s.call, symbol)
+        if symbol.kind is SymbolKind.ACTION:
+            self._action(symbol, s.span)
+            return 0
+        if symbol.kind is not SymbolKind.PROCEDURE:
+            raise Unsafe(f"a call of {symbol.kind.article} {symbol.kind.value}", s.span)
+        decl = symbol.decl
+        body = decl.body if isinstance(decl, ast.ProcedureDecl) else None
+        if body is None:
+            raise Unsafe(f"procedure `{symbol.name}` has no body", s.span)
+        if symbol.name in self.procedures:
+            raise Unsafe(f"procedure `{symbol.name}` is recursive", s.span)
+        key = (symbol.name, in_loop)
+        known = self.tests.get(key)
+        if known is None:
+            self.procedures.append(symbol.name)
+            try:
+                known = self.tests[key] = self.statement(body, in_loop)
+            finally:
+                self.procedures.pop()
+        return known
+
+    def _action(self, symbol: Symbol, span: Span) -> None:
+        if symbol.name in self.checked_actions:
+            return
+        decl = symbol.decl
+        if not isinstance(decl, ast.ActionDecl):
+            raise Unsafe(f"action `{symbol.name}` has no declaration", span)
+        for section in decl.sections or ():
+            if isinstance(section, ast.PreconditionSection):
+                self.expr(section.condition, {})
+            elif isinstance(section, ast.EffectSection):
+                written: set[str] = set()
+                for effect in section.effects:
+                    if effect.condition is not None:
+                        self.expr(effect.condition, {})
+                    if not isinstance(effect.target, ast.Call):
+                        raise Unsafe("an effect on a part of a fluent", effect.span)
+                    fluent = self.model.target(effect.target)
+                    if fluent is None or fluent.name in written:
+                        raise Unsafe("two effects of one action on one fluent", effect.span)
+                    written.add(fluent.name)
+                    for a in effect.target.args:
+                        self.expr(a, {})
+                    self._stored(effect.value, fluent.type, {})
+            elif isinstance(section, ast.SensesSection):
+                raise Unsafe(f"action `{symbol.name}` senses", section.span)
+        self.checked_actions.add(symbol.name)
+
+
+def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
+    """The analysis of `solve` (its bound is for any horizon up to MAX_HORIZON)."""
+    analysis = _Analysis(model)
+    try:
+        reward = analysis.expr(solve.reward, {})
+        low, high = (reward.low, reward.high) if reward.bounded else (None, None)
+        if low is None or high is None or not reward.whole:
+            raise Unsafe("the reward is not a whole number in a known interval", solve.reward.span)
+        tests = analysis.statement(solve.body, False)
+        if tests > FREE_STEP_LIMIT:
+            raise Unsafe(f"more than {FREE_STEP_LIMIT} tests in a row", solve.span)
+    except Unsafe as e:
+        reward = analysis._quietly(solve.reward)
+        known = reward.bounded
+        return BoundAnalysis(reward.low if known else None, reward.high if known else None, e.reason, e.span)
+    goal = analysis.goal_loop(solve)
+    if goal is not None:
+        condition, reached, otherwise = goal
+        at_goal, elsewhere = reached.high, otherwise.high
+        last = max(at_goal, elsewhere)
+        per_step = max(elsewhere, 0.0)
+
+        def until_goal(h: int) -> float:
+            return max(0.0, last + (h - 1) * per_step) if h > 0 else 0.0
+
+        atoms = analysis.goal_atoms(condition)
+        writes = analysis.writes_per_step()
+        if atoms is not None:
+            return BoundAnalysis(low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, (at_goal, elsewhere))
+        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP)
+    per_step = max(high, 0.0)
+
+    def bound(h: int) -> float:
+        return per_step * h
+
+    return BoundAnalysis(low, high, None, None, bound, PER_STEP)
+
+
+def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | None:
+    """The bound the production planner may prune with for `solve` at `horizon`, or None."""
+    if not 0 <= horizon <= MAX_HORIZON:
+        return None
+    result = analyse(sem.model, solve)
+    bound = result.bound
+    if bound is None or result.reward_low is None or result.reward_high is None:
+        return None
+    if max(abs(result.reward_low), abs(result.reward_high)) * (horizon + 1) >= _EXACT:
+        return None  # sums of rewards might not be exact
+    table = [bound(h) for h in range(horizon + 1)]
+    if result.goal_atoms is None or result.goal_values is None:
+        return lambda state, h: table[h]
+    return _steps_to_goal(sem, result.goal_atoms, result.writes_per_step, *result.goal_values)
+
+
+def _steps_to_goal(
+    sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, at_goal: float, elsewhere: float
+) -> StateBound:
+    """U(s, h) of the goal loop with the steps the goal still needs from s (module docstring)."""
+    evaluators = [sem.program.expr(atom) for atom in atoms]
+    ctx = sem.ctx
+    needed: dict[State, int] = {}
+
+    def bound(state: State, h: int) -> float:
+        if h <= 0:
+            return 0.0
+        n = needed.get(state)
+        if n is None:
+            env = Env(state, {}, ctx)
+            false = sum(1 for evaluate in evaluators if evaluate(env) is not True)
+            n = needed[state] = -(-false // writes)
+        if n == 0:
+            return 0.0  # the goal holds: the loop is over, no further step
+        never = h * elsewhere if elsewhere > 0 else 0.0
+        if n > h:
+            return never
+        reach = (h - 1 if elsewhere > 0 else n - 1) * elsewhere + at_goal
+        return max(never, reach)
+
+    return bound

@@ -1,0 +1,414 @@
+"""Re-parsing an edited file: only the top-level declarations the edit touched are parsed again.
+
+`reparse` compares the old and the new text (common prefix and suffix), finds the top-level
+declarations of the old parse that the changed region touches, parses only the new text of that
+region (a fragment, between two declaration boundaries) and splices the result between the
+declarations before and after it. Everything it returns points into the new file's `Source`
+with the new file's offsets: the declarations, tokens and diagnostics kept from the old parse
+are relocated (`relocate`, per-class code generated once from the AST's dataclass fields).
+
+The result is exactly what `parse` of the new text gives, or there is none (None: the caller
+parses the whole file) when that is not certain:
+
+* when the fragment has any diagnostic, or the old parse has one before the end of the region
+  or less than two lines below it (error recovery can cross declaration boundaries, and an
+  error's message reads the line before it), the file is parsed again from the
+  declaration before the region to its end (the "tail"), keeping only the declarations before
+  that one, if the old parse has no diagnostic up to its end;
+* the fragment starts and ends at clean boundaries: where the declaration before ends with `;`
+  or `}` (else it grows to the next such boundary); a fragment that leaves a brace, a string
+  or a comment open is parsed as a tail (an open string or comment is a lexical error);
+* legacy forms (gpp.syntax.legacy, one diagnostic for all the sigils of a file) or the nesting
+  limit (gpp.syntax.depth) in the old or the new diagnostics, an `#include` in the region, or an
+  old diagnostic before the tail would start: None.
+
+The fragment is parsed as the file itself: the new `Source` holds, while it is parsed, text of
+the same length whose part before the fragment is blank (with the same line breaks before the
+fragment's line, so that line comparisons and columns are those of the whole file) and which
+ends where the fragment ends. Its tokens, nodes and diagnostics thus get their final offsets
+and their final `Source` directly.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+import types
+import typing
+from bisect import bisect_left, bisect_right
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+from gpp import diagnostics as diag
+from gpp.perf import paused_gc
+from gpp.source import Source, Span
+from gpp.syntax import ast
+from gpp.syntax.lexer import Token
+from gpp.syntax.parser import ParseResult, parse
+
+# The token that ends a declaration at a clean boundary: nothing at the top level continues a
+# declaration after it, and the lexer reads what follows as it reads the start of a file.
+_CLEAN_END = frozenset({"SEMI", "RBRACE"})
+# Diagnostics whose cause is not local to one declaration: legacy rewrites (one error for all
+# the sigils of a file) and the nesting limit (the declaration is left out of the program).
+_NOT_LOCAL = frozenset({"E0014", "E0040", "E0041", "E0042", "E0043", "E0044", "E0045"})
+_OPENERS = frozenset({"LBRACE", "MAIN_LBRACE"})
+_PLATFORM = frozenset({"COMPONENT", "CONSTRAINTS"})
+
+
+@dataclass(frozen=True, slots=True)
+class Reparsed:
+    """An incremental parse: the result, how it was made (`splice`: only the touched
+    declarations were parsed; `tail`: the file was parsed from the declaration before the edit
+    to its end), and how many characters of the new text were parsed."""
+
+    result: ParseResult
+    how: str
+    parsed_chars: int
+
+
+# ---------------------------------------------------------------- relocation
+
+Relocator = Callable[[Any, Source, int], Any]
+# Made on first use (generating them takes a few tens of milliseconds, which a command that
+# parses each file once need not pay), complete before any thread sees them.
+_RELOCATORS: dict[type, Relocator] = {}
+_GENERATING = threading.Lock()
+
+
+def relocators() -> dict[type, Relocator]:
+    """The relocator of each syntax node class: (node, source, delta) -> a copy of the node with
+    every span moved by `delta` into `source`."""
+    if not _RELOCATORS:
+        with _GENERATING:
+            if not _RELOCATORS:
+                _RELOCATORS.update(_generate_relocators())
+    return _RELOCATORS
+
+
+def relocate(node: ast.Node, source: Source, delta: int) -> Any:
+    """A copy of `node` with every span moved by `delta` into `source`."""
+    return relocators()[type(node)](node, source, delta)
+
+
+def _node_classes() -> list[type[ast.Node]]:
+    """The syntax node classes (those of gpp.syntax.ast; `__subclasses__` would also list the
+    classes that `dataclass(slots=True)` replaced)."""
+    return [c for c in vars(ast).values() if isinstance(c, type) and issubclass(c, ast.Node) and c is not ast.Node]
+
+
+def _is_node(tp: Any) -> bool:
+    return isinstance(tp, type) and issubclass(tp, ast.Node)
+
+
+def _node_code(tp: Any, value: str, leaves: frozenset[type], depth: int = 0) -> str | None:
+    """Python code for the relocated `value` of type `tp` (a node, a tuple of nodes, either or
+    None), or None when the value holds no span (it is copied as it is)."""
+    if _is_node(tp):
+        if tp not in leaves:
+            return f"R[type({value})]({value}, src, d)"
+        # A field of a leaf class calls its relocator directly (if the value is of that class:
+        # the builder's children are untyped).
+        leaf = tp.__name__
+        return f"(r_{leaf}({value}, src, d) if type({value}) is C_{leaf} else R[type({value})]({value}, src, d))"
+    origin = typing.get_origin(tp)
+    args = typing.get_args(tp)
+    if origin in (types.UnionType, typing.Union):
+        present = [a for a in args if a is not type(None)]
+        if all(_node_code(a, value, leaves, depth) is None for a in present):
+            return None
+        if all(_is_node(a) for a in present):
+            code = f"R[type({value})]({value}, src, d)"
+        elif len(present) == 1:
+            code = str(_node_code(present[0], value, leaves, depth))
+        else:
+            raise TypeError(f"cannot relocate a field of type {tp}")
+        return code if len(present) == len(args) else f"None if {value} is None else {code}"
+    if origin is tuple:
+        if len(args) != 2 or args[1] is not Ellipsis:
+            raise TypeError(f"cannot relocate a field of type {tp}")
+        item = f"x{depth}"
+        inner = _node_code(args[0], item, leaves, depth + 1)
+        return None if inner is None else f"tuple([{inner} for {item} in {value}])"
+    if isinstance(tp, type) and issubclass(tp, (str, int, float, Enum)):
+        return None
+    raise TypeError(f"cannot relocate a field of type {tp}")
+
+
+def _slot_setter(cls: type, name: str) -> Any:
+    """The `__set__` of the slot `name` of `cls` (setting a frozen dataclass's field through its
+    slot descriptor is what `object.__setattr__` does, without looking the name up)."""
+    for c in cls.__mro__:
+        if name in c.__dict__:
+            return c.__dict__[name].__set__
+    raise TypeError(f"{cls.__name__} has no slot {name}")
+
+
+def _generate_relocators() -> dict[type, Relocator]:
+    """One function per syntax node class: `object.__new__`, then each field set through its
+    slot, spans made the same way (`Span(...)` and the node classes' own `__init__` would go
+    through `object.__setattr__`, at more than twice the cost)."""
+    table: dict[type, Relocator] = {}
+    names: dict[str, Any] = {"S": Span, "R": table, "new": object.__new__}
+    for slot in ("source", "start", "end"):
+        names[f"S_{slot}"] = _slot_setter(Span, slot)
+    lines: list[str] = []
+    classes = _node_classes()
+    # The classes no other node class derives from.
+    leaves = frozenset(c for c in classes if not any(d is not c and issubclass(d, c) for d in classes))
+    for cls in classes:
+        hints = typing.get_type_hints(cls, vars(ast), {"Source": Source, "Span": Span})
+        name = cls.__name__
+        names[f"C_{name}"] = cls
+        lines += [f"def r_{name}(n, src, d):", f"    o = new(C_{name})"]
+        for f in dataclasses.fields(cls):
+            setter = f"set_{name}_{f.name}"
+            names[setter] = _slot_setter(cls, f.name)
+            if hints[f.name] is Span:
+                lines += [
+                    f"    v = n.{f.name}",
+                    "    s = new(S)",
+                    "    S_source(s, src)",
+                    "    S_start(s, v.start + d)",
+                    "    S_end(s, v.end + d)",
+                    f"    {setter}(o, s)",
+                ]
+            else:
+                code = _node_code(hints[f.name], f"n.{f.name}", leaves)
+                lines.append(f"    {setter}(o, {code or f'n.{f.name}'})")
+        lines += ["    return o", f"R[C_{name}] = r_{name}"]
+    exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), names)
+    return table
+
+
+def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
+    def span(s: Span) -> Span:
+        return Span(source, s.start + delta, s.end + delta)
+
+    fix = d.fix
+    if fix is not None:
+        fix = dataclasses.replace(fix, edits=tuple(dataclasses.replace(e, span=span(e.span)) for e in fix.edits))
+    return dataclasses.replace(
+        d,
+        span=span(d.span),
+        secondary=tuple(dataclasses.replace(label, span=span(label.span)) for label in d.secondary),
+        fix=fix,
+    )
+
+
+def _diagnostic_spans(d: diag.Diagnostic) -> list[Span]:
+    spans = [d.span, *(label.span for label in d.secondary)]
+    if d.fix is not None:
+        spans.extend(e.span for e in d.fix.edits)
+    return spans
+
+
+# ---------------------------------------------------------------- finding the region
+
+
+def _common_prefix(a: str, b: str) -> int:
+    """The length of the longest common prefix (a binary search over slice comparisons, each
+    done in C)."""
+    lo, hi = 0, min(len(a), len(b))
+    if a[:hi] == b[:hi]:
+        return hi
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if a[lo:mid] == b[lo:mid]:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def _common_suffix(a: str, b: str, limit: int) -> int:
+    lo, hi = 0, limit
+    if a[len(a) - hi :] == b[len(b) - hi :]:
+        return hi
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if a[len(a) - mid : len(a) - lo] == b[len(b) - mid : len(b) - lo]:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def _token_start(t: Token) -> int:
+    return t.start
+
+
+class _Old:
+    """What the old parse says about its declaration boundaries."""
+
+    def __init__(self, result: ParseResult) -> None:
+        self.result = result
+        self.decls = result.program.declarations
+        self.tokens = result.tokens
+        self.starts = [d.span.start for d in self.decls]
+        self.ends = [d.span.end for d in self.decls]
+
+    def clean_after(self, k: int) -> bool:
+        """Does declaration k end with a token after which a new declaration starts cleanly?"""
+        end = self.ends[k]
+        t = bisect_left(self.tokens, end, key=_token_start) - 1
+        return t >= 0 and self.tokens[t].end == end and self.tokens[t].type in _CLEAN_END
+
+    def adjacent(self, k: int) -> bool:
+        """Is the token after declaration k the first one of declaration k + 1?"""
+        t = bisect_left(self.tokens, self.ends[k], key=_token_start)
+        return k + 1 < len(self.decls) and t < len(self.tokens) and self.tokens[t].start == self.starts[k + 1]
+
+    def boundary_before(self, i: int) -> int:
+        """The greatest i' <= i such that the declarations before i' end cleanly."""
+        while i > 0 and not self.clean_after(i - 1):
+            i -= 1
+        return i
+
+
+def fragment_text(source: Source, old_source: Source, lo: int, hi: int) -> str:
+    """The text parsed for the fragment [lo, hi) of `source`: blank before lo (with the line
+    breaks of the text before lo's line, which is the old text there), the fragment, nothing
+    after it."""
+    starts = old_source.line_starts
+    line = bisect_right(starts, lo) - 1
+    first = starts[line]
+    return " " * (first - line) + "\n" * line + " " * (lo - first) + source.text[lo:hi]
+
+
+def _parse_fragment(source: Source, old_source: Source, lo: int, hi: int) -> ParseResult:
+    text = source.text
+    source.text = fragment_text(source, old_source, lo, hi)
+    source._line_starts = None  # the line table is made again from the text it now holds
+    try:
+        return parse(source)
+    finally:
+        source.text = text
+        source._line_starts = None
+
+
+def _lexes_cleanly(tokens: Sequence[Token]) -> bool:
+    """Do the fragment's tokens close every brace they open and every `component`/`constraints`
+    body they start, and end with a clean declaration end (or are none)?"""
+    if not tokens:
+        return True
+    if tokens[-1].type not in _CLEAN_END:
+        return False
+    depth = 0
+    pending = False
+    for t in tokens:
+        tt = t.type
+        if tt in _OPENERS:
+            depth += 1
+            pending = False
+        elif tt == "RBRACE":
+            depth -= 1
+            if depth < 0:
+                return False
+        elif tt in _PLATFORM:
+            pending = True
+    return depth == 0 and not pending
+
+
+def _far_below(source: Source, boundary: int, offset: int) -> bool:
+    """Is `offset` at least two lines below the line of `boundary`? A syntax error's message
+    looks at the token before the error and at the names on the error's line and the line before
+    it (`did you mean ...?`), so an error that far below a boundary reads nothing above it."""
+    return offset >= boundary and source.line_col(offset)[0] >= source.line_col(boundary)[0] + 2
+
+
+def _has_include(decls: Sequence[ast.Decl]) -> bool:
+    return any(type(d) is ast.Include for d in decls)
+
+
+# ---------------------------------------------------------------- the re-parse
+
+
+def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: bool = False) -> Reparsed | None:
+    """The parse of `source` (the new text of the file whose text was `old_text` and whose parse
+    was `old`), made by parsing only what the edit touched; None when that cannot be done
+    exactly (the caller then parses the whole file). With `splice_only`, only a splice of at
+    most half the new text is tried (the caller has another old parse to try)."""
+    new_text = source.text
+    if any(d.code in _NOT_LOCAL for d in old.diagnostics):
+        return None
+    a = _common_prefix(old_text, new_text)
+    s = _common_suffix(old_text, new_text, min(len(old_text), len(new_text)) - a)
+    b_old = len(old_text) - s
+    delta = len(new_text) - len(old_text)
+    info = _Old(old)
+    old_source = old.program.span.source
+    # Where the old parse's first diagnostic (any of its spans) is, if it has one.
+    first_diag = min((sp.start for d in old.diagnostics for sp in _diagnostic_spans(d)), default=None)
+    # Declarations [0, i) end before the edit; [j, n) start after it.
+    i = info.boundary_before(bisect_left(info.ends, a))
+    j = bisect_right(info.starts, b_old)
+    n = len(info.decls)
+    while j < n and not (j == 0 or info.clean_after(j - 1)):
+        j += 1
+    lo = info.ends[i - 1] if i > 0 else 0
+    hi_old = info.starts[j] if j < n else len(old_text)
+    if splice_only and 2 * (hi_old + delta - lo) > len(new_text):
+        return None
+    clean = first_diag is None or _far_below(old_source, hi_old, first_diag)
+    if clean and not _has_include(info.decls[i:j]):
+        frag = _parse_fragment(source, old_source, lo, hi_old + delta)
+        if not frag.diagnostics and _lexes_cleanly(frag.tokens) and not _has_include(frag.program.declarations):
+            return Reparsed(_splice(source, info, i, j, delta, frag), "splice", hi_old + delta - lo)
+    if splice_only:
+        return None
+    # The tail: from the declaration before the touched ones (so that the parser meets the
+    # first changed token after a declaration, as it does in the whole file) to the end. That
+    # declaration, and those before it, must have been parsed without a diagnostic, and
+    # directly one after the other (no stray token between them); it starts early enough that
+    # the errors after it are far below the declarations kept (`_far_below`).
+    first_error = a if first_diag is None else min(a, first_diag)
+    c = i - 1
+    while c > 0 and not (
+        info.clean_after(c - 1) and info.adjacent(c - 1) and _far_below(old_source, info.ends[c - 1], first_error)
+    ):
+        c -= 1
+    if c <= 0 or (first_diag is not None and first_diag < info.ends[c]) or _has_include(info.decls[c:]):
+        return None
+    lo = info.ends[c - 1]
+    frag = _parse_fragment(source, old_source, lo, len(new_text))
+    if any(d.code in _NOT_LOCAL or not _far_below(source, lo, d.span.start) for d in frag.diagnostics):
+        return None
+    if _has_include(frag.program.declarations):
+        return None
+    return Reparsed(_splice(source, info, c, n, delta, frag), "tail", len(new_text) - lo)
+
+
+def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseResult) -> ParseResult:
+    """Old declarations [0, i), the fragment's, old declarations [j, n) moved by delta."""
+    reloc = relocators()
+    with paused_gc():
+        decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
+        decls.extend(frag.program.declarations)
+        decls.extend([reloc[type(d)](d, source, delta) for d in old.decls[j:]])
+        new_tokens = _shifted_tokens(old, i, j, delta, frag.tokens)
+    diagnostics = list(frag.diagnostics)
+    if j < len(old.decls):
+        cut = old.starts[j]
+        diagnostics.extend(
+            _relocate_diagnostic(d, source, delta) for d in old.result.diagnostics if d.span.start >= cut
+        )
+    program = ast.Program(span=Span(source, 0, len(source.text)), declarations=tuple(decls))
+    return ParseResult(program, diagnostics, new_tokens)
+
+
+def _shifted_tokens(old: _Old, i: int, j: int, delta: int, middle: list[Token]) -> list[Token]:
+    """The old tokens before declaration i (shared: tokens hold no Source), `middle`, and the
+    old tokens from declaration j on, moved by `delta`."""
+    tokens = old.tokens
+    lo = bisect_left(tokens, old.ends[i - 1], key=_token_start) if i > 0 else 0
+    hi = bisect_left(tokens, old.starts[j], key=_token_start) if j < len(old.decls) else len(tokens)
+    out = tokens[:lo]
+    out.extend(middle)
+    if delta:
+        out.extend([Token(t.type, t.value, t.start + delta, t.end + delta) for t in tokens[hi:]])
+    else:
+        out.extend(tokens[hi:])
+    return out
