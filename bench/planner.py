@@ -3,7 +3,7 @@ of examples/blocks_planning.gpp, for horizons up to 14.
 
 Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
      .venv/bin/python bench/planner.py --targets [--runs N] [--no-bound]
-     .venv/bin/python bench/planner.py --profile [--blocks 6 7]
+     .venv/bin/python bench/planner.py --profile [--blocks 6 7] [--no-bound]
      .venv/bin/python bench/planner.py --bound [--runs N]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
@@ -243,12 +243,12 @@ CATEGORIES = (
 )
 
 
-def profile(blocks_list: list[int]) -> None:
+def profile(blocks_list: list[int], prune: bool = True) -> None:
     for blocks in blocks_list:
         pb = tower_problem(blocks, 14)
         profiler = cProfile.Profile()
         profiler.enable()
-        plan = pb.production()
+        plan = pb.production(prune=prune)
         profiler.disable()
         stats = pstats.Stats(profiler)
         entries = stats.stats  # type: ignore[attr-defined]
@@ -324,19 +324,21 @@ def main() -> None:
     parser.add_argument("--blocks", type=int, nargs="+", default=[6, 7], help="towers to profile (default 6 7)")
     parser.add_argument("--bound", action="store_true", help="nodes with and without branch and bound")
     parser.add_argument(
-        "--no-bound", action="store_true", help="--targets without branch and bound (every node of the reference's)"
+        "--no-bound",
+        action="store_true",
+        help="--targets/--profile without branch and bound (every node of the reference's)",
     )
     args = parser.parse_args()
     if args.bound:
         bound_table(args.runs)
         return
-    if args.no_bound and not args.targets:
-        parser.error("--no-bound applies to --targets only")
+    if args.no_bound and not (args.targets or args.profile):
+        parser.error("--no-bound applies to --targets and --profile only")
     if args.targets:
         targets(args.runs, prune=not args.no_bound)
         return
     if args.profile:
-        profile(args.blocks)
+        profile(args.blocks, prune=not args.no_bound)
         return
     sizes = range(3, 6) if args.quick else range(3, 8)
     horizons = range(2, 11, 2) if args.quick else range(2, 15, 2)
