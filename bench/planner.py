@@ -2,8 +2,8 @@
 of examples/blocks_planning.gpp, for horizons up to 14.
 
 Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
-     .venv/bin/python bench/planner.py --targets [--runs N]
-     .venv/bin/python bench/planner.py --profile [--blocks 6 7]
+     .venv/bin/python bench/planner.py --targets [--runs N] [--no-bound]
+     .venv/bin/python bench/planner.py --profile [--blocks 6 7] [--no-bound]
      .venv/bin/python bench/planner.py --bound [--runs N]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
@@ -19,7 +19,8 @@ blocks. Times are CPU seconds of this process (the machine may be shared), best 
 six and seven blocks solve(14)): CPU seconds (best of --runs), nodes, microseconds per node,
 nodes per second, the ratio to the planner before gpp issue #14 (measured on the same machine
 at commit 9252b1d) and the target, checks that the plan is the one-move-per-block reversal,
-and reports the peak memory of the process.
+and reports the peak memory of the process. With --no-bound the planner runs without branch
+and bound, expanding every node the reference would (the cost of a node is what it measures).
 
 --profile runs cProfile on `solve` for the given towers (horizon 14) and prints where the time
 goes, grouped (the planner's loop and memo, `trans` and `final`, expressions, effects and
@@ -194,7 +195,7 @@ def reversal(blocks: int) -> list[str]:
     return [f"stack({names[i]},{names[i - 1] if i else 'table'})" for i in range(blocks)]
 
 
-def targets(runs: int) -> None:
+def targets(runs: int, prune: bool = True) -> None:
     header = ["problem", "nodes", "cpu s", "µs/node", "nodes/s", "before", "speed-up", "target", "met", "plan"]
     print("  ".join(h.rjust(12) for h in header))
     for (blocks, horizon), target in TARGETS.items():
@@ -202,7 +203,7 @@ def targets(runs: int) -> None:
         for _ in range(runs if blocks < 7 else 1):
             pb = tower_problem(blocks, horizon)
             started = time.process_time()
-            plan = pb.production()
+            plan = pb.production(prune=prune)
             seconds = time.process_time() - started
             best = seconds if best is None else min(best, seconds)
         assert plan is not None and best is not None
@@ -231,7 +232,10 @@ def targets(runs: int) -> None:
 # Where a function's own time goes, by the file (and, for hashing, the function) it is in.
 CATEGORIES = (
     ("planner loop and memo (dp)", ("gpp/planner/dp.py",)),
-    ("trans/final (successors, semantics)", ("gpp/planner/successors.py", "gpp/runtime/semantics.py")),
+    (
+        "trans/final (successors, semantics, codegen)",
+        ("gpp/planner/successors.py", "gpp/runtime/semantics.py", "gpp/planner/codegen.py", "gpp/runtime/codegen.py"),
+    ),
     ("expressions: preconditions, conditions (compiled)", ("gpp/runtime/compiled.py",)),
     ("state updates and hashing (state)", ("gpp/runtime/state.py",)),
     ("reward", ("gpp/planner/problem.py",)),
@@ -239,12 +243,12 @@ CATEGORIES = (
 )
 
 
-def profile(blocks_list: list[int]) -> None:
+def profile(blocks_list: list[int], prune: bool = True) -> None:
     for blocks in blocks_list:
         pb = tower_problem(blocks, 14)
         profiler = cProfile.Profile()
         profiler.enable()
-        plan = pb.production()
+        plan = pb.production(prune=prune)
         profiler.disable()
         stats = pstats.Stats(profiler)
         entries = stats.stats  # type: ignore[attr-defined]
@@ -252,6 +256,8 @@ def profile(blocks_list: list[int]) -> None:
         groups: dict[str, float] = {}
         for (filename, _, name), (_, _, own, _, _) in entries.items():
             group = next((g for g, files in CATEGORIES if any(filename.endswith(f) for f in files)), None)
+            if filename.startswith("<gpp generated"):
+                group = "generated code: trans, apply, conditions, reward (codegen)"
             if group is None:
                 group = "hashing and comparing (dict, hash, __eq__)" if name in _HASHING else "other builtins"
             groups[group] = groups.get(group, 0.0) + own
@@ -317,15 +323,22 @@ def main() -> None:
     parser.add_argument("--profile", action="store_true", help="where the time of `solve` goes (cProfile)")
     parser.add_argument("--blocks", type=int, nargs="+", default=[6, 7], help="towers to profile (default 6 7)")
     parser.add_argument("--bound", action="store_true", help="nodes with and without branch and bound")
+    parser.add_argument(
+        "--no-bound",
+        action="store_true",
+        help="--targets/--profile without branch and bound (every node of the reference's)",
+    )
     args = parser.parse_args()
     if args.bound:
         bound_table(args.runs)
         return
+    if args.no_bound and not (args.targets or args.profile):
+        parser.error("--no-bound applies to --targets and --profile only")
     if args.targets:
-        targets(args.runs)
+        targets(args.runs, prune=not args.no_bound)
         return
     if args.profile:
-        profile(args.blocks)
+        profile(args.blocks, prune=not args.no_bound)
         return
     sizes = range(3, 6) if args.quick else range(3, 8)
     horizons = range(2, 11, 2) if args.quick else range(2, 15, 2)

@@ -44,18 +44,31 @@ What makes it fast, and why each keeps the result identical to the reference's:
    On the towers of bench/planner.py the steps-to-the-goal bound leaves a few dozen nodes of
    thousands (six blocks, horizon 14: 80 of 24,953); `bench/planner.py --bound` measures it.
 
-`final` and `trans` are called through gpp.planner.successors: the semantics' definitions
-specialised once per program point (tests/test_planner_successors.py checks them against the
-semantics on random programs).
+`final`, `trans` and `apply` are called through gpp.planner.successors: for each program point
+met, Python source generated from the semantics' definitions (gpp.planner.codegen: the
+conditions, the `pick` values and guards, each action's precondition with its arguments
+folded in, the successors as constants, each action step's effects), compiled once per
+planning; what the generator does not write out runs the semantics' definitions specialised
+as closures. tests/test_planner_successors.py checks both against the semantics on random
+programs and on block towers.
 
 How it is laid out, for speed (none of it changes what is computed):
 
-* every configuration is interned once into a `_Config`, which holds its expansion, its
-  horizon-independent result and its memo (remaining horizon -> result): after the first
-  meeting, a configuration is never hashed again, and memo keys are small ints;
+* every configuration is interned once into a `_Config`, found by the identity of its
+  continuation and activities first (the generated `trans` returns the same objects), then by
+  its state; it holds its expansion and its memo, a list indexed by the remaining horizon (a
+  horizon-independent result, see 4, is stored for every horizon it holds for, and told from
+  the others by its depth being below the horizon): after the first meeting, a configuration
+  is never hashed again;
 * an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
+  once all options of a configuration are made, the duplicates are dropped from the list
+  walked;
 * a result holds its first step and the result of the rest (a linked list): choosing a
-  branch costs no copy of its steps; the plan's steps are collected once at the end.
+  branch costs no copy of its steps; the plan's steps are collected once at the end;
+* Python's cyclic garbage collector is off while planning (all that planning allocates stays
+  alive until the plan is made, and every full collection walked all of it again); the
+  cycles between configurations are broken when planning ends, so reference counting frees
+  them.
 
 A run of free steps (tests) that comes back to a configuration it passed is the reference's
 "loop without a costed step" error, detected at the same point: the nodes on the current path
@@ -66,15 +79,17 @@ records the longest run of free steps its subtree starts with.
 
 from __future__ import annotations
 
+import gc
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from gpp.planner.bounds import StateBound
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.planner.successors import Successors
+from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
@@ -82,21 +97,29 @@ from gpp.source import Span
 
 Config = tuple[Prog, State, Activities]
 
-# Never settled: every remaining horizon is below it.
-_UNSETTLED = 1 << 62
 
-
-@dataclass(frozen=True, slots=True)
 class _Result:
     """The best branch from a configuration: feasible or not, its value, and its first step
-    and the result of the rest (None: it stops here)."""
+    and the result of the rest (None: it stops here). Never changed once made (a plain class
+    rather than a frozen dataclass: one is made per node, and this is cheaper to make)."""
 
-    feasible: bool
-    value: float
-    depth: int  # the most costed steps on a branch of the subtree (== horizon: it was reached)
-    free_run: int  # the most free steps a branch of the subtree starts with
-    step: PolicyStep | None = None
-    rest: _Result | None = None
+    __slots__ = ("depth", "feasible", "free_run", "rest", "step", "value")
+
+    def __init__(
+        self,
+        feasible: bool,
+        value: float,
+        depth: int,
+        free_run: int,
+        step: PolicyStep | None = None,
+        rest: _Result | None = None,
+    ) -> None:
+        self.feasible = feasible
+        self.value = value
+        self.depth = depth  # the most costed steps on a branch of the subtree (== horizon: it was reached)
+        self.free_run = free_run  # the most free steps a branch of the subtree starts with
+        self.step = step
+        self.rest = rest
 
     def steps(self) -> tuple[PolicyStep, ...]:
         out: list[PolicyStep] = []
@@ -129,19 +152,18 @@ class _Config:
         "acts",
         "expanded",
         "final",
+        "live",
         "memo",
         "on_path",
         "options",
         "prog",
         "reward",
         "seen",
-        "settled",
-        "settled_from",
         "state",
         "successors",
     )
 
-    def __init__(self, prog: Prog, state: State, acts: Activities) -> None:
+    def __init__(self, prog: Prog, state: State, acts: Activities, horizon: int) -> None:
         self.prog = prog
         self.state = state
         self.acts = acts
@@ -149,13 +171,31 @@ class _Config:
         self.final = False
         self.successors: list[tuple[Prog, Step]] = []
         self.options: list[_Option | None] = []  # None: a duplicate of an earlier option
+        self.live: list[_Option] | None = None  # the options but the duplicates, once all are made
         self.seen: set[tuple[int, int]] | None = None
-        self.memo: dict[int, _Result] = {}
-        # The result for every remaining horizon >= settled_from (see 4 above).
-        self.settled_from = _UNSETTLED
-        self.settled: _Result = _LEAF
-        self.on_path: set[int] = set()  # remaining horizons this configuration is on the path with
+        # The result for each remaining horizon (None: not known yet). A result known for
+        # every horizon above some depth (see 4 above) is stored for each of them: it is
+        # told from one for its horizon alone by its depth, which is below the horizon.
+        self.memo: list[_Result | None] = [None] * (horizon + 1)
+        self.on_path = 0  # bit h: this configuration is on the path with remaining horizon h
         self.reward: float | None = None
+
+
+@contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Python's cyclic garbage collector off while planning. Planning allocates millions of
+    objects that all stay alive until the plan is made (configurations, options, results),
+    and every full collection walks all of them again: with seven blocks that was a quarter
+    of the time. Reference counting still frees what is dropped, and `release` below breaks
+    the cycles between configurations before the collector is back on (its first collection
+    then has little to look at)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 @dataclass(frozen=True, slots=True)
@@ -185,24 +225,48 @@ def solve_plan(
     progress: ProgressCallback | None = None,
     progress_interval: float = 1.0,
     bound: StateBound | None = None,
+    generate: bool = True,
 ) -> Plan:
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
     takes longer than `progress_interval` seconds reports a `Progress` about every interval.
-    `bound`: from gpp.planner.bounds.solve_bound, for branch and bound (None: none)."""
+    `bound`: from gpp.planner.bounds.solve_bound, for branch and bound (None: none).
+    `generate=False`: `trans` and `apply` by the closures of gpp.planner.successors only (no
+    generated source; for tests and benchmarks)."""
     assert sem.planning
     stats = PlanStats()
     started = time.perf_counter()
-    configs: dict[Config, _Config] = {}
-    successors = Successors(sem)
+    # The configurations met, by continuation, then activities, then state. A continuation
+    # and activities are found by their identity first (`trans` returns the same
+    # continuations again and again, and an action step keeps the activities object), so
+    # they are hashed and compared once per object, not once per option.
+    Table = dict[State, _Config]
+    by_prog: dict[Prog, dict[Activities, Table]] = {}
+    by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
+    met = 0  # configurations met
+    successors = Successors(sem, generate)
+    # By the identity of a step or a continuation: its `apply`, its `final` and `trans`.
+    applies: dict[int, tuple[Step, ApplyFn]] = {}
+    functions: dict[int, tuple[Prog, FinalFn, TransFn]] = {}
     rewards: dict[State, float] = {}
     next_report = started + progress_interval
     root_best: list[float] = []  # the best value found at the root so far
 
     def intern(p: Prog, s: State, a: Activities) -> _Config:
-        key = (p, s, a)
-        c = configs.get(key)
+        nonlocal met
+        entry = by_id.get((id(p), id(a)))
+        if entry is None or entry[0] is not p or entry[1] is not a:
+            tables = by_prog.get(p)
+            if tables is None:
+                tables = by_prog[p] = {}
+            table = tables.get(a)
+            if table is None:
+                table = tables[a] = {}
+            entry = by_id[id(p), id(a)] = (p, a, table)  # keeps p and a alive: ids not reused
+        table = entry[2]
+        c = table.get(s)
         if c is None:
-            c = configs[key] = _Config(p, s, a)
+            c = table[s] = _Config(p, s, a, horizon)
+            met += 1
         return c
 
     def value_of(c: _Config) -> float:
@@ -215,30 +279,39 @@ def solve_plan(
             c.reward = v
         return v
 
-    def option(c: _Config, i: int) -> _Option | None:
-        if i < len(c.options):
-            return c.options[i]
-        q, step = c.successors[i]
-        s2, a2 = sem.apply(step, c.state, c.acts)
-        target = intern(q, s2, a2)
-        key = (id(target), step.cost)
-        if c.seen is None:
-            c.seen = set()
-        made: _Option | None = None
-        if key in c.seen:
-            stats.pruned += 1
-        else:
-            c.seen.add(key)
-            made = _Option(target, step, (c.prog, step, q))
-        c.options.append(made)
-        return made
+    def made(c: _Config) -> Iterator[_Option]:
+        """The options of `c` but the duplicates, made as they are reached (steps applied in
+        the reference's order, so that an error surfaces where it would)."""
+        options, state, acts = c.options, c.state, c.acts
+        for i, (q, step) in enumerate(c.successors):
+            if i < len(options):
+                o = options[i]
+            else:
+                entry = applies.get(id(step))
+                if entry is None or entry[0] is not step:
+                    entry = applies[id(step)] = (step, successors.apply_fn(step))  # keeps step alive
+                s2, a2 = entry[1](state, acts)
+                target = intern(q, s2, a2)
+                key = (id(target), step.cost)
+                seen = c.seen
+                if seen is None:
+                    seen = c.seen = set()
+                if key in seen:
+                    stats.pruned += 1
+                    o = None
+                else:
+                    seen.add(key)
+                    o = _Option(target, step, (c.prog, step, q))
+                options.append(o)
+            if o is not None:
+                yield o
 
     def report() -> None:
         nonlocal next_report
         now = time.perf_counter()
         if now >= next_report and progress is not None:
             next_report = now + progress_interval
-            progress(Progress(stats.nodes, len(configs), best_so_far(), now - started))
+            progress(Progress(stats.nodes, met, best_so_far(), now - started))
 
     def best_so_far() -> float | None:
         if not root_best:
@@ -252,17 +325,12 @@ def solve_plan(
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
             return _LEAF
-        if h >= c.settled_from:
-            known: _Result | None = c.settled
-            if c.settled.feasible:
+        known = c.memo[h]
+        if known is not None:
+            if known.feasible or known.depth >= h:
                 stats.cache_hits += 1
             else:
-                stats.pruned += 1
-        else:
-            known = c.memo.get(h)
-            if known is not None:
-                stats.cache_hits += 1
-        if known is not None:
+                stats.pruned += 1  # known infeasible for every horizon (see 4 above)
             if run + known.free_run > FREE_STEP_LIMIT:
                 raise free_run_error(span)
             return known
@@ -273,25 +341,25 @@ def solve_plan(
         stats.nodes += 1
         if progress is not None and not stats.nodes % _PROGRESS_EVERY:
             report()
-        c.on_path.add(h)
+        c.on_path |= 1 << h
         if not c.expanded:
-            c.final = successors.final(c.prog, c.state, c.acts)
-            c.successors = successors.trans(c.prog, c.state, c.acts)
+            p = c.prog
+            fns = functions.get(id(p))
+            if fns is None or fns[0] is not p:
+                fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
+            c.final = fns[1](c.state, c.acts)
+            c.successors = fns[2](c.state, c.acts)
             c.expanded = True
         feasible = c.final
         value = 0.0
         chosen: _Option | None = None
         chosen_rest: _Result | None = None
         depth = free_run = 0
-        options = c.options
-        n = len(c.successors)
+        hits = infeasible = 0  # memo hits, and those of a result infeasible at every horizon
         # All options are made after the first expansion; until then they are made as reached.
-        walk: Iterable[_Option | None] = (
-            options if len(options) == n else (options[i] if i < len(options) else option(c, i) for i in range(n))
-        )
+        live = c.live
+        walk: Iterable[_Option] = live if live is not None else made(c)
         for o in walk:
-            if o is None:
-                continue
             cost = o.cost
             target = o.target
             if cost:
@@ -306,20 +374,14 @@ def solve_plan(
                 left = h - cost
                 if left <= 0:
                     rest = _LEAF
-                elif left >= target.settled_from:
-                    rest = target.settled
-                    if rest.feasible:
-                        stats.cache_hits += 1
-                    else:
-                        stats.pruned += 1
-                    if rest.free_run > FREE_STEP_LIMIT:
-                        raise free_run_error(span)
                 else:
-                    known = target.memo.get(left)
+                    known = target.memo[left]
                     if known is None:
                         rest = expand(target, left, 0)
                     else:
-                        stats.cache_hits += 1
+                        hits += 1
+                        if not known.feasible and known.depth < left:
+                            infeasible += 1  # known infeasible for every horizon (see 4 above)
                         if known.free_run > FREE_STEP_LIMIT:
                             raise free_run_error(span)
                         rest = known
@@ -330,7 +392,7 @@ def solve_plan(
                 reward_after = target.reward
                 v = (value_of(target) if reward_after is None else reward_after) + rest.value
             else:
-                if h in target.on_path:
+                if target.on_path >> h & 1:
                     raise free_loop_error(target.prog, o.step)
                 if run + 1 > FREE_STEP_LIMIT:
                     raise free_run_error(span)
@@ -345,20 +407,40 @@ def solve_plan(
                 feasible, value, chosen, chosen_rest = True, v, o, rest
                 if c is root and h == horizon:
                     root_best.append(value)
-        c.on_path.discard(h)
+        c.on_path &= ~(1 << h)
+        stats.cache_hits += hits - infeasible
+        stats.pruned += infeasible
+        if live is None and c.live is None and len(c.options) == len(c.successors):
+            c.live = [o for o in c.options if o is not None]
         if chosen is None:
             result = _Result(feasible, value if feasible else 0.0, depth, free_run)
         else:
             result = _Result(True, value, depth, free_run, chosen.policy_step, chosen_rest)
+        memo = c.memo
         if depth < h:
-            c.settled_from, c.settled = depth + 1, result
+            # The same result for every horizon above depth (see 4 above).
+            memo[depth + 1 :] = [result] * (len(memo) - depth - 1)
         else:
-            c.memo[h] = result
+            memo[h] = result
         return result
 
+    def release() -> None:
+        """Break the cycles between configurations (an option holds the configuration it leads
+        to), so that reference counting frees them all: none is left for the collector."""
+        for tables in by_prog.values():
+            for table in tables.values():
+                for c in table.values():
+                    c.options.clear()
+                    c.live = None
+        by_prog.clear()
+        by_id.clear()
+
     root = intern(prog, state, acts)
-    with deep_recursion(span):
-        result = best(root, horizon, 0)
+    with deep_recursion(span), _collector_paused():
+        try:
+            result = best(root, horizon, 0)
+        finally:
+            release()
     value = value_of(root) + result.value if result.feasible else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started

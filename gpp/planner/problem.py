@@ -3,6 +3,7 @@ what tests, benchmarks and tools use to call the planners directly."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from gpp.model.model import Model
@@ -12,6 +13,7 @@ from gpp.planner.dp import solve_plan
 from gpp.planner.reference import Reward, reference_node_count, reference_plan
 from gpp.planner.result import Plan
 from gpp.planner.search import DEPTH_FIRST, search_plan
+from gpp.runtime.codegen import state_function
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import EMPTY_FRAME, Code, Frame, Prog, Semantics
@@ -38,11 +40,14 @@ class OfflineContext:
 def make_reward(planning: Semantics, stmt: ast.Solve, frame: Frame) -> Reward:
     """The reward of `stmt` as a function of the state (a type error is a runtime error at the
     reward's span)."""
-    evaluate = planning.program.expr(stmt.reward)
+    closure = planning.program.expr(stmt.reward)
     span = stmt.reward.span
+    # Generated source when the expression allows it (gpp.runtime.codegen), else the closure.
+    unit = state_function(planning.program, stmt.reward, frame.vars, "reward")
+    evaluate: Callable[[State], Value] = unit.build() if unit is not None else lambda s: closure(planning.env(s, frame))
 
     def reward(s: State) -> float:
-        v = evaluate(planning.env(s, frame))
+        v = evaluate(s)
         if not isinstance(v, int | float) or isinstance(v, bool):
             raise GppRuntimeError("R0002", "the reward is not a number", span)
         return float(v)

@@ -1,6 +1,11 @@
 """`final` and `trans` specialised to a program point, once per planning: what the production
 planner calls instead of gpp.runtime.semantics on every configuration.
 
+`trans` of a statement, a sequence or the rest of a block is generated Python source
+(gpp.planner.codegen, compiled with `apply` of the action steps it returns), as is a `while`
+condition in `final`; the closures below are what that source calls for the parts it does
+not write out, and what runs with `generate=False`.
+
 The planner meets the same few program points in thousands of states. For each of them this
 module builds, once, a function of (state, activities) that does exactly what
 `Semantics.final` / `Semantics.trans` (planning mode) do for that point, with everything that
@@ -30,6 +35,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from gpp.model.symbols import Symbol, SymbolKind
+from gpp.planner.codegen import ApplyGen, TransGen
+from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
@@ -42,25 +49,32 @@ from gpp.runtime.semantics import (
     Rest,
     Semantics,
     Seq,
+    Step,
     Successor,
     TestStep,
 )
-from gpp.runtime.state import Activities, ActivityStatus, State
+from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
 TransFn = Callable[[State, Activities], list[Successor]]
 FinalFn = Callable[[State, Activities], bool]
+ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
 
 _EMPTY = State()
 
+# At most this many continuations get generated source per planning; the others run the
+# closures. Writing and compiling a function costs a millisecond or more, which a planning
+# that meets thousands of continuations once each (a deep recursion) would not earn back.
+MAX_TRANS_UNITS = 200
 
-def _never(state: State, acts: Activities) -> bool:
+
+def never(state: State, acts: Activities) -> bool:
     """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
     return False
 
 
-def _always(state: State, acts: Activities) -> bool:
+def always(state: State, acts: Activities) -> bool:
     return True
 
 
@@ -71,7 +85,7 @@ def _nothing(state: State, acts: Activities) -> list[Successor]:
 class Successors:
     """`final` and `trans` of `sem` (planning mode), specialised per program point on first use."""
 
-    def __init__(self, sem: Semantics) -> None:
+    def __init__(self, sem: Semantics, generate: bool = True) -> None:
         assert sem.planning
         self.sem = sem
         self.program = sem.program
@@ -80,22 +94,85 @@ class Successors:
         self._final: dict[Prog, FinalFn] = {}
         self._code_trans: dict[tuple[int, Frame, frozenset[int]], TransFn] = {}
         self._code_final: dict[tuple[int, Frame], FinalFn] = {}
+        # Generate the source of `trans` per program point (False: the closures only).
+        self.generate = generate
+        self.sources: list[str] = []  # the generated functions' source, in the order made
+        self._units = 0
+        self._trans_units = 0
+        # Step object id -> (the step, its generated `apply` or None: the semantics applies it).
+        self._apply: dict[int, tuple[Step, ApplyFn | None]] = {}
+        self._apply_by_action: dict[GroundAction, ApplyFn | None] = {}
+
+    def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
+        """`Semantics.apply`; for an action step, generated source made once per step object
+        (gpp.planner.codegen.ApplyGen) when the action's effects allow it."""
+        return self.apply_fn(step)(state, acts)
+
+    def apply_fn(self, step: Step) -> ApplyFn:
+        """`apply` of `step` as a function of (state, activities) (see `apply`)."""
+        known = self._apply.get(id(step))
+        if known is not None and known[0] is step:
+            fn = known[1]
+        elif isinstance(step, DoStep) and self.generate:
+            # A step the generated code did not make (the closures make a new one each time):
+            # found by its action, generated once per action.
+            if step.action in self._apply_by_action:
+                fn = self._apply_by_action[step.action]
+            else:
+                gen = ApplyGen(self, self.unit_name("apply"))
+                fn = self._apply_by_action[step.action] = gen.build(step)
+                if fn is not None:
+                    self.sources.append(gen.unit.source)
+        else:
+            fn = None
+        if fn is None:
+            sem_apply = self.sem.apply
+            return lambda state, acts: sem_apply(step, state, acts)
+        return fn
+
+    def register_apply(self, step: Step, fn: ApplyFn | None) -> None:
+        """`apply` of this step object is `fn` (None: the semantics')."""
+        self._apply[id(step)] = (step, fn)
+
+    def unit_name(self, prefix: str) -> str:
+        """A name for a generated function, unique in this planning."""
+        self._units += 1
+        return f"{prefix}_{self._units}"
 
     def trans(self, p: Prog, state: State, acts: Activities) -> list[Successor]:
+        return self.trans_of(p)(state, acts)
+
+    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+        return self.final_of(p)(state, acts)
+
+    def trans_of(self, p: Prog) -> TransFn:
+        """`trans` of `p` as a function of (state, activities), made once per continuation."""
         f = self._trans.get(p)
         if f is None:
             f = self._trans[p] = self.trans_fn(p)
-        return f(state, acts)
+        return f
 
-    def final(self, p: Prog, state: State, acts: Activities) -> bool:
+    def final_of(self, p: Prog) -> FinalFn:
+        """`final` of `p` as a function of (state, activities), made once per continuation."""
         f = self._final.get(p)
         if f is None:
             f = self._final[p] = self.final_fn(p)
-        return f(state, acts)
+        return f
 
     # ---------------------------------------------------------------- continuations
 
     def trans_fn(self, p: Prog) -> TransFn:
+        """`trans` of `p`: generated source for a statement, a sequence or the rest of a block
+        (gpp.planner.codegen), else the closures below."""
+        if self.generate and isinstance(p, Code | Seq | Rest) and self._trans_units < MAX_TRANS_UNITS:
+            self._trans_units += 1
+            gen = TransGen(self, self.unit_name("trans"))
+            fn = gen.build(p)
+            self.sources.extend(gen.sources)
+            return fn
+        return self.closure_trans_fn(p)
+
+    def closure_trans_fn(self, p: Prog) -> TransFn:
         sem = self.sem
         match p:
             case Done():
@@ -129,7 +206,7 @@ class Successors:
         sem = self.sem
         match p:
             case Done():
-                return _always
+                return always
             case Code():
                 return self.code_final(p.stmt, p.frame)
             case Rest():
@@ -139,13 +216,26 @@ class Successors:
             case _:
                 return lambda state, acts: sem.final(p, state, acts)
 
+    def _static_values(self, s: ast.Pick, frame: Frame) -> bool:
+        """The values of a `pick` are the same whenever it is reached: those of a domain, or
+        `{...}` of values that read only variables (and do not raise)."""
+        if s.values is None:
+            return True
+        if not all(reads_only_variables(self.model, v) for v in s.values):
+            return False
+        try:
+            self.sem.pick_frames(s, frame)
+        except GppRuntimeError:
+            return False
+        return True
+
     @staticmethod
     def _all(parts: list[FinalFn]) -> FinalFn:
         """All of `parts`, in order, stopping at the first false one (as `all` does)."""
         if not parts:
-            return _always
-        if parts[0] is _never:
-            return _never
+            return always
+        if parts[0] is never:
+            return never
         if len(parts) == 1:
             return parts[0]
 
@@ -167,29 +257,29 @@ class Successors:
         sem = self.sem
         match s:
             case ast.Test() | ast.Assign() | ast.ListStmt() | ast.HookStmt() | ast.During():
-                return _never
+                return never
             case ast.CallStmt() if sem.callee(s).kind is not SymbolKind.PROCEDURE:
-                return _never
+                return never
             case ast.Block():
                 return self._all([self.code_final(x, frame) for x in s.body])
             case ast.Choose():
                 parts = [self.code_final(x, frame) for x in s.alternatives]
-                if all(f is _never for f in parts):
-                    return _never
+                if all(f is never for f in parts):
+                    return never
                 return lambda state, acts: any(f(state, acts) for f in parts)
-            case ast.Pick() if s.values is None:
+            case ast.Pick() if self._static_values(s, frame):
                 bodies = [self.code_final(s.body, f) for f in sem.pick_frames(s, frame)]
-                if all(f is _never for f in bodies):
-                    return _never
+                if all(f is never for f in bodies):
+                    return never
                 return lambda state, acts: any(f(state, acts) for f in bodies)
             case ast.Solve() | ast.Search():
                 return self.code_final(s.body, frame)
             case ast.While():
-                condition, body, variables, ctx = self._condition(s.condition), s.body, frame.vars, sem.ctx
+                holds, body = self.condition_fn(s.condition, frame), s.body
                 body_final: list[FinalFn] = []  # built on first use
 
                 def final_while(state: State, acts: Activities) -> bool:
-                    if condition(Env(state, variables, ctx)) is not True:
+                    if not holds(state):
                         return True
                     if not body_final:
                         body_final.append(self.code_final(body, frame))
@@ -213,6 +303,23 @@ class Successors:
 
     def _condition(self, e: ast.Expr) -> Evaluator:
         return self.program.expr(e)
+
+    def condition_fn(self, e: ast.Expr, frame: Frame) -> Callable[[State], bool]:
+        """`e is True` in a state, with the bindings of `frame`: generated source
+        (gpp.runtime.codegen), or the compiled closure for what that does not write out."""
+        condition, variables, ctx = self._condition(e), frame.vars, self.sem.ctx
+        if self.generate:
+            unit = Unit(self.unit_name("condition"), "state")
+            try:
+                test = ExprGen(self.program, unit).condition(e, variables)
+            except Unsupported:
+                pass
+            else:
+                unit.emit(0, f"return {test.value is True!r}" if test.const else f"return {test.text}")
+                fn: Callable[[State], bool] = unit.build()
+                self.sources.append(unit.source)
+                return fn
+        return lambda state: condition(Env(state, variables, ctx)) is True
 
     def _make_code_trans(self, s: ast.Statement, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
@@ -289,7 +396,7 @@ class Successors:
         if guard.static:
             # Once the guard found its conjuncts true, the action's precondition need not
             # evaluate them again (those that read only fluents: they have the same value).
-            action = self.program.action(self._guarded_call(s).name)
+            action = self.program.action(self.guarded_call(s).name)
             pure = frozenset(
                 id(check)
                 for check, expr in action.precondition
@@ -310,7 +417,7 @@ class Successors:
 
         return trans_guarded_pick
 
-    def _guarded_call(self, s: ast.Pick) -> Symbol:
+    def guarded_call(self, s: ast.Pick) -> Symbol:
         """The action called inside the `pick`s of a pick guard."""
         body: ast.Statement = s
         while isinstance(body, ast.Pick):

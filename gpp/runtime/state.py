@@ -12,17 +12,23 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import cast
 
+from gpp.model.types import Sym
 from gpp.runtime.values import Value, same, show
 
 
 class State:
-    __slots__ = ("_hash", "_values")
+    __slots__ = ("_hash", "_plain", "_values")
 
-    def __init__(self, values: dict[int, Value] | None = None, _hash: int | None = None) -> None:
+    def __init__(
+        self, values: dict[int, Value] | None = None, _hash: int | None = None, _plain: bool | None = None
+    ) -> None:
         self._values: dict[int, Value] = values or {}
         # The hash is the XOR of the hashes of the (slot, value) items, so that an update can
         # change it item by item instead of hashing the whole state again.
         self._hash: int | None = _hash
+        # Every value is a symbol, a string or null (None: not known yet): then Python's `==`
+        # on two values is `_identical`, and two such states compare as dicts (see __eq__).
+        self._plain: bool | None = _plain
 
     def get(self, slot: int, initial: Callable[[int], Value]) -> Value:
         v = self._values.get(slot, _ABSENT)
@@ -37,6 +43,7 @@ class State:
         dropped, to keep the representation canonical)."""
         values = dict(self._values)
         h = self._hash
+        plain = self._plain
         for slot, value in updates.items():
             old = values.get(slot, _ABSENT)
             if old is not _ABSENT:
@@ -49,7 +56,39 @@ class State:
                 values[slot] = value
                 if h is not None:
                     h ^= _item_hash(slot, value)
-        return State(values, h)
+                if plain and type(value) not in _PLAIN_TYPES:
+                    plain = False
+        return State(values, h, plain)
+
+    def updated_one(self, slot: int, value: Value, item_hash: int, initial: bool, plain: bool) -> State:
+        """`updated({slot: value}, ...)` with what does not depend on the state worked out in
+        advance (by generated code): `item_hash` is `_item_hash(slot, value)`, `initial` says
+        whether `value` is the slot's initial value, `plain` whether it is a symbol, a string
+        or null."""
+        values = dict(self._values)
+        h = self._hash
+        old = values.get(slot, _ABSENT)
+        if old is not _ABSENT:
+            if old is value or (type(old) is type(value) and old == value):  # _identical, inline
+                return State(values, h, self._plain)
+            del values[slot]
+            if h is not None:
+                h ^= hash((slot, type(old).__name__, old))  # _item_hash, inline
+        keep = self._plain
+        if not initial:
+            values[slot] = value
+            if h is not None:
+                h ^= item_hash
+            if keep and not plain:
+                keep = False
+        return State(values, h, keep)
+
+    def is_plain(self) -> bool:
+        """Is every held value a symbol, a string or null?"""
+        plain = self._plain
+        if plain is None:
+            plain = self._plain = all(type(v) in _PLAIN_TYPES for v in self._values.values())
+        return plain
 
     def changed_slots(self) -> Iterator[tuple[int, Value]]:
         return iter(self._values.items())
@@ -59,6 +98,10 @@ class State:
             return NotImplemented
         if self._hash is not None and other._hash is not None and self._hash != other._hash:
             return False
+        if self.is_plain() and other.is_plain():
+            # A symbol equals only a symbol of its name, a string only a string, null only
+            # null: `==` is `_identical` on these, and dicts compare without Python code.
+            return self._values == other._values
         return self._values.keys() == other._values.keys() and all(
             _identical(v, other._values[k]) for k, v in self._values.items()
         )
@@ -76,8 +119,20 @@ class State:
         return f"State({self._values})"
 
 
+_PLAIN_TYPES = (Sym, str, type(None))
+
 # Marks a slot the state does not hold (its value is the initial one); never a value.
 _ABSENT: Value = cast(Value, object())
+
+
+def item_hash(slot: int, v: Value) -> int:
+    """The share of (slot, v) in the hash of a state that holds it."""
+    return _item_hash(slot, v)
+
+
+def identical(a: Value, b: Value) -> bool:
+    """Same value, also in type (1 and 1.0 are equal in golog++ but stored distinctly)."""
+    return _identical(a, b)
 
 
 def _item_hash(slot: int, v: Value) -> int:
@@ -87,7 +142,7 @@ def _item_hash(slot: int, v: Value) -> int:
 
 def _identical(a: Value, b: Value) -> bool:
     """Same value, also in type (1 and 1.0 are equal in golog++ but stored distinctly)."""
-    return type(a) is type(b) and a == b
+    return a is b or (type(a) is type(b) and a == b)
 
 
 @dataclass(frozen=True, slots=True)
