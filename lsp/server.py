@@ -25,16 +25,21 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import functools
+import os
+import stat
 import sys
+import threading
+import time
 import traceback
 from collections.abc import Awaitable, Callable, Sequence
 from concurrent.futures import Future
 from pathlib import Path
-from typing import Any, ParamSpec, TypeVar, cast
+from typing import Any, BinaryIO, ParamSpec, TypeVar, cast
 from urllib.parse import quote, unquote, urlparse
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException
+from pygls.io_ import StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 
@@ -59,6 +64,52 @@ _SEVERITY = {
 SETTLE_AFTER_SECONDS = 0.5
 # How long a request waits for the analysis of the document's current version.
 _WAIT_SECONDS = 30.0
+
+
+# ---------------------------------------------------------------- the timeline
+
+
+class Timeline:
+    """With GPP_LSP_TIMING=FILE in the environment: one line appended to FILE per round of
+    checks, where
+    the time from the first edit the round answers to the diagnostics written on stdout went
+    (in milliseconds):
+
+    `edit` the first change not yet checked arrived (the handler ran) -> `queue` the round was
+    submitted -> `wait` the analysis thread began it -> `pause` the collector paused -> `check`
+    the programs checked -> `back` the event loop took the results -> `convert` the diagnostics
+    converted -> `publish` written and flushed."""
+
+    def __init__(self, file: str | None) -> None:
+        self.file = file
+        self.enabled = bool(file)
+        self._first_edit: float | None = None
+        self._marks: list[tuple[str, float]] = []
+
+    def edit(self) -> None:
+        if self.enabled and self._first_edit is None:
+            self._first_edit = time.perf_counter()
+
+    def start(self) -> None:
+        """A round is submitted: it answers the edits since the last one."""
+        if self.enabled:
+            now = time.perf_counter()
+            self._marks = [("edit", self._first_edit or now), ("queue", now)]
+            self._first_edit = None
+
+    def mark(self, name: str) -> None:
+        if self.enabled:
+            self._marks.append((name, time.perf_counter()))
+
+    def report(self, what: str) -> None:
+        if not self.enabled or not self._marks:
+            return
+        marks, self._marks = self._marks, []
+        steps = " ".join(f"{name} {(t - prev) * 1000:.1f}" for (_, prev), (name, t) in zip(marks, marks[1:], strict=False))
+        total = (marks[-1][1] - marks[0][1]) * 1000
+        assert self.file
+        with contextlib.suppress(OSError), open(self.file, "a", encoding="utf-8") as out:
+            out.write(f"{what}: {steps} = {total:.1f} ms\n")
 
 
 # ---------------------------------------------------------------- URIs and paths
@@ -111,6 +162,38 @@ class _Protocol(LanguageServerProtocol):
             yield handler, (params,), None
 
 
+# ---------------------------------------------------------------- reading stdin
+
+
+class _PipeReader:
+    """stdin read by the event loop itself (asyncio's pipe transport). pygls reads it on a
+    thread pool instead, two lines and a body per message, each handed back to the event loop:
+    six hand-overs of the interpreter lock per message, each waiting for a running check to
+    let go of it (up to the switch interval)."""
+
+    def __init__(self, reader: asyncio.StreamReader) -> None:
+        self._reader = reader
+
+    async def readline(self) -> bytes:
+        return await self._reader.readline()
+
+    async def readexactly(self, n: int) -> bytes:
+        try:
+            return await self._reader.readexactly(n)
+        except asyncio.IncompleteReadError:
+            return b""  # the client is gone
+
+
+def _is_pipe(stream: BinaryIO) -> bool:
+    """Whether asyncio can read `stream` with a pipe transport (a pipe, socket or terminal,
+    not a regular file)."""
+    try:
+        mode = os.fstat(stream.fileno()).st_mode
+    except (OSError, ValueError):
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode) or stat.S_ISCHR(mode)
+
+
 # ---------------------------------------------------------------- the server
 
 
@@ -131,6 +214,32 @@ class GppServer(LanguageServer):
         self._again = False
         self._round_done: asyncio.Event | None = None
         self._settle: asyncio.TimerHandle | None = None
+        self.timeline = Timeline(os.environ.get("GPP_LSP_TIMING"))
+
+    def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
+        """pygls' stdio server, with stdin read on the event loop when it is a pipe
+        (`_PipeReader`); pygls' own reader otherwise."""
+        source = stdin or sys.stdin.buffer
+        if not _is_pipe(source):
+            super().start_io(stdin, stdout)
+            return
+        self._stop_event = stop_event = threading.Event()
+        self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+
+        async def serve() -> None:
+            reader = asyncio.StreamReader()
+            loop = asyncio.get_running_loop()
+            await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), source)
+            await run_async(stop_event, _PipeReader(reader), self.protocol, error_handler=self.report_server_error)
+
+        try:
+            asyncio.run(serve())
+        except BrokenPipeError:
+            pass  # the client is gone
+        except (KeyboardInterrupt, SystemExit):
+            pass
+        finally:
+            self.shutdown()  # type: ignore[no-untyped-call]  # (pygls leaves it untyped)
 
     # ------------------------------------------------------------ logging
 
@@ -163,12 +272,15 @@ class GppServer(LanguageServer):
             self._settle.cancel()  # typing goes on: collect later
             self._settle = None
         loop = asyncio.get_running_loop()
+        self.timeline.start()
         future = self.analysis.submit(self._analyze)
         future.add_done_callback(lambda f: loop.call_soon_threadsafe(self._analyzed, f))
 
     def _analyze(self) -> dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]:
         """On the analysis thread: check every open document's programs."""
+        self.timeline.mark("wait")
         self.collector.pause()
+        self.timeline.mark("pause")
         snapshot = self.session.snapshot()
         texts = {p: d.text for p, d in snapshot.items()}
         out: dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException] = {}
@@ -181,13 +293,16 @@ class GppServer(LanguageServer):
                 out[path] = (doc.version, results, diagnostics_in(results, path))
             except Exception as e:
                 out[path] = e
+        self.timeline.mark("check")
         return out
 
     def _analyzed(
         self, future: Future[dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]]
     ) -> None:
         """On the event loop: publish what is still current, drop what is stale."""
+        self.timeline.mark("back")
         self._running = False
+        published: list[str] = []
         try:
             found = future.result()
         except Exception as e:
@@ -211,11 +326,15 @@ class GppServer(LanguageServer):
             except Exception as e:
                 self.log_exception(f"converting the diagnostics of {path}", e)
                 lsp_diags = []
+            self.timeline.mark("convert")
             if self._published.get(path) != (version, lsp_diags):
                 self._published[path] = (version, lsp_diags)
                 self.text_document_publish_diagnostics(
                     types.PublishDiagnosticsParams(uri=self.uri_of(path), diagnostics=lsp_diags, version=version)
                 )
+                self.timeline.mark("publish")
+                published.append(f"{path.name} v{version} ({len(lsp_diags)} diagnostics)")
+        self.timeline.report(", ".join(published) or "nothing published")
         if self._round_done is not None:
             self._round_done.set()
             self._round_done = None
@@ -379,6 +498,7 @@ def make_server() -> GppServer:
     @guarded(_none)
     async def did_change(ls: GppServer, params: types.DidChangeTextDocumentParams) -> None:
         doc = params.text_document
+        ls.timeline.edit()
         ls.session.edit(uri_to_path(doc.uri), _edits(params.content_changes), doc.version)
         ls.schedule()
 
