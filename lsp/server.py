@@ -14,7 +14,13 @@ Threads:
 * the request thread runs the features (completion, hover, ...) on the latest check of the
   document's current version, so that a request does not wait behind a running analysis
   unless the document changed since the last one. Completion does not wait even then: it
-  answers from the last check and the text typed since (features.completion_after_edit).
+  answers from the last check and the text typed since (features.completion_after_edit), on
+  the event loop;
+* stdin is read by the event loop itself when it is a pipe (`_PipeReader`), not on pygls'
+  thread pool.
+
+GPP_LSP_TIMING=FILE appends to FILE where each round's time goes (`Timeline`) and how long
+each completion took inside the server.
 
 Every handler catches what goes wrong, logs it to the client (window/logMessage) and answers
 with an empty result: the server never stops answering whatever the document.
@@ -25,6 +31,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import functools
+import itertools
 import os
 import stat
 import sys
@@ -105,7 +112,10 @@ class Timeline:
         if not self.enabled or not self._marks:
             return
         marks, self._marks = self._marks, []
-        steps = " ".join(f"{name} {(t - prev) * 1000:.1f}" for (_, prev), (name, t) in zip(marks, marks[1:], strict=False))
+        self.write(what, marks)
+
+    def write(self, what: str, marks: Sequence[tuple[str, float]]) -> None:
+        steps = " ".join(f"{name} {(t - prev) * 1000:.1f}" for (_, prev), (name, t) in itertools.pairwise(marks))
         total = (marks[-1][1] - marks[0][1]) * 1000
         assert self.file
         with contextlib.suppress(OSError), open(self.file, "a", encoding="utf-8") as out:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import asyncio
 import json
+import os
+import re
 import signal
 import socket
 import subprocess
@@ -335,6 +337,49 @@ async def test_neovim_over_stdio(tmp_path: Path) -> None:
     c = make_client()
     await c.start_io(*SERVER)  # type: ignore[attr-defined]
     await _profile_session(c, "neovim", tmp_path)
+
+
+@in_module_loop
+async def test_the_timeline_names_each_round_and_its_steps(tmp_path: Path) -> None:
+    timeline = tmp_path / "timeline.txt"
+    c = make_client()
+    await c.start_io(*SERVER, env={**os.environ, "GPP_LSP_TIMING": str(timeline)})  # type: ignore[attr-defined]
+    try:
+        await c.initialize_session(types.InitializeParams(capabilities=types.ClientCapabilities()))  # type: ignore[attr-defined]
+        path = tmp_path / "t.gpp"
+        uri = open_doc(c, path, "procedure main() { nothing(); }\n")
+        first = await diagnostics(c, uri, 1)
+        change(c, uri, 2, [((0, 19, 0, 26), "nothin")])
+        second = await diagnostics(c, uri, 2)
+    finally:
+        await c.shutdown_session()  # type: ignore[attr-defined]
+    assert [len(first), len(second)] == [1, 1]
+    lines = timeline.read_text(encoding="utf-8").splitlines()
+    steps = r"queue \d+\.\d wait \d+\.\d pause \d+\.\d check \d+\.\d back \d+\.\d convert \d+\.\d publish \d+\.\d"
+    assert len(lines) == 2, lines
+    for version, line in zip((1, 2), lines, strict=True):
+        assert re.fullmatch(rf"t\.gpp v{version} \(1 diagnostics\): {steps} = \d+\.\d ms", line), line
+
+
+def test_the_server_reads_stdin_from_a_file_too(tmp_path: Path) -> None:
+    """stdin from a regular file (no pipe for the event loop to watch): pygls' own reader."""
+
+    def message(payload: dict[str, object]) -> bytes:
+        body = json.dumps({"jsonrpc": "2.0", **payload}).encode()
+        return b"Content-Length: %d\r\n\r\n%s" % (len(body), body)
+
+    requests = tmp_path / "requests"
+    requests.write_bytes(
+        message({"id": 1, "method": "initialize", "params": {"capabilities": {}}})
+        + message({"id": 2, "method": "shutdown"})
+        + message({"method": "exit"})
+    )
+    with requests.open("rb") as stdin:
+        out = subprocess.run(SERVER, stdin=stdin, capture_output=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    answers = [json.loads(part.split(b"\r\n\r\n", 1)[1]) for part in out.stdout.split(b"Content-Length")[1:]]
+    assert [(a["id"], sorted(a)) for a in answers] == [(k, ["id", "jsonrpc", "result"]) for k in (1, 2)]
+    assert answers[0]["result"]["serverInfo"] == {"name": "gpp", "version": gpp.__version__}
 
 
 @in_module_loop

@@ -15,6 +15,8 @@ from lsprotocol import types
 
 import lsp.features as F
 from gpp.check import CheckResult, check_program
+from gpp.syntax.loader import ParsedFile, load
+from lsp.features.common import comments
 
 ROOT = Path(__file__).resolve().parent.parent
 PROGRAMS = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
@@ -124,3 +126,61 @@ def test_no_feature_raises_on_damaged_programs(damaged: tuple[Path, str], data: 
     offsets = data.draw(st.lists(st.integers(0, len(doc_text)), min_size=1, max_size=12))
     note(f"file {pf.path}, offsets {offsets}")
     every_feature(result, pf.path, doc_text, offsets)
+
+
+def comments_by_scanning(file: ParsedFile) -> list[tuple[int, int]]:
+    """The comments of a file, found character by character in every gap between tokens."""
+    text = file.source.text
+    out: list[tuple[int, int]] = []
+    gap_start = 0
+    for tok in [*file.tokens, None]:
+        gap_end = len(text) if tok is None else tok.start
+        i = gap_start
+        while i < gap_end - 1:
+            if text.startswith("//", i):
+                j = text.find("\n", i)
+                j = gap_end if j < 0 or j > gap_end else j
+                out.append((i, j))
+                i = j
+            elif text.startswith("/*", i):
+                j = text.find("*/", i + 2)
+                j = gap_end if j < 0 or j + 2 > gap_end else j + 2
+                out.append((i, j))
+                i = j
+            else:
+                i += 1
+        if tok is not None:
+            gap_start = tok.end
+    return out
+
+
+COMMENTED = """\
+// head // still head /* not a block
+/* a block // with a slash pair */ action a() { } /* unterminated in a gap
+string fluent s() { initially: () = "// not /* a comment"; } //tail"""
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.sampled_from([COMMENTED, *(p.read_text(encoding="utf-8") for p in PROGRAMS[:6])]),
+    st.lists(st.tuples(st.floats(0, 1), st.sampled_from([*DAMAGE, "/", "*/", "/*/", "///", '"//"'])), max_size=4),
+)
+def test_comments_are_found_as_a_character_scan_finds_them(text: str, damage: list[tuple[float, str]]) -> None:
+    for where, piece in damage:
+        at = int(where * len(text))
+        text = text[:at] + piece + text[at:]
+    note(text)
+    path = Path("/nonexistent/commented.gpp")
+    file = load([path], {path: text}).files[0]
+    assert comments(file) == comments_by_scanning(file)
+
+
+def test_the_comments_of_a_file_with_strings_and_unterminated_blocks() -> None:
+    path = Path("/nonexistent/commented.gpp")
+    file = load([path], {path: COMMENTED}).files[0]
+    found = [COMMENTED[s:e] for s, e in comments(file)]
+    assert found == [
+        "// head // still head /* not a block",
+        "/* a block // with a slash pair */",
+        '/* unterminated in a gap\nstring fluent s() { initially: () = "// not /* a comment"; } //tail',
+    ]

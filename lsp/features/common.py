@@ -4,9 +4,12 @@ the doc comment of a declaration."""
 
 from __future__ import annotations
 
+import re
 import weakref
+from bisect import bisect_right
 from collections.abc import Callable
 from dataclasses import dataclass
+from operator import attrgetter
 from pathlib import Path
 
 from lsprotocol import types
@@ -116,29 +119,36 @@ def included_at(doc: Document, offset: int) -> ParsedFile | None:
 
 def comments(file: ParsedFile) -> list[tuple[int, int]]:
     """The comments of a file as (start, end) offsets, in order. They lie in the gaps between
-    tokens, the only places the tokenizer skips."""
+    tokens, the only places the tokenizer skips: each `//` or `/*` of the text that is in a gap
+    (found by bisection among the tokens) and not in an earlier comment begins one, which ends
+    at the end of its line (`//`) or after its `*/`, and at the latest where the gap does."""
     text = file.source.text
+    tokens = file.tokens
     out: list[tuple[int, int]] = []
-    gap_start = 0
-    for tok in [*file.tokens, None]:
-        gap_end = len(text) if tok is None else tok.start
-        i = gap_start
-        while i < gap_end - 1:
-            if text.startswith("//", i):
-                j = text.find("\n", i)
-                j = gap_end if j < 0 or j > gap_end else j
-                out.append((i, j))
-                i = j
-            elif text.startswith("/*", i):
-                j = text.find("*/", i + 2)
-                j = gap_end if j < 0 or j + 2 > gap_end else j + 2
-                out.append((i, j))
-                i = j
-            else:
-                i += 1
-        if tok is not None:
-            gap_start = tok.end
+    done = 0  # where the last comment ended
+    for match in _COMMENT_START.finditer(text):
+        i = match.start()
+        if i < done:
+            continue
+        k = bisect_right(tokens, i, key=_start) - 1
+        if k >= 0 and tokens[k].end > i:
+            continue  # in a token (a string, say)
+        gap_end = tokens[k + 1].start if k + 1 < len(tokens) else len(text)
+        if i + 2 > gap_end:
+            continue
+        if match.group() == "//":
+            j = text.find("\n", i)
+            j = gap_end if j < 0 or j > gap_end else j
+        else:
+            j = text.find("*/", i + 2)
+            j = gap_end if j < 0 or j + 2 > gap_end else j + 2
+        out.append((i, j))
+        done = j
     return out
+
+
+_COMMENT_START = re.compile(r"//|/\*")
+_start = attrgetter("start")
 
 
 def comments_alone(file: ParsedFile) -> list[tuple[int, int]]:
