@@ -219,7 +219,9 @@ class GppServer(LanguageServer):
         # The latest checks of each open document: (version, the programs' results).
         self.results: dict[Path, tuple[int, list[CheckResult]]] = {}
         # What was published last for each document: (version, diagnostics).
-        self._published: dict[Path, tuple[int, list[types.Diagnostic]]] = {}
+        self._published: dict[Path, tuple[int, list[dict[str, Any]]]] = {}
+        # The JSON of the diagnostics published last for each document (diagnostics_json).
+        self._converted: dict[Path, dict[tuple[object, ...], dict[str, Any]]] = {}
         self._running = False
         self._again = False
         self._round_done: asyncio.Event | None = None
@@ -332,16 +334,17 @@ class GppServer(LanguageServer):
                 continue  # stale: the document changed meanwhile, the next round publishes
             self.results[path] = (version, results)
             try:
-                lsp_diags = [self.to_lsp(d) for d in problems]
+                lsp_diags = self.diagnostics_json(path, problems)
             except Exception as e:
                 self.log_exception(f"converting the diagnostics of {path}", e)
                 lsp_diags = []
             self.timeline.mark("convert")
             if self._published.get(path) != (version, lsp_diags):
                 self._published[path] = (version, lsp_diags)
-                self.text_document_publish_diagnostics(
-                    types.PublishDiagnosticsParams(uri=self.uri_of(path), diagnostics=lsp_diags, version=version)
-                )
+                # (Sent as JSON objects: pygls would convert the lsprotocol objects again.)
+                params = {"uri": self.uri_of(path), "diagnostics": lsp_diags, "version": version}
+                message = {"jsonrpc": "2.0", "method": types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, "params": params}
+                self.protocol._send_data(message)
                 self.timeline.mark("publish")
                 published.append(f"{path.name} v{version} ({len(lsp_diags)} diagnostics)")
         self.timeline.report(", ".join(published) or "nothing published")
@@ -399,6 +402,31 @@ class GppServer(LanguageServer):
         return await asyncio.wrap_future(self.analysis.submit(fn))
 
     # ------------------------------------------------------------ conversions
+
+    def diagnostics_json(self, path: Path, problems: Sequence[diag.Diagnostic]) -> list[dict[str, Any]]:
+        """The diagnostics of a document as the protocol's JSON objects. A diagnostic that was
+        published for the document last time too (same code, message, place, ...) is not
+        converted again: an edit changes a few of them, and converting one costs tens of
+        microseconds (lsprotocol's objects, then cattrs)."""
+        before = self._converted.get(path, {})
+        now: dict[tuple[object, ...], dict[str, Any]] = {}
+        out: list[dict[str, Any]] = []
+        for d in problems:
+            key = self._lsp_key(d)
+            found = now.get(key) or before.get(key)
+            if found is None:
+                found = self.protocol._converter.unstructure(self.to_lsp(d))
+            now[key] = found
+            out.append(found)
+        self._converted[path] = now
+        return out
+
+    def _lsp_key(self, d: diag.Diagnostic) -> tuple[object, ...]:
+        """What `to_lsp` makes of `d` depends on, and nothing else."""
+        secondary = tuple(
+            (self.uri_of(label.span.source.identity), label.span.lsp_range(), label.message) for label in d.secondary
+        )
+        return (d.code, d.severity, d.message, d.notes, d.help, d.span.lsp_range(), secondary)
 
     def to_lsp(self, d: diag.Diagnostic) -> types.Diagnostic:
         lines = [d.message, *(f"note: {n}" for n in d.notes)]
@@ -518,6 +546,7 @@ def make_server() -> GppServer:
         path = uri_to_path(params.text_document.uri)
         ls.session.close(path)
         ls.results.pop(path, None)
+        ls._converted.pop(path, None)
         if ls._published.pop(path, None):
             ls.text_document_publish_diagnostics(
                 types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])

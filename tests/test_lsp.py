@@ -178,6 +178,28 @@ async def test_incremental_edits_with_crlf_lone_cr_and_astral_characters(
 
 
 @in_module_loop
+async def test_diagnostics_move_and_change_with_the_edits_that_keep_others_as_they_were(
+    client: LanguageClient, workspace: Path
+) -> None:
+    """The server converts a diagnostic it published last time only once: what an edit
+    moves, changes or adds is published anew, the rest exactly as before."""
+    path = workspace / "kept.gpp"
+    text = "procedure main() {\n    p();\n    q();\n}\n"
+    uri = open_doc(client, path, text)
+    first = await diagnostics(client, uri, 1)
+    assert [k[:2] for k in keys(first)] == [("E0103", (1, 4, 1, 5)), ("E0103", (2, 4, 2, 5))]
+    change(client, uri, 2, [((2, 0, 2, 0), "\n")])  # q() one line down
+    change(client, uri, 3, [((1, 4, 1, 5), "r")])  # p() renamed r()
+    third = await diagnostics(client, uri, 3)
+    text = "procedure main() {\n    r();\n\n    q();\n}\n"
+    assert keys(third) == expected(path, text)
+    assert [k[:2] for k in keys(third)] == [("E0103", (1, 4, 1, 5)), ("E0103", (3, 4, 3, 5))]
+    assert "`r`" in third[0].message and "`q`" in third[1].message
+    change(client, uri, 4, [((4, 1, 4, 1), " ")])  # after the body: nothing moves
+    assert await diagnostics(client, uri, 4) == third
+
+
+@in_module_loop
 async def test_a_quick_fix_for_each_diagnostic_with_a_fix(client: LanguageClient, workspace: Path) -> None:
     uri = open_doc(client, workspace / "fix.gpp", "action a() { }\nprocedure main() {\n    a()\n}\n")
     [missing] = await diagnostics(client, uri, 1)
