@@ -15,7 +15,8 @@ Threads:
   document's current version, so that a request does not wait behind a running analysis
   unless the document changed since the last one. Completion does not wait even then: it
   answers from the last check and the text typed since (features.completion_after_edit), on
-  the event loop;
+  the event loop, and a round of checks starts only after the event loop has gone round a
+  few times (START_AFTER_TURNS), so that a completion sent with the keystroke goes first;
 * stdin is read by the event loop itself when it is a pipe (`_PipeReader`), not on pygls'
   thread pool.
 
@@ -69,6 +70,10 @@ _SEVERITY = {
 }
 # How long after a round of checks, if no edit came since, the garbage collector catches up.
 SETTLE_AFTER_SECONDS = 0.5
+# How many times the event loop goes round before a round of checks starts: a request an
+# editor sends with the edit (completion after a keystroke) is read, answered and written in
+# those turns, before the check competes with it for the interpreter lock. (Microseconds.)
+START_AFTER_TURNS = 3
 # How long a request waits for the analysis of the document's current version.
 _WAIT_SECONDS = 30.0
 
@@ -283,8 +288,15 @@ class GppServer(LanguageServer):
         if self._settle is not None:
             self._settle.cancel()  # typing goes on: collect later
             self._settle = None
-        loop = asyncio.get_running_loop()
         self.timeline.start()
+        self._start_round(START_AFTER_TURNS)
+
+    def _start_round(self, turns: int) -> None:
+        """Submit the round once the event loop has gone round `turns` more times."""
+        loop = asyncio.get_running_loop()
+        if turns > 0:
+            loop.call_soon(self._start_round, turns - 1)
+            return
         future = self.analysis.submit(self._analyze)
         future.add_done_callback(lambda f: loop.call_soon_threadsafe(self._analyzed, f))
 
