@@ -350,8 +350,8 @@ class GppServer(LanguageServer):
             except Exception as e:
                 self.log_exception(f"converting the diagnostics of {path}", e)
                 lsp_diags = []
-            self.timeline.mark("convert")
             if self._published.get(path) != (version, lsp_diags):
+                self.timeline.mark("convert")  # (with those of documents not published again)
                 self._published[path] = (version, lsp_diags)
                 # (Sent as JSON objects: pygls would convert the lsprotocol objects again.)
                 params = {"uri": self.uri_of(path), "diagnostics": lsp_diags, "version": version}
