@@ -337,6 +337,13 @@ class Collector:
     def paused(self) -> bool:
         return self._resume is not None
 
+    @property
+    def due(self) -> bool:
+        """Whether `max_paused` rounds in a row have run paused: the next `pause` would
+        collect first. (The language server collects then, once the round's diagnostics are
+        out, rather than at the start of the next round.)"""
+        return self.paused_rounds >= self.max_paused
+
     def pause(self) -> None:
         """Before a round of checks."""
         if self._resume is None:

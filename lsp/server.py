@@ -120,9 +120,11 @@ class Timeline:
         self.write(what, marks)
 
     def write(self, what: str, marks: Sequence[tuple[str, float]]) -> None:
+        """A line of its own: `what`, and the time from each mark to the next."""
+        if not self.file:
+            return
         steps = " ".join(f"{name} {(t - prev) * 1000:.1f}" for (_, prev), (name, t) in itertools.pairwise(marks))
         total = (marks[-1][1] - marks[0][1]) * 1000
-        assert self.file
         with contextlib.suppress(OSError), open(self.file, "a", encoding="utf-8") as out:
             out.write(f"{what}: {steps} = {total:.1f} ms\n")
 
@@ -363,10 +365,15 @@ class GppServer(LanguageServer):
         if self._round_done is not None:
             self._round_done.set()
             self._round_done = None
+        due = self.collector.due
+        if due:
+            # A long burst: collect now that its diagnostics are out, not at the start of the
+            # next round, where a completion sent with the next keystroke would wait for it.
+            self.analysis.submit(functools.partial(self._collect, f"after {self.collector.paused_rounds} rounds"))
         if self._again:
             self._again = False
             self.schedule()
-        elif self.collector.paused:
+        elif self.collector.paused and not due:
             # Collect the garbage of the rounds once the typing pauses.
             loop = asyncio.get_running_loop()
             self._settle = loop.call_later(SETTLE_AFTER_SECONDS, self._settle_now)
@@ -374,7 +381,13 @@ class GppServer(LanguageServer):
     def _settle_now(self) -> None:
         self._settle = None
         if not self._running:
-            self.analysis.submit(self.collector.settle)
+            self.analysis.submit(functools.partial(self._collect, "the typing paused"))
+
+    def _collect(self, why: str) -> None:
+        """On the analysis thread: the collector settles (a line in the timeline)."""
+        t0 = time.perf_counter()
+        self.collector.settle()
+        self.timeline.write(f"garbage collected, {why}", [("start", t0), ("collect", time.perf_counter())])
 
     async def result_for(self, uri: str) -> tuple[CheckResult, Path] | None:
         """The check of the program (the first one) a document belongs to, for its current

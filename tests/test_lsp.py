@@ -370,17 +370,33 @@ async def test_the_timeline_names_each_round_and_its_steps(tmp_path: Path) -> No
         await c.initialize_session(types.InitializeParams(capabilities=types.ClientCapabilities()))  # type: ignore[attr-defined]
         path = tmp_path / "t.gpp"
         uri = open_doc(c, path, "procedure main() { nothing(); }\n")
-        first = await diagnostics(c, uri, 1)
-        change(c, uri, 2, [((0, 19, 0, 26), "nothin")])
-        second = await diagnostics(c, uri, 2)
+        found = [await diagnostics(c, uri, 1)]
+        for version in range(2, 11):  # a burst: each edit as soon as the last one's diagnostics came
+            change(
+                c,
+                uri,
+                version,
+                [((0, 19, 0, 26 if version % 2 == 0 else 25), "nothin" if version % 2 == 0 else "nothing")],
+            )
+            found.append(await diagnostics(c, uri, version))
     finally:
         await c.shutdown_session()  # type: ignore[attr-defined]
-    assert [len(first), len(second)] == [1, 1]
+    assert [len(f) for f in found] == [1] * 10
     lines = timeline.read_text(encoding="utf-8").splitlines()
     steps = r"queue \d+\.\d wait \d+\.\d pause \d+\.\d check \d+\.\d back \d+\.\d convert \d+\.\d publish \d+\.\d"
-    assert len(lines) == 2, lines
-    for version, line in zip((1, 2), lines, strict=True):
+    rounds = [line for line in lines if not line.startswith("garbage collected, ")]
+    assert len(rounds) == 10, lines
+    for version, line in enumerate(rounds, 1):
         assert re.fullmatch(rf"t\.gpp v{version} \(1 diagnostics\): {steps} = \d+\.\d ms", line), line
+    collections = [(k, line) for k, line in enumerate(lines) if line.startswith("garbage collected, ")]
+    for _, line in collections:
+        assert re.fullmatch(
+            r"garbage collected, (after \d+ rounds|the typing paused): collect \d+\.\d = \d+\.\d ms", line
+        )
+    if not any("typing paused" in line for _, line in collections):  # (a pause of half a second)
+        # Eight rounds in a row: collected after the eighth's diagnostics, not before the ninth.
+        assert [lines[k - 1].split(":")[0] for k, _ in collections] == ["t.gpp v8 (1 diagnostics)"], lines
+        assert collections[0][1].startswith("garbage collected, after 8 rounds:")
 
 
 def test_the_server_reads_stdin_from_a_file_too(tmp_path: Path) -> None:

@@ -219,11 +219,14 @@ def test_a_long_burst_of_rounds_is_collected_every_max_paused_rounds(collector: 
     refs = []
     for _ in range(3):
         collector.pause()
+        assert collector.due == (collector.paused_rounds == 3)
         refs.append(_garbage())
     assert [r() is not None for r in refs] == [True, True, True] and collector.collections == 0
+    assert collector.paused_rounds == 3
+    assert collector.due
     collector.pause()  # the fourth round in a row: the first three are collected first
     assert [r() is None for r in refs] == [True, True, True] and collector.collections == 1
-    assert collector.paused and not gc.isenabled()
+    assert collector.paused and not gc.isenabled() and not collector.due
 
 
 def test_a_long_session_does_not_grow_the_heap(collector: Collector, tmp_path: Path) -> None:
