@@ -83,9 +83,8 @@ _WAIT_SECONDS = 30.0
 
 class Timeline:
     """With GPP_LSP_TIMING=FILE in the environment: one line appended to FILE per round of
-    checks, where
-    the time from the first edit the round answers to the diagnostics written on stdout went
-    (in milliseconds):
+    checks, where the time from the first edit the round answers to the diagnostics written
+    on stdout went (in milliseconds):
 
     `edit` the first change not yet checked arrived (the handler ran) -> `queue` the round was
     submitted -> `wait` the analysis thread began it -> `pause` the collector paused -> `check`
