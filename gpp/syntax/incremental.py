@@ -72,7 +72,7 @@ class Reparsed:
 # ---------------------------------------------------------------- relocation
 
 Relocator = Callable[[Any, Source, int], Any]
-# Made on first use (generating them takes a few tens of milliseconds, which a command that
+# Made on first use (generating them takes about a tenth of a second, which a command that
 # parses each file once need not pay), complete before any thread sees them.
 _RELOCATORS: dict[type, Relocator] = {}
 _GENERATING = threading.Lock()
