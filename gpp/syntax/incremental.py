@@ -225,10 +225,10 @@ class _Generator:
 
 def _generate_relocators() -> dict[type, Relocator]:
     """One function per syntax node class (`_Generator`)."""
-    for cls in _INLINED:
-        fields = _Generator().fields(cls)
-        assert not any(_is_node(tp) for tp in fields.values()), cls
-    return _Generator().generate()
+    generator = _Generator()
+    for cls in _INLINED:  # leaves: a span and plain values
+        assert not any(_is_node(tp) for tp in generator.fields(cls).values()), cls
+    return generator.generate()
 
 
 def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
