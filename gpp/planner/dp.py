@@ -133,14 +133,9 @@ class _Result:
 _LEAF = _Result(True, 0.0, 0, 0)
 
 
-class _Option:
-    __slots__ = ("cost", "policy_step", "step", "target")
-
-    def __init__(self, target: _Config, step: Step, policy_step: PolicyStep) -> None:
-        self.target = target
-        self.step = step
-        self.cost = step.cost
-        self.policy_step = policy_step
+# An option of a configuration: its step's cost, the configuration it leads to, the step, and
+# the step as a policy step (a tuple: unpacked in the loop, cheaper than attribute lookups).
+_Option = tuple[int, "_Config", Step, PolicyStep]
 
 
 class _Config:
@@ -301,7 +296,7 @@ def solve_plan(
                     o = None
                 else:
                     seen.add(key)
-                    o = _Option(target, step, (c.prog, step, q))
+                    o = (step.cost, target, step, (c.prog, step, q))
                 options.append(o)
             if o is not None:
                 yield o
@@ -360,8 +355,7 @@ def solve_plan(
         live = c.live
         walk: Iterable[_Option] = live if live is not None else made(c)
         for o in walk:
-            cost = o.cost
-            target = o.target
+            cost, target, step, _ = o
             if cost:
                 if bound is not None and feasible:  # branch and bound (gpp.planner.bounds)
                     r = target.reward
@@ -382,8 +376,10 @@ def solve_plan(
                         hits += 1
                         if not known.feasible and known.depth < left:
                             infeasible += 1  # known infeasible for every horizon (see 4 above)
-                        if known.free_run > FREE_STEP_LIMIT:
-                            raise free_run_error(span)
+                        # No check of the free steps' limit here: after a costed step the run
+                        # starts at 0, and a result made at a node reached after r free steps
+                        # starts with at most FREE_STEP_LIMIT - r of them (more would have
+                        # raised), so `0 + known.free_run` is never above the limit.
                         rest = known
                 if cost + rest.depth > depth:
                     depth = cost + rest.depth
@@ -393,7 +389,7 @@ def solve_plan(
                 v = (value_of(target) if reward_after is None else reward_after) + rest.value
             else:
                 if target.on_path >> h & 1:
-                    raise free_loop_error(target.prog, o.step)
+                    raise free_loop_error(target.prog, step)
                 if run + 1 > FREE_STEP_LIMIT:
                     raise free_run_error(span)
                 rest = best(target, h, run + 1)
@@ -415,7 +411,7 @@ def solve_plan(
         if chosen is None:
             result = _Result(feasible, value if feasible else 0.0, depth, free_run)
         else:
-            result = _Result(True, value, depth, free_run, chosen.policy_step, chosen_rest)
+            result = _Result(True, value, depth, free_run, chosen[3], chosen_rest)
         memo = c.memo
         if depth < h:
             # The same result for every horizon above depth (see 4 above).
