@@ -1,6 +1,7 @@
 """The cache of compiled generated source (gpp.runtime.codegen.CompileCache): a planning that
 writes the same source as an earlier one compiles nothing, the constants of each build are
-its own, and different source is compiled anew."""
+its own, and different source is compiled anew; and the `Successors` of a semantics object,
+reused by its later plannings (gpp.planner.successors.successors_of)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from gpp.planner.problem import PlanningProblem
+from gpp.planner.successors import successors_of
 from gpp.runtime import codegen
 from gpp.runtime.codegen import CompileCache, Unit, build_units
 
@@ -83,3 +85,29 @@ def test_another_program_is_compiled_anew(cache: CompileCache) -> None:
     compiled = cache.misses
     plan_of(tower_program(4, 6))  # more blocks: other source
     assert cache.misses > compiled
+
+
+def test_the_same_problem_planned_again_reuses_what_its_first_planning_generated(cache: CompileCache) -> None:
+    pb = problem_of(tower_program(4, 8))
+    first = pb.production(prune=False)
+    generated = list(successors_of(pb.sem).sources)
+    assert any("def trans_" in source for source in generated)
+    built = cache.misses + cache.hits
+    again = pb.production(prune=False)
+    assert cache.misses + cache.hits == built  # nothing written or compiled again
+    assert successors_of(pb.sem).sources == generated
+    assert (again.feasible, again.value, again.steps, again.stats.nodes) == (
+        first.feasible,
+        first.value,
+        first.steps,
+        first.stats.nodes,
+    )
+
+
+def test_another_semantics_object_gets_its_own_successors() -> None:
+    pb = problem_of(tower_program(3, 6))
+    other = pb.sem.with_context(pb.sem.ctx, True)  # another context in a real run (online)
+    assert successors_of(pb.sem) is successors_of(pb.sem)
+    assert successors_of(other) is not successors_of(pb.sem)
+    assert successors_of(pb.sem, generate=False) is not successors_of(pb.sem)
+    assert successors_of(pb.sem, generate=False).generate is False

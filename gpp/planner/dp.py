@@ -89,7 +89,7 @@ from gpp.planner.bounds import StateBound
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
+from gpp.planner.successors import ApplyFn, FinalFn, TransFn, successors_of
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
@@ -227,7 +227,7 @@ def solve_plan(
     by_prog: dict[Prog, dict[Activities, Table]] = {}
     by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
     met = 0  # configurations met
-    successors = Successors(sem, generate)
+    successors = successors_of(sem, generate)  # reused by later plannings with `sem`
     # By the identity of a step or a continuation: its `apply`, its `final` and `trans`.
     applies: dict[int, tuple[Step, ApplyFn]] = {}
     functions: dict[int, tuple[Prog, FinalFn, TransFn]] = {}

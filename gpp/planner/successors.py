@@ -33,6 +33,7 @@ programs and states.
 from __future__ import annotations
 
 from collections.abc import Callable
+from weakref import WeakKeyDictionary
 
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.planner.codegen import ApplyGen, TransGen
@@ -69,6 +70,10 @@ _EMPTY = State()
 MAX_TRANS_UNITS = 200
 
 
+# By semantics object: its Successors, with and without generated source (see successors_of).
+_SHARED: WeakKeyDictionary[Semantics, dict[bool, Successors]] = WeakKeyDictionary()
+
+
 def never(state: State, acts: Activities) -> bool:
     """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
     return False
@@ -80,6 +85,20 @@ def always(state: State, acts: Activities) -> bool:
 
 def _nothing(state: State, acts: Activities) -> list[Successor]:
     return []
+
+
+def successors_of(sem: Semantics, generate: bool = True) -> Successors:
+    """The `Successors` of `sem`, made by its first planning and reused by every later one
+    with the same semantics object (the same problem planned again, a repeated `solve`): what
+    it specialised and generated depends on nothing but `sem` (its program, context and the
+    frames met), so it stays exact, and is not written again. Kept as long as `sem` lives."""
+    made = _SHARED.get(sem)
+    if made is None:
+        made = _SHARED[sem] = {}
+    successors = made.get(generate)
+    if successors is None:
+        successors = made[generate] = Successors(sem, generate)
+    return successors
 
 
 class Successors:
