@@ -47,24 +47,29 @@ What makes it fast, and why each keeps the result identical to the reference's:
 `final`, `trans` and `apply` are called through gpp.planner.successors: for each program point
 met, Python source generated from the semantics' definitions (gpp.planner.codegen: the
 conditions, the `pick` values and guards, each action's precondition with its arguments
-folded in, the successors as constants, each action step's effects), compiled once per
-planning; what the generator does not write out runs the semantics' definitions specialised
-as closures. tests/test_planner_successors.py checks both against the semantics on random
-programs and on block towers.
+folded in, the successors as constants, each action step's effects); what the generator does
+not write out runs the semantics' definitions specialised as closures. They are made once per
+semantics object and reused by its later plannings (gpp.planner.successors.successors_of: the
+same problem planned again), and a source text is compiled once per process
+(gpp.runtime.codegen.CompileCache: a program checked again, online re-planning).
+tests/test_planner_successors.py checks both against the semantics on random programs and on
+block towers.
 
 How it is laid out, for speed (none of it changes what is computed):
 
 * every configuration is interned once into a `_Config`, found by the identity of its
   continuation and activities first (the generated `trans` returns the same objects), then by
-  its state; it holds its expansion and its memo, a list indexed by the remaining horizon (a
+  the hash of its state (an int, hashed and compared without a call of Python code; the
+  states are compared once found); it holds its expansion and its memo, a list indexed by the remaining horizon (a
   horizon-independent result, see 4, is stored for every horizon it holds for, and told from
   the others by its depth being below the horizon): after the first meeting, a configuration
   is never hashed again;
 * an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
   once all options of a configuration are made, the duplicates are dropped from the list
-  walked;
-* a result holds its first step and the result of the rest (a linked list): choosing a
-  branch costs no copy of its steps; the plan's steps are collected once at the end;
+  walked; an option is a tuple, unpacked in the loop (cheaper than attribute lookups);
+* a result is a tuple (one is made per node: a tuple is made faster than an object) that
+  holds its first step and the result of the rest (a linked list): choosing a branch costs no
+  copy of its steps; the plan's steps are collected once at the end;
 * Python's cyclic garbage collector is off while planning (all that planning allocates stays
   alive until the plan is made, and every full collection walked all of it again); the
   cycles between configurations are broken when planning ends, so reference counting frees

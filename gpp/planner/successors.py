@@ -1,5 +1,6 @@
-"""`final` and `trans` specialised to a program point, once per planning: what the production
-planner calls instead of gpp.runtime.semantics on every configuration.
+"""`final` and `trans` specialised to a program point, once per semantics object (reused by its
+later plannings, see `successors_of`): what the production planner calls instead of
+gpp.runtime.semantics on every configuration.
 
 `trans` of a statement, a sequence or the rest of a block is generated Python source
 (gpp.planner.codegen, compiled with `apply` of the action steps it returns), as is a `while`
@@ -64,9 +65,10 @@ ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
 
 _EMPTY = State()
 
-# At most this many continuations get generated source per planning; the others run the
-# closures. Writing and compiling a function costs a millisecond or more, which a planning
-# that meets thousands of continuations once each (a deep recursion) would not earn back.
+# At most this many continuations get generated source per semantics object (its plannings
+# share them, see `successors_of`); the others run the closures. Writing and compiling a
+# function costs a millisecond or more, which a planning that meets thousands of
+# continuations once each (a deep recursion) would not earn back.
 MAX_TRANS_UNITS = 200
 
 
