@@ -1,6 +1,6 @@
 """Incremental re-parsing: what re-parsing a file after a small edit costs, against a full parse.
 
-Run: .venv/bin/python bench/incparse.py [--lines N] [--runs N] [--clock wall|cpu]
+Run: .venv/bin/python bench/incparse.py [--lines N] [--runs N] [--clock wall|cpu] [--against REF]
 
 On a generated program (bench/genprog.py), in-process, best of `runs`, the incremental parse
 (gpp.syntax.incremental.reparse, as loader.ParseCache uses it) and the full parse of the same
@@ -10,15 +10,21 @@ new text are timed one after the other in each run, for:
 * an unfinished call typed at the same places (a syntax error: the file is parsed again from the
   declaration before the edit to its end);
 and the relocation alone: every declaration of the old parse moved into a new Source.
+With `--against REF` (a git revision), gpp/syntax/incremental.py as it is at REF is timed as
+well, in the same runs (interleaved: both see the same load), and the table shows the ratio.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
@@ -26,7 +32,7 @@ from genprog import generate_program
 
 from gpp.perf import paused_gc
 from gpp.source import Source
-from gpp.syntax.incremental import relocate, reparse
+from gpp.syntax import incremental
 from gpp.syntax.parser import parse
 
 # The clock the runs are timed with: wall time, or the process's CPU time (steadier when other
@@ -43,50 +49,81 @@ def best(fn: Callable[[], None], runs: int) -> float:
     return min(times)
 
 
+def module_at(ref: str) -> ModuleType:
+    """gpp.syntax.incremental as it is at the git revision `ref` (imported from a copy)."""
+    root = Path(__file__).resolve().parent.parent
+    text = subprocess.run(
+        ["git", "show", f"{ref}:gpp/syntax/incremental.py"], cwd=root, capture_output=True, text=True, check=True
+    ).stdout
+    path = Path(tempfile.mkdtemp()) / "incremental_at_ref.py"
+    path.write_text(text, encoding="utf-8")
+    spec = importlib.util.spec_from_file_location("incremental_at_ref", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, default=1000)
     ap.add_argument("--runs", type=int, default=15)
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall")
+    ap.add_argument("--against", metavar="REF", help="also time incremental.py as it is at this git revision")
     args = ap.parse_args()
     global clock
     clock = time.process_time if args.clock == "cpu" else time.perf_counter
+    modules = {"now": incremental}
+    if args.against:
+        modules[args.against] = module_at(args.against)
     text = generate_program(args.lines)
     old = parse(Source(text, "bench.gpp"))
+    for module in modules.values():
+        module.relocators()  # made once per process, not part of a re-parse
     starts = Source(text).line_starts
     places = {"start": starts[1], "middle": starts[len(starts) // 2], "end": starts[-2]}
     print(f"program: {args.lines} lines, {len(text)} characters, {len(old.tokens)} tokens ({args.clock} time)")
-    print(f"{'edit':<24} {'how':<7} {'parsed chars':>12} {'incremental':>12} {'full parse':>11} {'speed-up':>9}")
+    against = f" {args.against[:10]:>11} {'gain':>6}" if args.against else ""
+    print(
+        f"{'edit':<24} {'how':<7} {'parsed chars':>12} {'incremental':>12} {'full parse':>11} {'speed-up':>9}{against}"
+    )
     for kind, typed in (("space", " "), ("unfinished call", "x(")):
         for where, at in places.items():
             new = text[:at] + typed + text[at:]
-            inc_times, full_times = [], []
+            inc_times: dict[str, list[float]] = {name: [] for name in modules}
+            full_times = []
             how, chars = "full", len(new)
             for _ in range(args.runs):
-                source = Source(new, "bench.gpp")
-                t0 = clock()
-                done = reparse(text, old, source)
-                if done is None:
-                    parse(source)  # what ParseCache does then
-                else:
-                    how, chars = done.how, done.parsed_chars
-                inc_times.append(clock() - t0)
+                for name, module in modules.items():
+                    source = Source(new, "bench.gpp")
+                    t0 = clock()
+                    done = module.reparse(text, old, source)
+                    if done is None:
+                        parse(source)  # what ParseCache does then
+                    elif name == "now":
+                        how, chars = done.how, done.parsed_chars
+                    inc_times[name].append(clock() - t0)
                 t0 = clock()
                 parse(Source(new, "bench.gpp"))
                 full_times.append(clock() - t0)
-            inc, full = min(inc_times), min(full_times)
-            print(
-                f"{kind + ' at ' + where:<24} {how:<7} {chars:>12} {inc * 1000:>10.1f}ms {full * 1000:>9.1f}ms"
-                f" {full / inc:>8.1f}x"
-            )
+            inc, full = min(inc_times["now"]), min(full_times)
+            row = f"{kind + ' at ' + where:<24} {how:<7} {chars:>12} {inc * 1000:>10.1f}ms {full * 1000:>9.1f}ms"
+            row += f" {full / inc:>8.1f}x"
+            if args.against:
+                ref = min(inc_times[args.against])
+                row += f" {ref * 1000:>9.1f}ms {ref / inc:>5.2f}x"
+            print(row)
     target = Source(text, "bench.gpp")
+    for name, module in modules.items():
 
-    def relocate_all() -> None:
-        with paused_gc():  # as in a re-parse
-            [relocate(d, target, 1) for d in old.program.declarations]
+        def relocate_all(module: ModuleType = module) -> None:
+            relocators = module.relocators()
+            with paused_gc():  # as in a re-parse
+                [relocators[type(d)](d, target, 1) for d in old.program.declarations]
 
-    moved = best(relocate_all, args.runs)
-    print(f"relocating all {len(old.program.declarations)} declarations: {moved * 1000:.1f}ms")
+        moved = best(relocate_all, args.runs)
+        print(f"relocating all {len(old.program.declarations)} declarations ({name}): {moved * 1000:.1f}ms")
     print("load average:", Path("/proc/loadavg").read_text().split()[:3] if Path("/proc/loadavg").exists() else "?")
 
 

@@ -45,11 +45,15 @@ PATH = Path("/virtual/edited.gpp")
 
 
 def assert_same_tree(got: Any, want: Any, where: str = "program") -> None:
-    """Field by field, spans included (a Span compares its Source by identity)."""
+    """Field by field, spans included (a Span compares its Source by identity), and a child node
+    has its parent's span object itself exactly where the wanted tree's child has it."""
     assert type(got) is type(want), where
     if isinstance(want, ast.Node):
         for f in dataclasses.fields(want):
             assert_same_tree(getattr(got, f.name), getattr(want, f.name), f"{where}.{f.name}")
+            child = getattr(want, f.name)
+            if isinstance(child, ast.Node):
+                assert (getattr(got, f.name).span is got.span) == (child.span is want.span), f"{where}.{f.name}"
     elif isinstance(want, tuple):
         assert len(got) == len(want), where
         for k, (g, w) in enumerate(zip(got, want, strict=True)):
@@ -275,6 +279,16 @@ def test_relocate_moves_every_span_into_the_new_source() -> None:
         declarations=tuple(relocate(d, target, 7) for d in old.program.declarations),
     )
     assert_same_tree(moved, want.program)
+
+
+def test_a_relocated_main_block_shares_its_span_with_its_body() -> None:
+    text = "action a() { }\n{ a(); }\n"
+    old = parse(Source(text)).program.declarations[-1]
+    target = Source("\n" + text, "new.gpp")
+    moved = relocate(old, target, 1)
+    assert type(moved) is ast.MainBlock and old.body.span is old.span
+    assert moved.body.span is moved.span
+    assert_same_tree(moved, parse(target).program.declarations[-1])
 
 
 def test_the_comparison_sees_a_span_that_differs() -> None:

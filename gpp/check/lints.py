@@ -14,7 +14,7 @@ from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 from pathlib import Path
 from typing import Any, TypeVar, assert_never, get_args
 
@@ -115,18 +115,13 @@ class _Program:
 
     @cached_property
     def _all_statements(self) -> _Within:
-        """Every statement of the root files: those of their bodies, the only place for one."""
-
-        def index() -> dict[int, _Starts]:
-            out: dict[int, _Starts] = {}
-            for f in self.root_files:
-                listed = [s for _, found in self.body_statements([f]) for s, _ in found]
-                starts = [s.span.start for s in listed]
-                order = sorted(range(len(listed)), key=starts.__getitem__)  # stable: ties keep their order
-                out[id(f.source)] = ([starts[k] for k in order], [listed[k] for k in order])
-            return out
-
-        return _Within(index)
+        """Every statement of the root files: those of their bodies, the only place for one.
+        (Listed now, sorted when first asked about; the index refers to the lists, not to the
+        program, which keeps the `_Within`: no reference cycle.)"""
+        listed = {
+            id(f.source): [s for _, found in self.body_statements([f]) for s, _ in found] for f in self.root_files
+        }
+        return _Within(partial(_by_start, listed))
 
     def used(self, symbol: Symbol) -> bool:
         """Is `symbol` named anywhere but in its declarations (and, for a global, its own body)?"""
@@ -261,6 +256,16 @@ def _operand_is_operator(e: ast.Expr) -> bool:
 
 
 _Starts = tuple[list[int], list[ast.Statement]]
+
+
+def _by_start(listed: dict[int, list[ast.Statement]]) -> dict[int, _Starts]:
+    """Per source, its statements sorted by where they start, and those starts."""
+    out: dict[int, _Starts] = {}
+    for key, found in listed.items():
+        starts = [s.span.start for s in found]
+        order = sorted(range(len(found)), key=starts.__getitem__)  # stable: ties keep their order
+        out[key] = ([starts[k] for k in order], [found[k] for k in order])
+    return out
 
 
 class _Within:
@@ -961,36 +966,41 @@ def golog_tree(operators: Sequence[Op]) -> Shape:
     §2.6.2): the tail is built first, and its root stays below `op0` only if it binds tighter;
     otherwise the chain is split before the last operand."""
     prec = [_GOLOG_PRECEDENCE[op] for op in operators]
+    return _golog_build(operators, prec, 0, len(operators))
 
-    def root(i: int, j: int) -> int:
-        """Index of the root operator of the tree of operands i..j: that of i+1..j, built
-        first, if it binds tighter than operator i, working back from j-1..j."""
-        r = j - 1
-        for k in range(j - 2, i - 1, -1):
-            r = k if prec[r] > prec[k] else j - 1
-        return r
 
-    def build(i: int, j: int) -> Shape:
-        if i == j:
-            return i
-        if root(i, j) == i:
-            return (operators[i], i, build(i + 1, j))
-        return (operators[j - 1], build(i, j - 1), j)
+# The helpers of the shape functions are module functions, not closures: a closure that calls
+# itself is a reference cycle (function -> cell -> function), left for the cyclic collector.
 
-    return build(0, len(operators))
+
+def _golog_root(prec: Sequence[int], i: int, j: int) -> int:
+    """Index of the root operator of the tree of operands i..j: that of i+1..j, built first, if
+    it binds tighter than operator i, working back from j-1..j."""
+    r = j - 1
+    for k in range(j - 2, i - 1, -1):
+        r = k if prec[r] > prec[k] else j - 1
+    return r
+
+
+def _golog_build(operators: Sequence[Op], prec: Sequence[int], i: int, j: int) -> Shape:
+    if i == j:
+        return i
+    if _golog_root(prec, i, j) == i:
+        return (operators[i], i, _golog_build(operators, prec, i + 1, j))
+    return (operators[j - 1], _golog_build(operators, prec, i, j - 1), j)
 
 
 def render_shape(shape: Shape, texts: Sequence[str]) -> str:
     """A chain's tree as text, with parentheses wherever precedence changes."""
+    return _show_shape(shape, texts, None, False)
 
-    def show(s: Shape, parent: Op | None, right: bool) -> str:
-        if isinstance(s, int):
-            return texts[s]
-        op, left, rhs = s
-        text = f"{show(left, op, False)} {op.value} {show(rhs, op, True)}"
-        return f"({text})" if _needs_parentheses(op, parent, right) else text
 
-    return show(shape, None, False)
+def _show_shape(s: Shape, texts: Sequence[str], parent: Op | None, right: bool) -> str:
+    if isinstance(s, int):
+        return texts[s]
+    op, left, rhs = s
+    text = f"{_show_shape(left, texts, op, False)} {op.value} {_show_shape(rhs, texts, op, True)}"
+    return f"({text})" if _needs_parentheses(op, parent, right) else text
 
 
 def _needs_parentheses(op: Op, parent: Op | None, right: bool) -> bool:
@@ -1000,19 +1010,20 @@ def _needs_parentheses(op: Op, parent: Op | None, right: bool) -> bool:
 def _grouped(shape: Shape) -> list[tuple[int, int]]:
     """The operand ranges that `render_shape` puts in parentheses."""
     out: list[tuple[int, int]] = []
-
-    def visit(s: Shape, parent: Op | None, right: bool) -> tuple[int, int]:
-        if isinstance(s, int):
-            return s, s
-        op, left, rhs = s
-        first, _ = visit(left, op, False)
-        _, last = visit(rhs, op, True)
-        if _needs_parentheses(op, parent, right):
-            out.append((first, last))
-        return first, last
-
-    visit(shape, None, False)
+    _visit_grouped(shape, None, False, out)
     return out
+
+
+def _visit_grouped(s: Shape, parent: Op | None, right: bool, out: list[tuple[int, int]]) -> tuple[int, int]:
+    """The operand range of `s`; adds the ranges in parentheses below it (and its own) to `out`."""
+    if isinstance(s, int):
+        return s, s
+    op, left, rhs = s
+    first, _ = _visit_grouped(left, op, False, out)
+    _, last = _visit_grouped(rhs, op, True, out)
+    if _needs_parentheses(op, parent, right):
+        out.append((first, last))
+    return first, last
 
 
 def _sub_expressions(e: ast.Node) -> list[ast.Expr]:

@@ -12,6 +12,8 @@ declarations' references, `state.declarations` and `state.decl_symbol`.
 
 from __future__ import annotations
 
+import weakref
+
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import NUMBER, STRING, SYMBOL, VOID, CompoundType, DomainType
@@ -79,9 +81,9 @@ class Collector(Phase):
             symbol = Symbol(name.name, kind, name.span, decl=decl)
             # Types exist from the start, so a use before the declaration resolves (§2.1).
             if kind is SymbolKind.DOMAIN:
-                symbol.type = DomainType(name.name, SYMBOL, symbol)
+                symbol.type = DomainType(name.name, SYMBOL, weakref.ref(symbol))
             elif kind is SymbolKind.COMPOUND:
-                symbol.type = CompoundType(name.name, symbol)
+                symbol.type = CompoundType(name.name, weakref.ref(symbol))
             table[name.name] = symbol
             return self.attach(symbol, name, decl)
         detached = Symbol(name.name, kind, name.span, decl=decl)

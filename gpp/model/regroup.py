@@ -6,7 +6,8 @@ are known can a chain that mixes a boolean `==` with `&`, `|`, `->` or `!` be re
 type checker asks `reassociate` for each unvisited `!` and binary operator, and types the
 rebuilt tree instead.
 
-Reads the operand types through the type checker (silently, `state.silent`); writes
+Reads the operand types through the type checker (silently, `state.silent`): the type
+checker is a `Regrouper`, and its `expr` is the `type_of` here. Writes
 `state.reassociated` (the chains already looked at, which are not looked at again) and the
 types of the parsed chain's own nodes in `model.expr_types`. The type checker records the
 rebuilt expression in `model.rewritten`.
@@ -14,7 +15,6 @@ rebuilt expression in `model.rewritten`.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from gpp.model.builder_state import BuilderState, Phase
@@ -29,11 +29,17 @@ EQUALITY = frozenset({Op.EQ, Op.NE})
 
 
 class Regrouper(Phase):
-    def __init__(self, state: BuilderState, type_of: Callable[[ast.Expr], Type]) -> None:
+    """The regrouping part of the type checker (gpp.model.typecheck.TypeChecker derives from
+    it; a separate object holding the checker's bound `expr` would make the two a reference
+    cycle)."""
+
+    def __init__(self, state: BuilderState) -> None:
         super().__init__(state)
-        # The type checker's `expr`: types an operand (and records its type).
-        self.type_of = type_of
         self.reassociated = state.reassociated
+
+    def type_of(self, e: ast.Expr) -> Type:
+        """The type of an operand (recorded too): the type checker's `expr`."""
+        raise NotImplementedError
 
     def reassociate(self, e: ast.Binary | ast.Unary) -> ast.Expr | None:
         """Give boolean `==`/`!=` (iff/xor) their golog++ precedence, the loosest beside `->`.

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import weakref
+from dataclasses import dataclass
 from enum import Enum
 from typing import NamedTuple
 
@@ -50,10 +51,16 @@ EXPRESSION_CALLABLE = frozenset({SymbolKind.FLUENT, SymbolKind.FUNCTION, SymbolK
 STATEMENT_CALLABLE = frozenset({SymbolKind.ACTION, SymbolKind.PROCEDURE})
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False, slots=True, init=False, weakref_slot=True)
 class Symbol:
     """A declared thing. Compared by identity: two symbols are the same only if they are.
-    (Slots: the model builder makes one for every declaration, parameter and variable.)"""
+    (Slots: the model builder makes one for every declaration, parameter and variable.)
+
+    A member (parameter, field, clock, state) knows its `owner` through a weak reference: the
+    owner lists its members, and a strong link back would make every symbol with parameters a
+    reference cycle, which only the cyclic garbage collector frees. The model keeps every owner
+    alive (its globals, types and references), so `owner` is None only for a member of a model
+    already dropped."""
 
     name: str
     kind: SymbolKind
@@ -61,18 +68,48 @@ class Symbol:
     # no definition); None for predefined symbols.
     span: Span | None
     # The declaration that defines it (ast.FluentDecl, ast.Param, ast.Pick, ...).
-    decl: ast.Node | None = None
+    decl: ast.Node | None
     # Value type (fluents, functions, parameters, variables, fields), the type a domain or
     # compound declares, or the result type of an action/procedure (void).
-    type: Type | None = None
-    params: tuple[Symbol, ...] = ()
+    type: Type | None
+    params: tuple[Symbol, ...]
     # Forward declarations and repeated symbol occurrences in domain sets.
-    other_spans: list[Span] = field(default_factory=list)
-    # For parameters, fields, clocks and states: the symbol they belong to.
-    owner: Symbol | None = None
-    predefined: bool = False
+    other_spans: list[Span]
+    # For parameters, fields, clocks and states: the symbol they belong to (see `owner`).
+    _owner: weakref.ReferenceType[Symbol] | None
+    predefined: bool
     # For components: its states and clocks by name; for compounds: its fields.
-    members: dict[str, Symbol] = field(default_factory=dict)
+    members: dict[str, Symbol]
+
+    def __init__(
+        self,
+        name: str,
+        kind: SymbolKind,
+        span: Span | None,
+        decl: ast.Node | None = None,
+        type: Type | None = None,
+        params: tuple[Symbol, ...] = (),
+        other_spans: list[Span] | None = None,
+        owner: Symbol | None = None,
+        predefined: bool = False,
+        members: dict[str, Symbol] | None = None,
+    ) -> None:
+        self.name = name
+        self.kind = kind
+        self.span = span
+        self.decl = decl
+        self.type = type
+        self.params = params
+        self.other_spans = [] if other_spans is None else other_spans
+        self._owner = None if owner is None else weakref.ref(owner)
+        self.predefined = predefined
+        self.members = {} if members is None else members
+
+    @property
+    def owner(self) -> Symbol | None:
+        """For parameters, fields, clocks and states: the symbol they belong to."""
+        ref = self._owner
+        return None if ref is None else ref()
 
     def __repr__(self) -> str:
         return f"Symbol({self.kind.value} {self.name})"

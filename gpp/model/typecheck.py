@@ -29,7 +29,7 @@ from contextlib import AbstractContextManager
 from typing import Any, assert_never
 
 from gpp import diagnostics as diag
-from gpp.model.builder_state import BuilderState, Phase, new_tuple
+from gpp.model.builder_state import BuilderState, new_tuple
 from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Reference, ScopeRecord, Symbol, SymbolKind
@@ -165,34 +165,17 @@ class _Scopes:
                 visible[name] = symbol
 
 
-class TypeChecker(Phase):
+class TypeChecker(Regrouper):
     def __init__(self, state: BuilderState, resolver: TypeResolver) -> None:
         super().__init__(state)
         self.resolver = resolver
         self.scopes = _Scopes()
         self.variables = self.scopes.visible
-        self.reassociated = state.reassociated
-        self.regroup = Regrouper(state, self.expr)
         self.expr_types = self.model.expr_types
         self.add_reference = self.model.references.append
         self.targets = self.model.targets
         # One value per symbol name, for the domain membership of literals.
         self.symbol_values: dict[str, Sym] = {}
-        # One method per kind of expression (instead of a chain of isinstance).
-        self._expr_kinds: dict[type[ast.Expr], Callable[[Any], Type]] = {
-            ast.Name: self.name,
-            ast.Call: self.call,
-            ast.Unary: self.unary,
-            ast.Binary: self.binary,
-            ast.Quantified: self.quantified,
-            ast.Conditional: self.conditional,
-            ast.FieldAccess: self.field_access,
-            ast.Index: self.index,
-            ast.CompoundLit: self.compound_literal,
-            ast.ListLit: self.list_literal,
-            ast.BuiltinCall: self.builtin_call,
-            ast.Wildcard: self.wildcard,
-        }
 
     # ---------------------------------------------------------------- scopes
 
@@ -512,13 +495,15 @@ class TypeChecker(Phase):
         kind = type(e)
         t = _LITERAL_TYPES.get(kind)
         if t is None:
-            t = self._expr_kinds[kind](e)
+            t = _EXPR_KINDS[kind](self, e)
         self.expr_types[id(e)] = t
         return t
 
+    type_of = expr  # how the regrouping (gpp.model.regroup) types an operand
+
     def _regrouped(self, e: ast.Binary | ast.Unary) -> Type | None:
         """The type of the chain `e` regrouped by gpp.model.regroup, or None when it stays."""
-        replacement = self.regroup.reassociate(e)
+        replacement = self.reassociate(e)
         if replacement is None:
             return None
         if not self.state.silent:
@@ -921,3 +906,21 @@ class TypeChecker(Phase):
                 help="give every field a value; write `null` for a field without one",
             )
         return ctype
+
+
+# One method per kind of expression (instead of a chain of isinstance): plain functions, called
+# with the checker (a table of its bound methods, kept by the checker, would be a reference cycle).
+_EXPR_KINDS: dict[type[ast.Expr], Callable[[TypeChecker, Any], Type]] = {
+    ast.Name: TypeChecker.name,
+    ast.Call: TypeChecker.call,
+    ast.Unary: TypeChecker.unary,
+    ast.Binary: TypeChecker.binary,
+    ast.Quantified: TypeChecker.quantified,
+    ast.Conditional: TypeChecker.conditional,
+    ast.FieldAccess: TypeChecker.field_access,
+    ast.Index: TypeChecker.index,
+    ast.CompoundLit: TypeChecker.compound_literal,
+    ast.ListLit: TypeChecker.list_literal,
+    ast.BuiltinCall: TypeChecker.builtin_call,
+    ast.Wildcard: TypeChecker.wildcard,
+}

@@ -1,5 +1,6 @@
-"""`trans` of a program point as generated Python source, compiled once per planning: the
-successors of a continuation in straight-line code, for gpp.planner.successors.
+"""`trans` of a program point as generated Python source, written once per semantics object and
+compiled once per source text (gpp.runtime.codegen.CompileCache): the successors of a
+continuation in straight-line code, for gpp.planner.successors.
 
 For a continuation (a statement with its bindings, a sequence, the rest of a block) this
 module writes one function of (state, activities) that does what the specialised closures of

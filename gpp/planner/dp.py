@@ -47,24 +47,29 @@ What makes it fast, and why each keeps the result identical to the reference's:
 `final`, `trans` and `apply` are called through gpp.planner.successors: for each program point
 met, Python source generated from the semantics' definitions (gpp.planner.codegen: the
 conditions, the `pick` values and guards, each action's precondition with its arguments
-folded in, the successors as constants, each action step's effects), compiled once per
-planning; what the generator does not write out runs the semantics' definitions specialised
-as closures. tests/test_planner_successors.py checks both against the semantics on random
-programs and on block towers.
+folded in, the successors as constants, each action step's effects); what the generator does
+not write out runs the semantics' definitions specialised as closures. They are made once per
+semantics object and reused by its later plannings (gpp.planner.successors.successors_of: the
+same problem planned again), and a source text is compiled once per process
+(gpp.runtime.codegen.CompileCache: a program checked again, online re-planning).
+tests/test_planner_successors.py checks both against the semantics on random programs and on
+block towers.
 
 How it is laid out, for speed (none of it changes what is computed):
 
 * every configuration is interned once into a `_Config`, found by the identity of its
   continuation and activities first (the generated `trans` returns the same objects), then by
-  its state; it holds its expansion and its memo, a list indexed by the remaining horizon (a
+  the hash of its state (an int, hashed and compared without a call of Python code; the
+  states are compared once found); it holds its expansion and its memo, a list indexed by the remaining horizon (a
   horizon-independent result, see 4, is stored for every horizon it holds for, and told from
   the others by its depth being below the horizon): after the first meeting, a configuration
   is never hashed again;
 * an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
   once all options of a configuration are made, the duplicates are dropped from the list
-  walked;
-* a result holds its first step and the result of the rest (a linked list): choosing a
-  branch costs no copy of its steps; the plan's steps are collected once at the end;
+  walked; an option is a tuple, unpacked in the loop (cheaper than attribute lookups);
+* a result is a tuple (one is made per node: a tuple is made faster than an object) that
+  holds its first step and the result of the rest (a linked list): choosing a branch costs no
+  copy of its steps; the plan's steps are collected once at the end;
 * Python's cyclic garbage collector is off while planning (all that planning allocates stays
   alive until the plan is made, and every full collection walked all of it again); the
   cycles between configurations are broken when planning ends, so reference counting frees
@@ -89,7 +94,7 @@ from gpp.planner.bounds import StateBound
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
+from gpp.planner.successors import ApplyFn, FinalFn, TransFn, successors_of
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
@@ -98,49 +103,30 @@ from gpp.source import Span
 Config = tuple[Prog, State, Activities]
 
 
-class _Result:
-    """The best branch from a configuration: feasible or not, its value, and its first step
-    and the result of the rest (None: it stops here). Never changed once made (a plain class
-    rather than a frozen dataclass: one is made per node, and this is cheaper to make)."""
+# The best branch from a configuration, never changed once made: a tuple (one is made per
+# node, and a tuple is made and read faster than an object), read by index:
+#   [0] feasible or not, [1] its value,
+#   [2] depth: the most costed steps on a branch of the subtree (== horizon: it was reached),
+#   [3] free run: the most free steps a branch of the subtree starts with,
+#   [4] its first step and [5] the result of the rest (None, None: it stops here).
+_Result = tuple[bool, float, int, int, "PolicyStep | None", "_Result | None"]
 
-    __slots__ = ("depth", "feasible", "free_run", "rest", "step", "value")
-
-    def __init__(
-        self,
-        feasible: bool,
-        value: float,
-        depth: int,
-        free_run: int,
-        step: PolicyStep | None = None,
-        rest: _Result | None = None,
-    ) -> None:
-        self.feasible = feasible
-        self.value = value
-        self.depth = depth  # the most costed steps on a branch of the subtree (== horizon: it was reached)
-        self.free_run = free_run  # the most free steps a branch of the subtree starts with
-        self.step = step
-        self.rest = rest
-
-    def steps(self) -> tuple[PolicyStep, ...]:
-        out: list[PolicyStep] = []
-        r: _Result | None = self
-        while r is not None and r.step is not None:
-            out.append(r.step)
-            r = r.rest
-        return tuple(out)
+_LEAF: _Result = (True, 0.0, 0, 0, None, None)
 
 
-_LEAF = _Result(True, 0.0, 0, 0)
+def _steps(result: _Result) -> tuple[PolicyStep, ...]:
+    """The steps of a result's branch, first to last."""
+    out: list[PolicyStep] = []
+    r: _Result | None = result
+    while r is not None and r[4] is not None:
+        out.append(r[4])
+        r = r[5]
+    return tuple(out)
 
 
-class _Option:
-    __slots__ = ("cost", "policy_step", "step", "target")
-
-    def __init__(self, target: _Config, step: Step, policy_step: PolicyStep) -> None:
-        self.target = target
-        self.step = step
-        self.cost = step.cost
-        self.policy_step = policy_step
+# An option of a configuration: its step's cost, the configuration it leads to, the step, and
+# the step as a policy step (a tuple: unpacked in the loop, cheaper than attribute lookups).
+_Option = tuple[int, "_Config", Step, PolicyStep]
 
 
 class _Config:
@@ -239,11 +225,14 @@ def solve_plan(
     # and activities are found by their identity first (`trans` returns the same
     # continuations again and again, and an action step keeps the activities object), so
     # they are hashed and compared once per object, not once per option.
-    Table = dict[State, _Config]
+    # A table holds the configurations of one continuation and activities by the hash of
+    # their state (an int: hashed and compared without Python code), the rare second state
+    # of the same hash by the state itself.
+    Table = tuple[dict[int, _Config], dict[State, _Config]]
     by_prog: dict[Prog, dict[Activities, Table]] = {}
     by_id: dict[tuple[int, int], tuple[Prog, Activities, Table]] = {}
     met = 0  # configurations met
-    successors = Successors(sem, generate)
+    successors = successors_of(sem, generate)  # reused by later plannings with `sem`
     # By the identity of a step or a continuation: its `apply`, its `final` and `trans`.
     applies: dict[int, tuple[Step, ApplyFn]] = {}
     functions: dict[int, tuple[Prog, FinalFn, TransFn]] = {}
@@ -260,13 +249,25 @@ def solve_plan(
                 tables = by_prog[p] = {}
             table = tables.get(a)
             if table is None:
-                table = tables[a] = {}
+                table = tables[a] = ({}, {})
             entry = by_id[id(p), id(a)] = (p, a, table)  # keeps p and a alive: ids not reused
-        table = entry[2]
-        c = table.get(s)
-        if c is None:
-            c = table[s] = _Config(p, s, a, horizon)
-            met += 1
+        by_hash = entry[2][0]
+        h = s._hash  # the state's hash once known: read directly, sparing a call
+        if h is None:
+            h = hash(s)
+        c = by_hash.get(h)
+        if c is not None:
+            t = c.state
+            if t is s or (t._values == s._values if t._plain and s._plain else t == s):  # `==`, inline
+                return c
+            clashes = entry[2][1]  # another state of the same hash
+            c = clashes.get(s)
+            if c is None:
+                c = clashes[s] = _Config(p, s, a, horizon)
+                met += 1
+            return c
+        c = by_hash[h] = _Config(p, s, a, horizon)
+        met += 1
         return c
 
     def value_of(c: _Config) -> float:
@@ -301,7 +302,7 @@ def solve_plan(
                     o = None
                 else:
                     seen.add(key)
-                    o = _Option(target, step, (c.prog, step, q))
+                    o = (step.cost, target, step, (c.prog, step, q))
                 options.append(o)
             if o is not None:
                 yield o
@@ -327,11 +328,11 @@ def solve_plan(
             return _LEAF
         known = c.memo[h]
         if known is not None:
-            if known.feasible or known.depth >= h:
+            if known[0] or known[2] >= h:
                 stats.cache_hits += 1
             else:
                 stats.pruned += 1  # known infeasible for every horizon (see 4 above)
-            if run + known.free_run > FREE_STEP_LIMIT:
+            if run + known[3] > FREE_STEP_LIMIT:
                 raise free_run_error(span)
             return known
         return expand(c, h, run)
@@ -360,8 +361,7 @@ def solve_plan(
         live = c.live
         walk: Iterable[_Option] = live if live is not None else made(c)
         for o in walk:
-            cost = o.cost
-            target = o.target
+            cost, target, step, _ = o
             if cost:
                 if bound is not None and feasible:  # branch and bound (gpp.planner.bounds)
                     r = target.reward
@@ -380,28 +380,30 @@ def solve_plan(
                         rest = expand(target, left, 0)
                     else:
                         hits += 1
-                        if not known.feasible and known.depth < left:
+                        if not known[0] and known[2] < left:
                             infeasible += 1  # known infeasible for every horizon (see 4 above)
-                        if known.free_run > FREE_STEP_LIMIT:
-                            raise free_run_error(span)
+                        # No check of the free steps' limit here: after a costed step the run
+                        # starts at 0, and a result made at a node reached after r free steps
+                        # starts with at most FREE_STEP_LIMIT - r of them (more would have
+                        # raised), so `0 + known[3]` is never above the limit.
                         rest = known
-                if cost + rest.depth > depth:
-                    depth = cost + rest.depth
-                if not rest.feasible:
+                if cost + rest[2] > depth:
+                    depth = cost + rest[2]
+                if not rest[0]:
                     continue
                 reward_after = target.reward
-                v = (value_of(target) if reward_after is None else reward_after) + rest.value
+                v = (value_of(target) if reward_after is None else reward_after) + rest[1]
             else:
                 if target.on_path >> h & 1:
-                    raise free_loop_error(target.prog, o.step)
+                    raise free_loop_error(target.prog, step)
                 if run + 1 > FREE_STEP_LIMIT:
                     raise free_run_error(span)
                 rest = best(target, h, run + 1)
-                free_run = max(free_run, 1 + rest.free_run)
-                depth = max(depth, rest.depth)
-                if not rest.feasible:
+                free_run = max(free_run, 1 + rest[3])
+                depth = max(depth, rest[2])
+                if not rest[0]:
                     continue
-                v = rest.value
+                v = rest[1]
             # Strictly better (the earlier option wins ties; feasible beats infeasible).
             if not feasible or v > value:
                 feasible, value, chosen, chosen_rest = True, v, o, rest
@@ -413,9 +415,9 @@ def solve_plan(
         if live is None and c.live is None and len(c.options) == len(c.successors):
             c.live = [o for o in c.options if o is not None]
         if chosen is None:
-            result = _Result(feasible, value if feasible else 0.0, depth, free_run)
+            result: _Result = (feasible, value if feasible else 0.0, depth, free_run, None, None)
         else:
-            result = _Result(True, value, depth, free_run, chosen.policy_step, chosen_rest)
+            result = (True, value, depth, free_run, chosen[3], chosen_rest)
         memo = c.memo
         if depth < h:
             # The same result for every horizon above depth (see 4 above).
@@ -428,8 +430,8 @@ def solve_plan(
         """Break the cycles between configurations (an option holds the configuration it leads
         to), so that reference counting frees them all: none is left for the collector."""
         for tables in by_prog.values():
-            for table in tables.values():
-                for c in table.values():
+            for by_hash, clashes in tables.values():
+                for c in (*by_hash.values(), *clashes.values()):
                     c.options.clear()
                     c.live = None
         by_prog.clear()
@@ -441,7 +443,7 @@ def solve_plan(
             result = best(root, horizon, 0)
         finally:
             release()
-    value = value_of(root) + result.value if result.feasible else 0.0
+    value = value_of(root) + result[1] if result[0] else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started
-    return Plan(result.feasible, value, result.steps() if result.feasible else (), horizon, stats)
+    return Plan(result[0], value, _steps(result) if result[0] else (), horizon, stats)

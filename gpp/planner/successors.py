@@ -1,5 +1,6 @@
-"""`final` and `trans` specialised to a program point, once per planning: what the production
-planner calls instead of gpp.runtime.semantics on every configuration.
+"""`final` and `trans` specialised to a program point, once per semantics object (reused by its
+later plannings, see `successors_of`): what the production planner calls instead of
+gpp.runtime.semantics on every configuration.
 
 `trans` of a statement, a sequence or the rest of a block is generated Python source
 (gpp.planner.codegen, compiled with `apply` of the action steps it returns), as is a `while`
@@ -33,6 +34,7 @@ programs and states.
 from __future__ import annotations
 
 from collections.abc import Callable
+from weakref import WeakKeyDictionary
 
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.planner.codegen import ApplyGen, TransGen
@@ -63,10 +65,15 @@ ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
 
 _EMPTY = State()
 
-# At most this many continuations get generated source per planning; the others run the
-# closures. Writing and compiling a function costs a millisecond or more, which a planning
-# that meets thousands of continuations once each (a deep recursion) would not earn back.
+# At most this many continuations get generated source per semantics object (its plannings
+# share them, see `successors_of`); the others run the closures. Writing and compiling a
+# function costs a millisecond or more, which a planning that meets thousands of
+# continuations once each (a deep recursion) would not earn back.
 MAX_TRANS_UNITS = 200
+
+
+# By semantics object: its Successors, with and without generated source (see successors_of).
+_SHARED: WeakKeyDictionary[Semantics, dict[bool, Successors]] = WeakKeyDictionary()
 
 
 def never(state: State, acts: Activities) -> bool:
@@ -80,6 +87,20 @@ def always(state: State, acts: Activities) -> bool:
 
 def _nothing(state: State, acts: Activities) -> list[Successor]:
     return []
+
+
+def successors_of(sem: Semantics, generate: bool = True) -> Successors:
+    """The `Successors` of `sem`, made by its first planning and reused by every later one
+    with the same semantics object (the same problem planned again, a repeated `solve`): what
+    it specialised and generated depends on nothing but `sem` (its program, context and the
+    frames met), so it stays exact, and is not written again. Kept as long as `sem` lives."""
+    made = _SHARED.get(sem)
+    if made is None:
+        made = _SHARED[sem] = {}
+    successors = made.get(generate)
+    if successors is None:
+        successors = made[generate] = Successors(sem, generate)
+    return successors
 
 
 class Successors:

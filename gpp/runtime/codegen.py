@@ -170,15 +170,57 @@ class Unit:
         return [f"k{i}" for i in range(len(self.consts))]
 
 
+class CompileCache:
+    """The factories of generated source, by the source's exact text: a planning that writes
+    the same source as an earlier one (the same program planned again, online re-planning,
+    a repeated `solve`, a program checked again) skips `compile` and `exec`. The text is the
+    whole of what is compiled (the constants are not in it: they are the factory's arguments,
+    given anew to every build), so equal texts give equal code. At most `limit` sources are
+    kept, the least recently used dropped first."""
+
+    def __init__(self, limit: int = 1024) -> None:
+        self.limit = limit
+        self._factories: dict[str, list[Callable[..., Any]]] = {}
+        self.hits = 0
+        self.misses = 0
+
+    def factories(self, units: list[Unit]) -> list[Callable[..., Any]]:
+        """The factories of `units` (written by now), compiled together on a miss."""
+        source = "\n\n".join(unit.source for unit in units)
+        known = self._factories.pop(source, None)
+        if known is not None:
+            self.hits += 1
+        else:
+            self.misses += 1
+            namespace = dict(NAMESPACE)
+            exec(compile(source, f"<gpp generated {units[0].name}>", "exec"), namespace)
+            known = [namespace[f"_make_{unit.name}"] for unit in units]  # type: ignore[misc]
+            if len(self._factories) >= self.limit:
+                del self._factories[next(iter(self._factories))]
+        self._factories[source] = known  # the most recently used last
+        return known
+
+    def __len__(self) -> int:
+        return len(self._factories)
+
+    def clear(self) -> None:
+        self._factories.clear()
+        self.hits = self.misses = 0
+
+
+COMPILE_CACHE = CompileCache()
+
+
 def build_units(units: list[Unit]) -> list[Callable[..., Any]]:
-    """Compile units together (one call of `compile`, the costly part for small ones) and
-    return their functions, in order. Unit names must differ."""
-    source = "\n\n".join(unit.write() for unit in units)
+    """Compile units together (one call of `compile`, the costly part for small ones; once per
+    source text in the process, see `CompileCache`) and return their functions, in order.
+    Unit names must differ."""
+    for unit in units:
+        unit.write()
     if os.environ.get(DUMP_VARIABLE):
-        print(source, end="\n\n", file=sys.stderr)
-    namespace = dict(NAMESPACE)
-    exec(compile(source, f"<gpp generated {units[0].name}>", "exec"), namespace)
-    return [namespace[f"_make_{unit.name}"](*unit.consts) for unit in units]  # type: ignore[operator]
+        print("\n\n".join(unit.source for unit in units), end="\n\n", file=sys.stderr)
+    factories = COMPILE_CACHE.factories(units)
+    return [make(*unit.consts) for make, unit in zip(factories, units, strict=True)]
 
 
 def _short(text: str) -> str:

@@ -24,11 +24,13 @@ class State:
     ) -> None:
         self._values: dict[int, Value] = values or {}
         # The hash is the XOR of the hashes of the (slot, value) items, so that an update can
-        # change it item by item instead of hashing the whole state again.
+        # change it item by item instead of hashing the whole state again. gpp.planner.dp
+        # reads it directly (None: not computed yet), sparing a call of `__hash__`.
         self._hash: int | None = _hash
         # Every value is a symbol, a string or null (None: not known yet): then Python's `==`
         # on two values is `_identical`, and two such states compare as dicts (see __eq__).
-        self._plain: bool | None = _plain
+        # (An empty state is plain: the states an update makes from it keep knowing it.)
+        self._plain: bool | None = True if _plain is None and not self._values else _plain
 
     def get(self, slot: int, initial: Callable[[int], Value]) -> Value:
         v = self._values.get(slot, _ABSENT)
@@ -98,6 +100,9 @@ class State:
             return NotImplemented
         if self._hash is not None and other._hash is not None and self._hash != other._hash:
             return False
+        mine, theirs = self._plain, other._plain
+        if mine and theirs:
+            return self._values == other._values  # the case below, the planner's usual one
         if self.is_plain() and other.is_plain():
             # A symbol equals only a symbol of its name, a string only a string, null only
             # null: `==` is `_identical` on these, and dicts compare without Python code.

@@ -22,32 +22,64 @@ Child = Any  # a Token, an ast.Node or (for a few helper rules) a tuple of them
 N = TypeVar("N", bound=ast.Node)
 
 # A parse makes a Span for about every token. `Span(...)` runs the frozen dataclass's
-# `__init__`, which sets each field through `object.__setattr__`; setting the slots directly
-# makes the same object with about 60% of the work.
+# `__init__`, which sets each field through `object.__setattr__`. `make_span` makes an instance
+# of `_SpanSlots` instead (a class with Span's base and slots, so of the same layout: calling it
+# costs less than `object.__new__(Span)`, and its slots are set by plain assignment), then
+# turns it into a Span by setting its `__class__` (allowed between classes of the same layout):
+# the same object with less than half of the work.
 _new = object.__new__
-_set_source: Callable[[Span, Source], None] = getattr(Span, "source").__set__  # noqa: B009
-_set_start: Callable[[Span, int], None] = getattr(Span, "start").__set__  # noqa: B009
-_set_end: Callable[[Span, int], None] = getattr(Span, "end").__set__  # noqa: B009
+_SpanSlots: type = type("_SpanSlots", (), {"__slots__": Span.__slots__})
 
 
 def make_span(source: Source, start: int, end: int) -> Span:
     """`Span(source, start, end)`, made faster."""
-    span: Span = _new(Span)
-    _set_source(span, source)
-    _set_start(span, start)
-    _set_end(span, end)
-    return span
+    span: Any = _SpanSlots()
+    span.source = source
+    span.start = start
+    span.end = end
+    span.__class__ = Span
+    made: Span = span
+    return made
+
+
+def span_lines(out: str, source: str, start: str, end: str, indent: str, names: dict[str, Any]) -> list[str]:
+    """Python statements that set the variable `out` to `Span(source, start, end)` (each an
+    expression), made as `make_span` makes it; `names` receives the globals they use."""
+    names["_SpanSlots"] = _SpanSlots
+    names["_Span"] = Span
+    return [
+        f"{indent}{out} = _SpanSlots()",
+        f"{indent}{out}.source = {source}",
+        f"{indent}{out}.start = {start}",
+        f"{indent}{out}.end = {end}",
+        f"{indent}{out}.__class__ = _Span",
+    ]
+
+
+def node_lines(cls: type[ast.Node], values: dict[str, str], out: str, indent: str, names: dict[str, Any]) -> list[str]:
+    """Python statements that set the variable `out` to a node of class `cls` whose fields are
+    the expressions `values[field]`: `object.__new__`, then each field set through its slot's
+    `__set__` (the frozen dataclass's `__init__` calls `object.__setattr__` for each field, at
+    twice the cost). `names` receives the globals they use. `fast_constructor` and the
+    relocators of gpp.syntax.incremental are made of these statements."""
+    assert not hasattr(cls, "__post_init__"), cls
+    name = cls.__name__
+    names["_new"] = _new
+    names[f"_C_{name}"] = cls
+    lines = [f"{indent}{out} = _new(_C_{name})"]
+    for f in dataclasses.fields(cls):
+        setter = f"_set_{name}_{f.name}"
+        names[setter] = getattr(cls, f.name).__set__
+        lines.append(f"{indent}{setter}({out}, {values[f.name]})")
+    return lines
 
 
 def fast_constructor(cls: type[N]) -> Callable[..., N]:
     """A constructor of the node class `cls` that takes the keyword arguments `cls(...)` takes
-    and makes an equal node, about twice as fast: it sets the slots directly, where the frozen
-    dataclass's `__init__` calls `object.__setattr__` for each field. Generated from the
-    class's fields, as dataclasses generates `__init__`."""
-    assert not hasattr(cls, "__post_init__"), cls
-    namespace: dict[str, Any] = {"_new": _new, "_cls": cls}
+    and makes an equal node, about twice as fast (`node_lines`). Generated from the class's
+    fields, as dataclasses generates `__init__`."""
+    namespace: dict[str, Any] = {}
     params: list[str] = []
-    lines = ["    node = _new(_cls)"]
     for f in dataclasses.fields(cls):
         assert f.init and f.default_factory is dataclasses.MISSING, (cls, f.name)
         if f.default is dataclasses.MISSING:
@@ -55,8 +87,7 @@ def fast_constructor(cls: type[N]) -> Callable[..., N]:
         else:
             params.append(f"{f.name}=_default_{f.name}")
             namespace[f"_default_{f.name}"] = f.default
-        namespace[f"_set_{f.name}"] = getattr(cls, f.name).__set__
-        lines.append(f"    _set_{f.name}(node, {f.name})")
+    lines = node_lines(cls, {f.name: f.name for f in dataclasses.fields(cls)}, "node", "    ", namespace)
     code = f"def {cls.__name__}(*, {', '.join(params)}):\n" + "\n".join(lines) + "\n    return node\n"
     exec(code, namespace)
     made: Callable[..., N] = namespace[cls.__name__]
@@ -118,11 +149,13 @@ class AstBuilder:
         first = children[0]
         last = children[-1]
         # make_span, inlined: the builder makes a span for almost every reduction.
-        span: Span = _new(Span)
-        _set_source(span, self.source)
-        _set_start(span, first.start if type(first) is Token else first.span.start)
-        _set_end(span, last.end if type(last) is Token else last.span.end)
-        return span
+        span: Any = _SpanSlots()
+        span.source = self.source
+        span.start = first.start if type(first) is Token else first.span.start
+        span.end = last.end if type(last) is Token else last.span.end
+        span.__class__ = Span
+        made: Span = span
+        return made
 
     def tspan(self, token: Token) -> Span:
         return make_span(self.source, token.start, token.end)

@@ -44,7 +44,7 @@ from typing import Any
 from gpp import diagnostics as diag
 from gpp.perf import paused_gc
 from gpp.source import Source, Span
-from gpp.syntax import ast
+from gpp.syntax import ast, build
 from gpp.syntax.lexer import Token
 from gpp.syntax.parser import ParseResult, parse
 
@@ -72,7 +72,7 @@ class Reparsed:
 # ---------------------------------------------------------------- relocation
 
 Relocator = Callable[[Any, Source, int], Any]
-# Made on first use (generating them takes a few tens of milliseconds, which a command that
+# Made on first use (generating them takes about a tenth of a second, which a command that
 # parses each file once need not pay), complete before any thread sees them.
 _RELOCATORS: dict[type, Relocator] = {}
 _GENERATING = threading.Lock()
@@ -103,84 +103,132 @@ def _is_node(tp: Any) -> bool:
     return isinstance(tp, type) and issubclass(tp, ast.Node)
 
 
-def _node_code(tp: Any, value: str, leaves: frozenset[type], depth: int = 0) -> str | None:
-    """Python code for the relocated `value` of type `tp` (a node, a tuple of nodes, either or
-    None), or None when the value holds no span (it is copied as it is)."""
-    if _is_node(tp):
-        if tp not in leaves:
-            return f"R[type({value})]({value}, src, d)"
-        # A field of a leaf class calls its relocator directly (if the value is of that class:
-        # the builder's children are untyped).
-        leaf = tp.__name__
-        return f"(r_{leaf}({value}, src, d) if type({value}) is C_{leaf} else R[type({value})]({value}, src, d))"
-    origin = typing.get_origin(tp)
-    args = typing.get_args(tp)
-    if origin in (types.UnionType, typing.Union):
-        present = [a for a in args if a is not type(None)]
-        if all(_node_code(a, value, leaves, depth) is None for a in present):
-            return None
-        if all(_is_node(a) for a in present):
-            code = f"R[type({value})]({value}, src, d)"
-        elif len(present) == 1:
-            code = str(_node_code(present[0], value, leaves, depth))
-        else:
-            raise TypeError(f"cannot relocate a field of type {tp}")
-        return code if len(present) == len(args) else f"None if {value} is None else {code}"
-    if origin is tuple:
-        if len(args) != 2 or args[1] is not Ellipsis:
-            raise TypeError(f"cannot relocate a field of type {tp}")
-        item = f"x{depth}"
-        inner = _node_code(args[0], item, leaves, depth + 1)
-        return None if inner is None else f"tuple([{inner} for {item} in {value}])"
-    if isinstance(tp, type) and issubclass(tp, (str, int, float, Enum)):
-        return None
-    raise TypeError(f"cannot relocate a field of type {tp}")
+# The leaf classes (a span and plain values) that their parents' relocators copy themselves,
+# tested in this order (the most frequent first); any other node is copied by the relocator of
+# its class (a call and a look-up in the table less for about half of the nodes of a program).
+_INLINED: tuple[type[ast.Node], ...] = (ast.Ident, ast.Name, ast.NumberLit, ast.NamedType, ast.StringLit)
 
 
-def _slot_setter(cls: type, name: str) -> Any:
-    """The `__set__` of the slot `name` of `cls` (setting a frozen dataclass's field through its
-    slot descriptor is what `object.__setattr__` does, without looking the name up)."""
-    for c in cls.__mro__:
-        if name in c.__dict__:
-            return c.__dict__[name].__set__
-    raise TypeError(f"{cls.__name__} has no slot {name}")
+# The node classes whose child (the field named) has the parent's span object itself, as the
+# builder makes them (a main block and its body): the relocated child shares the relocated span.
+_SHARED_SPAN: dict[type[ast.Node], str] = {ast.MainBlock: "body"}
+
+
+class _Generator:
+    """Writes the relocators: per class, statements made of `build.node_lines` and
+    `build.span_lines` (as `fast_constructor` makes its nodes), the fields that hold spans
+    relocated first, into local variables."""
+
+    def __init__(self) -> None:
+        self.table: dict[type, Relocator] = {}
+        self.names: dict[str, Any] = {"R": self.table}
+        self.hints: dict[type, dict[str, Any]] = {}
+        self.count = 0
+
+    def fields(self, cls: type) -> dict[str, Any]:
+        if cls not in self.hints:
+            self.hints[cls] = typing.get_type_hints(cls, vars(ast), {"Source": Source, "Span": Span})
+        return self.hints[cls]
+
+    def fresh(self) -> str:
+        self.count += 1
+        return f"v{self.count}"
+
+    def holds_span(self, tp: Any) -> bool:
+        """Does a value of type `tp` hold a span (it is copied as it is if not)?"""
+        if tp is Span or _is_node(tp):
+            return True
+        origin = typing.get_origin(tp)
+        if origin in (types.UnionType, typing.Union, tuple):
+            return any(self.holds_span(a) for a in typing.get_args(tp) if a is not Ellipsis)
+        if tp is type(None) or (isinstance(tp, type) and issubclass(tp, (str, int, float, Enum))):
+            return False
+        raise TypeError(f"cannot relocate a field of type {tp}")
+
+    def node(self, cls: type[ast.Node], value: str, out: str, indent: str) -> list[str]:
+        """Statements that set `out` to the relocated node `value` of class `cls`."""
+        lines: list[str] = []
+        values: dict[str, str] = {}
+        shared = _SHARED_SPAN.get(cls)
+        for name, tp in self.fields(cls).items():
+            if self.holds_span(tp):
+                part, moved = self.fresh(), self.fresh()
+                lines.append(f"{indent}{part} = {value}.{name}")
+                lines += self.value(tp, part, moved, indent)
+                values[name] = moved
+                if name == shared:
+                    # The child, just made, takes the parent's new span if it had its span.
+                    self.names[f"_set_{cls.__name__}_shared"] = getattr(ast.Node, "span").__set__  # noqa: B009
+                    lines += [
+                        f"{indent}if {part}.span is {value}.span:",
+                        f"{indent}    _set_{cls.__name__}_shared({moved}, {values['span']})",
+                    ]
+            else:
+                values[name] = f"{value}.{name}"
+        return lines + build.node_lines(cls, values, out, indent, self.names)
+
+    def value(self, tp: Any, value: str, out: str, indent: str) -> list[str]:
+        """Statements that set `out` to the relocated `value` of type `tp` (a span, a node, a
+        tuple of nodes, either or None)."""
+        if tp is Span:
+            return build.span_lines(out, "src", f"{value}.start + d", f"{value}.end + d", indent, self.names)
+        if _is_node(tp):
+            return self.dispatch((tp,), value, out, indent)
+        args = typing.get_args(tp)
+        if typing.get_origin(tp) in (types.UnionType, typing.Union):
+            present = tuple(a for a in args if a is not type(None))
+            if all(_is_node(a) for a in present):
+                lines = self.dispatch(present, value, out, indent + "    ")
+            elif len(present) == 1:
+                lines = self.value(present[0], value, out, indent + "    ")
+            else:
+                raise TypeError(f"cannot relocate a field of type {tp}")
+            if len(present) == len(args):
+                return [line[4:] for line in lines]
+            return [f"{indent}if {value} is None:", f"{indent}    {out} = None", f"{indent}else:", *lines]
+        if typing.get_origin(tp) is tuple and len(args) == 2 and args[1] is Ellipsis:
+            items, item, moved = self.fresh(), self.fresh(), self.fresh()
+            return [
+                f"{indent}if {value}:",
+                f"{indent}    {items} = []",
+                f"{indent}    for {item} in {value}:",
+                *self.value(args[0], item, moved, indent + "        "),
+                f"{indent}        {items}.append({moved})",
+                f"{indent}    {out} = tuple({items})",
+                f"{indent}else:",
+                f"{indent}    {out} = {value}",
+            ]
+        raise TypeError(f"cannot relocate a field of type {tp}")
+
+    def dispatch(self, kinds: tuple[type, ...], value: str, out: str, indent: str) -> list[str]:
+        """Statements that set `out` to the relocated node `value`, one of the classes `kinds`
+        or their subclasses (the builder's children are untyped: the class is tested)."""
+        lines: list[str] = []
+        for cls in _INLINED:
+            if issubclass(cls, kinds):
+                lines.append(f"{indent}{'elif' if lines else 'if'} type({value}) is _C_{cls.__name__}:")
+                lines += self.node(cls, value, out, indent + "    ")
+        call = f"R[type({value})]({value}, src, d)"
+        if not lines:
+            return [f"{indent}{out} = {call}"]
+        return [*lines, f"{indent}else:", f"{indent}    {out} = {call}"]
+
+    def generate(self) -> dict[type, Relocator]:
+        lines: list[str] = []
+        for cls in _node_classes():
+            name = cls.__name__
+            lines += [f"def r_{name}(n, src, d):", *self.node(cls, "n", "o", "    "), "    return o"]
+            lines.append(f"R[_C_{name}] = r_{name}")
+        exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), self.names)
+        return self.table
 
 
 def _generate_relocators() -> dict[type, Relocator]:
-    """One function per syntax node class: `object.__new__`, then each field set through its
-    slot, spans made the same way (`Span(...)` and the node classes' own `__init__` would go
-    through `object.__setattr__`, at more than twice the cost)."""
-    table: dict[type, Relocator] = {}
-    names: dict[str, Any] = {"S": Span, "R": table, "new": object.__new__}
-    for slot in ("source", "start", "end"):
-        names[f"S_{slot}"] = _slot_setter(Span, slot)
-    lines: list[str] = []
-    classes = _node_classes()
-    # The classes no other node class derives from.
-    leaves = frozenset(c for c in classes if not any(d is not c and issubclass(d, c) for d in classes))
-    for cls in classes:
-        hints = typing.get_type_hints(cls, vars(ast), {"Source": Source, "Span": Span})
-        name = cls.__name__
-        names[f"C_{name}"] = cls
-        lines += [f"def r_{name}(n, src, d):", f"    o = new(C_{name})"]
-        for f in dataclasses.fields(cls):
-            setter = f"set_{name}_{f.name}"
-            names[setter] = _slot_setter(cls, f.name)
-            if hints[f.name] is Span:
-                lines += [
-                    f"    v = n.{f.name}",
-                    "    s = new(S)",
-                    "    S_source(s, src)",
-                    "    S_start(s, v.start + d)",
-                    "    S_end(s, v.end + d)",
-                    f"    {setter}(o, s)",
-                ]
-            else:
-                code = _node_code(hints[f.name], f"n.{f.name}", leaves)
-                lines.append(f"    {setter}(o, {code or f'n.{f.name}'})")
-        lines += ["    return o", f"R[C_{name}] = r_{name}"]
-    exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), names)
-    return table
+    """One function per syntax node class (`_Generator`)."""
+    generator = _Generator()
+    for cls in _INLINED:  # leaves: a span and plain values
+        assert not any(_is_node(tp) for tp in generator.fields(cls).values()), cls
+    return generator.generate()
 
 
 def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
@@ -331,6 +379,13 @@ def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: boo
     was `old`), made by parsing only what the edit touched; None when that cannot be done
     exactly (the caller then parses the whole file). With `splice_only`, only a splice of at
     most half the new text is tried (the caller has another old parse to try)."""
+    # One pause of the collector for the fragment's parse and the splice (the parse's own
+    # pause, nested, does not start it again in between).
+    with paused_gc():
+        return _reparse(old_text, old, source, splice_only)
+
+
+def _reparse(old_text: str, old: ParseResult, source: Source, splice_only: bool) -> Reparsed | None:
     new_text = source.text
     if any(d.code in _NOT_LOCAL for d in old.diagnostics):
         return None
@@ -384,11 +439,10 @@ def reparse(old_text: str, old: ParseResult, source: Source, *, splice_only: boo
 def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseResult) -> ParseResult:
     """Old declarations [0, i), the fragment's, old declarations [j, n) moved by delta."""
     reloc = relocators()
-    with paused_gc():
-        decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
-        decls.extend(frag.program.declarations)
-        decls.extend([reloc[type(d)](d, source, delta) for d in old.decls[j:]])
-        new_tokens = _shifted_tokens(old, i, j, delta, frag.tokens)
+    decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
+    decls.extend(frag.program.declarations)
+    decls.extend([reloc[type(d)](d, source, delta) for d in old.decls[j:]])
+    new_tokens = _shifted_tokens(old, i, j, delta, frag.tokens)
     diagnostics = list(frag.diagnostics)
     if j < len(old.decls):
         cut = old.starts[j]
@@ -407,8 +461,18 @@ def _shifted_tokens(old: _Old, i: int, j: int, delta: int, middle: list[Token]) 
     hi = bisect_left(tokens, old.starts[j], key=_token_start) if j < len(old.decls) else len(tokens)
     out = tokens[:lo]
     out.extend(middle)
-    if delta:
-        out.extend([Token(t.type, t.value, t.start + delta, t.end + delta) for t in tokens[hi:]])
-    else:
+    if not delta:
         out.extend(tokens[hi:])
+        return out
+    # `object.__new__` and plain assignments to the slots: a call of `Token(...)` runs its
+    # `__init__` as well, at about twice the cost.
+    new = object.__new__
+    append = out.append
+    for t in tokens[hi:]:
+        moved = new(Token)
+        moved.type = t.type
+        moved.value = t.value
+        moved.start = t.start + delta
+        moved.end = t.end + delta
+        append(moved)
     return out
