@@ -256,9 +256,16 @@ def _diagnostic_spans(d: diag.Diagnostic) -> list[Span]:
 # ---------------------------------------------------------------- finding the region
 
 
+def changed_stretch(before: str, after: str) -> tuple[int, int, int]:
+    """Where `after` differs from `before`: (start, end in `before`, end in `after`), the
+    common beginning and ending left out (the ending does not overlap the beginning). Binary
+    searches over slice comparisons, each done in C."""
+    start = _common_prefix(before, after)
+    common_end = _common_suffix(before, after, min(len(before), len(after)) - start)
+    return start, len(before) - common_end, len(after) - common_end
+
+
 def _common_prefix(a: str, b: str) -> int:
-    """The length of the longest common prefix (a binary search over slice comparisons, each
-    done in C)."""
     lo, hi = 0, min(len(a), len(b))
     if a[:hi] == b[:hi]:
         return hi
@@ -389,9 +396,7 @@ def _reparse(old_text: str, old: ParseResult, source: Source, splice_only: bool)
     new_text = source.text
     if any(d.code in _NOT_LOCAL for d in old.diagnostics):
         return None
-    a = _common_prefix(old_text, new_text)
-    s = _common_suffix(old_text, new_text, min(len(old_text), len(new_text)) - a)
-    b_old = len(old_text) - s
+    a, b_old, _ = changed_stretch(old_text, new_text)
     delta = len(new_text) - len(old_text)
     info = _Old(old)
     old_source = old.program.span.source

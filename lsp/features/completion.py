@@ -21,6 +21,7 @@ from gpp.model.model import Model
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, SymbolKind
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.resources import stdlib_dir
+from gpp.syntax.incremental import changed_stretch
 from gpp.syntax.lexer import Token
 from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo, position
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
@@ -132,28 +133,6 @@ def completion_after_edit(result: CheckResult, path: Path, text: str, offset: in
 
 def _is_name_part(text: str) -> bool:
     return all(c.isalnum() or c == "_" for c in text)
-
-
-def changed_stretch(before: str, after: str) -> tuple[int, int, int]:
-    """Where `after` differs from `before`: (start, end in `before`, end in `after`), the
-    common beginning and ending left out."""
-    n = min(len(before), len(after))
-    lo, hi = 0, n  # the common beginning's length is in [lo, hi]
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if before[lo:mid] == after[lo:mid]:
-            lo = mid
-        else:
-            hi = mid - 1
-    start = lo
-    lo, hi = 0, n - start  # the common ending's length, not overlapping the beginning
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if before[len(before) - mid : len(before) - lo] == after[len(after) - mid : len(after) - lo]:
-            lo = mid
-        else:
-            hi = mid - 1
-    return start, len(before) - lo, len(after) - lo
 
 
 def typed_word(text: str, offset: int) -> str:
