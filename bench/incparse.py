@@ -17,8 +17,6 @@ well, in the same runs (interleaved: both see the same load), and the table show
 from __future__ import annotations
 
 import argparse
-import importlib.util
-import subprocess
 import sys
 import tempfile
 import time
@@ -29,6 +27,7 @@ from types import ModuleType
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program
+from revision import modules_at
 
 from gpp.perf import paused_gc
 from gpp.source import Source
@@ -49,22 +48,6 @@ def best(fn: Callable[[], None], runs: int) -> float:
     return min(times)
 
 
-def module_at(ref: str) -> ModuleType:
-    """gpp.syntax.incremental as it is at the git revision `ref` (imported from a copy)."""
-    root = Path(__file__).resolve().parent.parent
-    text = subprocess.run(
-        ["git", "show", f"{ref}:gpp/syntax/incremental.py"], cwd=root, capture_output=True, text=True, check=True
-    ).stdout
-    path = Path(tempfile.mkdtemp()) / "incremental_at_ref.py"
-    path.write_text(text, encoding="utf-8")
-    spec = importlib.util.spec_from_file_location("incremental_at_ref", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, default=1000)
@@ -76,7 +59,8 @@ def main() -> None:
     clock = time.process_time if args.clock == "cpu" else time.perf_counter
     modules = {"now": incremental}
     if args.against:
-        modules[args.against] = module_at(args.against)
+        folder = Path(tempfile.mkdtemp())
+        modules[args.against] = modules_at(args.against, ["gpp/syntax/incremental.py"], folder, "at_ref")["incremental"]
     text = generate_program(args.lines)
     old = parse(Source(text, "bench.gpp"))
     for module in modules.values():

@@ -15,9 +15,7 @@ from __future__ import annotations
 
 import argparse
 import gc
-import importlib
 import json
-import subprocess
 import sys
 import tempfile
 import time
@@ -29,6 +27,7 @@ from types import ModuleType
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program
+from revision import modules_at
 
 from gpp.check import lints
 from gpp.diagnostics import Diagnostic
@@ -50,17 +49,6 @@ def cpu_time(fn: Callable[[], object]) -> float:
 def fresh(model: Model) -> Model:
     """The model as a check hands it to the lints: without the reference index, built on demand."""
     return replace(model)
-
-
-def revision_lints(rev: str, folder: Path) -> ModuleType:
-    """gpp/check/lints.py of `rev`, importing gpp/syntax/walk.py of `rev` (both from git)."""
-    for path, name in (("gpp/syntax/walk.py", "old_walk"), ("gpp/check/lints.py", "old_lints")):
-        text = subprocess.run(
-            ["git", "show", f"{rev}:{path}"], cwd=ROOT, capture_output=True, text=True, check=True
-        ).stdout
-        (folder / f"{name}.py").write_text(text.replace("from gpp.syntax.walk import", "from old_walk import"))
-    sys.path.insert(0, str(folder))
-    return importlib.import_module("old_lints")
 
 
 def timed_lints(module: ModuleType, model: Model, roots: set[Path]) -> tuple[float, list[Diagnostic]]:
@@ -113,7 +101,10 @@ def main() -> None:
     parser.add_argument("--against", metavar="REV", help="also time the lints of this git revision")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
-        old = revision_lints(args.against, Path(folder)) if args.against else None
+        old = None
+        if args.against:
+            copied = modules_at(args.against, ["gpp/syntax/walk.py", "gpp/check/lints.py"], Path(folder), "lints_at")
+            old = copied["lints"]
         gc.disable()
         print("lints on generated programs, thread CPU time; the slowest parts of one run below each")
         for lines in args.sizes:

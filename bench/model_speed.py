@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import gc
-import importlib
 import os
 import statistics
 import subprocess
@@ -32,6 +31,7 @@ sys.path.append(str(ROOT / "tests"))
 
 from genprog import generate_program  # noqa: E402
 from model_fingerprint import describe  # noqa: E402
+from revision import modules_at, python_files_at  # noqa: E402
 
 from gpp.model.build import build_model  # noqa: E402
 from gpp.perf import with_deep_stack  # noqa: E402
@@ -46,20 +46,7 @@ BEFORE = "92d0a15"
 def baseline_builder(revision: str, into: Path) -> ModuleType:
     """gpp.model.build of `revision`, as the module `gpp_model_baseline.build` (its imports of
     gpp.model.* rewritten to the copy; everything else is this tree's)."""
-    names = subprocess.run(
-        ["git", "ls-tree", "--name-only", f"{revision}:gpp/model"], cwd=ROOT, check=True, capture_output=True, text=True
-    ).stdout.split()
-    package = into / BASELINE_PACKAGE
-    package.mkdir()
-    for name in names:
-        if not name.endswith(".py"):
-            continue
-        text = subprocess.run(
-            ["git", "show", f"{revision}:gpp/model/{name}"], cwd=ROOT, check=True, capture_output=True, text=True
-        ).stdout
-        (package / name).write_text(text.replace("gpp.model.", f"{BASELINE_PACKAGE}."), encoding="utf-8")
-    sys.path.insert(0, str(into))
-    return importlib.import_module(f"{BASELINE_PACKAGE}.build")
+    return modules_at(revision, python_files_at(revision, "gpp/model"), into, BASELINE_PACKAGE)["build"]
 
 
 def timed(fn: Callable[[], object]) -> float:

@@ -13,8 +13,6 @@ best of N for each, with their ratio and the load average.
 from __future__ import annotations
 
 import argparse
-import importlib
-import re
 import subprocess
 import sys
 import tempfile
@@ -28,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 from genprog import generate_program, nested_expression_program
 from parse_corpus import corpus, dump
+from revision import modules_at
 
 from gpp.source import Source
 from gpp.syntax.parser import parse
@@ -39,18 +38,8 @@ _MODULES = ("lexer", "tables", "build", "depth", "legacy", "parser")
 
 def load_revision(ref: str, into: Path) -> Callable[[Source], Any]:
     """`parse` of revision `ref`, its parser modules loaded as package `gpp_at_ref`."""
-    package = into / "gpp_at_ref"
-    package.mkdir()
-    (package / "__init__.py").write_text("", encoding="utf-8")
-    names = "|".join(_MODULES)
-    for module in _MODULES:
-        text = subprocess.run(
-            ["git", "show", f"{ref}:gpp/syntax/{module}.py"], cwd=ROOT, check=True, capture_output=True, text=True
-        ).stdout
-        text = re.sub(rf"\bgpp\.syntax\.({names})\b", r"gpp_at_ref.\1", text)
-        (package / f"{module}.py").write_text(text, encoding="utf-8")
-    sys.path.insert(0, str(into))
-    parse_at_ref: Callable[[Source], Any] = importlib.import_module("gpp_at_ref.parser").parse
+    paths = [f"gpp/syntax/{module}.py" for module in _MODULES]
+    parse_at_ref: Callable[[Source], Any] = modules_at(ref, paths, into, "gpp_at_ref")["parser"].parse
     return parse_at_ref
 
 
