@@ -22,6 +22,7 @@ from functools import cached_property, partial
 from pathlib import Path
 
 import pytest
+from golden import recorded
 from hypothesis import HealthCheck, given, settings
 from test_lints import TRIGGERS
 from test_pathological import FAMILIES
@@ -41,7 +42,6 @@ from gpp.syntax.printer import format_program
 
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN_DIR = Path(__file__).parent / "golden" / "lints"
-UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"
 REPOSITORY = sorted(p.relative_to(ROOT) for d in ("examples", "stdlib", "tests") for p in (ROOT / d).rglob("*.gpp"))
 GENERATED: dict[str, Callable[[], str]] = {
     "genprog 400 lines": lambda: generate_program(400),
@@ -83,11 +83,7 @@ def generated_lines(name: str) -> list[str]:
 def compare(golden: str, found: dict[str, list[str]]) -> None:
     path = GOLDEN_DIR / golden
     text = "".join(f"== {name}\n" + "".join(line + "\n" for line in lines) for name, lines in found.items())
-    if UPDATE_GOLDEN:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text, encoding="utf-8")
-    assert path.exists(), f"no golden file {path}; create it with GPP_UPDATE_GOLDEN=1"
-    expected = path.read_text(encoding="utf-8").split("\n== ")
+    expected = recorded(path, text).split("\n== ")
     got = text.split("\n== ")
     assert [e.split("\n", 1)[0] for e in expected] == [g.split("\n", 1)[0] for g in got]
     for e, g in zip(expected, got, strict=True):

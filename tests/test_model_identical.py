@@ -16,12 +16,11 @@ and review what changed (the counts say where to look).
 from __future__ import annotations
 
 import json
-import os
 import random
 import sys
 from pathlib import Path
 
-import pytest
+from golden import recorded
 from model_fingerprint import fingerprint
 
 from gpp.check import check_loaded
@@ -114,12 +113,7 @@ def _actual() -> dict[str, dict[str, object]]:
 
 def test_model_and_diagnostics_are_as_recorded() -> None:
     actual = _actual()
-    if os.environ.get("GPP_UPDATE_GOLDEN"):
-        GOLDEN.parent.mkdir(parents=True, exist_ok=True)
-        GOLDEN.write_text(json.dumps(actual, indent=1, sort_keys=True) + "\n", encoding="utf-8")
-    if not GOLDEN.exists():
-        pytest.fail(f"no golden file {GOLDEN}; create it with GPP_UPDATE_GOLDEN=1")
-    expected = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    expected = json.loads(recorded(GOLDEN, json.dumps(actual, indent=1, sort_keys=True) + "\n"))
     assert sorted(actual) == sorted(expected), "the set of programs changed"
     different = {name: (expected[name], actual[name]) for name in expected if expected[name] != actual[name]}
     assert not different, "\n".join(f"{name}:\n  was {was}\n  now {now}" for name, (was, now) in different.items())
