@@ -26,6 +26,9 @@ Op = ast.BinaryOp
 
 BOOL_CHAIN = frozenset({Op.AND, Op.OR, Op.IMPLIES})
 EQUALITY = frozenset({Op.EQ, Op.NE})
+# The operators of a chain, as a tuple (where every operator asks: an enum member's hash is
+# computed in Python, comparing identities is not).
+CHAIN_OPS = (Op.AND, Op.OR, Op.IMPLIES, Op.EQ, Op.NE)
 
 
 class Regrouper(Phase):
@@ -103,6 +106,19 @@ class Regrouper(Phase):
 
     def is_boolean_pair(self, e: ast.Binary) -> bool:
         return base(self.type_of(e.left)) is BOOL and base(self.type_of(e.right)) is BOOL
+
+
+def continues_chain(e: ast.Expr) -> bool:
+    """Whether the operand `e` belongs to the chain of the operator above it (`_chain_ops`):
+    an unparenthesised `&`, `|`, `->`, `==`, `!=` or `!`. An operator whose operands both do
+    not is a chain of one operator, which `reassociate` always leaves as it is (it needs an
+    `==`/`!=` and another operator): the type checker asks it only about longer chains."""
+    if e.parenthesized:
+        return False
+    kind = e.__class__
+    if kind is ast.Binary:
+        return e.op in CHAIN_OPS  # type: ignore[attr-defined]
+    return kind is ast.Unary and e.op is ast.UnaryOp.NOT  # type: ignore[attr-defined]
 
 
 def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:

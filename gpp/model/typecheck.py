@@ -30,7 +30,7 @@ from typing import Any, assert_never
 
 from gpp import diagnostics as diag
 from gpp.model.builder_state import BuilderState, new_tuple
-from gpp.model.regroup import BOOL_CHAIN, EQUALITY, Regrouper
+from gpp.model.regroup import BOOL_CHAIN, CHAIN_OPS, EQUALITY, Regrouper, continues_chain
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Reference, ScopeRecord, Symbol, SymbolKind
 from gpp.model.types import (
@@ -53,6 +53,7 @@ from gpp.model.types import (
     equatable,
     is_finite,
     ordered,
+    same_type,
     show_value,
 )
 from gpp.source import Span
@@ -107,11 +108,10 @@ def operator_span(e: ast.Binary) -> Span:
     return Span(source, start + at, start + at + len(e.op.value))
 
 
-# The operators that may belong to a boolean chain the regrouping rebuilds; any other binary
-# or unary operator starts no chain (gpp.model.regroup would find nothing to do).
+# Only an operator of `CHAIN_OPS` (gpp.model.regroup) may belong to a boolean chain the
+# regrouping rebuilds; any other binary or unary operator starts no chain.
 # (Tuples of operators and kinds, not sets, where every expression asks: an enum member's hash
 # is computed in Python, comparing identities is not.)
-_CHAIN_OPS = tuple(BOOL_CHAIN | EQUALITY)
 _BOOL_CHAIN = tuple(BOOL_CHAIN)
 _EQUALITY = tuple(EQUALITY)
 _COMPARISON = tuple(ast.COMPARISON_OPS)
@@ -121,9 +121,7 @@ _COMPARISON = tuple(ast.COMPARISON_OPS)
 _ACTION = (SymbolKind.ACTION,)
 _CALLABLE_IN = {"expression": tuple(EXPRESSION_CALLABLE), "statement": tuple(STATEMENT_CALLABLE)}
 
-# The expressions that may have a value `literal_value` knows.
-_VALUE_KINDS = (ast.Name, ast.NumberLit, ast.StringLit, ast.BoolLit)
-
+_NAME = ast.Name
 _LITERAL_TYPES: dict[type[ast.Expr], Type] = {
     ast.NumberLit: NUMBER,
     ast.StringLit: STRING,
@@ -174,6 +172,8 @@ class TypeChecker(Regrouper):
         self.expr_types = self.model.expr_types
         self.add_reference = self.model.references.append
         self.targets = self.model.targets
+        self.symbols = self.model.symbols
+        self.globals = self.model.globals
         # One value per symbol name, for the domain membership of literals.
         self.symbol_values: dict[str, Sym] = {}
 
@@ -430,9 +430,9 @@ class TypeChecker(Regrouper):
         t = self.expr(e)
         if t is not target:
             self.check_fits(e, t, target, context, context_span)
-        elif target.__class__ is DomainType and e.__class__ in _VALUE_KINDS:
-            # Of the same type, it fits; only a literal's value may still not be in the domain.
-            self.check_member(e, target, context, context_span)
+        # Of the same type, it fits, and there is no domain membership to check: a literal's
+        # type is a builtin (a symbol's `symbol`), never a domain, so an expression of a
+        # domain type is computed (a variable, a call, ...), and checked at run time.
         return t
 
     def check_fits(self, e: ast.Expr, t: Type, target: Type, context: str, context_span: Span | None) -> None:
@@ -492,10 +492,29 @@ class TypeChecker(Regrouper):
 
     def expr(self, e: ast.Expr) -> Type:
         """The type of `e` (recorded in `model.expr_types`), checking everything in it."""
-        kind = type(e)
-        t = _LITERAL_TYPES.get(kind)
-        if t is None:
-            t = _EXPR_KINDS[kind](self, e)
+        kind = e.__class__
+        t: Type | None
+        if kind is _NAME:
+            # A name, here rather than in a method of its own: every third expression is one.
+            # A variable (or parameter) has its type, a symbol of a domain `symbol`.
+            name = e.name  # type: ignore[attr-defined]
+            found = self.variables.get(name)
+            if found is not None:
+                t = found.type or ERROR
+            else:
+                found = self.symbols.get(name)
+                if found is None:
+                    t = self.not_a_value(e)  # type: ignore[arg-type]
+                    self.expr_types[id(e)] = t
+                    return t
+                t = SYMBOL
+            if not self.state.silent:  # self.refer(e.span, found, e), inline
+                self.add_reference(new_tuple(Reference, (e.span, found, False)))
+                self.targets[id(e)] = found
+        else:
+            t = _LITERAL_TYPES.get(kind)
+            if t is None:
+                t = _EXPR_KINDS[kind](self, e)
         self.expr_types[id(e)] = t
         return t
 
@@ -512,7 +531,7 @@ class TypeChecker(Regrouper):
 
     def unary(self, e: ast.Unary) -> Type:
         if e.op is ast.UnaryOp.NOT:
-            if id(e) not in self.reassociated:
+            if continues_chain(e.operand) and id(e) not in self.reassociated:
                 regrouped = self._regrouped(e)
                 if regrouped is not None:
                     return regrouped
@@ -594,7 +613,7 @@ class TypeChecker(Regrouper):
 
     def binary(self, e: ast.Binary) -> Type:
         op = e.op
-        if op in _CHAIN_OPS and id(e) not in self.reassociated:
+        if op in CHAIN_OPS and (continues_chain(e.left) or continues_chain(e.right)) and id(e) not in self.reassociated:
             regrouped = self._regrouped(e)
             if regrouped is not None:
                 return regrouped
@@ -672,7 +691,7 @@ class TypeChecker(Regrouper):
             return BOOL
         if left is NULL or right is NULL:
             self.error("E0204", f"`{e.op.value}` cannot compare with `null`", e.span, help="test `x != null` first")
-        elif not ordered(left) or base(left) != base(right):
+        elif not ordered(left) or not same_type(base(left), base(right)):
             self.error(
                 "E0204",
                 f"cannot order `{left}` and `{right}` with `{e.op.value}`",
@@ -681,20 +700,6 @@ class TypeChecker(Regrouper):
                 notes=["`<`, `<=`, `>`, `>=` compare two numbers, two strings or two symbols"],
             )
         return BOOL
-
-    def name(self, e: ast.Name) -> Type:
-        found = self.variables.get(e.name)
-        if found is not None:
-            t = found.type or ERROR
-        else:
-            found = self.model.symbols.get(e.name)
-            if found is None:
-                return self.not_a_value(e)
-            t = SYMBOL
-        if not self.state.silent:  # self.refer(e.span, found, e), inline: every name comes here
-            self.add_reference(new_tuple(Reference, (e.span, found, False)))
-            self.targets[id(e)] = found
-        return t
 
     def not_a_value(self, e: ast.Name) -> Type:
         """A name that is neither a variable nor a symbol: a global without `()`, or unknown."""
@@ -732,7 +737,7 @@ class TypeChecker(Regrouper):
         """A call in an expression, as a statement (`context` "statement") or in a hook
         (`context` the hook's word)."""
         name = e.name.name
-        symbol = self.model.globals.get(name)
+        symbol = self.globals.get(name)
         if symbol is None:
             if context != "expression":
                 allowed = STATEMENT_CALLABLE if context == "statement" else frozenset({SymbolKind.ACTION})
@@ -759,22 +764,20 @@ class TypeChecker(Regrouper):
             self.targets[id(e)] = symbol
         params = symbol.params
         args = e.args
-        if len(args) != len(params):
+        n = len(params)
+        if len(args) != n:
             self.arity_error(symbol, e.span, len(args))
+        expr = self.expr
         for a, p in zip(args, params, strict=False):  # more or fewer: reported above
-            want = p.type
-            if want is None:
-                self.expr(a)
-                continue
-            # self.expect(a, want, f"parameter `{p.name}`", p.span), inline: the message only
+            # self.expect(a, p.type, f"parameter `{p.name}`", p.span), inline: the message only
             # when something does not fit.
-            t = self.expr(a)
-            if t is not want:
+            t = expr(a)
+            want = p.type
+            if t is not want and want is not None:
                 self.check_fits(a, t, want, f"parameter `{p.name}`", p.span)
-            elif want.__class__ is DomainType and a.__class__ in _VALUE_KINDS:
-                self.check_member(a, want, f"parameter `{p.name}`", p.span)
-        for a in args[len(params) :]:
-            self.expr(a)
+        if len(args) > n:
+            for a in args[n:]:
+                expr(a)
         return symbol.type or ERROR
 
     def resolve_misused_call(self, e: ast.Call, symbol: Symbol) -> None:
@@ -908,10 +911,10 @@ class TypeChecker(Regrouper):
         return ctype
 
 
-# One method per kind of expression (instead of a chain of isinstance): plain functions, called
+# One method per kind of expression but names and literals (`TypeChecker.expr` types those
+# itself), instead of a chain of isinstance: plain functions, called
 # with the checker (a table of its bound methods, kept by the checker, would be a reference cycle).
 _EXPR_KINDS: dict[type[ast.Expr], Callable[[TypeChecker, Any], Type]] = {
-    ast.Name: TypeChecker.name,
     ast.Call: TypeChecker.call,
     ast.Unary: TypeChecker.unary,
     ast.Binary: TypeChecker.binary,

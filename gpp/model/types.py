@@ -116,12 +116,17 @@ def same_value(a: object, b: object) -> bool:
 
 def value_key(v: DomainValue) -> object:
     """A key that is equal for two values exactly when `same_value` holds, to put values in
-    sets and dicts (Python compares ints and floats exactly, and hashes equal numbers alike)."""
-    if isinstance(v, bool):
+    sets and dicts (Python compares ints and floats exactly, and hashes equal numbers alike).
+    A symbol is keyed by its name: two symbols are the same value exactly when their names
+    are, and a string hashes in C (a `Sym` through its Python `__hash__`)."""
+    cls = v.__class__
+    if cls is Sym:
+        return (Sym, v.name)  # type: ignore[union-attr]
+    if cls is bool:
         return (bool, v)
-    if isinstance(v, int | float):
+    if cls is int or cls is float or isinstance(v, int | float):
         return (float, v)
-    return (type(v), v)
+    return (cls, v)
 
 
 def format_number(v: int | float) -> str:
@@ -211,15 +216,21 @@ def assignable(target: Type, source: Type) -> bool:
     """
     if source is NULL or source is ERROR or target is ERROR or target is source:
         return True
-    if target == source:
+    if same_type(target, source):
         return True
     if isinstance(target, BuiltinType):
-        return isinstance(source, DomainType) and source.element == target
+        return isinstance(source, DomainType) and same_type(source.element, target)
     if isinstance(target, DomainType):
-        return base(source) == target.element
+        return same_type(base(source), target.element)
     if isinstance(target, ListType) and isinstance(source, ListType):
         return assignable(target.element, source.element)
     return False
+
+
+def same_type(a: Type, b: Type) -> bool:
+    """`a == b`, asking a type's `__eq__` (a dataclass's, in Python) only when it can say yes:
+    types of two classes are never equal, and an object is equal to itself."""
+    return a is b or (a.__class__ is b.__class__ and a == b)
 
 
 def equatable(a: Type, b: Type) -> bool:
@@ -228,7 +239,7 @@ def equatable(a: Type, b: Type) -> bool:
         return True
     ba, bb = base(a), base(b)
     # (`is` first: a dataclass's `==` is a call into Python even for the same object.)
-    return (ba is bb or ba == bb) and (id(ba) in _SCALAR_IDS or ba in _SCALARS)
+    return (ba is bb or same_type(ba, bb)) and (id(ba) in _SCALAR_IDS or ba in _SCALARS)
 
 
 def ordered(t: Type) -> bool:
@@ -249,12 +260,12 @@ def common_type(a: Type, b: Type) -> Type | None:
         return ERROR
     if a is NULL:
         return b
-    if b is NULL or a == b:
+    if b is NULL or same_type(a, b):
         return a
     if assignable(a, b) and not isinstance(a, DomainType):
         return a
     if assignable(b, a) and not isinstance(b, DomainType):
         return b
-    if base(a) == base(b):
+    if same_type(base(a), base(b)):
         return base(a)
     return None
