@@ -14,7 +14,7 @@ from __future__ import annotations
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
-from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, Sym, value_key
+from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, value_key
 from gpp.suggest import suggestion
 from gpp.syntax import ast
 
@@ -110,7 +110,7 @@ class DomainEvaluator(Phase):
                     symbol.other_spans.append(e.span)
                     self.refer(e.span, symbol, e, declaration=True)
                 self.model.expr_types[id(e)] = SYMBOL
-                return Sym(e.name)
+                return self.checker.symbol_value(e.name)
             self.error(
                 "E0202", "expected a symbol name", e.span, f"a `symbol` domain lists names like `{dtype.name}_a`"
             )

@@ -18,17 +18,18 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from gpp.model.builder_state import BuilderState, Phase
-from gpp.model.types import BOOL, Type, base
+from gpp.model.types import BOOL, DomainType, Type
 from gpp.source import Span
 from gpp.syntax import ast
 
 Op = ast.BinaryOp
 
-BOOL_CHAIN = frozenset({Op.AND, Op.OR, Op.IMPLIES})
-EQUALITY = frozenset({Op.EQ, Op.NE})
-# The operators of a chain, as a tuple (where every operator asks: an enum member's hash is
-# computed in Python, comparing identities is not).
-CHAIN_OPS = (Op.AND, Op.OR, Op.IMPLIES, Op.EQ, Op.NE)
+# Sets of operators, as tuples: an enum member's hash is computed in Python, comparing
+# identities is not.
+BOOL_CHAIN = (Op.AND, Op.OR, Op.IMPLIES)
+EQUALITY = (Op.EQ, Op.NE)
+# The operators of a chain.
+CHAIN_OPS = BOOL_CHAIN + EQUALITY
 
 
 class Regrouper(Phase):
@@ -65,6 +66,12 @@ class Regrouper(Phase):
             self.flatten_chain(e, items, operators, root=True)
         finally:
             self.state.silent -= 1
+        if not any(x is Op.EQ or x is Op.NE for x in items):
+            # No `==`/`!=` compares booleans: the chain has only `&`, `|`, `->` and `!`, and
+            # climbing it would build the tree the grammar built (each left-associative, at
+            # the same levels, `!` on the operand after it), compared equal below.
+            self.reassociated.update(operators)
+            return None
         rebuilt, rest = _climb(items, 0)
         assert not rest
         if rebuilt == e:
@@ -105,7 +112,12 @@ class Regrouper(Phase):
             out.append(e)
 
     def is_boolean_pair(self, e: ast.Binary) -> bool:
-        return base(self.type_of(e.left)) is BOOL and base(self.type_of(e.right)) is BOOL
+        return _is_bool(self.type_of(e.left)) and _is_bool(self.type_of(e.right))
+
+
+def _is_bool(t: Type) -> bool:
+    """`base(t) is BOOL`."""
+    return t is BOOL or (t.__class__ is DomainType and t.element is BOOL)
 
 
 def continues_chain(e: ast.Expr) -> bool:
@@ -150,10 +162,10 @@ def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:
     return equality, other
 
 
-_LEVELS: tuple[frozenset[Op], ...] = (
-    frozenset({Op.IMPLIES, Op.EQ, Op.NE}),
-    frozenset({Op.OR}),
-    frozenset({Op.AND}),
+_LEVELS: tuple[tuple[Op, ...], ...] = (
+    (Op.IMPLIES, Op.EQ, Op.NE),
+    (Op.OR,),
+    (Op.AND,),
 )
 
 

@@ -11,6 +11,8 @@ from gpp.model.types import Type, show_value
 from gpp.source import Span
 from gpp.syntax import ast
 
+_weak = weakref.ref
+
 
 class SymbolKind(Enum):
     DOMAIN = "domain"
@@ -101,7 +103,7 @@ class Symbol:
         self.type = type
         self.params = params
         self.other_spans = [] if other_spans is None else other_spans
-        self._owner = None if owner is None else weakref.ref(owner)
+        self._owner = None if owner is None else _weak(owner)
         self.predefined = predefined
         self.members = {} if members is None else members
 
@@ -175,10 +177,10 @@ class Reference(NamedTuple):
     declaration: bool = False
 
 
-@dataclass(frozen=True, slots=True)
-class ScopeRecord:
+class ScopeRecord(NamedTuple):
     """A local scope (a body with parameters, a pick, a quantifier) and its variables, kept so
-    that completion knows what is visible where."""
+    that completion knows what is visible where. A named tuple, as `Reference` (the type
+    checker records one for every body with parameters)."""
 
     span: Span
     symbols: tuple[Symbol, ...]

@@ -110,10 +110,8 @@ def operator_span(e: ast.Binary) -> Span:
 
 # Only an operator of `CHAIN_OPS` (gpp.model.regroup) may belong to a boolean chain the
 # regrouping rebuilds; any other binary or unary operator starts no chain.
-# (Tuples of operators and kinds, not sets, where every expression asks: an enum member's hash
-# is computed in Python, comparing identities is not.)
-_BOOL_CHAIN = tuple(BOOL_CHAIN)
-_EQUALITY = tuple(EQUALITY)
+# (Tuples of operators and kinds, as there, not sets, where every expression asks: an enum
+# member's hash is computed in Python, comparing identities is not.)
 _COMPARISON = tuple(ast.COMPARISON_OPS)
 
 # The kinds a call may name in an expression, as a statement, and (`_ACTION`) in a hook
@@ -141,9 +139,12 @@ class _Scopes:
     def __init__(self) -> None:
         self.visible: dict[str, Symbol] = {}
         # Per open scope: (name, the symbol it hid or None), in the order they were declared.
-        self.hidden: list[list[tuple[str, Symbol | None]]] = []
+        self.hidden: list[Sequence[tuple[str, Symbol | None]]] = []
 
     def open(self, symbols: Sequence[Symbol]) -> None:
+        if not symbols:  # a body without parameters: nothing to hide
+            self.hidden.append(())
+            return
         visible = self.visible
         hidden: list[tuple[str, Symbol | None]] = []
         for s in symbols:
@@ -183,8 +184,8 @@ class TypeChecker(Regrouper):
         """Open a scope of `symbols` (parameters, a variable) for the `with` block around a
         body."""
         self.scopes.open(symbols)
-        if not self.state.silent and symbols:
-            self.model.scopes.append(ScopeRecord(span, tuple(symbols)))
+        if symbols and not self.state.silent:
+            self.model.scopes.append(new_tuple(ScopeRecord, (span, tuple(symbols))))  # ScopeRecord(...), faster
         return self.scopes
 
     def lookup_variable(self, name: str) -> Symbol | None:
@@ -477,15 +478,20 @@ class TypeChecker(Regrouper):
     def context_label(target: Type, context: str, context_span: Span | None) -> list[diag.Label]:
         return [diag.Label(context_span, f"{context} is `{target}`")] if context_span else []
 
+    def symbol_value(self, name: str) -> Sym:
+        """The value of the symbol `name`: one `Sym` per name, for the domains and the literals
+        of a program alike."""
+        value = self.symbol_values.get(name)
+        if value is None:
+            value = self.symbol_values[name] = Sym(name)
+        return value
+
     def literal_value(self, e: ast.Expr) -> DomainValue | None:
         if isinstance(e, ast.Name):
             target = self.model.targets.get(id(e))
             if target is None or target.kind is not SymbolKind.SYMBOL:
                 return None
-            value = self.symbol_values.get(e.name)
-            if value is None:
-                value = self.symbol_values[e.name] = Sym(e.name)
-            return value
+            return self.symbol_value(e.name)
         if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
             return e.value
         return None
@@ -617,7 +623,7 @@ class TypeChecker(Regrouper):
             regrouped = self._regrouped(e)
             if regrouped is not None:
                 return regrouped
-        if op in _BOOL_CHAIN:
+        if op in BOOL_CHAIN:
             self.expect_operand(e.left, BOOL, op.value)
             self.expect_operand(e.right, BOOL, op.value)
             return BOOL
@@ -662,7 +668,7 @@ class TypeChecker(Regrouper):
         if left is ERROR or right is ERROR:
             return BOOL
         chained = isinstance(e.left, ast.Binary) and e.left.op in _COMPARISON and not e.left.parenthesized
-        if chained and not (e.op in _EQUALITY and base(right) is BOOL):
+        if chained and not (e.op in EQUALITY and base(right) is BOOL):
             assert isinstance(e.left, ast.Binary)
             self.error(
                 "E0205",
@@ -672,7 +678,7 @@ class TypeChecker(Regrouper):
                 help=f"compare each pair and join them with `&`: `a {e.left.op.value} b & b {e.op.value} c`",
             )
             return BOOL
-        if e.op in _EQUALITY:
+        if e.op in EQUALITY:
             if not equatable(left, right):
                 if isinstance(base(left), CompoundType | ListType) or isinstance(base(right), CompoundType | ListType):
                     self.error(

@@ -97,9 +97,12 @@ class DomainType(Type):
         return _declared_by(self._symbol)
 
     def contains(self, value: DomainValue) -> bool:
-        if self._keys is None or self._keys[0] is not self.values:
-            self._keys = (self.values, frozenset(value_key(v) for v in self.values))
-        return value_key(value) in self._keys[1]
+        keys = self._keys
+        if keys is None or keys[0] is not self.values:
+            keys = self._keys = (self.values, frozenset(value_key(v) for v in self.values))
+        if value.__class__ is Sym:  # value_key(value), inline for the commonest value
+            return (Sym, value.name) in keys[1]
+        return value_key(value) in keys[1]
 
 
 def same_value(a: object, b: object) -> bool:
@@ -221,7 +224,8 @@ def assignable(target: Type, source: Type) -> bool:
     if isinstance(target, BuiltinType):
         return isinstance(source, DomainType) and same_type(source.element, target)
     if isinstance(target, DomainType):
-        return same_type(base(source), target.element)
+        b = source.element if isinstance(source, DomainType) else source  # base(source)
+        return b is target.element or same_type(b, target.element)
     if isinstance(target, ListType) and isinstance(source, ListType):
         return assignable(target.element, source.element)
     return False
@@ -237,7 +241,9 @@ def equatable(a: Type, b: Type) -> bool:
     """May `a == b` compare values of these types?"""
     if a is NULL or b is NULL or a is ERROR or b is ERROR:
         return True
-    ba, bb = base(a), base(b)
+    # base(a), base(b), inline:
+    ba = a.element if isinstance(a, DomainType) else a
+    bb = b.element if isinstance(b, DomainType) else b
     # (`is` first: a dataclass's `==` is a call into Python even for the same object.)
     return (ba is bb or same_type(ba, bb)) and (id(ba) in _SCALAR_IDS or ba in _SCALARS)
 
