@@ -29,6 +29,11 @@ _KIND_OF_DECL: dict[type[ast.Decl], SymbolKind] = {
 }
 
 
+# The declarations that are always definitions (a tuple, made once: `isinstance(x, A | B)`
+# builds the union on every call).
+_ALWAYS_DEFINED = (ast.ExogFunctionDecl, ast.ComponentDecl)
+
+
 class Collector(Phase):
     def __init__(self, state: BuilderState) -> None:
         super().__init__(state)
@@ -68,7 +73,7 @@ class Collector(Phase):
             self.declare(self.model.globals, decl.name, SymbolKind.FUNCTION, decl, decl.body is not None)
         elif isinstance(decl, ast.ProcedureDecl):
             self.declare(self.model.globals, decl.name, SymbolKind.PROCEDURE, decl, decl.body is not None)
-        elif isinstance(decl, ast.ExogFunctionDecl | ast.ComponentDecl):
+        elif isinstance(decl, _ALWAYS_DEFINED):
             self.declare(self.model.globals, decl.name, _KIND_OF_DECL[type(decl)], decl, True)
         elif isinstance(decl, ast.MainBlock):
             self.main_blocks.append(decl)

@@ -112,7 +112,7 @@ class DeclarationChecker(Phase):
         for i, arg in enumerate(init.args):
             param = params[i] if i < len(params) else None
             if isinstance(arg, ast.Name) and not arg.parenthesized:
-                by_name = next((p for p in params if p.name == arg.name), None)
+                by_name = _parameter_named(params, arg.name)
                 if by_name is not None and by_name is param:
                     self.refer(arg.span, by_name, arg)
                     self.model.expr_types[id(arg)] = by_name.type or ERROR
@@ -293,3 +293,11 @@ class DeclarationChecker(Phase):
                 self.checker.expect_literal(
                     arg, p.type, "constraint patterns take literals or `*`", f"parameter `{p.name}`", p.span
                 )
+
+
+def _parameter_named(params: tuple[Symbol, ...], name: str) -> Symbol | None:
+    """The first of `params` called `name` (a loop: no generator for a list of one or two)."""
+    for p in params:
+        if p.name == name:
+            return p
+    return None

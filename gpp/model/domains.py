@@ -18,6 +18,11 @@ from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, value_key
 from gpp.suggest import suggestion
 from gpp.syntax import ast
 
+# Literals that are no member of a domain other than of symbols, and the literals with a value
+# (tuples, made once: `isinstance(x, A | B)` builds the union on every call).
+_NOT_MEMBERS = (ast.Name, ast.NullLit)
+_VALUES = (ast.NumberLit, ast.StringLit, ast.BoolLit)
+
 
 class DomainEvaluator(Phase):
     def __init__(self, state: BuilderState, checker: TypeChecker) -> None:
@@ -115,7 +120,7 @@ class DomainEvaluator(Phase):
                 "E0202", "expected a symbol name", e.span, f"a `symbol` domain lists names like `{dtype.name}_a`"
             )
             return None
-        if not is_literal(e) or isinstance(e, ast.Name | ast.NullLit):
+        if not is_literal(e) or isinstance(e, _NOT_MEMBERS):
             self.error("E0213", f"a `{element}` domain lists {element} literals", e.span, "not a literal")
             return None
         t = self.checker.expr(e)
@@ -128,6 +133,6 @@ class DomainEvaluator(Phase):
 
 
 def _literal_value(e: ast.Expr) -> DomainValue | None:
-    if isinstance(e, ast.NumberLit | ast.StringLit | ast.BoolLit):
+    if isinstance(e, _VALUES):
         return e.value
     return None

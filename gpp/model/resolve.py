@@ -36,6 +36,11 @@ from gpp.model.types import (
 from gpp.suggest import suggestion
 from gpp.syntax import ast
 
+# The declarations with a value type and parameters, and those with parameters only (tuples,
+# made once: `isinstance(x, A | B)` builds the union on every call).
+_VALUED = (ast.FluentDecl, ast.FunctionDecl, ast.ExogFunctionDecl)
+_VOID = (ast.ActionDecl, ast.ProcedureDecl)
+
 
 class TypeResolver(Phase):
     def run(self) -> None:
@@ -78,6 +83,8 @@ class TypeResolver(Phase):
         return symbol.type
 
     def resolve_params(self, owner: Symbol, params: Sequence[ast.Param], kind: SymbolKind) -> tuple[Symbol, ...]:
+        if not params:
+            return ()
         out: list[Symbol] = []
         seen: dict[str, Symbol] = {}
         for p in params:
@@ -133,10 +140,10 @@ class TypeResolver(Phase):
             return
         if isinstance(decl, ast.CompoundDecl):
             return
-        if isinstance(decl, ast.FluentDecl | ast.FunctionDecl | ast.ExogFunctionDecl):
+        if isinstance(decl, _VALUED):
             value_type = self.resolve_type(decl.type)
             params = self.resolve_params(symbol, decl.params, SymbolKind.PARAMETER)
-        elif isinstance(decl, ast.ActionDecl | ast.ProcedureDecl):
+        elif isinstance(decl, _VOID):
             value_type = VOID
             params = self.resolve_params(symbol, decl.params, SymbolKind.PARAMETER)
         elif isinstance(decl, ast.ComponentDecl):
