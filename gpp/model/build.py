@@ -33,10 +33,14 @@ from gpp.syntax.loader import ParsedFile
 
 
 def build_model(files: Sequence[ParsedFile]) -> tuple[Model, list[diag.Diagnostic]]:
-    builder = ModelBuilder(files)
     with paused_gc():
+        builder = ModelBuilder(files)
         builder.run()
-    return builder.model, builder.diagnostics
+        built = builder.model, builder.diagnostics
+        # Freed here, before the collector runs again when the pause ends: it would scan the
+        # builder's tables (declarations by symbol, parameters by declaration, ...) once more.
+        del builder
+    return built
 
 
 class ModelBuilder:

@@ -75,8 +75,8 @@ class Symbol:
     # compound declares, or the result type of an action/procedure (void).
     type: Type | None
     params: tuple[Symbol, ...]
-    # Forward declarations and repeated symbol occurrences in domain sets.
-    other_spans: list[Span]
+    # Forward declarations and repeated symbol occurrences in domain sets (see `other_spans`).
+    _other_spans: list[Span] | None
     # For parameters, fields, clocks and states: the symbol they belong to (see `owner`).
     _owner: weakref.ReferenceType[Symbol] | None
     predefined: bool
@@ -102,10 +102,25 @@ class Symbol:
         self.decl = decl
         self.type = type
         self.params = params
-        self.other_spans = [] if other_spans is None else other_spans
+        self._other_spans = other_spans
         self._owner = None if owner is None else _weak(owner)
         self.predefined = predefined
         self.members = {} if members is None else members
+
+    @property
+    def other_spans(self) -> list[Span]:
+        """Forward declarations and repeated symbol occurrences in domain sets. The list is
+        made when first asked for (and kept, so appending to it adds a span): most symbols
+        have none, and every list made is one more object for the cyclic garbage collector to
+        scan after each build."""
+        spans = self._other_spans
+        if spans is None:
+            spans = self._other_spans = []
+        return spans
+
+    @other_spans.setter
+    def other_spans(self, spans: list[Span]) -> None:
+        self._other_spans = spans
 
     @property
     def owner(self) -> Symbol | None:
