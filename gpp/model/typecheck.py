@@ -470,23 +470,41 @@ class TypeChecker(Regrouper):
         if isinstance(target, DomainType):
             self.check_member(e, target, context, context_span)
 
+    def fits(self, e: ast.Expr, t: Type, target: Type) -> bool:
+        """Whether `check_fits` finds nothing to report: asked first where the context of its
+        messages would have to be put together (a call's parameter)."""
+        return assignable(target, t) and (not isinstance(target, DomainType) or self.outside(e, target) is None)
+
     def check_member(self, e: ast.Expr, target: DomainType, context: str, context_span: Span | None) -> None:
         """A literal in a slot of a domain type: is its value a member?"""
-        if target.defined:
-            value = self.literal_value(e)
-            if value is not None and not target.contains(value):
-                secondary = self.context_label(target, context, context_span)
-                shown = ", ".join(show_value(v) for v in target.values[:10]) + (
-                    ", ..." if len(target.values) > 10 else ""
-                )
-                self.error(
-                    "E0203",
-                    f"`{show_value(value)}` is not in domain `{target}`",
-                    e.span,
-                    f"not a member of `{target}`",
-                    secondary=secondary,
-                    notes=[f"`{target}` = {{{shown}}}"],
-                )
+        value = self.outside(e, target)
+        if value is not None:
+            secondary = self.context_label(target, context, context_span)
+            shown = ", ".join(show_value(v) for v in target.values[:10]) + (", ..." if len(target.values) > 10 else "")
+            self.error(
+                "E0203",
+                f"`{show_value(value)}` is not in domain `{target}`",
+                e.span,
+                f"not a member of `{target}`",
+                secondary=secondary,
+                notes=[f"`{target}` = {{{shown}}}"],
+            )
+
+    def outside(self, e: ast.Expr, target: DomainType) -> DomainValue | None:
+        """The value of the literal `e` if it is not a member of the domain `target`; None if it
+        is, if `e` is not a literal (computed values are checked at run time) or if the domain
+        has no members yet (while the domains are being evaluated)."""
+        if not target.defined:
+            return None
+        if e.__class__ is _NAME:  # a symbol, or a variable (no literal)
+            name = e.name
+            symbol = self.targets.get(id(e))
+            if symbol is None or symbol.kind is not SymbolKind.SYMBOL or target.contains_symbol(name):
+                return None
+            return self.symbol_value(name)
+        if isinstance(e, _VALUE_LITERALS) and not target.contains(e.value):
+            return e.value
+        return None
 
     @staticmethod
     def context_label(target: Type, context: str, context_span: Span | None) -> list[diag.Label]:
@@ -499,16 +517,6 @@ class TypeChecker(Regrouper):
         if value is None:
             value = self.symbol_values[name] = Sym(name)
         return value
-
-    def literal_value(self, e: ast.Expr) -> DomainValue | None:
-        if isinstance(e, ast.Name):
-            target = self.model.targets.get(id(e))
-            if target is None or target.kind is not SymbolKind.SYMBOL:
-                return None
-            return self.symbol_value(e.name)
-        if isinstance(e, _VALUE_LITERALS):
-            return e.value
-        return None
 
     def expr(self, e: ast.Expr) -> Type:
         """The type of `e` (recorded in `model.expr_types`), checking everything in it."""
@@ -621,14 +629,19 @@ class TypeChecker(Regrouper):
         self.error("E0213", "`*` stands only in constraint patterns", e.span)
         return ERROR
 
-    def expect_operand(self, e: ast.Expr, want: Type, op: str) -> Type:
+    def expect_operand(self, e: ast.Expr, want: Type, op: str | Op) -> Type:
+        """The type of the operand `e` of the operator `op` (its text, or a binary operator,
+        whose text an enum property gives: asked for only in a message)."""
         t = self.expr(e)
+        if t is want and t is not NULL:
+            return t
+        text = op if isinstance(op, str) else op.value
         if t is ERROR or assignable(want, t):
             if t is NULL:
-                self.error("E0204", f"`{op}` cannot be applied to `null`", e.span)
+                self.error("E0204", f"`{text}` cannot be applied to `null`", e.span)
                 return ERROR
             return t
-        self.error("E0204", f"`{op}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
+        self.error("E0204", f"`{text}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
         return ERROR
 
     def binary(self, e: ast.Binary) -> Type:
@@ -638,8 +651,8 @@ class TypeChecker(Regrouper):
             if regrouped is not None:
                 return regrouped
         if op in BOOL_CHAIN:
-            self.expect_operand(e.left, BOOL, op.value)
-            self.expect_operand(e.right, BOOL, op.value)
+            self.expect_operand(e.left, BOOL, op)
+            self.expect_operand(e.right, BOOL, op)
             return BOOL
         if op in _COMPARISON:
             return self.comparison(e)
@@ -650,6 +663,8 @@ class TypeChecker(Regrouper):
         if left is NULL or right is NULL:
             self.error("E0204", f"`{op.value}` cannot be applied to `null`", (e.left if left is NULL else e.right).span)
             return ERROR
+        if left is NUMBER and right is NUMBER:  # the commonest case first
+            return NUMBER
         bl, br = base(left), base(right)
         if op is Op.ADD and bl is STRING and br is STRING:
             return STRING
@@ -708,6 +723,8 @@ class TypeChecker(Regrouper):
                         operator_span(e),
                         secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
                     )
+            return BOOL
+        if left is NUMBER and right is NUMBER:  # the commonest case: ordered, of one type
             return BOOL
         if left is NULL or right is NULL:
             self.error("E0204", f"`{e.op.value}` cannot compare with `null`", e.span, help="test `x != null` first")
@@ -793,7 +810,7 @@ class TypeChecker(Regrouper):
             # when something does not fit.
             t = expr(a)
             want = p.type
-            if t is not want and want is not None:
+            if t is not want and want is not None and not self.fits(a, t, want):
                 self.check_fits(a, t, want, f"parameter `{p.name}`", p.span)
         if len(args) > n:
             for a in args[n:]:

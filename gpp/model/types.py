@@ -97,12 +97,17 @@ class DomainType(Type):
         return _declared_by(self._symbol)
 
     def contains(self, value: DomainValue) -> bool:
+        return value_key(value) in self._member_keys()
+
+    def contains_symbol(self, name: str) -> bool:
+        """`contains(Sym(name))`, without making the value."""
+        return (Sym, name) in self._member_keys()  # value_key(Sym(name))
+
+    def _member_keys(self) -> frozenset[object]:
         keys = self._keys
         if keys is None or keys[0] is not self.values:
             keys = self._keys = (self.values, frozenset(value_key(v) for v in self.values))
-        if value.__class__ is Sym:  # value_key(value), inline for the commonest value
-            return (Sym, value.name) in keys[1]
-        return value_key(value) in keys[1]
+        return keys[1]
 
 
 def same_value(a: object, b: object) -> bool:
@@ -219,7 +224,7 @@ def assignable(target: Type, source: Type) -> bool:
     """
     if source is NULL or source is ERROR or target is ERROR or target is source:
         return True
-    if same_type(target, source):
+    if target.__class__ is source.__class__ and target == source:  # same_type(target, source)
         return True
     if isinstance(target, BuiltinType):
         return isinstance(source, DomainType) and same_type(source.element, target)
