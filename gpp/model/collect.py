@@ -83,7 +83,7 @@ class Collector(Phase):
     ) -> Symbol:
         existing = table.get(name.name)
         if existing is None:
-            symbol = Symbol(name.name, kind, name.span, decl=decl)
+            symbol = Symbol(name.name, kind, name.span, decl)
             # Types exist from the start, so a use before the declaration resolves (§2.1).
             if kind is SymbolKind.DOMAIN:
                 symbol.type = DomainType(name.name, SYMBOL, weakref.ref(symbol))

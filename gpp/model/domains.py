@@ -108,7 +108,7 @@ class DomainEvaluator(Phase):
             if isinstance(e, ast.Name):
                 symbol = self.model.symbols.get(e.name)
                 if symbol is None:
-                    symbol = Symbol(e.name, SymbolKind.SYMBOL, e.span, decl=e, type=SYMBOL)
+                    symbol = Symbol(e.name, SymbolKind.SYMBOL, e.span, e, SYMBOL)
                     self.model.symbols[e.name] = symbol
                     self.refer(e.span, symbol, e, declaration=True)
                 else:

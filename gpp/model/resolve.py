@@ -88,7 +88,7 @@ class TypeResolver(Phase):
         out: list[Symbol] = []
         seen: dict[str, Symbol] = {}
         for p in params:
-            symbol = Symbol(p.name.name, kind, p.name.span, decl=p, type=self.resolve_type(p.type), owner=owner)
+            symbol = Symbol(p.name.name, kind, p.name.span, p, self.resolve_type(p.type), owner)
             first = seen.get(p.name.name)
             if first is not None:
                 self.error(

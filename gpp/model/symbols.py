@@ -90,12 +90,14 @@ class Symbol:
         span: Span | None,
         decl: ast.Node | None = None,
         type: Type | None = None,
+        owner: Symbol | None = None,
         params: tuple[Symbol, ...] = (),
         other_spans: list[Span] | None = None,
-        owner: Symbol | None = None,
         predefined: bool = False,
         members: dict[str, Symbol] | None = None,
     ) -> None:
+        # The model builder passes `decl`, `type` and `owner` by position: a class called with
+        # keywords packs them into a dict for `__init__`, for every symbol it makes.
         self.name = name
         self.kind = kind
         self.span = span

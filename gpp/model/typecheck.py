@@ -163,13 +163,15 @@ class _Scopes:
     def __enter__(self) -> None:
         return None
 
-    def __exit__(self, *exc: object) -> None:
-        visible = self.visible
-        for name, symbol in reversed(self.hidden.pop()):
-            if symbol is None:
-                del visible[name]
-            else:
-                visible[name] = symbol
+    def __exit__(self, exc_type: object, exc: object, traceback: object) -> None:
+        hidden = self.hidden.pop()
+        if hidden:
+            visible = self.visible
+            for name, symbol in reversed(hidden):
+                if symbol is None:
+                    del visible[name]
+                else:
+                    visible[name] = symbol
 
 
 class TypeChecker(Regrouper):
@@ -203,7 +205,7 @@ class TypeChecker(Regrouper):
         return set(self.variables)
 
     def new_variable(self, var_type: ast.TypeExpr, var: ast.Ident, decl: ast.Node) -> Symbol:
-        symbol = Symbol(var.name, SymbolKind.VARIABLE, var.span, decl=decl, type=self.resolver.resolve_type(var_type))
+        symbol = Symbol(var.name, SymbolKind.VARIABLE, var.span, decl, self.resolver.resolve_type(var_type))
         self.refer(var.span, symbol, var, declaration=True)
         return symbol
 
