@@ -20,6 +20,13 @@ from gpp.model.types import NUMBER, STRING, SYMBOL, VOID, CompoundType, DomainTy
 from gpp.source import Span
 from gpp.syntax import ast
 
+# Enum members read for every declaration, bound once: Python 3.11's enum class has a
+# `__getattr__`, which makes reading any attribute of the class (`SymbolKind.DOMAIN`) several
+# times slower than reading a global.
+_DOMAIN, _COMPOUND = SymbolKind.DOMAIN, SymbolKind.COMPOUND
+_ACTION, _EXOG_ACTION = SymbolKind.ACTION, SymbolKind.EXOG_ACTION
+_FLUENT, _FUNCTION, _PROCEDURE = SymbolKind.FLUENT, SymbolKind.FUNCTION, SymbolKind.PROCEDURE
+
 _KIND_OF_DECL: dict[type[ast.Decl], SymbolKind] = {
     ast.FluentDecl: SymbolKind.FLUENT,
     ast.FunctionDecl: SymbolKind.FUNCTION,
@@ -61,18 +68,18 @@ class Collector(Phase):
 
     def collect(self, decl: ast.Decl) -> None:
         if isinstance(decl, ast.DomainDecl):
-            self.declare(self.model.types, decl.name, SymbolKind.DOMAIN, decl, decl.definition is not None)
+            self.declare(self.model.types, decl.name, _DOMAIN, decl, decl.definition is not None)
         elif isinstance(decl, ast.CompoundDecl):
-            self.declare(self.model.types, decl.name, SymbolKind.COMPOUND, decl, True)
+            self.declare(self.model.types, decl.name, _COMPOUND, decl, True)
         elif isinstance(decl, ast.ActionDecl):
-            kind = SymbolKind.EXOG_ACTION if decl.exogenous else SymbolKind.ACTION
+            kind = _EXOG_ACTION if decl.exogenous else _ACTION
             self.declare(self.model.globals, decl.name, kind, decl, decl.sections is not None)
         elif isinstance(decl, ast.FluentDecl):
-            self.declare(self.model.globals, decl.name, SymbolKind.FLUENT, decl, decl.initially is not None)
+            self.declare(self.model.globals, decl.name, _FLUENT, decl, decl.initially is not None)
         elif isinstance(decl, ast.FunctionDecl):
-            self.declare(self.model.globals, decl.name, SymbolKind.FUNCTION, decl, decl.body is not None)
+            self.declare(self.model.globals, decl.name, _FUNCTION, decl, decl.body is not None)
         elif isinstance(decl, ast.ProcedureDecl):
-            self.declare(self.model.globals, decl.name, SymbolKind.PROCEDURE, decl, decl.body is not None)
+            self.declare(self.model.globals, decl.name, _PROCEDURE, decl, decl.body is not None)
         elif isinstance(decl, _ALWAYS_DEFINED):
             self.declare(self.model.globals, decl.name, _KIND_OF_DECL[type(decl)], decl, True)
         elif isinstance(decl, ast.MainBlock):
@@ -85,9 +92,9 @@ class Collector(Phase):
         if existing is None:
             symbol = Symbol(name.name, kind, name.span, decl)
             # Types exist from the start, so a use before the declaration resolves (§2.1).
-            if kind is SymbolKind.DOMAIN:
+            if kind is _DOMAIN:
                 symbol.type = DomainType(name.name, SYMBOL, weakref.ref(symbol))
-            elif kind is SymbolKind.COMPOUND:
+            elif kind is _COMPOUND:
                 symbol.type = CompoundType(name.name, weakref.ref(symbol))
             table[name.name] = symbol
             return self.attach(symbol, name, decl)

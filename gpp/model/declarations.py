@@ -29,6 +29,11 @@ Op = ast.BinaryOp
 
 _INITIAL_LITERAL = "initial values must be literals"
 
+# Read for every mapping entry of an exogenous action, bound once: Python 3.11's enum class has
+# a `__getattr__`, which makes reading any attribute of the class several times slower than
+# reading a global.
+_PARAMETER = SymbolKind.PARAMETER
+
 
 class DeclarationChecker(Phase):
     def __init__(self, state: BuilderState, resolver: TypeResolver, checker: TypeChecker) -> None:
@@ -194,7 +199,7 @@ class DeclarationChecker(Phase):
             if decl.exogenous:
                 v = arg.value
                 target = self.model.target(v) if isinstance(v, ast.Name) else None
-                if target is not None and target.kind is SymbolKind.PARAMETER and not v.parenthesized:
+                if target is not None and target.kind is _PARAMETER and not v.parenthesized:
                     bound.add(target.name)
                 else:
                     self.error(

@@ -18,6 +18,12 @@ from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, value_key
 from gpp.suggest import suggestion
 from gpp.syntax import ast
 
+# Enum members read for every declaration, bound once: Python 3.11's enum class has a
+# `__getattr__`, which makes reading any attribute of the class (`SymbolKind.DOMAIN`) several
+# times slower than reading a global.
+_DOMAIN, _SYMBOL_KIND = SymbolKind.DOMAIN, SymbolKind.SYMBOL
+_UNION, _DIFFERENCE = ast.DomainOp.UNION, ast.DomainOp.DIFFERENCE
+
 # Literals that are no member of a domain other than of symbols, and the literals with a value
 # (tuples, made once: `isinstance(x, A | B)` builds the union on every call).
 _NOT_MEMBERS = (ast.Name, ast.NullLit)
@@ -32,7 +38,7 @@ class DomainEvaluator(Phase):
 
     def run(self) -> None:
         for symbol in list(self.model.types.values()):
-            if symbol.kind is SymbolKind.DOMAIN:
+            if symbol.kind is _DOMAIN:
                 self.evaluate_domain(symbol)
 
     def evaluate_domain(self, symbol: Symbol) -> tuple[DomainValue, ...]:
@@ -63,7 +69,7 @@ class DomainEvaluator(Phase):
     def domain_values(self, d: ast.DomainExpr, dtype: DomainType) -> tuple[DomainValue, ...]:
         if isinstance(d, ast.DomainRef):
             other = self.model.types.get(d.name.name)
-            if other is None or other.kind is not SymbolKind.DOMAIN:
+            if other is None or other.kind is not _DOMAIN:
                 domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
                 name = d.name.name
                 message = f"`{name}` is not a domain" if other is not None else f"unknown domain `{name}`"
@@ -93,11 +99,11 @@ class DomainEvaluator(Phase):
         if isinstance(d, ast.DomainBinary):
             left = self.domain_values(d.left, dtype)
             right = self.domain_values(d.right, dtype)
-            if d.op is ast.DomainOp.UNION:
+            if d.op is _UNION:
                 in_left = {value_key(x) for x in left}
                 return left + tuple(v for v in right if value_key(v) not in in_left)
             in_right = {value_key(x) for x in right}
-            if d.op is ast.DomainOp.DIFFERENCE:
+            if d.op is _DIFFERENCE:
                 return tuple(v for v in left if value_key(v) not in in_right)
             return tuple(v for v in left if value_key(v) in in_right)
         return ()
@@ -108,7 +114,7 @@ class DomainEvaluator(Phase):
             if isinstance(e, ast.Name):
                 symbol = self.model.symbols.get(e.name)
                 if symbol is None:
-                    symbol = Symbol(e.name, SymbolKind.SYMBOL, e.span, e, SYMBOL)
+                    symbol = Symbol(e.name, _SYMBOL_KIND, e.span, e, SYMBOL)
                     self.model.symbols[e.name] = symbol
                     self.refer(e.span, symbol, e, declaration=True)
                 else:

@@ -24,10 +24,16 @@ from gpp.syntax import ast
 
 Op = ast.BinaryOp
 
+# Enum members read on every node, bound once: Python 3.11's enum class has a `__getattr__`,
+# which makes reading any attribute of the class (`SymbolKind.SYMBOL`) several times slower
+# than reading a global.
+_EQ, _NE, _AND, _OR, _IMPLIES = Op.EQ, Op.NE, Op.AND, Op.OR, Op.IMPLIES
+_NOT = ast.UnaryOp.NOT
+
 # Sets of operators, as tuples: an enum member's hash is computed in Python, comparing
 # identities is not.
-BOOL_CHAIN = (Op.AND, Op.OR, Op.IMPLIES)
-EQUALITY = (Op.EQ, Op.NE)
+BOOL_CHAIN = (_AND, _OR, _IMPLIES)
+EQUALITY = (_EQ, _NE)
 # The operators of a chain.
 CHAIN_OPS = BOOL_CHAIN + EQUALITY
 
@@ -66,7 +72,7 @@ class Regrouper(Phase):
             self.flatten_chain(e, items, operators, root=True)
         finally:
             self.state.silent -= 1
-        if not any(x is Op.EQ or x is Op.NE for x in items):
+        if not any(x is _EQ or x is _NE for x in items):
             # No `==`/`!=` compares booleans: the chain has only `&`, `|`, `->` and `!`, and
             # climbing it would build the tree the grammar built (each left-associative, at
             # the same levels, `!` on the operand after it), compared equal below.
@@ -99,7 +105,7 @@ class Regrouper(Phase):
             self.flatten_chain(e.left, out, operators)
             out.append(e.op)
             self.flatten_chain(e.right, out, operators)
-        elif inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        elif inside and isinstance(e, ast.Unary) and e.op is _NOT:
             operators.append(id(e))
             out.append(_Not(e.span))
             self.flatten_chain(e.operand, out, operators)
@@ -130,7 +136,7 @@ def continues_chain(e: ast.Expr) -> bool:
     kind = e.__class__
     if kind is ast.Binary:
         return e.op in CHAIN_OPS  # type: ignore[attr-defined]
-    return kind is ast.Unary and e.op is ast.UnaryOp.NOT  # type: ignore[attr-defined]
+    return kind is ast.Unary and e.op is _NOT  # type: ignore[attr-defined]
 
 
 def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:
@@ -146,16 +152,16 @@ def _chain_ops(e: ast.Expr, members: list[int]) -> tuple[bool, bool]:
             continue
         if isinstance(node, ast.Binary):
             op = node.op
-            if op is Op.EQ or op is Op.NE:
+            if op is _EQ or op is _NE:
                 equality = True
-            elif op is Op.AND or op is Op.OR or op is Op.IMPLIES:
+            elif op is _AND or op is _OR or op is _IMPLIES:
                 other = True
             else:
                 continue
             members.append(id(node))
             stack.append(node.left)
             stack.append(node.right)
-        elif isinstance(node, ast.Unary) and node.op is ast.UnaryOp.NOT:
+        elif isinstance(node, ast.Unary) and node.op is _NOT:
             other = True
             members.append(id(node))
             stack.append(node.operand)
@@ -212,6 +218,6 @@ def _mark_types(e: ast.Expr, types: dict[int, Type]) -> None:
         types.setdefault(id(e), BOOL)
         _mark_types(e.left, types)
         _mark_types(e.right, types)
-    elif isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+    elif isinstance(e, ast.Unary) and e.op is _NOT:
         types.setdefault(id(e), BOOL)
         _mark_types(e.operand, types)

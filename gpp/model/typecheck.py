@@ -62,6 +62,18 @@ from gpp.syntax import ast
 
 Op = ast.BinaryOp
 
+# Enum members read on every node, bound once: Python 3.11's enum class has a `__getattr__`,
+# which makes reading any attribute of the class (`SymbolKind.SYMBOL`) several times slower
+# than reading a global.
+_SYMBOL_KIND = SymbolKind.SYMBOL
+_VARIABLE = SymbolKind.VARIABLE
+_FLUENT = SymbolKind.FLUENT
+_FUNCTION = SymbolKind.FUNCTION
+_COMPOUND = SymbolKind.COMPOUND
+_NOT = ast.UnaryOp.NOT
+_LENGTH = ast.Builtin.LENGTH
+_ADD = Op.ADD
+
 # (Kinds to test with `isinstance` as tuples, made once: `isinstance(x, A | B)` builds the
 # union on every call, and a union is slower to test than a tuple.)
 _SCALAR_LITERALS = (ast.NumberLit, ast.StringLit, ast.BoolLit, ast.NullLit, ast.Name)
@@ -205,7 +217,7 @@ class TypeChecker(Regrouper):
         return set(self.variables)
 
     def new_variable(self, var_type: ast.TypeExpr, var: ast.Ident, decl: ast.Node) -> Symbol:
-        symbol = Symbol(var.name, SymbolKind.VARIABLE, var.span, decl, self.resolver.resolve_type(var_type))
+        symbol = Symbol(var.name, _VARIABLE, var.span, decl, self.resolver.resolve_type(var_type))
         self.refer(var.span, symbol, var, declaration=True)
         return symbol
 
@@ -232,7 +244,7 @@ class TypeChecker(Regrouper):
             self.expr(e)
         for node in _names_in_literal(e):
             symbol = self.model.targets.get(id(node))
-            if symbol is not None and symbol.kind is not SymbolKind.SYMBOL:
+            if symbol is not None and symbol.kind is not _SYMBOL_KIND:
                 self.error(
                     "E0213",
                     f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
@@ -382,7 +394,7 @@ class TypeChecker(Regrouper):
         reward = s.reward
         if isinstance(reward, ast.Call) and not reward.parenthesized:
             symbol = self.model.globals.get(reward.name.name)
-            if symbol is not None and symbol.kind is not SymbolKind.FUNCTION:
+            if symbol is not None and symbol.kind is not _FUNCTION:
                 self.resolve_misused_call(reward, symbol)
                 self.error(
                     "E0212",
@@ -407,7 +419,7 @@ class TypeChecker(Regrouper):
             root = root.subject
         if isinstance(root, ast.Call) and not root.parenthesized:
             symbol = self.model.globals.get(root.name.name)
-            if symbol is not None and symbol.kind is not SymbolKind.FLUENT:
+            if symbol is not None and symbol.kind is not _FLUENT:
                 self.resolve_misused_call(root, symbol)
                 self.error(
                     "E0306",
@@ -501,7 +513,7 @@ class TypeChecker(Regrouper):
         if e.__class__ is _NAME:  # a symbol, or a variable (no literal)
             name = e.name
             symbol = self.targets.get(id(e))
-            if symbol is None or symbol.kind is not SymbolKind.SYMBOL or target.contains_symbol(name):
+            if symbol is None or symbol.kind is not _SYMBOL_KIND or target.contains_symbol(name):
                 return None
             return self.symbol_value(name)
         if isinstance(e, _VALUE_LITERALS) and not target.contains(e.value):
@@ -560,7 +572,7 @@ class TypeChecker(Regrouper):
         return self.expr(replacement)
 
     def unary(self, e: ast.Unary) -> Type:
-        if e.op is ast.UnaryOp.NOT:
+        if e.op is _NOT:
             if continues_chain(e.operand) and id(e) not in self.reassociated:
                 regrouped = self._regrouped(e)
                 if regrouped is not None:
@@ -582,7 +594,11 @@ class TypeChecker(Regrouper):
                 help="quantify over a domain, `bool` or `symbol`",
             )
         with self.scope(e.body.span, [variable]):
-            self.expect(e.body, BOOL, f"the body of `{e.quantifier.value}`")
+            # self.expect(e.body, BOOL, ...), inline: the context (an enum's `value`, read in
+            # Python) only when the body is not a bool.
+            t = self.expr(e.body)
+            if t is not BOOL:
+                self.check_fits(e.body, t, BOOL, f"the body of `{e.quantifier.value}`", None)
         return BOOL
 
     def conditional(self, e: ast.Conditional) -> Type:
@@ -619,7 +635,7 @@ class TypeChecker(Regrouper):
 
     def builtin_call(self, e: ast.BuiltinCall) -> Type:
         arg = self.expr(e.arg)
-        if e.function is ast.Builtin.LENGTH:
+        if e.function is _LENGTH:
             if arg is not ERROR and not isinstance(arg, ListType):
                 self.error("E0204", f"`length` needs a list, found `{arg}`", e.arg.span, f"this is `{arg}`")
             return NUMBER
@@ -668,7 +684,7 @@ class TypeChecker(Regrouper):
         if left is NUMBER and right is NUMBER:  # the commonest case first
             return NUMBER
         bl, br = base(left), base(right)
-        if op is Op.ADD and bl is STRING and br is STRING:
+        if op is _ADD and bl is STRING and br is STRING:
             return STRING
         if bl is NUMBER and br is NUMBER:
             return NUMBER
@@ -905,7 +921,7 @@ class TypeChecker(Regrouper):
 
     def compound_literal(self, e: ast.CompoundLit) -> Type:
         symbol = self.model.types.get(e.type_name.name)
-        if symbol is None or symbol.kind is not SymbolKind.COMPOUND:
+        if symbol is None or symbol.kind is not _COMPOUND:
             compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
             name = e.type_name.name
             message = f"unknown compound type `{name}`" if symbol is None else f"`{name}` is not a compound type"
