@@ -139,7 +139,7 @@ _COMPARISON = tuple(ast.COMPARISON_OPS)
 _ACTION = (SymbolKind.ACTION,)
 _CALLABLE_IN = {"expression": tuple(EXPRESSION_CALLABLE), "statement": tuple(STATEMENT_CALLABLE)}
 
-_NAME = ast.Name
+_NAME, _CALL = ast.Name, ast.Call
 _LITERAL_TYPES: dict[type[ast.Expr], Type] = {
     ast.NumberLit: NUMBER,
     ast.StringLit: STRING,
@@ -553,6 +553,8 @@ class TypeChecker(Regrouper):
             if not self.state.silent:  # self.refer(e.span, found, e), inline
                 self.add_reference(new_tuple(Reference, (e.span, found, False)))
                 self.targets[id(e)] = found
+        elif kind is _CALL:  # the next commonest, without the look-ups below
+            t = self.call(e)  # type: ignore[arg-type]
         else:
             t = _LITERAL_TYPES.get(kind)
             if t is None:
@@ -952,7 +954,10 @@ class TypeChecker(Regrouper):
             member = symbol.members.get(f.name.name)
             if member is not None:
                 self.refer(f.name.span, member, f.name)
-            self.expect(f.value, ftype, f"field `{f.name.name}`", member.span if member else None)
+            # self.expect(f.value, ftype, ...), inline: the context only when it does not fit.
+            t = self.expr(f.value)
+            if t is not ftype:
+                self.check_fits(f.value, t, ftype, f"field `{f.name.name}`", member.span if member else None)
         missing = [name for name in ctype.fields if name not in given]
         if missing:
             names = ", ".join(f"`{m}`" for m in missing)
@@ -984,11 +989,10 @@ _STMT_KINDS: dict[type[ast.Statement], Callable[[TypeChecker, Any], None]] = {
     ast.ListStmt: TypeChecker.list_stmt,
 }
 
-# One method per kind of expression but names and literals (`TypeChecker.expr` types those
-# itself), instead of a chain of isinstance: plain functions, called
+# One method per kind of expression but names, calls and literals (`TypeChecker.expr` types
+# those itself), instead of a chain of isinstance: plain functions, called
 # with the checker (a table of its bound methods, kept by the checker, would be a reference cycle).
 _EXPR_KINDS: dict[type[ast.Expr], Callable[[TypeChecker, Any], Type]] = {
-    ast.Call: TypeChecker.call,
     ast.Unary: TypeChecker.unary,
     ast.Binary: TypeChecker.binary,
     ast.Quantified: TypeChecker.quantified,
