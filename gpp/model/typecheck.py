@@ -168,8 +168,9 @@ class _Scopes:
         visible = self.visible
         hidden: list[tuple[str, Symbol | None]] = []
         for s in symbols:
-            hidden.append((s.name, visible.get(s.name)))
-            visible[s.name] = s
+            name = s.name
+            hidden.append((name, visible.get(name)))
+            visible[name] = s
         self.hidden.append(hidden)
 
     def __enter__(self) -> None:
@@ -195,6 +196,7 @@ class TypeChecker(Regrouper):
         self.expr_types = self.model.expr_types
         self.add_reference = self.model.references.append
         self.targets = self.model.targets
+        self.scope_records = self.model.scopes
         self.symbols = self.model.symbols
         self.globals = self.model.globals
         # One value per symbol name, for the domain membership of literals.
@@ -205,10 +207,11 @@ class TypeChecker(Regrouper):
     def scope(self, span: Span, symbols: Sequence[Symbol]) -> AbstractContextManager[None]:
         """Open a scope of `symbols` (parameters, a variable) for the `with` block around a
         body."""
-        self.scopes.open(symbols)
+        scopes = self.scopes
+        scopes.open(symbols)
         if symbols and not self.state.silent:
-            self.model.scopes.append(new_tuple(ScopeRecord, (span, tuple(symbols))))  # ScopeRecord(...), faster
-        return self.scopes
+            self.scope_records.append(new_tuple(ScopeRecord, (span, tuple(symbols))))  # ScopeRecord(...), faster
+        return scopes
 
     def lookup_variable(self, name: str) -> Symbol | None:
         return self.variables.get(name)
