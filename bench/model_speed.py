@@ -5,9 +5,11 @@
 Copies gpp/model of the baseline revision (`git show REV:gpp/model/...`) into a temporary
 package, so that both builders run in this process on the same parsed files, interleaved
 (baseline, this tree, baseline, ...): the machine's load touches both alike. Prints the best
-and the median CPU time of each and their ratio, and checks that both give the same model and
-diagnostics (tests/model_fingerprint.py describes them completely). Times vary with the load
-of the machine; the ratio is what to read.
+and the median CPU time of each, the ratio of the best times and the median of the ratios of
+each pair of runs (one of each, one after the other: the steadier figure while the load of the
+machine changes), and checks that both give the same model and diagnostics
+(tests/model_fingerprint.py describes them completely). Times vary with the load of the
+machine; the ratios are what to read.
 """
 
 from __future__ import annotations
@@ -83,7 +85,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"model_speed: cannot read gpp/model of revision {args.baseline} with git: {e}", file=sys.stderr)
             return 2
         print(f"load average: {os.getloadavg()[0]:.2f}; best / median of {args.runs} runs, interleaved")
-        print(f"{'lines':>7} {'baseline ms':>16} {'this tree ms':>16} {'speed-up':>9}  same model")
+        print(f"{'lines':>7} {'baseline ms':>16} {'this tree ms':>16} {'speed-up':>9} {'per pair':>9}  same model")
         for lines in args.lines:
             path = ROOT / "bench" / f"model-speed-{lines}.gpp"
             loaded = load([path], {path.resolve(): generate_program(lines)})
@@ -94,9 +96,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                 before.append(timed(partial(old.build_model, loaded.files)))
                 after.append(timed(partial(build_model, loaded.files)))
             b, a = min(before), min(after)
+            per_pair = statistics.median(x / y for x, y in zip(before, after, strict=True))
             shown_b = f"{b * 1000:.1f} / {statistics.median(before) * 1000:.1f}"
             shown_a = f"{a * 1000:.1f} / {statistics.median(after) * 1000:.1f}"
-            print(f"{lines:>7} {shown_b:>16} {shown_a:>16} {b / a:>8.2f}x  {'yes' if same else 'NO'}")
+            print(f"{lines:>7} {shown_b:>16} {shown_a:>16} {b / a:>8.2f}x {per_pair:>8.2f}x  {'yes' if same else 'NO'}")
     return 0
 
 
