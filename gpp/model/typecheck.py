@@ -117,6 +117,11 @@ def _collect_names(e: ast.Expr, names: list[ast.Name]) -> None:
             _collect_names(x, names)
 
 
+def _text(op: str | Op) -> str:
+    """An operator as written."""
+    return op if isinstance(op, str) else op.value
+
+
 def operator_span(e: ast.Binary) -> Span:
     """The span of a binary expression's operator token (found between its operands)."""
     source = e.span.source
@@ -658,13 +663,12 @@ class TypeChecker(Regrouper):
         t = self.expr(e)
         if t is want and t is not NULL:
             return t
-        text = op if isinstance(op, str) else op.value
         if t is ERROR or assignable(want, t):
             if t is NULL:
-                self.error("E0204", f"`{text}` cannot be applied to `null`", e.span)
+                self.error("E0204", f"`{_text(op)}` cannot be applied to `null`", e.span)
                 return ERROR
             return t
-        self.error("E0204", f"`{text}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
+        self.error("E0204", f"`{_text(op)}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
         return ERROR
 
     def binary(self, e: ast.Binary) -> Type:
