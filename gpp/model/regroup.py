@@ -25,8 +25,8 @@ from gpp.syntax import ast
 Op = ast.BinaryOp
 
 # Enum members read on every node, bound once: Python 3.11's enum class has a `__getattr__`,
-# which makes reading any attribute of the class (`SymbolKind.SYMBOL`) several times slower
-# than reading a global.
+# which makes reading any attribute of the class (`Op.EQ`) several times slower than reading
+# a global.
 _EQ, _NE, _AND, _OR, _IMPLIES = Op.EQ, Op.NE, Op.AND, Op.OR, Op.IMPLIES
 _NOT = ast.UnaryOp.NOT
 
@@ -74,8 +74,9 @@ class Regrouper(Phase):
             self.state.silent -= 1
         if not any(x is _EQ or x is _NE for x in items):
             # No `==`/`!=` compares booleans: the chain has only `&`, `|`, `->` and `!`, and
-            # climbing it would build the tree the grammar built (each left-associative, at
-            # the same levels, `!` on the operand after it), compared equal below.
+            # climbing it would rebuild the tree the grammar built (each left-associative, at
+            # the same levels, `!` on the operand after it), which the comparison below would
+            # find unchanged.
             self.reassociated.update(operators)
             return None
         rebuilt, rest = _climb(items, 0)
@@ -189,7 +190,7 @@ def _climb(items: list[ast.Expr | Op | _Not], level: int) -> tuple[ast.Expr, lis
         if isinstance(head, _Not):
             operand, rest = _climb(items[1:], level)
             span = Span(head.span.source, head.span.start, operand.span.end)
-            return ast.Unary(span=span, op=ast.UnaryOp.NOT, operand=operand), rest
+            return ast.Unary(span=span, op=_NOT, operand=operand), rest
         assert isinstance(head, ast.Expr)
         return head, items[1:]
     left, rest = _climb(items, level + 1)
