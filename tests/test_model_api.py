@@ -17,6 +17,7 @@ import pytest
 from gpp.check import check_text
 from gpp.diagnostics import Diagnostic
 from gpp.model.model import Model, OutlineItem
+from gpp.model.regroup import BOOL_CHAIN, _climb, _Not
 from gpp.model.symbols import Reference, Symbol, SymbolKind
 from gpp.model.types import BOOL, NULL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
 from gpp.source import Source, Span
@@ -860,6 +861,41 @@ def test_effective_reassociates_boolean_equality_in_an_unparenthesised_chain(bod
 def test_effective_leaves_other_expressions_unchanged(body: str) -> None:
     prog = Program.check(BOOL_FLUENTS + f"bool function f() = {body}\n")
     e = prog.body("f")
+    assert prog.model.effective(e) is e
+
+
+def _chain_items(e: ast.Expr, root: bool = True) -> list[ast.Expr | ast.BinaryOp | _Not]:
+    """The items of the chain `e` as `Regrouper.flatten_chain` makes them when no `==`/`!=`
+    compares booleans: every comparison, and every parenthesised expression, is an operand."""
+    inside = root or not e.parenthesized
+    if inside and isinstance(e, ast.Binary) and e.op in BOOL_CHAIN:
+        return [*_chain_items(e.left, False), e.op, *_chain_items(e.right, False)]
+    if inside and isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT:
+        return [_Not(e.span), *_chain_items(e.operand, False)]
+    return [e]
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        "p() -> q() -> r()",
+        "p() | q() | r() & p()",
+        "p() & q() | r() -> p() & !q()",
+        "!!p() & !(q() | r()) -> !p()",
+        "x() == 1 -> p() | x() != y() & !q()",
+        "!x() == y() & (p() == q()) | x() > 0",
+    ],
+)
+def test_a_chain_whose_equalities_compare_no_booleans_climbs_back_to_its_parse(body: str) -> None:
+    """`Regrouper.reassociate` does not climb such a chain: it counts on the grammar building
+    `&`, `|` and `->` left-associative, at the levels of the regrouping, and `!` on the one
+    operand after it, so that climbing would give the parsed tree again."""
+    prog = Program.check(BOOL_FLUENTS + f"bool function f() = {body}\n")
+    e = prog.body("f")
+    rebuilt, rest = _climb(_chain_items(e), 0)
+    assert rest == []
+    assert rebuilt == e
+    assert sx(rebuilt) == sx(e)
     assert prog.model.effective(e) is e
 
 
