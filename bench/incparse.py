@@ -29,16 +29,13 @@ import sys
 import tempfile
 import time
 from bisect import bisect_left
-from collections.abc import Callable
 from pathlib import Path
-from types import ModuleType
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program
 from revision import modules_at
 
-from gpp.perf import paused_gc
 from gpp.source import Source
 from gpp.syntax import incremental
 from gpp.syntax.lexer import KEYWORDS
@@ -47,15 +44,6 @@ from gpp.syntax.parser import parse
 # The clock the runs are timed with: wall time, or the process's CPU time (steadier when other
 # processes compete for the cores: time spent waiting for one is not counted).
 clock = time.perf_counter
-
-
-def best(fn: Callable[[], None], runs: int) -> float:
-    times = []
-    for _ in range(runs):
-        t0 = clock()
-        fn()
-        times.append(clock() - t0)
-    return min(times)
 
 
 def main() -> None:
@@ -77,6 +65,7 @@ def main() -> None:
     old = parse(Source(text, "bench.gpp"))
     for module in modules.values():
         module.relocators()  # made once per process, not part of a re-parse
+    incremental.relocators(False)  # and those for the declarations before an edit
     starts = Source(text).line_starts
     places = {"start": starts[1], "middle": starts[len(starts) // 2], "end": starts[-2]}
     # A name in a procedure body: the first call after the middle of the file, the last one.
@@ -126,16 +115,25 @@ def main() -> None:
             ref = min(inc_times[args.against])
             row += f" {ref * 1000:>9.2f}ms {ref / inc:>5.2f}x"
         print(row)
+    # The relocation alone, interleaved as above.
     target = Source(text, "bench.gpp")
-    for name, module in modules.items():
-
-        def relocate_all(module: ModuleType = module) -> None:
-            relocators = module.relocators()
-            with paused_gc():  # as in a re-parse
-                [relocators[type(d)](d, target, 1) for d in old.program.declarations]
-
-        moved = best(relocate_all, args.runs)
-        print(f"relocating all {len(old.program.declarations)} declarations ({name}): {moved * 1000:.1f}ms")
+    decls = old.program.declarations
+    variants = {f"moved ({name})": (module.relocators(), 1) for name, module in modules.items()}
+    variants["not moved (now)"] = (incremental.relocators(False), 0)
+    moving_times: dict[str, list[float]] = {name: [] for name in variants}
+    for _ in range(args.runs):
+        gc.collect()
+        gc.disable()
+        try:
+            for name, (table, delta) in variants.items():
+                t0 = clock()
+                moved = [table[type(d)](d, target, delta) for d in decls]
+                moving_times[name].append(clock() - t0)
+                del moved
+        finally:
+            gc.enable()
+    for name, times in moving_times.items():
+        print(f"relocating all {len(decls)} declarations, {name}: {min(times) * 1000:.2f}ms")
     print("load average:", Path("/proc/loadavg").read_text().split()[:3] if Path("/proc/loadavg").exists() else "?")
 
 

@@ -353,6 +353,16 @@ def test_relocate_moves_every_span_into_the_new_source() -> None:
     assert_same_tree(moved, want.program)
 
 
+def test_relocate_without_moving_puts_every_span_into_the_new_source() -> None:
+    old = parse(Source(PROGRAM, "old.gpp"))
+    target = Source(PROGRAM, "new.gpp")
+    moved = ast.Program(
+        span=Span(target, 0, len(target.text)),
+        declarations=tuple(relocate(d, target, 0) for d in old.program.declarations),
+    )
+    assert_same_tree(moved, parse(target).program)
+
+
 def test_a_relocated_main_block_shares_its_span_with_its_body() -> None:
     text = "action a() { }\n{ a(); }\n"
     old = parse(Source(text)).program.declarations[-1]

@@ -74,25 +74,27 @@ class Reparsed:
 # ---------------------------------------------------------------- relocation
 
 Relocator = Callable[[Any, Source, int], Any]
-# Made on first use (generating them takes about a tenth of a second, which a command that
-# parses each file once need not pay), complete before any thread sees them.
-_RELOCATORS: dict[type, Relocator] = {}
+# Made on first use (generating each table takes about a tenth of a second, which a command
+# that parses each file once need not pay), complete before any thread sees them: by whether
+# they move the spans (those that do not, for the declarations before an edit, add nothing).
+_RELOCATORS: dict[bool, dict[type, Relocator]] = {True: {}, False: {}}
 _GENERATING = threading.Lock()
 
 
-def relocators() -> dict[type, Relocator]:
+def relocators(moved: bool = True) -> dict[type, Relocator]:
     """The relocator of each syntax node class: (node, source, delta) -> a copy of the node with
-    every span moved by `delta` into `source`."""
-    if not _RELOCATORS:
+    every span moved by `delta` into `source`; with `moved` false, for a delta of 0 only."""
+    table = _RELOCATORS[moved]
+    if not table:
         with _GENERATING:
-            if not _RELOCATORS:
-                _RELOCATORS.update(_generate_relocators())
-    return _RELOCATORS
+            if not table:
+                table.update(_generate_relocators(moved))
+    return table
 
 
 def relocate(node: ast.Node, source: Source, delta: int) -> Any:
     """A copy of `node` with every span moved by `delta` into `source`."""
-    return relocators()[type(node)](node, source, delta)
+    return relocators(delta != 0)[type(node)](node, source, delta)
 
 
 def _node_classes() -> list[type[ast.Node]]:
@@ -121,7 +123,8 @@ class _Generator:
     `build.span_lines` (as `fast_constructor` makes its nodes), the fields that hold spans
     relocated first, into local variables."""
 
-    def __init__(self) -> None:
+    def __init__(self, moved: bool) -> None:
+        self.moved = moved  # whether the spans are moved by `d` (else `d` is 0)
         self.table: dict[type, Relocator] = {}
         self.names: dict[str, Any] = {"R": self.table}
         self.hints: dict[type, dict[str, Any]] = {}
@@ -173,7 +176,8 @@ class _Generator:
         """Statements that set `out` to the relocated `value` of type `tp` (a span, a node, a
         tuple of nodes, either or None)."""
         if tp is Span:
-            return build.span_lines(out, "src", f"{value}.start + d", f"{value}.end + d", indent, self.names)
+            plus = " + d" if self.moved else ""
+            return build.span_lines(out, "src", f"{value}.start{plus}", f"{value}.end{plus}", indent, self.names)
         if _is_node(tp):
             return self.dispatch((tp,), value, out, indent)
         args = typing.get_args(tp)
@@ -225,9 +229,9 @@ class _Generator:
         return self.table
 
 
-def _generate_relocators() -> dict[type, Relocator]:
+def _generate_relocators(moved: bool) -> dict[type, Relocator]:
     """One function per syntax node class (`_Generator`)."""
-    generator = _Generator()
+    generator = _Generator(moved)
     for cls in _INLINED:  # leaves: a span and plain values
         assert not any(_is_node(tp) for tp in generator.fields(cls).values()), cls
     return generator.generate()
@@ -445,10 +449,11 @@ def _reparse(old_text: str, old: ParseResult, source: Source, splice_only: bool)
 
 def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseResult) -> ParseResult:
     """Old declarations [0, i), the fragment's, old declarations [j, n) moved by delta."""
-    reloc = relocators()
-    decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
+    kept = relocators(False)
+    decls: list[ast.Decl] = [kept[type(d)](d, source, 0) for d in old.decls[:i]]
     decls.extend(frag.program.declarations)
-    decls.extend([reloc[type(d)](d, source, delta) for d in old.decls[j:]])
+    moved = relocators(delta != 0)
+    decls.extend([moved[type(d)](d, source, delta) for d in old.decls[j:]])
     new_tokens = _spliced_tokens(old, i, j, delta, frag.lazy_tokens)
     diagnostics = list(frag.diagnostics)
     if j < len(old.decls):
