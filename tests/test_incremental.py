@@ -189,7 +189,7 @@ def assert_same_tokens(got: Tokens, want: list[Token]) -> None:
     assert fields(got.as_list()) == fields(want)
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(edit_sequence())
 def test_tokens_read_after_later_edits_are_those_of_a_full_parse(texts: list[str]) -> None:
     """The cache's parses are kept and their tokens read only once every edit is made (a
