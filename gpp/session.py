@@ -9,7 +9,8 @@ files repeatedly can use one too. It holds
   again, so an edit re-parses one file, not every include;
 * an include index over the open documents and the `.gpp` files of the workspace folders, so
   that a file opened alone is checked under the programs that include it;
-* the latest check of each program, reused while none of its files changed.
+* the latest check of each program, reused while none of its files changed, and otherwise the
+  lint warnings about its declarations that did not change (gpp.check.lintmemo).
 
 Positions: `Source.lsp_position` and `Source.lsp_offset` convert between character offsets and
 the protocol's (line, UTF-16 unit) positions; `apply_edits` applies an editor's incremental
@@ -35,6 +36,7 @@ from typing import TypeVar
 
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_loaded
+from gpp.check.lintmemo import LintMemo
 from gpp.perf import start_deep_stack_thread
 from gpp.source import Source
 from gpp.syntax.directives import directives
@@ -268,7 +270,10 @@ class Session:
         known = self._checked.get(root)
         if known is not None and known[0] == key:
             return known[1]
-        result = check_loaded(loaded, self.lint, allow)
+        # The lints of the declarations an edit left alone are those of the last check (the
+        # memo holds warnings and texts, not the last result: results do not chain).
+        memo = known[1].lint_memo if known is not None else None
+        result = check_loaded(loaded, self.lint, allow, memo or LintMemo())
         self._checked[root] = (key, result)
         return result
 
