@@ -133,9 +133,12 @@ class _Program:
         return self.all_declarations() if self._relint is None else iter(self._relint)
 
     def linted(self, span: Span | None) -> bool:
-        """Is `span` in one of the declarations to lint?"""
-        if self._relint is None or span is None:
-            return self.in_root(span)
+        """Is `span` in one of the declarations to lint (anywhere, when all are)? A local lint
+        that does not go by `nodes` asks it of where it would warn."""
+        if self._relint is None:
+            return True
+        if span is None:
+            return False
         starts, ends = self._relint_spans.get(id(span.source), ([], []))
         k = bisect_right(starts, span.start) - 1
         return k >= 0 and span.end <= ends[k]
@@ -477,14 +480,14 @@ def _params_with_body(program: _Program) -> Iterator[Symbol]:
     and an exogenous action's parameters are set by its events."""
     for symbol in program.model.globals.values():
         decl = symbol.decl
-        if not program.linted(symbol.span) or symbol.predefined or not symbol.is_defined:
+        if not program.in_root(symbol.span) or symbol.predefined or not symbol.is_defined:
             continue
         if isinstance(decl, ast.ActionDecl):
             if decl.exogenous or decl.section(ast.MappingSection) is None:
                 continue
         elif not isinstance(decl, ast.FunctionDecl | ast.ProcedureDecl):
             continue
-        yield from symbol.params
+        yield from (p for p in symbol.params if program.linted(p.span))
 
 
 def _variables(program: _Program) -> Iterator[Symbol]:
@@ -1146,8 +1149,8 @@ def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
     symbols = program.model.symbols
     locals_: list[Symbol] = list(_variables(program))
     for g in program.model.globals.values():
-        if program.linted(g.span) and g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
-            locals_.extend(g.params)
+        if program.in_root(g.span) and g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
+            locals_.extend(p for p in g.params if program.linted(p.span))
     for local in locals_:
         shadowed = symbols.get(local.name)
         if shadowed is None or local.span is None or local.kind not in _LOCAL_KINDS:
