@@ -95,9 +95,14 @@ class Session:
     sees the documents as they were when it started.
     """
 
-    def __init__(self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = ()) -> None:
+    def __init__(
+        self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = (), reuse_lints: bool = True
+    ) -> None:
         self.cache = ParseCache()
         self.lint = lint
+        # Whether a check reuses the lint warnings of the last one (gpp.check.lintmemo); off:
+        # every check lints the whole program (to compare).
+        self.reuse_lints = reuse_lints
         self.allow = tuple(allow)
         self.folders = [f.resolve() for f in folders]
         self._documents: dict[Path, Document] = {}
@@ -272,8 +277,8 @@ class Session:
             return known[1]
         # The lints of the declarations an edit left alone are those of the last check (the
         # memo holds warnings and texts, not the last result: results do not chain).
-        memo = known[1].lint_memo if known is not None else None
-        result = check_loaded(loaded, self.lint, allow, memo or LintMemo())
+        memo = (known[1].lint_memo if known is not None else None) or LintMemo()
+        result = check_loaded(loaded, self.lint, allow, memo if self.reuse_lints else None)
         self._checked[root] = (key, result)
         return result
 

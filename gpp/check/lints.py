@@ -159,25 +159,12 @@ class _Program:
         hold no chain of two operators."""
         return self._nodes.chained
 
-    def statements_where(
-        self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool], everywhere: bool = False
-    ) -> _Within:
-        """The statements of the declarations to lint (`everywhere`: of the root files) of
-        `kinds` that pass `test`, to ask which of them a statement holds (without walking its
-        body: nested loops would make that quadratic)."""
+    def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
+        """The statements of the declarations to lint of `kinds` that pass `test`, to ask
+        which of them a statement holds (without walking its body: nested loops would make
+        that quadratic)."""
         classes = frozenset(kinds)
-        within = self._root_statements if everywhere else self._linted_statements
-        return within.where(lambda s: type(s) in classes and test(s))
-
-    @cached_property
-    def _root_statements(self) -> _Within:
-        """Every statement of the root files: those of their bodies, the only place for one.
-        (Listed now, sorted when first asked about; the index refers to the lists, not to the
-        program, which keeps the `_Within`: no reference cycle.)"""
-        listed = {
-            id(f.source): [s for _, found in self.body_statements([f]) for s, _ in found] for f in self.root_files
-        }
-        return _Within(partial(_by_start, listed))
+        return self._all_statements.where(lambda s: type(s) in classes and test(s))
 
     def root_statements(self, kind: type[S]) -> Iterator[S]:
         """The statements of one class in the root files, in source order per file (as
@@ -188,12 +175,12 @@ class _Program:
                     yield s
 
     @cached_property
-    def _linted_statements(self) -> _Within:
-        """Every statement of the declarations to lint."""
-        if self._relint is None:
-            return self._root_statements
+    def _all_statements(self) -> _Within:
+        """Every statement of the declarations to lint: those of their bodies, the only place
+        for one. (Listed now, sorted when first asked about; the index refers to the lists, not
+        to the program, which keeps the `_Within`: no reference cycle.)"""
         listed: dict[int, list[ast.Statement]] = {id(f.source): [] for f in self.root_files}
-        for decl in self._relint:
+        for decl in self.declarations():
             for _, found in self._statements_of(self._bodies_in([decl])):
                 listed[id(decl.span.source)].extend(s for s, _ in found)
         return _Within(partial(_by_start, listed))
@@ -921,19 +908,24 @@ def _is_bool(model: Model, *operands: ast.Expr) -> bool:
 # Global: `choosing` follows calls into other procedure bodies.
 @_lint("W0109", local=False)
 def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
-    kinds = (ast.Pick, ast.Choose, ast.CallStmt)
-    choosing = program.statements_where(kinds, lambda s: _chooses(program, s), everywhere=True)
-    for node in program.root_statements(ast.Solve):
-        if choosing.any_inside(node.body):
+    for _, found in program.body_statements(program.root_files):
+        solves = [s for s, _ in found if isinstance(s, ast.Solve)]
+        if not solves:
             continue
-        yield diag.warning(
-            "W0109",
-            "`solve` has nothing to decide: its program has no `pick` or `choose`",
-            keyword_span(node, "solve"),
-            "no choice to plan",
-            notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
-            help="add the `pick` or `choose` that `solve` should decide, or remove `solve`",
-        )
+        # The statements of this body that choose, to ask which of them a `solve` holds.
+        listed = {id(solves[0].span.source): [s for s, _ in found if _chooses(program, s)]}
+        choosing = _Within(partial(_by_start, listed))
+        for node in solves:
+            if choosing.any_inside(node.body):
+                continue
+            yield diag.warning(
+                "W0109",
+                "`solve` has nothing to decide: its program has no `pick` or `choose`",
+                keyword_span(node, "solve"),
+                "no choice to plan",
+                notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
+                help="add the `pick` or `choose` that `solve` should decide, or remove `solve`",
+            )
 
 
 def _chooses(program: _Program, s: ast.Statement) -> bool:
