@@ -143,6 +143,14 @@ class _Program:
         k = bisect_right(starts, span.start) - 1
         return k >= 0 and span.end <= ends[k]
 
+    def root_globals(self) -> Iterator[Symbol]:
+        """The globals declared in the root files; when not all declarations are linted, only
+        those whose declaration (the defining one: its parameters are the symbol's) is."""
+        relint = None if self._relint is None else {id(d) for d in self._relint}
+        for g in self.model.globals.values():
+            if self.in_root(g.span) and (relint is None or id(g.decl) in relint):
+                yield g
+
     @cached_property
     def _nodes(self) -> _Nodes:
         if self._relint is None:
@@ -465,9 +473,9 @@ def _params_with_body(program: _Program) -> Iterator[Symbol]:
     """Parameters of the functions, procedures and actions defined in the root files whose
     use can be judged: an action without `mapping:` passes every parameter to the platform,
     and an exogenous action's parameters are set by its events."""
-    for symbol in program.model.globals.values():
+    for symbol in program.root_globals():
         decl = symbol.decl
-        if not program.in_root(symbol.span) or symbol.predefined or not symbol.is_defined:
+        if symbol.predefined or not symbol.is_defined:
             continue
         if isinstance(decl, ast.ActionDecl):
             if decl.exogenous or decl.section(ast.MappingSection) is None:
@@ -1140,8 +1148,8 @@ def _sub_expressions(e: ast.Node) -> list[ast.Expr]:
 def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
     symbols = program.model.symbols
     locals_: list[Symbol] = list(_variables(program))
-    for g in program.model.globals.values():
-        if program.in_root(g.span) and g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
+    for g in program.root_globals():
+        if g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
             locals_.extend(p for p in g.params if program.linted(p.span))
     for local in locals_:
         shadowed = symbols.get(local.name)
