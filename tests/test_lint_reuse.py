@@ -22,6 +22,7 @@ from test_lints import TRIGGERS
 
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_loaded, lintmemo
+from gpp.check.lints import LINTS
 from gpp.session import Session
 from gpp.source import Source, Span
 from gpp.syntax import ast
@@ -174,6 +175,54 @@ def test_a_session_lints_as_a_check_from_scratch_after_any_edits(case: tuple[Pat
         note(f"step {k}: {text!r}")
         got = session.check(path, {path: text})
         assert_same(got.diagnostics, from_scratch(path, text).diagnostics)
+
+
+# The global lints: an edit in one procedure body changes what they say about another,
+# unchanged declaration. (Program, the edit as (old, new), the declaration warned about after.)
+ACROSS = {
+    "W0101": (
+        "action a() { }\nprocedure p() { a(); }\nprocedure main() { p(); }\n",
+        ("{ a(); }", "{ }"),
+        "action a() { }",
+    ),
+    "W0105": (
+        "procedure q() { pick (bool b) test(b); }\nnumber function r() = 0\nprocedure main() { solve(2, r()) q(); }\n",
+        ("solve(2, r()) q();", "q();"),
+        "procedure q() { pick (bool b) test(b); }",
+    ),
+    "W0109": (
+        "procedure c() { choose { test(true); test(true); } }\nnumber function r() = 0\n"
+        "procedure main() { solve(2, r()) c(); }\n",
+        ("choose { test(true); test(true); }", "test(true);"),
+        "procedure main() { solve(2, r()) c(); }",
+    ),
+    "W0114": (
+        "action act() { }\nprocedure e() { end(act()); }\nprocedure main() { start(act()); e(); }\n",
+        ("end(act());", "test(true);"),
+        "procedure main() { start(act()); e(); }",
+    ),
+}
+
+
+@pytest.mark.parametrize("code", sorted(ACROSS))
+def test_a_global_lint_sees_an_edit_in_another_body(code: str) -> None:
+    text, (old, new), warned = ACROSS[code]
+    path = ROOT / f"across_{code}.gpp"
+    edited = text.replace(old, new)
+    session = Session()
+    before = session.check(path, {path: text})
+    after = session.check(path, {path: edited})
+    assert code not in {d.code for d in before.diagnostics}
+    start = edited.index(warned)
+    assert [d.code for d in after.diagnostics if start <= d.span.start < start + len(warned)] == [code]
+    assert after.lint_memo is not None and after.lint_memo.reused > 0  # the warned one among them
+    assert_same(after.diagnostics, from_scratch(path, edited).diagnostics)
+
+
+def test_the_corpus_has_every_lint_fire() -> None:
+    found = {d.code for d in from_scratch(ROOT / "every_lint.gpp", EVERY_LINT).diagnostics}
+    assert set(LINTS) <= found
+    assert {"W0102", "W0103", "W0111"} <= {d.code for d in from_scratch(ROOT / "forward.gpp", FORWARD).diagnostics}
 
 
 # ---------------------------------------------------------------- the reuse happens
