@@ -140,8 +140,11 @@ def _relocated(
 
     out: dict[int, tuple[diag.Diagnostic, ...]] = {}
     for k in same:
-        delta = decls[k].span.start - old[k].start
         warnings = old[k].warnings
+        if not warnings:
+            out[k] = ()
+            continue
+        delta = decls[k].span.start - old[k].start
         if all(moved(span) == delta for w in warnings for span in _diagnostic_spans(w)):
             out[k] = tuple(_relocate_diagnostic(w, source, delta) for w in warnings)
     return out
