@@ -4,6 +4,13 @@ Each lint is one small function registered under its code (gpp.codes holds its n
 summary) that reads the code model and yields warnings. Only what is declared or written in the
 root files (the files asked for) is linted, never the library files they include; uses
 anywhere in the program count, though.
+
+Each lint is registered as local or global (`_lint(code, local=...)`, with the reason beside
+it). A local lint finds what it looks at only through what `_Program` can restrict to some
+of the declarations (`declarations`, `nodes`, `chained_expressions`, `statements_where`,
+`root_globals`, `linted`): after an edit, the language server lints only the declarations
+that changed with them and keeps the other warnings (gpp.check.lintmemo). A global lint reads
+the whole program (`body_statements`, `call_sites`, `used`, ...) and always runs over all of it.
 """
 
 from __future__ import annotations
@@ -107,8 +114,8 @@ class _Program:
         self.root_files = [f for f in model.files if f.path in roots]
         self._root_sources = {id(f.source) for f in self.root_files}
         self._statements: dict[int, list[_Placed]] = {}
-        # The declarations the local lints look at (`linted_declarations`): all of the root
-        # files', or those `relint` names; the starts and ends of the latter per source.
+        # The declarations the local lints look at (`declarations`): all of the root files',
+        # or those `relint` names; the starts and ends of the latter per source.
         asked = None if relint is None else {id(d) for d in relint}
         self._relint = None if asked is None else [d for d in self.all_declarations() if id(d) in asked]
         self._relint_spans: dict[int, tuple[list[int], list[int]]] = {}
@@ -411,9 +418,10 @@ def keyword_span(node: ast.Node, keyword: str) -> Span:
 
 Lint = Callable[[_Program], Iterator[diag.Diagnostic]]
 LINTS: dict[str, Lint] = {}
-# The local lints (see `run_lints`): whether and what one warns about a node depends only on
-# the top-level declaration holding the node and on the program's environment. The others are
-# global: they read facts across declarations.
+# The local lints (see `run_lints_split`, gpp.check.lintmemo): whether and what one warns
+# about a node depends only on the top-level declaration holding the node and on the program's
+# environment (the declarations but the bodies of procedures, the included files), and it
+# warns inside that declaration. The others are global: they read facts across declarations.
 LOCAL: set[str] = set()
 
 
