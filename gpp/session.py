@@ -9,7 +9,8 @@ files repeatedly can use one too. It holds
   again, so an edit re-parses one file, not every include;
 * an include index over the open documents and the `.gpp` files of the workspace folders, so
   that a file opened alone is checked under the programs that include it;
-* the latest check of each program, reused while none of its files changed.
+* the latest check of each program, reused while none of its files changed, and otherwise the
+  lint warnings about its declarations that did not change (gpp.check.lintmemo).
 
 Positions: `Source.lsp_position` and `Source.lsp_offset` convert between character offsets and
 the protocol's (line, UTF-16 unit) positions; `apply_edits` applies an editor's incremental
@@ -35,6 +36,7 @@ from typing import TypeVar
 
 from gpp import diagnostics as diag
 from gpp.check import CheckResult, check_loaded
+from gpp.check.lintmemo import LintMemo
 from gpp.perf import start_deep_stack_thread
 from gpp.source import Source
 from gpp.syntax.directives import directives
@@ -93,9 +95,14 @@ class Session:
     sees the documents as they were when it started.
     """
 
-    def __init__(self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = ()) -> None:
+    def __init__(
+        self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = (), reuse_lints: bool = True
+    ) -> None:
         self.cache = ParseCache()
         self.lint = lint
+        # Whether a check reuses the lint warnings of the last one (gpp.check.lintmemo); off:
+        # every check lints the whole program (to compare).
+        self.reuse_lints = reuse_lints
         self.allow = tuple(allow)
         self.folders = [f.resolve() for f in folders]
         self._documents: dict[Path, Document] = {}
@@ -268,7 +275,10 @@ class Session:
         known = self._checked.get(root)
         if known is not None and known[0] == key:
             return known[1]
-        result = check_loaded(loaded, self.lint, allow)
+        # The lints of the declarations an edit left alone are those of the last check (the
+        # memo holds warnings and texts, not the last result: results do not chain).
+        memo = (known[1].lint_memo if known is not None else None) or LintMemo()
+        result = check_loaded(loaded, self.lint, allow, memo if self.reuse_lints else None)
         self._checked[root] = (key, result)
         return result
 

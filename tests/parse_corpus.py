@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
+sys.path.append(str(ROOT / "bench"))
 
 from fuzz import VOCABULARY, Generator, mutate, pieces  # noqa: E402
 from genprog import generate_program, nested_expression_program  # noqa: E402

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import dataclasses
 import sys
+import threading
+from bisect import bisect_left
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +24,7 @@ from hypothesis import strategies as st
 from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.incremental import fragment_text, relocate
+from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.loader import ParseCache
 from gpp.syntax.parser import ParseResult, parse
 
@@ -171,6 +174,75 @@ def test_the_random_edits_reach_every_path() -> None:
     assert set(cache.reparses) >= {"splice", "tail"}
 
 
+def fields(tokens: list[Token]) -> list[tuple[str, str, int, int]]:
+    return [(t.type, t.value, t.start, t.end) for t in tokens]
+
+
+def assert_same_tokens(got: Tokens, want: list[Token]) -> None:
+    """What `got` answers before its list is made (length, each token, the bisection by start
+    at and between the starts), then its list: those of `want`."""
+    assert len(got) == len(want)
+    assert fields([got.at(k) for k in range(len(want))]) == fields(want)
+    offsets = sorted({o for t in want for o in (t.start - 1, t.start, t.start + 1)} | {0, 10**9})
+    starts = [t.start for t in want]
+    assert [got.bisect_start(o) for o in offsets] == [bisect_left(starts, o) for o in offsets]
+    assert fields(got.as_list()) == fields(want)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(edit_sequence())
+def test_tokens_read_after_later_edits_are_those_of_a_full_parse(texts: list[str]) -> None:
+    """The cache's parses are kept and their tokens read only once every edit is made (a
+    spliced parse's tokens are then made from pieces of the parses before it, themselves not
+    made yet)."""
+    cache = ParseCache()
+    results = [cache.parse(PATH, text) for text in texts]
+    for k, (text, got) in enumerate(zip(texts, results, strict=True)):
+        note(f"step {k}: {text!r}")
+        assert_same_tokens(got.lazy_tokens, parse(Source(text)).tokens)
+
+
+def test_spliced_tokens_are_made_when_first_read() -> None:
+    """A chain of splices, none of whose tokens is read, then read from the last one first:
+    each is made from pieces of the ones before it, more of them than a sequence keeps."""
+    cache = ParseCache()
+    starts = Source(PROGRAM).line_starts
+    texts = [PROGRAM]
+    for k in range(1, 16):  # a space at the start of a line further down each time
+        at = starts[k * (len(starts) - 2) // 16] + k - 1
+        texts.append(texts[-1][:at] + " " + texts[-1][at:])
+    results = [cache.parse(PATH, text) for text in texts]
+    assert cache.reparses == {"splice": 15}
+    assert [r.lazy_tokens.made for r in results[1:4]] == [False, False, False]
+    for text, got in reversed(list(zip(texts, results, strict=True))):
+        assert_same_tokens(got.lazy_tokens, parse(Source(text)).tokens)
+        assert got.tokens is got.tokens  # made once
+
+
+def test_tokens_read_on_many_threads_at_once_are_made_once() -> None:
+    at = Source(PROGRAM).line_starts[5]
+    cache = ParseCache()
+    cache.parse(PATH, PROGRAM)
+    for round in range(5):
+        text = PROGRAM[:at] + " " * (round + 1) + PROGRAM[at:]
+        lazy = cache.parse(PATH, text).lazy_tokens
+        assert not lazy.made
+        barrier = threading.Barrier(8)
+        read: list[list[Token]] = []
+
+        def reader(lazy: Tokens = lazy, barrier: threading.Barrier = barrier, read: list[list[Token]] = read) -> None:
+            barrier.wait()
+            read.append(lazy.as_list())
+
+        threads = [threading.Thread(target=reader) for _ in range(8)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert len(read) == 8 and all(r is read[0] for r in read)
+        assert fields(read[0]) == fields(parse(Source(text)).tokens)
+
+
 # ---------------------------------------------------------------- which path an edit takes
 
 PROGRAM = generate_program(60)
@@ -279,6 +351,16 @@ def test_relocate_moves_every_span_into_the_new_source() -> None:
         declarations=tuple(relocate(d, target, 7) for d in old.program.declarations),
     )
     assert_same_tree(moved, want.program)
+
+
+def test_relocate_without_moving_puts_every_span_into_the_new_source() -> None:
+    old = parse(Source(PROGRAM, "old.gpp"))
+    target = Source(PROGRAM, "new.gpp")
+    moved = ast.Program(
+        span=Span(target, 0, len(target.text)),
+        declarations=tuple(relocate(d, target, 0) for d in old.program.declarations),
+    )
+    assert_same_tree(moved, parse(target).program)
 
 
 def test_a_relocated_main_block_shares_its_span_with_its_body() -> None:

@@ -1,7 +1,9 @@
 """`gpp check`: load, build the code model, lint; all problems of a program at once.
 
 Lints allowed by `// gpp: allow CODE` comments are dropped here (gpp.check.suppress), so every
-tool that checks (check, run, test, the language server) honours them."""
+tool that checks (check, run, test, the language server) honours them. A check made with a
+`LintMemo` (the language server's session) lints anew only the declarations an edit touched
+(gpp.check.lintmemo)."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ from bisect import bisect_left, bisect_right
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gpp import diagnostics as diag
 from gpp.check.suppress import apply_suppressions
@@ -17,6 +20,9 @@ from gpp.model.model import Model
 from gpp.perf import paused_gc, with_deep_stack
 from gpp.source import Span
 from gpp.syntax.loader import LoadResult, ParseCache, load
+
+if TYPE_CHECKING:
+    from gpp.check.lintmemo import LintMemo
 
 # After a syntax error the parser may have skipped a declaration; names declared there would
 # then be reported as unknown. These follow-on reports are held back until the syntax is fixed.
@@ -28,6 +34,8 @@ class CheckResult:
     loaded: LoadResult
     model: Model
     diagnostics: list[diag.Diagnostic]
+    # For the next check of the same program, when this one was made with a memo.
+    lint_memo: LintMemo | None = None
 
     @property
     def errors(self) -> int:
@@ -38,14 +46,19 @@ class CheckResult:
         return sum(1 for d in self.diagnostics if d.severity is diag.Severity.WARNING)
 
 
-def check_loaded(loaded: LoadResult, lint: bool = True, allow: Collection[str] = ()) -> CheckResult:
+def check_loaded(
+    loaded: LoadResult, lint: bool = True, allow: Collection[str] = (), memo: LintMemo | None = None
+) -> CheckResult:
+    """Check a loaded program. `memo`: the `lint_memo` of the previous check of the same
+    program (or `LintMemo()` for a first one): its lint warnings about the declarations that
+    did not change are reused, and the result carries a memo for the next check."""
     # The checker recurses over the tree; thousands of nested terms need a deep stack. Like
     # parsing, checking allocates many long-lived objects: the cyclic collector waits.
     with paused_gc():
-        return with_deep_stack(lambda: _check_loaded(loaded, lint, allow))
+        return with_deep_stack(lambda: _check_loaded(loaded, lint, allow, memo))
 
 
-def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> CheckResult:
+def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str], memo: LintMemo | None) -> CheckResult:
     model, model_diagnostics = build_model(loaded.files)
     syntax_errors = [d for d in loaded.diagnostics if d.is_error]
     found = list(loaded.diagnostics)
@@ -55,12 +68,17 @@ def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str]) -> Che
         found.extend(d for d in model_diagnostics if d.code not in _NAME_CODES and not _inside_any(damaged, d.span))
     else:
         found.extend(model_diagnostics)
-        if lint:
+        if lint and memo is not None:
+            from gpp.check.lintmemo import lint_again
+
+            warnings, memo = lint_again(model, roots, allow, memo)
+            found.extend(warnings)
+        elif lint:
             from gpp.check.lints import run_lints
 
             found.extend(run_lints(model, roots, allow))
     found = apply_suppressions(loaded.files, found, roots, report=lint and not syntax_errors, allow=allow)
-    return CheckResult(loaded, model, _dedupe(found))
+    return CheckResult(loaded, model, _dedupe(found), memo)
 
 
 def check_program(

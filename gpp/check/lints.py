@@ -4,15 +4,22 @@ Each lint is one small function registered under its code (gpp.codes holds its n
 summary) that reads the code model and yields warnings. Only what is declared or written in the
 root files (the files asked for) is linted, never the library files they include; uses
 anywhere in the program count, though.
+
+Each lint is registered as local or global (`_lint(code, local=...)`, with the reason beside
+it). A local lint finds what it looks at only through what `_Program` can restrict to some
+of the declarations (`declarations`, `nodes`, `chained_expressions`, `statements_where`,
+`root_globals`, `linted`): after an edit, the language server lints only the declarations
+that changed with them and keeps the other warnings (gpp.check.lintmemo). A global lint reads
+the whole program (`body_statements`, `call_sites`, `used`, ...) and always runs over all of it.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
-from bisect import bisect_left
+from bisect import bisect_left, bisect_right
 from collections import defaultdict
-from collections.abc import Callable, Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cached_property, partial
 from pathlib import Path
@@ -33,6 +40,7 @@ Op = ast.BinaryOp
 # A statement, and whether it is lexically inside `solve` or `search`.
 _Placed = tuple[ast.Statement, bool]
 N = TypeVar("N", bound=ast.Node)
+S = TypeVar("S", bound=ast.Statement)
 
 # `pick`/quantifier variables, parameters: everything W0102 and W0111 look at. (Tuples: a
 # membership test compares identities, cheaper than hashing an enum member.)
@@ -58,13 +66,34 @@ MAX_CHAIN = 100
 def run_lints(model: Model, roots: Collection[Path], allow: Collection[str] = ()) -> list[diag.Diagnostic]:
     """All lint warnings about the declarations and code of the files in `roots`; `allow`
     names lints to skip, by code (`W0101`) or name (`unused`)."""
-    skipped = {info.code for info in map(codes.lookup, allow) if info is not None}
     program = _Program(model, roots)
+    skipped = skipped_lints(allow)
     found: list[diag.Diagnostic] = []
     for code, lint in LINTS.items():
         if code not in skipped:
             found.extend(lint(program))
     return found
+
+
+def run_lints_split(
+    model: Model, roots: Collection[Path], allow: Collection[str], relint: Collection[ast.Decl] | None
+) -> tuple[list[diag.Diagnostic], list[diag.Diagnostic]]:
+    """The warnings of `run_lints`, split: those of the global lints (over the whole program),
+    and those of the local lints about the declarations `relint` of the root files only (all of
+    them when None). Each list in `run_lints`' order, the other list's warnings left out."""
+    program = _Program(model, roots, relint)
+    skipped = skipped_lints(allow)
+    global_: list[diag.Diagnostic] = []
+    local: list[diag.Diagnostic] = []
+    for code, lint in LINTS.items():
+        if code not in skipped and (code not in LOCAL or relint is None or relint):
+            (local if code in LOCAL else global_).extend(lint(program))
+    return global_, local
+
+
+def skipped_lints(allow: Collection[str]) -> frozenset[str]:
+    """The codes of the lints `allow` names (by code or name)."""
+    return frozenset(info.code for info in map(codes.lookup, allow) if info is not None)
 
 
 # ---------------------------------------------------------------- the program as lints see it
@@ -80,47 +109,95 @@ class _CallSite:
 class _Program:
     """The model plus the facts several lints share, computed on first use."""
 
-    def __init__(self, model: Model, roots: Collection[Path]) -> None:
+    def __init__(self, model: Model, roots: Collection[Path], relint: Collection[ast.Decl] | None = None) -> None:
         self.model = model
         self.root_files = [f for f in model.files if f.path in roots]
         self._root_sources = {id(f.source) for f in self.root_files}
         self._statements: dict[int, list[_Placed]] = {}
+        # The declarations the local lints look at (`declarations`): all of the root files',
+        # or those `relint` names; the starts and ends of the latter per source.
+        asked = None if relint is None else {id(d) for d in relint}
+        self._relint = None if asked is None else [d for d in self.all_declarations() if id(d) in asked]
+        self._relint_spans: dict[int, tuple[list[int], list[int]]] = {}
+        for d in self._relint or ():
+            starts, ends = self._relint_spans.setdefault(id(d.span.source), ([], []))
+            starts.append(d.span.start)
+            ends.append(d.span.end)
 
     def in_root(self, span: Span | None) -> bool:
         return span is not None and id(span.source) in self._root_sources
 
-    def declarations(self) -> Iterator[ast.Decl]:
+    def all_declarations(self) -> Iterator[ast.Decl]:
+        """The declarations of the root files."""
         for f in self.root_files:
             yield from f.program.declarations
 
+    # What the local lints read: the declarations of the root files to lint (`relint`), the
+    # nodes and statements in them.
+
+    def declarations(self) -> Iterator[ast.Decl]:
+        """The declarations to lint: those of the root files, or those asked for."""
+        return self.all_declarations() if self._relint is None else iter(self._relint)
+
+    def linted(self, span: Span | None) -> bool:
+        """Is `span` in one of the declarations to lint (anywhere, when all are)? A local lint
+        that does not go by `nodes` asks it of where it would warn."""
+        if self._relint is None:
+            return True
+        if span is None:
+            return False
+        starts, ends = self._relint_spans.get(id(span.source), ([], []))
+        k = bisect_right(starts, span.start) - 1
+        return k >= 0 and span.end <= ends[k]
+
+    def root_globals(self) -> Iterator[Symbol]:
+        """The globals declared in the root files; when not all declarations are linted, only
+        those whose declaration (the defining one: its parameters are the symbol's) is."""
+        relint = None if self._relint is None else {id(d) for d in self._relint}
+        for g in self.model.globals.values():
+            if self.in_root(g.span) and (relint is None or id(g.decl) in relint):
+                yield g
+
     @cached_property
     def _nodes(self) -> _Nodes:
-        return _index_nodes(self.root_files, self.model.rewritten)
+        if self._relint is None:
+            return _index_nodes([f.program for f in self.root_files], self.model.rewritten)
+        return _index_nodes(self._relint, self.model.rewritten)
 
     def nodes(self, kind: type[N]) -> list[N]:
-        """The syntax nodes of one class in the root files, in source order per file."""
+        """The syntax nodes of one class in the declarations to lint, in source order per file."""
         return self._nodes.by_type.get(kind, [])  # type: ignore[return-value]
 
     def chained_expressions(self) -> list[ast.Expr]:
-        """The outermost expressions of the root files in which an operator has another one as
-        its operand (or that the model regrouped), in source order: the others hold no chain of
-        two operators."""
+        """The outermost expressions of the declarations to lint in which an operator has
+        another one as its operand (or that the model regrouped), in source order: the others
+        hold no chain of two operators."""
         return self._nodes.chained
 
     def statements_where(self, kinds: tuple[type[ast.Statement], ...], test: Callable[[Any], bool]) -> _Within:
-        """The statements of the root files of `kinds` that pass `test`, to ask which of them
-        a statement holds (without walking its body: nested loops would make that quadratic)."""
+        """The statements of the declarations to lint of `kinds` that pass `test`, to ask
+        which of them a statement holds (without walking its body: nested loops would make
+        that quadratic)."""
         classes = frozenset(kinds)
         return self._all_statements.where(lambda s: type(s) in classes and test(s))
 
+    def root_statements(self, kind: type[S]) -> Iterator[S]:
+        """The statements of one class in the root files, in source order per file (as
+        `nodes` without a list of `relint`)."""
+        for _, found in self.body_statements(self.root_files):
+            for s, _ in found:
+                if type(s) is kind:
+                    yield s
+
     @cached_property
     def _all_statements(self) -> _Within:
-        """Every statement of the root files: those of their bodies, the only place for one.
-        (Listed now, sorted when first asked about; the index refers to the lists, not to the
-        program, which keeps the `_Within`: no reference cycle.)"""
-        listed = {
-            id(f.source): [s for _, found in self.body_statements([f]) for s, _ in found] for f in self.root_files
-        }
+        """Every statement of the declarations to lint: those of their bodies, the only place
+        for one. (Listed now, sorted when first asked about; the index refers to the lists, not
+        to the program, which keeps the `_Within`: no reference cycle.)"""
+        listed: dict[int, list[ast.Statement]] = {id(f.source): [] for f in self.root_files}
+        for decl in self.declarations():
+            for _, found in self._statements_of(self._bodies_in([decl])):
+                listed[id(decl.span.source)].extend(s for s, _ in found)
         return _Within(partial(_by_start, listed))
 
     def used(self, symbol: Symbol) -> bool:
@@ -145,16 +222,24 @@ class _Program:
     def bodies(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
         """The statement bodies of the procedures (and legacy main block) in `files`."""
         for f in files:
-            for decl in f.program.declarations:
-                if isinstance(decl, ast.ProcedureDecl) and decl.body is not None:
-                    yield self.model.target(decl.name), decl.body
-                elif isinstance(decl, ast.MainBlock):
-                    main = self.model.main
-                    yield (main if main is not None and main.decl is decl else None), decl.body
+            yield from self._bodies_in(f.program.declarations)
+
+    def _bodies_in(self, decls: Iterable[ast.Decl]) -> Iterator[tuple[Symbol | None, ast.Statement]]:
+        for decl in decls:
+            if isinstance(decl, ast.ProcedureDecl) and decl.body is not None:
+                yield self.model.target(decl.name), decl.body
+            elif isinstance(decl, ast.MainBlock):
+                main = self.model.main
+                yield (main if main is not None and main.decl is decl else None), decl.body
 
     def body_statements(self, files: Sequence[ParsedFile]) -> Iterator[tuple[Symbol | None, list[_Placed]]]:
         """The `statements` of each body in `files` (as `bodies`), listed once per program."""
-        for owner, body in self.bodies(files):
+        return self._statements_of(self.bodies(files))
+
+    def _statements_of(
+        self, bodies: Iterable[tuple[Symbol | None, ast.Statement]]
+    ) -> Iterator[tuple[Symbol | None, list[_Placed]]]:
+        for owner, body in bodies:
             found = self._statements.get(id(body))
             if found is None:
                 found = self._statements[id(body)] = statements(body)
@@ -214,15 +299,16 @@ class _Nodes:
     chained: list[ast.Expr]  # see `_Program.chained_expressions`
 
 
-def _index_nodes(files: Sequence[ParsedFile], rewritten: dict[int, ast.Expr]) -> _Nodes:
-    """The nodes of `files` by class, in one walk (parents before children, as `walk`), and
-    the outermost expressions that hold an operator chain."""
+def _index_nodes(tops: Sequence[ast.Node], rewritten: dict[int, ast.Expr]) -> _Nodes:
+    """The nodes of the trees `tops` (files' programs, or declarations) by class, in one walk
+    (parents before children, as `walk`), and the outermost expressions that hold an operator
+    chain."""
     by_type: defaultdict[type[ast.Node], list[ast.Node]] = defaultdict(list)
     chained: list[ast.Expr] = []
     # The loop runs once per node of the program: its names are local.
     push, leaves, expr, binary = PUSH_CHILDREN, LEAVES, ast.Expr, ast.Binary
-    for f in files:
-        stack: list[ast.Node] = [f.program]
+    for tree in tops:
+        stack: list[ast.Node] = [tree]
         while stack:
             top = stack.pop()
             cls = type(top)
@@ -332,12 +418,19 @@ def keyword_span(node: ast.Node, keyword: str) -> Span:
 
 Lint = Callable[[_Program], Iterator[diag.Diagnostic]]
 LINTS: dict[str, Lint] = {}
+# The local lints (see `run_lints_split`, gpp.check.lintmemo): whether and what one warns
+# about a node depends only on the top-level declaration holding the node and on the program's
+# environment (the declarations but the bodies of procedures, the included files), and it
+# warns inside that declaration. The others are global: they read facts across declarations.
+LOCAL: set[str] = set()
 
 
-def _lint(code: str) -> Callable[[Lint], Lint]:
+def _lint(code: str, local: bool) -> Callable[[Lint], Lint]:
     def register(f: Lint) -> Lint:
         assert code in codes.CODES and codes.CODES[code].is_lint, code
         LINTS[code] = f
+        if local:
+            LOCAL.add(code)
         return f
 
     return register
@@ -346,7 +439,8 @@ def _lint(code: str) -> Callable[[Lint], Lint]:
 # ---------------------------------------------------------------- W0101 unused
 
 
-@_lint("W0101")
+# Global: a global counts as used by a reference in any declaration.
+@_lint("W0101", local=False)
 def unused_declaration(program: _Program) -> Iterator[diag.Diagnostic]:
     for symbol in program.model.globals.values():
         if (
@@ -365,7 +459,8 @@ def unused_declaration(program: _Program) -> Iterator[diag.Diagnostic]:
 # ---------------------------------------------------------------- W0102 unused parameter / variable
 
 
-@_lint("W0102")
+# Local: a parameter or `pick`/quantifier variable is named only inside the declaration that declares it.
+@_lint("W0102", local=True)
 def unused_variable(program: _Program) -> Iterator[diag.Diagnostic]:
     for symbol in _params_with_body(program):
         if not program.used(symbol):
@@ -386,16 +481,16 @@ def _params_with_body(program: _Program) -> Iterator[Symbol]:
     """Parameters of the functions, procedures and actions defined in the root files whose
     use can be judged: an action without `mapping:` passes every parameter to the platform,
     and an exogenous action's parameters are set by its events."""
-    for symbol in program.model.globals.values():
+    for symbol in program.root_globals():
         decl = symbol.decl
-        if not program.in_root(symbol.span) or symbol.predefined or not symbol.is_defined:
+        if symbol.predefined or not symbol.is_defined:
             continue
         if isinstance(decl, ast.ActionDecl):
             if decl.exogenous or decl.section(ast.MappingSection) is None:
                 continue
         elif not isinstance(decl, ast.FunctionDecl | ast.ProcedureDecl):
             continue
-        yield from symbol.params
+        yield from (p for p in symbol.params if program.linted(p.span))
 
 
 def _variables(program: _Program) -> Iterator[Symbol]:
@@ -439,7 +534,8 @@ def _finite_values(t: Type | None) -> tuple[DomainValue, ...] | None:
     return None
 
 
-@_lint("W0103")
+# Local: the fluent's own `initially:` entries, against its parameter types (environment).
+@_lint("W0103", local=True)
 def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for decl in program.declarations():
@@ -548,7 +644,8 @@ def _literal(model: Model, e: ast.Expr) -> DomainValue | None:
 # ---------------------------------------------------------------- W0104 double effect
 
 
-@_lint("W0104")
+# Local: the effects of one action.
+@_lint("W0104", local=True)
 def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
     for decl in program.declarations():
         if not isinstance(decl, ast.ActionDecl):
@@ -579,7 +676,8 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
 # ---------------------------------------------------------------- W0105 pick/choose online
 
 
-@_lint("W0105")
+# Global: `planning_only` follows the calls of every procedure body.
+@_lint("W0105", local=False)
 def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
     for owner, found in program.body_statements(program.root_files):
         if owner is not None and id(owner) in program.planning_only:
@@ -651,7 +749,8 @@ def _effectful(s: ast.Statement) -> bool:
             assert_never(s)
 
 
-@_lint("W0106")
+# Local: the loop and the statements in its body.
+@_lint("W0106", local=True)
 def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
     effectful = program.statements_where(_ALL_STATEMENTS, _effectful)
     for node in program.nodes(ast.While):
@@ -724,7 +823,8 @@ def _conditions(program: _Program) -> Iterator[_Condition]:
             yield _Condition(e.condition, "effect condition", "the effect always applies", "the effect never applies")
 
 
-@_lint("W0107")
+# Local: one condition; its names and types come from the environment.
+@_lint("W0107", local=True)
 def constant_condition(program: _Program) -> Iterator[diag.Diagnostic]:
     for c in _conditions(program):
         value = _constant(program.model, c.expr)
@@ -738,7 +838,8 @@ def constant_condition(program: _Program) -> Iterator[diag.Diagnostic]:
             )
 
 
-@_lint("W0108")
+# Local: one `if` and its condition.
+@_lint("W0108", local=True)
 def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
     for node in program.nodes(ast.If):
         if node.otherwise is None:
@@ -820,20 +921,27 @@ def _is_bool(model: Model, *operands: ast.Expr) -> bool:
 # ---------------------------------------------------------------- W0109 solve without choice
 
 
-@_lint("W0109")
+# Global: `choosing` follows calls into other procedure bodies.
+@_lint("W0109", local=False)
 def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
-    choosing = program.statements_where((ast.Pick, ast.Choose, ast.CallStmt), lambda s: _chooses(program, s))
-    for node in program.nodes(ast.Solve):
-        if choosing.any_inside(node.body):
+    for _, found in program.body_statements(program.root_files):
+        solves = [s for s, _ in found if isinstance(s, ast.Solve)]
+        if not solves:
             continue
-        yield diag.warning(
-            "W0109",
-            "`solve` has nothing to decide: its program has no `pick` or `choose`",
-            keyword_span(node, "solve"),
-            "no choice to plan",
-            notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
-            help="add the `pick` or `choose` that `solve` should decide, or remove `solve`",
-        )
+        # The statements of this body that choose, to ask which of them a `solve` holds.
+        listed = {id(solves[0].span.source): [s for s, _ in found if _chooses(program, s)]}
+        choosing = _Within(partial(_by_start, listed))
+        for node in solves:
+            if choosing.any_inside(node.body):
+                continue
+            yield diag.warning(
+                "W0109",
+                "`solve` has nothing to decide: its program has no `pick` or `choose`",
+                keyword_span(node, "solve"),
+                "no choice to plan",
+                notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
+                help="add the `pick` or `choose` that `solve` should decide, or remove `solve`",
+            )
 
 
 def _chooses(program: _Program, s: ast.Statement) -> bool:
@@ -873,7 +981,8 @@ _FAMILIES: dict[Op, str] = {
 Shape = int | tuple[Op, "Shape", "Shape"]
 
 
-@_lint("W0110")
+# Local: one expression; its operand types come from the environment.
+@_lint("W0110", local=True)
 def mixed_precedence(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for top in program.chained_expressions():
@@ -1042,13 +1151,14 @@ def _sub_expressions(e: ast.Node) -> list[ast.Expr]:
 # ---------------------------------------------------------------- W0111 shadowed symbol
 
 
-@_lint("W0111")
+# Local: the declaration's locals against the domain symbols, declared in the environment.
+@_lint("W0111", local=True)
 def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
     symbols = program.model.symbols
     locals_: list[Symbol] = list(_variables(program))
-    for g in program.model.globals.values():
-        if program.in_root(g.span) and g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
-            locals_.extend(g.params)
+    for g in program.root_globals():
+        if g.kind is not SymbolKind.EXOG_FUNCTION and not g.predefined:
+            locals_.extend(p for p in g.params if program.linted(p.span))
     for local in locals_:
         shadowed = symbols.get(local.name)
         if shadowed is None or local.span is None or local.kind not in _LOCAL_KINDS:
@@ -1069,7 +1179,8 @@ def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
 _CONNECTIVES = frozenset({Op.AND, Op.OR, Op.IMPLIES})
 
 
-@_lint("W0112")
+# Local: one quantifier.
+@_lint("W0112", local=True)
 def quantifier_scope(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for node in program.nodes(ast.Quantified):
@@ -1154,7 +1265,8 @@ def _quantifier_head(node: ast.Quantified) -> Span:
 # ---------------------------------------------------------------- W0113 shared sensing result
 
 
-@_lint("W0113")
+# Local: one `senses:` section; the exogenous functions are declared in the environment.
+@_lint("W0113", local=True)
 def shared_sensing_result(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for section in program.nodes(ast.SensesSection):
@@ -1189,7 +1301,8 @@ def shared_sensing_result(program: _Program) -> Iterator[diag.Diagnostic]:
 _ENDING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL, ast.Hook.CANCEL})
 
 
-@_lint("W0114")
+# Global: an activity may be ended in any procedure body.
+@_lint("W0114", local=False)
 def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     ended: set[int] = set()
@@ -1199,7 +1312,7 @@ def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
                 action = model.target(s.action)
                 if action is not None:
                     ended.add(id(action))
-    for s in program.nodes(ast.HookStmt):
+    for s in program.root_statements(ast.HookStmt):
         action = model.target(s.action)
         if s.hook is not ast.Hook.START or action is None or id(action) in ended:
             continue
@@ -1220,7 +1333,8 @@ def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
 # ---------------------------------------------------------------- W0115 busy wait
 
 
-@_lint("W0115")
+# Local: the loop, and the function bodies (environment) its condition calls.
+@_lint("W0115", local=True)
 def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     moving = program.statements_where(_ALL_STATEMENTS, lambda s: not _still(model, s))

@@ -27,7 +27,6 @@ N = TypeVar("N", bound=ast.Node)
 # costs less than `object.__new__(Span)`, and its slots are set by plain assignment), then
 # turns it into a Span by setting its `__class__` (allowed between classes of the same layout):
 # the same object with less than half of the work.
-_new = object.__new__
 _SpanSlots: type = type("_SpanSlots", (), {"__slots__": Span.__slots__})
 
 
@@ -56,21 +55,42 @@ def span_lines(out: str, source: str, start: str, end: str, indent: str, names: 
     ]
 
 
+# A node is made the same way: an instance of a twin of its class (same base, same slots, so of
+# the same layout), its slots set by plain assignment, then its class set. Each field of a frozen
+# dataclass set through its slot's `__set__` (a call) instead costs about twice as much in all.
+_TWINS: dict[type, type] = {}
+
+
+def twin(cls: type[ast.Node]) -> type:
+    """The class of the same layout as the node class `cls` whose instances take plain
+    assignments to the slots (neither frozen nor with the dataclass's `__init__`)."""
+    made = _TWINS.get(cls)
+    if made is None:
+        namespace = {
+            "__slots__": cls.__slots__,
+            # Both of the base's, or attribute assignment would not take the plain path.
+            "__setattr__": object.__setattr__,
+            "__delattr__": object.__delattr__,
+            "__init__": object.__init__,
+        }
+        made = _TWINS.setdefault(cls, type(f"_{cls.__name__}Slots", cls.__bases__, namespace))
+    return made
+
+
 def node_lines(cls: type[ast.Node], values: dict[str, str], out: str, indent: str, names: dict[str, Any]) -> list[str]:
     """Python statements that set the variable `out` to a node of class `cls` whose fields are
-    the expressions `values[field]`: `object.__new__`, then each field set through its slot's
-    `__set__` (the frozen dataclass's `__init__` calls `object.__setattr__` for each field, at
-    twice the cost). `names` receives the globals they use. `fast_constructor` and the
-    relocators of gpp.syntax.incremental are made of these statements."""
+    the expressions `values[field]`: an instance of its `twin`, each slot set by plain
+    assignment, then its class set (the frozen dataclass's `__init__` calls
+    `object.__setattr__` for each field, at several times the cost). `names` receives the
+    globals they use. `fast_constructor` and the relocators of gpp.syntax.incremental are made
+    of these statements."""
     assert not hasattr(cls, "__post_init__"), cls
     name = cls.__name__
-    names["_new"] = _new
+    names[f"_T_{name}"] = twin(cls)
     names[f"_C_{name}"] = cls
-    lines = [f"{indent}{out} = _new(_C_{name})"]
-    for f in dataclasses.fields(cls):
-        setter = f"_set_{name}_{f.name}"
-        names[setter] = getattr(cls, f.name).__set__
-        lines.append(f"{indent}{setter}({out}, {values[f.name]})")
+    lines = [f"{indent}{out} = _T_{name}()"]
+    lines += [f"{indent}{out}.{f.name} = {values[f.name]}" for f in dataclasses.fields(cls)]
+    lines.append(f"{indent}{out}.__class__ = _C_{name}")
     return lines
 
 

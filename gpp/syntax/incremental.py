@@ -4,8 +4,10 @@
 declarations of the old parse that the changed region touches, parses only the new text of that
 region (a fragment, between two declaration boundaries) and splices the result between the
 declarations before and after it. Everything it returns points into the new file's `Source`
-with the new file's offsets: the declarations, tokens and diagnostics kept from the old parse
-are relocated (`relocate`, per-class code generated once from the AST's dataclass fields).
+with the new file's offsets: the declarations and diagnostics kept from the old parse are
+relocated (`relocate`, per-class code generated once from the AST's dataclass fields); the
+tokens kept are those of the old parse, those after the edit moved when the new parse's tokens
+are first read (`gpp.syntax.lexer.Tokens`).
 
 The result is exactly what `parse` of the new text gives, or there is none (None: the caller
 parses the whole file) when that is not certain:
@@ -45,7 +47,7 @@ from gpp import diagnostics as diag
 from gpp.perf import paused_gc
 from gpp.source import Source, Span
 from gpp.syntax import ast, build
-from gpp.syntax.lexer import Token
+from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.parser import ParseResult, parse
 
 # The token that ends a declaration at a clean boundary: nothing at the top level continues a
@@ -72,25 +74,27 @@ class Reparsed:
 # ---------------------------------------------------------------- relocation
 
 Relocator = Callable[[Any, Source, int], Any]
-# Made on first use (generating them takes about a tenth of a second, which a command that
-# parses each file once need not pay), complete before any thread sees them.
-_RELOCATORS: dict[type, Relocator] = {}
+# Made on first use (generating each table takes about a tenth of a second, which a command
+# that parses each file once need not pay), complete before any thread sees them: by whether
+# they move the spans (those that do not, for the declarations before an edit, add nothing).
+_RELOCATORS: dict[bool, dict[type, Relocator]] = {True: {}, False: {}}
 _GENERATING = threading.Lock()
 
 
-def relocators() -> dict[type, Relocator]:
+def relocators(moved: bool = True) -> dict[type, Relocator]:
     """The relocator of each syntax node class: (node, source, delta) -> a copy of the node with
-    every span moved by `delta` into `source`."""
-    if not _RELOCATORS:
+    every span moved by `delta` into `source`; with `moved` false, for a delta of 0 only."""
+    table = _RELOCATORS[moved]
+    if not table:
         with _GENERATING:
-            if not _RELOCATORS:
-                _RELOCATORS.update(_generate_relocators())
-    return _RELOCATORS
+            if not table:
+                table.update(_generate_relocators(moved))
+    return table
 
 
 def relocate(node: ast.Node, source: Source, delta: int) -> Any:
     """A copy of `node` with every span moved by `delta` into `source`."""
-    return relocators()[type(node)](node, source, delta)
+    return relocators(delta != 0)[type(node)](node, source, delta)
 
 
 def _node_classes() -> list[type[ast.Node]]:
@@ -119,7 +123,8 @@ class _Generator:
     `build.span_lines` (as `fast_constructor` makes its nodes), the fields that hold spans
     relocated first, into local variables."""
 
-    def __init__(self) -> None:
+    def __init__(self, moved: bool) -> None:
+        self.moved = moved  # whether the spans are moved by `d` (else `d` is 0)
         self.table: dict[type, Relocator] = {}
         self.names: dict[str, Any] = {"R": self.table}
         self.hints: dict[type, dict[str, Any]] = {}
@@ -171,7 +176,8 @@ class _Generator:
         """Statements that set `out` to the relocated `value` of type `tp` (a span, a node, a
         tuple of nodes, either or None)."""
         if tp is Span:
-            return build.span_lines(out, "src", f"{value}.start + d", f"{value}.end + d", indent, self.names)
+            plus = " + d" if self.moved else ""
+            return build.span_lines(out, "src", f"{value}.start{plus}", f"{value}.end{plus}", indent, self.names)
         if _is_node(tp):
             return self.dispatch((tp,), value, out, indent)
         args = typing.get_args(tp)
@@ -223,9 +229,9 @@ class _Generator:
         return self.table
 
 
-def _generate_relocators() -> dict[type, Relocator]:
+def _generate_relocators(moved: bool) -> dict[type, Relocator]:
     """One function per syntax node class (`_Generator`)."""
-    generator = _Generator()
+    generator = _Generator(moved)
     for cls in _INLINED:  # leaves: a span and plain values
         assert not any(_is_node(tp) for tp in generator.fields(cls).values()), cls
     return generator.generate()
@@ -291,30 +297,30 @@ def _common_suffix(a: str, b: str, limit: int) -> int:
     return lo
 
 
-def _token_start(t: Token) -> int:
-    return t.start
-
-
 class _Old:
-    """What the old parse says about its declaration boundaries."""
+    """What the old parse says about its declaration boundaries (its tokens read without
+    making their list, if it is not made)."""
 
     def __init__(self, result: ParseResult) -> None:
         self.result = result
         self.decls = result.program.declarations
-        self.tokens = result.tokens
+        self.tokens = result.lazy_tokens
         self.starts = [d.span.start for d in self.decls]
         self.ends = [d.span.end for d in self.decls]
 
     def clean_after(self, k: int) -> bool:
         """Does declaration k end with a token after which a new declaration starts cleanly?"""
         end = self.ends[k]
-        t = bisect_left(self.tokens, end, key=_token_start) - 1
-        return t >= 0 and self.tokens[t].end == end and self.tokens[t].type in _CLEAN_END
+        t = self.tokens.bisect_start(end) - 1
+        if t < 0:
+            return False
+        token = self.tokens.at(t)
+        return token.end == end and token.type in _CLEAN_END
 
     def adjacent(self, k: int) -> bool:
         """Is the token after declaration k the first one of declaration k + 1?"""
-        t = bisect_left(self.tokens, self.ends[k], key=_token_start)
-        return k + 1 < len(self.decls) and t < len(self.tokens) and self.tokens[t].start == self.starts[k + 1]
+        t = self.tokens.bisect_start(self.ends[k])
+        return k + 1 < len(self.decls) and t < len(self.tokens) and self.tokens.at(t).start == self.starts[k + 1]
 
     def boundary_before(self, i: int) -> int:
         """The greatest i' <= i such that the declarations before i' end cleanly."""
@@ -443,11 +449,12 @@ def _reparse(old_text: str, old: ParseResult, source: Source, splice_only: bool)
 
 def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseResult) -> ParseResult:
     """Old declarations [0, i), the fragment's, old declarations [j, n) moved by delta."""
-    reloc = relocators()
-    decls: list[ast.Decl] = [reloc[type(d)](d, source, 0) for d in old.decls[:i]]
+    kept = relocators(False)
+    decls: list[ast.Decl] = [kept[type(d)](d, source, 0) for d in old.decls[:i]]
     decls.extend(frag.program.declarations)
-    decls.extend([reloc[type(d)](d, source, delta) for d in old.decls[j:]])
-    new_tokens = _shifted_tokens(old, i, j, delta, frag.tokens)
+    moved = relocators(delta != 0)
+    decls.extend([moved[type(d)](d, source, delta) for d in old.decls[j:]])
+    new_tokens = _spliced_tokens(old, i, j, delta, frag.lazy_tokens)
     diagnostics = list(frag.diagnostics)
     if j < len(old.decls):
         cut = old.starts[j]
@@ -458,26 +465,12 @@ def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseRe
     return ParseResult(program, diagnostics, new_tokens)
 
 
-def _shifted_tokens(old: _Old, i: int, j: int, delta: int, middle: list[Token]) -> list[Token]:
-    """The old tokens before declaration i (shared: tokens hold no Source), `middle`, and the
-    old tokens from declaration j on, moved by `delta`."""
+def _spliced_tokens(old: _Old, i: int, j: int, delta: int, middle: Tokens) -> Tokens:
+    """The old tokens before declaration i, `middle`, and the old tokens from declaration j on,
+    moved by `delta`: made when first read (`Tokens`)."""
     tokens = old.tokens
-    lo = bisect_left(tokens, old.ends[i - 1], key=_token_start) if i > 0 else 0
-    hi = bisect_left(tokens, old.starts[j], key=_token_start) if j < len(old.decls) else len(tokens)
-    out = tokens[:lo]
-    out.extend(middle)
-    if not delta:
-        out.extend(tokens[hi:])
-        return out
-    # `object.__new__` and plain assignments to the slots: a call of `Token(...)` runs its
-    # `__init__` as well, at about twice the cost.
-    new = object.__new__
-    append = out.append
-    for t in tokens[hi:]:
-        moved = new(Token)
-        moved.type = t.type
-        moved.value = t.value
-        moved.start = t.start + delta
-        moved.end = t.end + delta
-        append(moved)
-    return out
+    lo = tokens.bisect_start(old.ends[i - 1]) if i > 0 else 0
+    hi = tokens.bisect_start(old.starts[j]) if j < len(old.decls) else len(tokens)
+    return Tokens.spliced(
+        [*tokens.pieces(0, lo, 0), *middle.pieces(0, len(middle), 0), *tokens.pieces(hi, len(tokens), delta)]
+    )

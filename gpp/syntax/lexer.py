@@ -18,6 +18,8 @@ scanning goes on, so one bad character never hides the rest of the file.
 from __future__ import annotations
 
 import re
+import threading
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -38,6 +40,134 @@ class Token:
 
     def __repr__(self) -> str:
         return f"Token({self.type}, {self.value!r}, {self.start})"
+
+
+# A piece of a token sequence: the tokens `tokens[lo:hi]` of a list, each moved by `delta`.
+Piece = tuple[list[Token], int, int, int]
+# A sequence spliced from more pieces than this is made at once (each re-parse that reads the
+# last one's pieces adds two, and the pieces keep the lists they cut from alive).
+MAX_PIECES = 9
+# Held while a sequence makes its list (rarely, briefly: one lock for all of them).
+_MAKING = threading.Lock()
+
+
+def _token_start(t: Token) -> int:
+    return t.start
+
+
+class Tokens:
+    """A file's tokens, as a list (`as_list`) that may be made only when first asked for.
+
+    An incremental re-parse (gpp.syntax.incremental) keeps the old parse's tokens: those before
+    the edit as they are, those after it moved by the edit's change of length. Copying the
+    latter for each keystroke costs milliseconds, and most checks read no tokens; so the
+    re-parse's tokens are pieces of other token lists (`Piece`), and the list is made from them
+    when first asked for, once: under a lock, since the language server reads the last check's
+    tokens on its event loop while its analysis thread works. Token lists are never changed
+    once parsed, so pieces read later (after more edits of the file) still read what they
+    read at first. `len`, `at` and `bisect_start` answer from the pieces without making the
+    list (the next re-parse finds its declaration boundaries with them), and `pieces` cuts
+    pieces out of them for the next splice.
+    """
+
+    __slots__ = ("_bounds", "_length", "_state")
+
+    def __init__(self, tokens: list[Token]) -> None:
+        """Tokens already made."""
+        # The list once made, else the pieces; one attribute, read once by each method, so
+        # that a thread that reads it while another makes the list sees one or the other.
+        self._state: list[Token] | tuple[Piece, ...] = tokens
+        # Where each piece begins in the sequence, and its length at the end.
+        self._bounds: list[int] = [0, len(tokens)]
+        self._length = len(tokens)
+
+    @classmethod
+    def spliced(cls, pieces: list[Piece]) -> Tokens:
+        """The tokens of `pieces`, one after the other (made when first asked for)."""
+        kept = tuple(p for p in pieces if p[2] > p[1])
+        made = cls([])
+        bounds = [0]
+        for _, lo, hi, _ in kept:
+            bounds.append(bounds[-1] + hi - lo)
+        made._bounds = bounds
+        made._length = bounds[-1]
+        made._state = _join(kept) if len(kept) > MAX_PIECES else kept
+        return made
+
+    def __len__(self) -> int:
+        return self._length
+
+    @property
+    def made(self) -> bool:
+        """Has the list been made?"""
+        return isinstance(self._state, list)
+
+    def as_list(self) -> list[Token]:
+        """The tokens, made now if they were not (the same list every time; do not change it)."""
+        state = self._state
+        if isinstance(state, list):
+            return state
+        with _MAKING:
+            state = self._state
+            if isinstance(state, list):
+                return state
+            tokens = _join(state)
+            self._state = tokens
+            return tokens
+
+    def at(self, k: int) -> Token:
+        """Token `k` (0 <= k < len): a moved copy if the list is not made."""
+        state = self._state
+        if isinstance(state, list):
+            return state[k]
+        p = bisect_right(self._bounds, k) - 1
+        tokens, lo, _, delta = state[p]
+        t = tokens[lo + k - self._bounds[p]]
+        return Token(t.type, t.value, t.start + delta, t.end + delta) if delta else t
+
+    def bisect_start(self, offset: int) -> int:
+        """The index of the first token that starts at or after `offset` (`bisect_left` by start)."""
+        state = self._state
+        if isinstance(state, list):
+            return bisect_left(state, offset, key=_token_start)
+        for p, (tokens, lo, hi, delta) in enumerate(state):
+            if tokens[hi - 1].start + delta >= offset:
+                return self._bounds[p] + bisect_left(tokens, offset - delta, lo, hi, key=_token_start) - lo
+        return self._length
+
+    def pieces(self, lo: int, hi: int, delta: int) -> list[Piece]:
+        """Tokens [lo, hi) of this sequence moved by `delta`, as pieces."""
+        state = self._state
+        if isinstance(state, list):
+            return [(state, lo, hi, delta)]
+        out: list[Piece] = []
+        bounds = self._bounds
+        for p, (tokens, first, _, moved) in enumerate(state):
+            a, b = max(lo, bounds[p]), min(hi, bounds[p + 1])
+            if a < b:
+                out.append((tokens, first + a - bounds[p], first + b - bounds[p], moved + delta))
+        return out
+
+
+def _join(pieces: tuple[Piece, ...]) -> list[Token]:
+    """The tokens of `pieces` in one list (those not moved shared: tokens hold no Source)."""
+    out: list[Token] = []
+    # `object.__new__` and plain assignments to the slots: a call of `Token(...)` runs its
+    # `__init__` as well, at about twice the cost.
+    new = object.__new__
+    append = out.append
+    for tokens, lo, hi, delta in pieces:
+        if not delta:
+            out += tokens[lo:hi]
+            continue
+        for t in tokens[lo:hi]:
+            moved = new(Token)
+            moved.type = t.type
+            moved.value = t.value
+            moved.start = t.start + delta
+            moved.end = t.end + delta
+            append(moved)
+    return out
 
 
 @dataclass(frozen=True, slots=True)

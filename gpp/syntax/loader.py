@@ -26,7 +26,7 @@ from gpp.resources import stdlib_dir
 from gpp.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
 from gpp.syntax.incremental import Reparsed, reparse
-from gpp.syntax.lexer import Token
+from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.parser import ParseResult, parse
 
 
@@ -35,9 +35,14 @@ class ParsedFile:
     path: Path  # resolved, absolute
     source: Source
     program: ast.Program
-    tokens: list[Token]
+    # The tokens, made when first read (`tokens`) if the file was re-parsed incrementally.
+    lazy_tokens: Tokens
     # The resolved files this one includes, in order.
     includes: tuple[Path, ...]
+
+    @property
+    def tokens(self) -> list[Token]:
+        return self.lazy_tokens.as_list()
 
 
 @dataclass
@@ -224,7 +229,7 @@ class _Loader:
     def skip(self, path: Path, source: Source) -> None:
         """Record a file that is not text as one without declarations: it is not parsed."""
         program = ast.Program(span=Span(source, 0, len(source.text)), declarations=())
-        done = ParsedFile(path, source, program, [], ())
+        done = ParsedFile(path, source, program, Tokens([]), ())
         self.loaded[path] = done
         self.result.files.append(done)
 
@@ -234,13 +239,13 @@ class _Loader:
         self.result.diagnostics.extend(parsed.diagnostics)
         includes: list[Path] = []
         # Registered before its includes are visited, so that a cycle back to it is found.
-        self.loaded[path] = ParsedFile(path, source, parsed.program, parsed.tokens, ())
+        self.loaded[path] = ParsedFile(path, source, parsed.program, parsed.lazy_tokens, ())
         for decl in parsed.program.declarations:
             if isinstance(decl, ast.Include):
                 target = self.include(path, decl, chain)
                 if target is not None:
                     includes.append(target)
-        done = ParsedFile(path, source, parsed.program, parsed.tokens, tuple(includes))
+        done = ParsedFile(path, source, parsed.program, parsed.lazy_tokens, tuple(includes))
         self.loaded[path] = done
         self.result.files.append(done)
 

@@ -25,7 +25,7 @@ from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
 from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
 from gpp.syntax.legacy import modernize
-from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, tokenize
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, Token, Tokens, tokenize
 from gpp.syntax.tables import Rule, Tables, first_sets, load_tables
 
 
@@ -33,7 +33,12 @@ from gpp.syntax.tables import Rule, Tables, first_sets, load_tables
 class ParseResult:
     program: ast.Program
     diagnostics: list[diag.Diagnostic]
-    tokens: list[Token]
+    # The tokens; after an incremental re-parse, made when first read (`tokens`).
+    lazy_tokens: Tokens
+
+    @property
+    def tokens(self) -> list[Token]:
+        return self.lazy_tokens.as_list()
 
     @property
     def ok(self) -> bool:
@@ -57,7 +62,7 @@ def parse(source: Source) -> ParseResult:
     diagnostics.extend(parser.builder.diagnostics)
     diagnostics.extend(too_deep)
     diagnostics.sort(key=diag.Diagnostic.sort_key)
-    return ParseResult(program, diagnostics, tokens)
+    return ParseResult(program, diagnostics, Tokens(tokens))
 
 
 def parse_text(text: str, path: str = "<input>") -> ParseResult:

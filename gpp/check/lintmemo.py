@@ -1,0 +1,165 @@
+"""Lints after an edit: only the declarations the edit touched are linted anew.
+
+The language server checks a program at every keystroke; most of it did not change. The lints
+(gpp.check.lints) are of two sorts, written in their registry:
+
+* a *local* lint: whether and what it warns about a node depends only on the top-level
+  declaration holding the node and on the program's *environment*: every declaration of the
+  root file except the `{...}` body of a procedure, the included files, the lints allowed and
+  the root set. (W0102 unused parameter: a parameter is named only in its own declaration;
+  W0103 uninitialised fluent: the fluent's `initially:` and its parameter types...)
+* a *global* lint reads facts across declarations (W0101 unused: a use anywhere counts; W0105,
+  W0109: calls followed into other procedure bodies; W0114: an `end` anywhere). They run over
+  the whole program at every check, as `run_lints` does.
+
+A check made with a `LintMemo` (`gpp.check.check_loaded(memo=...)`; `gpp.session.Session`
+passes the one of the program's previous check) hands back a new one: the environment, and per
+top-level declaration of the root file, in order, its kind, its exact text, where it started
+and the local lints' warnings about it (their primary span is in it). The next check, when its
+environment is the previous one exactly, has the same declarations in the same order with the
+same headers; the i-th declaration whose kind and text are those of the previous i-th one gets
+the old warnings back, relocated: every span of a warning (primary, labels, fix edits) lies in
+some declaration whose text did not change, and moves with it. The local lints then run only
+over the other declarations (`run_lints_split`). A warning with a span outside every unchanged
+declaration, in another file, or in one that moved by another distance than its own
+declaration, is not reused: its declaration is linted anew.
+
+Anything else (more than one root file, a legacy main block, another environment) lints the
+whole program, as `run_lints`, and notes the result for next time; a check with syntax errors
+runs no lints and passes the memo on unchanged. The result is exactly `run_lints`'s: the same
+warnings, and where two have the same place and code, in the same order (tests/test_lint_reuse.py
+compares after random edits).
+
+A memo holds warnings and texts, never a check result or a syntax tree: results do not chain,
+and the memo makes no reference cycle.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from collections.abc import Collection
+from dataclasses import dataclass
+from pathlib import Path
+
+from gpp import diagnostics as diag
+from gpp.check.lints import run_lints, run_lints_split, skipped_lints
+from gpp.model.model import Model
+from gpp.source import Source, Span
+from gpp.syntax import ast
+from gpp.syntax.incremental import _diagnostic_spans, _relocate_diagnostic
+from gpp.syntax.loader import ParsedFile
+
+
+@dataclass(frozen=True, slots=True)
+class _Declaration:
+    """A top-level declaration of the root file, as the memo keeps it."""
+
+    kind: type[ast.Decl]
+    text: str
+    start: int
+    warnings: tuple[diag.Diagnostic, ...]  # the local lints' warnings about it, in `run_lints` order
+
+    @property
+    def end(self) -> int:
+        return self.start + len(self.text)
+
+
+@dataclass(frozen=True, slots=True)
+class LintMemo:
+    """The local lints' warnings of a check, per declaration, for the next check to reuse.
+    `LintMemo()` holds nothing: a check made with it lints all and notes the result."""
+
+    environment: tuple[object, ...] | None = None
+    source: Source | None = None  # the root file's, to which the warnings' spans refer
+    declarations: tuple[_Declaration, ...] = ()
+    reused: int = 0  # how many declarations' warnings the check that made it took over
+
+
+def lint_again(
+    model: Model, roots: Collection[Path], allow: Collection[str], memo: LintMemo
+) -> tuple[list[diag.Diagnostic], LintMemo]:
+    """The warnings `run_lints` gives, reusing what `memo` knows; and the memo for next time."""
+    root_files = [f for f in model.files if f.path in roots]
+    if len(root_files) != 1 or any(isinstance(d, ast.MainBlock) for d in root_files[0].program.declarations):
+        return run_lints(model, roots, allow), LintMemo()
+    root = root_files[0]
+    decls = root.program.declarations
+    source = root.source
+    texts = [source.text[d.span.start : d.span.end] for d in decls]
+    environment = _environment(model, root, roots, allow)
+    reused: dict[int, tuple[diag.Diagnostic, ...]] = {}
+    if memo.environment == environment and memo.source is not None and len(memo.declarations) == len(decls):
+        reused = _relocated(memo, memo.source, decls, texts, source)
+    relint = [d for k, d in enumerate(decls) if k not in reused]
+    global_warnings, local = run_lints_split(model, roots, allow, relint if reused else None)
+    fresh = _by_declaration(local, decls, source)
+    if fresh is None or not fresh.keys().isdisjoint(reused):
+        # A local lint warned outside the declaration it looked at: not what the memo can keep.
+        return run_lints(model, roots, allow), LintMemo()
+    entries = tuple(
+        _Declaration(type(d), texts[k], d.span.start, reused[k] if k in reused else tuple(fresh.get(k, ())))
+        for k, d in enumerate(decls)
+    )
+    found = global_warnings + [w for e in entries for w in e.warnings]
+    return found, LintMemo(environment, source, entries, len(reused))
+
+
+def _environment(model: Model, root: ParsedFile, roots: Collection[Path], allow: Collection[str]) -> tuple[object, ...]:
+    """What the local lints may read besides the declaration they look at: the root file's
+    declarations without the bodies of procedures (whether there is one counts), the other
+    files of the program, the lints skipped and the roots."""
+    text = root.source.text
+    headers: list[tuple[object, ...]] = []
+    for d in root.program.declarations:
+        if isinstance(d, ast.ProcedureDecl) and d.body is not None:
+            body = d.body.span
+            headers.append((type(d), text[d.span.start : body.start], text[body.end : d.span.end]))
+        else:
+            headers.append((type(d), text[d.span.start : d.span.end]))
+    others = tuple((f.path, f.source.text) for f in model.files if f is not root)
+    return root.path, frozenset(roots), skipped_lints(allow), tuple(headers), others
+
+
+def _relocated(
+    memo: LintMemo, old_source: Source, decls: tuple[ast.Decl, ...], texts: list[str], source: Source
+) -> dict[int, tuple[diag.Diagnostic, ...]]:
+    """The old warnings of the declarations (by index) whose kind and text did not change,
+    moved to where they are now; a declaration with a warning that cannot be moved so is left
+    out."""
+    old = memo.declarations
+    same = [k for k, d in enumerate(decls) if old[k].text == texts[k] and old[k].kind is type(d)]
+    # Where the unchanged declarations were, and how far each moved.
+    starts = [old[k].start for k in same]
+    ends = [old[k].end for k in same]
+    moves = [decls[k].span.start - old[k].start for k in same]
+
+    def moved(span: Span) -> int | None:
+        j = bisect_right(starts, span.start) - 1
+        inside = span.source is old_source and j >= 0 and span.end <= ends[j]
+        return moves[j] if inside else None
+
+    out: dict[int, tuple[diag.Diagnostic, ...]] = {}
+    for k in same:
+        warnings = old[k].warnings
+        if not warnings:
+            out[k] = ()
+            continue
+        delta = decls[k].span.start - old[k].start
+        if all(moved(span) == delta for w in warnings for span in _diagnostic_spans(w)):
+            out[k] = tuple(_relocate_diagnostic(w, source, delta) for w in warnings)
+    return out
+
+
+def _by_declaration(
+    warnings: list[diag.Diagnostic], decls: tuple[ast.Decl, ...], source: Source
+) -> dict[int, list[diag.Diagnostic]] | None:
+    """The warnings per declaration (by index) their primary span is in, in order; None when
+    one is in none."""
+    starts = [d.span.start for d in decls]
+    out: dict[int, list[diag.Diagnostic]] = {}
+    for w in warnings:
+        k = bisect_right(starts, w.span.start) - 1
+        if w.span.source is not source or k < 0 or w.span.end > decls[k].span.end:
+            return None
+        out.setdefault(k, []).append(w)
+    return out
