@@ -310,71 +310,98 @@ class Collector:
     """When the cyclic garbage collector runs in a process that checks again and again.
 
     A check allocates a tree, a model and results (hundreds of thousands of objects for a
-    large program) that live until the next check and then die as garbage in cycles. Left to
-    itself, the collector scans them in the middle of the next check: tens of milliseconds for
-    a young generation full of a new tree, hundreds for a full collection. So, around each
-    round of checks:
+    large program) that live until the next check replaces them. They hold no reference
+    cycles, so they die by reference counting; the collector is only needed for the few cycles
+    other code makes (asyncio, the protocol, exceptions). Left to itself it would scan the
+    new objects again and again in the middle of a check (tens of milliseconds), and every
+    full collection would scan all the live results too. So:
 
-    * `pause` (before a round): the collector stops; the first time, what the process holds
-      then (its modules, the stable part of the heap) is frozen (`gc.freeze`: left out of
-      every later scan; nothing of it is garbage);
-    * `settle` (after the round, its results published): one full collection frees the
-      previous round's results, and the collector runs again as it did before `pause`.
+    * `pause` (before a round of checks): the collector stops; the first time, what the
+      process holds then (its modules, the stable part of the heap) is collected and frozen
+      (`gc.freeze`: left out of every later scan);
+    * `settle` (after the round's checks): what the round made is frozen too, without a scan
+      (the new results, and whatever garbage the round left), and the collector runs again as
+      it did before `pause`, over the objects made since: its collections between rounds stay
+      small, whatever the size of the checked programs;
+    * `collect` (when the typing has paused for a while): everything is unfrozen, collected
+      once (the cycles left by the rounds since the last `collect` are freed) and frozen again.
+      Only then does a collection scan the whole heap.
 
-    Nothing stays behind: after each `settle` the heap holds the latest results only. A round
-    followed by another at once (edits coalesced while it ran) stays paused, but at most
-    `max_paused` rounds in a row, so a long burst of typing does not pile up garbage.
+    Past the first two rounds after a `collect`, the frozen part grows only by the cyclic garbage of
+    the rounds (the results of a round die by reference counting when the next replaces them).
+    `due` says when it has grown by more than `max_growth` (a fraction) since then: a
+    long burst of typing without a pause then collects, once its diagnostics are out, rather
+    than pile up garbage.
     """
 
-    def __init__(self, max_paused: int = 8) -> None:
-        self.max_paused = max_paused
+    def __init__(self, max_growth: float = 1.0) -> None:
+        self.max_growth = max_growth
         self.collections = 0
-        self.paused_rounds = 0
+        self.rounds = 0  # settled since the last `collect`
         self._resume: bool | None = None  # while paused: whether the collector ran before
         self._frozen = False
+        self._baseline = 0  # the frozen objects after the first two rounds since the last `collect`
 
     @property
     def paused(self) -> bool:
         return self._resume is not None
 
     @property
+    def pending(self) -> bool:
+        """Whether rounds have run since the last `collect` (their cycles, if any, wait for it)."""
+        return self.rounds > 0
+
+    @property
     def due(self) -> bool:
-        """Whether `max_paused` rounds in a row have run paused: the next `pause` would
-        collect first. (The language server collects then, once the round's diagnostics are
-        out, rather than at the start of the next round.)"""
-        return self.paused_rounds >= self.max_paused
+        """Whether the frozen objects grew by more than `max_growth` since the first two
+        rounds after the last `collect` (the cyclic garbage of many rounds, or new documents checked):
+        the next `collect` should not wait for a pause."""
+        return self.rounds > 2 and gc.get_freeze_count() > self._baseline * (1 + self.max_growth)
 
     def pause(self) -> None:
         """Before a round of checks."""
-        if self._resume is None:
-            self._resume = gc.isenabled()
-            gc.disable()
-            if not self._frozen:
-                gc.collect()
-                gc.freeze()
-                self._frozen = True
-        self.paused_rounds += 1
-        if self.paused_rounds > self.max_paused:
-            self.settle()
-            self.pause()
+        if self._resume is not None:
+            return
+        self._resume = gc.isenabled()
+        gc.disable()
+        if not self._frozen:
+            gc.collect()
+            gc.freeze()
+            self._frozen = True
 
     def settle(self) -> None:
-        """After a round, its results published: collect, and let the collector run again."""
+        """After a round's checks: freeze what it made, let the collector run again."""
         if self._resume is None:
             return
-        gc.collect()
-        self.collections += 1
+        gc.freeze()
+        self._frozen = True
+        self.rounds += 1
+        if self.rounds <= 2:  # (the second holds the check it replaces too)
+            self._baseline = max(self._baseline if self.rounds == 2 else 0, gc.get_freeze_count())
         if self._resume:
             gc.enable()
         self._resume = None
-        self.paused_rounds = 0
+
+    def collect(self) -> None:
+        """The full collection the rounds left for later (when the typing pauses)."""
+        self.settle()
+        if self._frozen:
+            gc.unfreeze()
+        gc.collect()
+        self.collections += 1
+        self.rounds = 0
+        if self._frozen:
+            gc.freeze()
 
     def release(self) -> None:
-        """Settle, and unfreeze what `pause` froze (when the session ends)."""
+        """Collect, and unfreeze what `pause` and `settle` froze (when the session ends)."""
         self.settle()
         if self._frozen:
             gc.unfreeze()
             self._frozen = False
+        gc.collect()
+        self.collections += 1
+        self.rounds = 0
 
 
 class AnalysisThread:
