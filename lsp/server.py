@@ -36,7 +36,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import functools
+import inspect
 import itertools
+import json
 import os
 import stat
 import sys
@@ -231,10 +233,11 @@ class GppServer(LanguageServer):
         self.uris: dict[Path, str] = {}
         # The latest checks of each open document: (version, the programs' results).
         self.results: dict[Path, tuple[int, list[CheckResult]]] = {}
-        # What was published last for each document: (version, diagnostics).
-        self._published: dict[Path, tuple[int, list[dict[str, Any]]]] = {}
-        # The JSON of the diagnostics published last for each document (diagnostics_json).
-        self._converted: dict[Path, dict[tuple[object, ...], dict[str, Any]]] = {}
+        # What was published last for each document: (version, diagnostics as JSON texts).
+        self._published: dict[Path, tuple[int, list[str]]] = {}
+        # The JSON texts of the diagnostics published last for each document (diagnostics_json).
+        self._converted: dict[Path, dict[tuple[object, ...], str]] = {}
+        self._writes: set[asyncio.Future[Any]] = set()  # (send_json's, until done)
         self._running = False
         self._again = False
         self._round_done: asyncio.Event | None = None
@@ -378,10 +381,13 @@ class GppServer(LanguageServer):
             if self._published.get(path) != (version, lsp_diags):
                 self.timeline.mark("convert")  # (with those of documents not published again)
                 self._published[path] = (version, lsp_diags)
-                # (Sent as JSON objects: pygls would convert the lsprotocol objects again.)
-                params = {"uri": self.uri_of(path), "diagnostics": lsp_diags, "version": version}
-                message = {"jsonrpc": "2.0", "method": types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, "params": params}
-                self.protocol._send_data(message)
+                # (Sent as JSON text, the diagnostics' texts kept from the last time: pygls
+                # would convert lsprotocol's objects again, and encode them all again.)
+                self.send_json(
+                    f'{{"jsonrpc": "2.0", "method": "{types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS}", "params": '
+                    f'{{"uri": {json.dumps(self.uri_of(path))}, "diagnostics": [{", ".join(lsp_diags)}], '
+                    f'"version": {version}}}}}'
+                )
                 self.timeline.mark("publish")
                 published.append(f"{path.name} v{version} ({len(lsp_diags)} diagnostics)")
         self.timeline.report(", ".join(published) or "nothing published")
@@ -460,19 +466,35 @@ class GppServer(LanguageServer):
 
     # ------------------------------------------------------------ conversions
 
-    def diagnostics_json(self, path: Path, problems: Sequence[diag.Diagnostic]) -> list[dict[str, Any]]:
-        """The diagnostics of a document as the protocol's JSON objects. A diagnostic that was
-        published for the document last time too (same code, message, place, ...) is not
-        converted again: an edit changes a few of them, and converting one costs tens of
-        microseconds (lsprotocol's objects, then cattrs)."""
+    def send_json(self, body: str) -> None:
+        """Write one message, given as JSON text, as pygls' `_send_data` writes the ones it
+        encodes."""
+        protocol = self.protocol
+        if protocol.writer is None:
+            return
+        data = body.encode(protocol.CHARSET)
+        if protocol._include_headers:
+            header = f"Content-Length: {len(data)}\r\nContent-Type: {protocol.CONTENT_TYPE}; charset={protocol.CHARSET}"
+            data = f"{header}\r\n\r\n".encode(protocol.CHARSET) + data
+        written = protocol.writer.write(data)
+        if inspect.isawaitable(written):  # (a writer of pygls' other transports)
+            task = asyncio.ensure_future(written)
+            self._writes.add(task)
+            task.add_done_callback(self._writes.discard)
+
+    def diagnostics_json(self, path: Path, problems: Sequence[diag.Diagnostic]) -> list[str]:
+        """The diagnostics of a document as the JSON texts of the protocol's objects. A
+        diagnostic that was published for the document last time too (same code, message,
+        place, ...) is not converted again: an edit changes a few of them, and converting one
+        costs tens of microseconds (lsprotocol's objects, then cattrs, then json)."""
         before = self._converted.get(path, {})
-        now: dict[tuple[object, ...], dict[str, Any]] = {}
-        out: list[dict[str, Any]] = []
+        now: dict[tuple[object, ...], str] = {}
+        out: list[str] = []
         for d in problems:
             key = self._lsp_key(d)
             found = now.get(key) or before.get(key)
             if found is None:
-                found = self.protocol._converter.unstructure(self.to_lsp(d))
+                found = json.dumps(self.protocol._converter.unstructure(self.to_lsp(d)))
             now[key] = found
             out.append(found)
         self._converted[path] = now
