@@ -29,7 +29,7 @@ import re
 import threading
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import Future
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TypeVar
 
@@ -59,6 +59,12 @@ class Document:
     path: Path
     text: str
     version: int
+    # Its text as a Source, for positions: the line starts are found once per version (by
+    # the first edit or request that needs them), not again by each.
+    source: Source = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "source", Source(self.text))
 
     @property
     def directives(self) -> dict[str, str]:
@@ -71,13 +77,15 @@ class Document:
 LspEdit = tuple[tuple[tuple[int, int], tuple[int, int]] | None, str]
 
 
-def apply_edits(text: str, edits: Iterable[LspEdit]) -> str:
-    """The text after an editor's incremental changes, applied one after the other."""
+def apply_edits(text: str, edits: Iterable[LspEdit], source: Source | None = None) -> str:
+    """The text after an editor's incremental changes, applied one after the other (`source`:
+    `text` as a Source, if there is one already)."""
     for where, new in edits:
         if where is None:
             text = new
             continue
-        source = Source(text)
+        if source is None or source.text is not text:
+            source = Source(text)
         (l1, c1), (l2, c2) = where
         start = source.lsp_offset(l1, c1)
         end = max(start, source.lsp_offset(l2, c2))
@@ -123,7 +131,8 @@ class Session:
         resolved = path.resolve()
         with self._lock:
             old = self._documents.get(resolved)
-        return self.open(resolved, apply_edits(old.text if old else "", edits), version)
+        text = apply_edits(old.text, edits, old.source) if old else apply_edits("", edits)
+        return self.open(resolved, text, version)
 
     def close(self, path: Path) -> None:
         resolved = path.resolve()

@@ -60,7 +60,7 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 from gpp import __version__
 from gpp import diagnostics as diag
 from gpp.check import CheckResult
-from gpp.session import AnalysisThread, Collector, LspEdit, Session, diagnostics_in
+from gpp.session import AnalysisThread, Collector, Document, LspEdit, Session, diagnostics_in
 from gpp.source import Span
 from lsp.codes_doc import code_url
 
@@ -449,14 +449,14 @@ class GppServer(LanguageServer):
             except TimeoutError:
                 return None
 
-    def earlier_check(self, path: Path) -> tuple[CheckResult, str] | None:
+    def earlier_check(self, path: Path) -> tuple[CheckResult, Document] | None:
         """When a document changed since its last check: that check (of the program it
-        belongs to first) and the document's text now; else None."""
+        belongs to first) and the document now; else None."""
         doc = self.session.document(path)
         known = self.results.get(path)
         if doc is None or known is None or known[0] == doc.version or not known[1]:
             return None
-        return known[1][0], doc.text
+        return known[1][0], doc
 
     async def on_request_thread(self, fn: Callable[[], R]) -> R:
         return await asyncio.wrap_future(self.requests.submit(fn))
