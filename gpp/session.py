@@ -336,24 +336,20 @@ class Collector:
       once (the cycles left by the rounds since the last `collect` are freed) and frozen again.
       Only then does a collection scan the whole heap.
 
-    Past the first two rounds after a `collect` (a new check, and the one it replaces), the
-    frozen part grows only by the cyclic garbage of the rounds (the results of a round die by
-    reference counting when the next replaces them). `due` says when it has grown by more than
-    `max_growth` (a fraction of the heap after the last `collect`): a long burst of typing
-    without a pause then collects, once its diagnostics are out, rather than pile up garbage.
-    (The growth is the collector's own count of the objects made and not freed while it was
-    paused: counting the frozen objects walks them all, 13 ms for the 1,000-line program.)
+    The frozen part grows only by the cyclic garbage of the rounds (the results of a round die
+    by reference counting when the next replaces them): a few objects a round. `due` says when
+    `max_rounds` rounds have run since the last `collect`: a long burst of typing without a
+    pause then collects, once its diagnostics are out, rather than pile up garbage for ever.
+    (Counting the frozen objects instead walks them all: 13 ms for the 1,000-line program.)
     """
 
-    def __init__(self, max_growth: float = 1.0) -> None:
-        self.max_growth = max_growth
+    def __init__(self, max_rounds: int = 200) -> None:
+        self.max_rounds = max_rounds
         self.collections = 0
+        self.freed = 0  # the unreachable objects the last `collect` found
         self.rounds = 0  # settled since the last `collect`
         self._resume: bool | None = None  # while paused: whether the collector ran before
         self._frozen = False
-        self._baseline = 0  # the objects frozen by the last `collect`
-        self._grown = 0  # the objects frozen since, after the first two rounds
-        self._count = 0  # the collector's count of new objects when paused
 
     @property
     def paused(self) -> bool:
@@ -366,10 +362,9 @@ class Collector:
 
     @property
     def due(self) -> bool:
-        """Whether the frozen objects grew by more than `max_growth` since the first two
-        rounds after the last `collect` (the cyclic garbage of many rounds, or new documents
-        checked): the next `collect` should not wait for a pause."""
-        return self._grown > self._baseline * self.max_growth
+        """Whether `max_rounds` rounds have run since the last `collect`: the next should not
+        wait for a pause."""
+        return self.rounds >= self.max_rounds
 
     def pause(self) -> None:
         """Before a round of checks."""
@@ -377,20 +372,16 @@ class Collector:
             return
         self._resume = gc.isenabled()
         gc.disable()
-        self._count = gc.get_count()[0]
         if not self._frozen:
             gc.collect()
             gc.freeze()
             self._frozen = True
-            self._baseline = gc.get_freeze_count()
 
     def settle(self) -> None:
         """After a round's checks: freeze what it made, let the collector run again."""
         if self._resume is None:
             return
         self.rounds += 1
-        if self.rounds > 2:
-            self._grown += gc.get_count()[0] - self._count  # (made minus freed since `pause`)
         gc.freeze()
         self._frozen = True
         if self._resume:
@@ -402,12 +393,11 @@ class Collector:
         self.settle()
         if self._frozen:
             gc.unfreeze()
-        gc.collect()
+        self.freed = gc.collect()
         self.collections += 1
-        self.rounds = self._grown = 0
+        self.rounds = 0
         if self._frozen:
             gc.freeze()
-            self._baseline = gc.get_freeze_count()  # (walks them: after a full collection)
 
     def release(self) -> None:
         """Collect, and unfreeze what `pause` and `settle` froze (when the session ends)."""
@@ -415,7 +405,7 @@ class Collector:
         if self._frozen:
             gc.unfreeze()
             self._frozen = False
-        gc.collect()
+        self.freed = gc.collect()
         self.collections += 1
         self.rounds = 0
 

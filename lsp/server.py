@@ -11,10 +11,11 @@ Threads:
 * the garbage collector does not run during a round of checks, and what a round made is frozen
   out of its way after it (gpp.session.Collector): its collections between rounds only look at
   the objects made since. The full collection of what the rounds left runs on the analysis
-  thread once no edit came for SETTLE_AFTER_SECONDS (or, in a burst that left much, after a
-  round's diagnostics are out). The checks a round replaces are freed (by reference counting)
-  on the event loop once no edit came for FREE_AFTER_SECONDS, else at the end of the next
-  round: not while a request sent with the next keystroke is being answered;
+  thread once no edit came for SETTLE_AFTER_SECONDS (or, after Collector.max_rounds rounds
+  without such a pause, once a round's diagnostics are out). The checks a round replaces are
+  freed (by reference counting) on the event loop once no edit came for FREE_AFTER_SECONDS,
+  else at the end of the next round: not while a request sent with the next keystroke is
+  being answered;
 * the request thread runs the features (completion, hover, ...) on the latest check of the
   document's current version, so that a request does not wait behind a running analysis
   unless the document changed since the last one. Completion does not wait even then: it
@@ -395,7 +396,7 @@ class GppServer(LanguageServer):
             self._round_done.set()
             self._round_done = None
         if self.collector.due:
-            # A long burst left much garbage: collect now that its diagnostics are out, not at
+            # A long burst without a pause: collect now that its diagnostics are out, not at
             # the start of the next round.
             self.analysis.submit(functools.partial(self._collect, f"after {self.collector.rounds} rounds"))
         if self._again:
@@ -425,7 +426,10 @@ class GppServer(LanguageServer):
         """On the analysis thread: a full collection (a line in the timeline)."""
         t0 = time.perf_counter()
         self.collector.collect()
-        self.timeline.write(f"garbage collected, {why}", [("start", t0), ("collect", time.perf_counter())])
+        done = time.perf_counter()
+        self.timeline.write(
+            f"garbage collected, {why} ({self.collector.freed} objects freed)", [("start", t0), ("collect", done)]
+        )
 
     async def result_for(self, uri: str) -> tuple[CheckResult, Path] | None:
         """The check of the program (the first one) a document belongs to, for its current

@@ -396,7 +396,9 @@ async def test_the_timeline_names_each_round_and_its_steps(tmp_path: Path) -> No
     # Nothing collected during the burst (what each round made is frozen out of the collector's
     # way instead), once when the typing paused.
     assert lines[:-1] == rounds, lines
-    assert re.fullmatch(r"garbage collected, the typing paused: collect \d+\.\d = \d+\.\d ms", lines[-1]), lines
+    assert re.fullmatch(
+        r"garbage collected, the typing paused \(\d+ objects freed\): collect \d+\.\d = \d+\.\d ms", lines[-1]
+    ), lines
 
 
 def test_the_server_reads_stdin_from_a_file_too(tmp_path: Path) -> None:
