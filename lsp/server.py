@@ -11,8 +11,9 @@ Threads:
 * the garbage collector does not run during a round of checks, and what a round made is frozen
   out of its way after it (gpp.session.Collector): its collections between rounds only look at
   the objects made since. The full collection of what the rounds left runs on the analysis
-  thread once no edit came for SETTLE_AFTER_SECONDS (or, after Collector.max_rounds rounds
-  without such a pause, once a round's diagnostics are out). The checks a round replaces are
+  thread once no edit came for SETTLE_AFTER_SECONDS after Collector.min_rounds rounds (or,
+  after Collector.max_rounds rounds without such a pause, once a round's diagnostics are
+  out). The checks a round replaces are
   freed (by reference counting) on the event loop once no edit came for FREE_AFTER_SECONDS,
   else at the end of the next round: not while a request sent with the next keystroke is
   being answered;

@@ -205,7 +205,7 @@ def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Col
     assert dead() is not None  # none ran
     collector.settle()
     assert gc.isenabled() and gc.get_threshold() == thresholds and not collector.paused
-    assert collector.pending and collector.collections == 0
+    assert collector.rounds == 1 and collector.collections == 0
     # A process that had the collector off keeps it off.
     gc.disable()
     collector.pause()
@@ -234,17 +234,17 @@ def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collec
     assert gc.isenabled() and gc.get_freeze_count() > 0  # the rest is frozen again
 
 
-def test_a_long_burst_of_rounds_makes_the_collection_due(collector: Collector) -> None:
-    collector.max_rounds = 3
+def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(collector: Collector) -> None:
+    collector.min_rounds, collector.max_rounds = 2, 3
     refs = []
-    for _ in range(3):
-        assert not collector.due
+    for rounds in range(3):
+        assert (collector.pending, collector.due) == (rounds >= 2, False)
         collector.pause()
         refs.append(_garbage())
         collector.settle()
-    assert collector.due and [r() is not None for r in refs] == [True, True, True]
+    assert collector.pending and collector.due and [r() is not None for r in refs] == [True, True, True]
     collector.collect()
-    assert not collector.due and [r() is None for r in refs] == [True, True, True]
+    assert not collector.pending and not collector.due and [r() is None for r in refs] == [True, True, True]
     assert collector.freed >= 3  # (the three cycles, and whatever else the test process left)
 
 
