@@ -248,6 +248,31 @@ def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(colle
     assert collector.freed >= 3  # (the three cycles, and whatever else the test process left)
 
 
+def test_collections_that_find_little_garbage_are_made_rarer(collector: Collector) -> None:
+    collector.first_min_rounds = collector.min_rounds = 2
+    gc.collect()
+
+    def rounds(n: int, cycles: int) -> None:
+        for _ in range(n):
+            collector.pause()
+            for _ in range(cycles):
+                _Cycle()
+            collector.settle()
+
+    rounds(2, 0)
+    assert collector.pending
+    collector.collect()
+    assert collector.freed < 2 and collector.min_rounds == 4 and not collector.pending
+    rounds(3, 0)
+    assert not collector.pending
+    rounds(1, 0)
+    collector.collect()
+    assert collector.min_rounds == 8
+    rounds(8, 10)  # (80 cycles)
+    collector.collect()
+    assert collector.freed >= 80 and collector.min_rounds == 2
+
+
 def _heap() -> int:
     """The objects the collector tracks, frozen or not."""
     return len(gc.get_objects()) + gc.get_freeze_count()
