@@ -4,8 +4,9 @@ Run: .venv/bin/python bench/lsp.py [--quick] [--lines 1000] [--against OTHER_CHE
 
 For generated programs of 1,000 and 10,000 lines it measures, as the client sees it:
 * edit -> diagnostics: the time from sending a `didChange` (one character typed) to receiving
-  the `publishDiagnostics` for that version, for an edit on the last line and one in the middle
-  of the document;
+  the `publishDiagnostics` for that version, for a space typed at the start of the last line
+  and of the middle one (between declarations: no token changes), and for a letter typed into
+  a name in a procedure's body in the middle (an unknown name while it is there);
 * completion and hover round trips on the analysed document (no edit pending), and completion
   as an editor asks for it, at once after typing a letter (the check of that version running);
 and, in-process, where an edit's analysis spends its time (the parse of the changed file, the
@@ -56,6 +57,7 @@ SERVER = [sys.executable, "-m", "gpp", "lsp"]
 TARGETS = {
     ("1,000 lines", "edit end -> diags"): 0.050,
     ("1,000 lines", "edit middle -> diags"): 0.050,
+    ("1,000 lines", "edit in body -> diags"): 0.050,
     ("1,000 lines", "completion"): 0.010,
     ("1,000 lines", "completion after key"): 0.010,
 }
@@ -70,6 +72,7 @@ class Client(LanguageClient):
     def __init__(self) -> None:
         super().__init__("gpp-bench", "1")
         self.published: dict[tuple[str, int | None], float] = {}
+        self.counts: dict[tuple[str, int | None], int] = {}  # how many diagnostics
         self.waiters: dict[tuple[str, int | None], asyncio.Future[float]] = {}
         self.arrived = 0.0  # when the bytes of the message being handled arrived
         self.decoding: list[float] = []
@@ -80,6 +83,7 @@ class Client(LanguageClient):
             self.decoding.append(time.perf_counter() - now)
             key = (params.uri, params.version)
             self.published[key] = now
+            self.counts[key] = len(params.diagnostics)
             waiter = self.waiters.pop(key, None)
             if waiter is not None and not waiter.done():
                 waiter.set_result(now)
@@ -136,20 +140,33 @@ async def measure(client: Client, folder: Path, lines: int, edits: int, requests
     first = await client.published_at(uri, 1)
     results: dict[str, list[float]] = {"open": [first - t0]}
     # Type a space at the start of a line and delete it again, one version each: on the last
-    # line (the easiest case for incremental work), then on the middle one.
+    # line (the easiest case for incremental work), then on the middle one (both between two
+    # declarations: no token changes). Then a letter typed into a name in the body of a
+    # procedure in the middle, and deleted again: `mo|ve9(` -> `mox|ve9(`, an unknown name (an
+    # error more) while it is there.
     source = Source(text)
     version = 1
-    for where, line in (("end", source.line_count() - 2), ("middle", source.line_count() // 2)):
+    middle = source.line_count() // 2
+    body = text.index("\n", text.index("\nprocedure ", source.lsp_offset(middle, 0)) + 1) + 1
+    body_line, body_char = source.lsp_position(text.index("move", body) + 2)
+    places = [
+        ("end", source.line_count() - 2, 0, " "),
+        ("middle", middle, 0, " "),
+        ("in body", body_line, body_char, "x"),
+    ]
+    for where, line, char, letter in places:
         changes: list[float] = []
         for k in range(edits):
             version += 1
-            rng = types.Range(types.Position(line, 0), types.Position(line, 0 if k % 2 == 0 else 1))
-            change = types.TextDocumentContentChangePartial(range=rng, text=" " if k % 2 == 0 else "")
+            rng = types.Range(types.Position(line, char), types.Position(line, char if k % 2 == 0 else char + 1))
+            change = types.TextDocumentContentChangePartial(range=rng, text=letter if k % 2 == 0 else "")
             identifier = types.VersionedTextDocumentIdentifier(uri=uri, version=version)
             t0 = time.perf_counter()
             client.text_document_did_change(types.DidChangeTextDocumentParams(identifier, [change]))
             changes.append(await client.published_at(uri, version) - t0)
         results[f"edit {where} -> diags"] = changes
+        counts = sorted({client.counts[(uri, v)] for v in range(version - edits + 1, version + 1)})
+        print(f"{lines:,} lines, edit {where}: {' or '.join(map(str, counts))} diagnostics")
     # A position inside the body of a procedure, on a name.
     offset = text.rindex("count0(") + 2
     line, char = source.lsp_position(offset)
@@ -269,7 +286,7 @@ def table_row(cells: list[tuple[str, int]]) -> str:
 
 async def main_async(quick: bool, against: str | None, sizes: list[int], timeline: str | None) -> None:
     rows, other_rows = await run_servers(quick, against, sizes, timeline)
-    widths = [-13, -20, 4, 9, 9, 7] + ([9, 10] if against is not None else [])
+    widths = [-13, -21, 4, 9, 9, 7] + ([9, 10] if against is not None else [])
     names = ["program", "what", "runs", "median", "p90", "target", "other", "other/this"]
     print()
     print(table_row(list(zip(names, widths, strict=False))))

@@ -110,11 +110,11 @@ def register_features(server: GppServer) -> None:
             # Typed since the last check: answer from it now rather than wait for the next,
             # on the event loop (a millisecond of work): on the request thread it would wait
             # twice more for the running check to hand over the interpreter lock.
-            result, text = earlier
-            offset = Source(text).lsp_offset(where.line, where.character)
+            result, doc = earlier
+            offset = doc.source.lsp_offset(where.line, where.character)
             if marks is not None:
                 marks.append(("offset", time.perf_counter()))
-            found = features.completion_after_edit(result, path, text, offset)
+            found = features.completion_after_edit(result, path, doc.text, offset)
             if found is not None:
                 if marks is not None:
                     ls.timeline.write("completion from the last check", [*marks, ("answered", time.perf_counter())])

@@ -8,9 +8,14 @@ Threads:
   belong to. Edits that arrive while it works are coalesced into one next round, and a result
   is published only if its document has not changed since: a stale analysis is dropped, never
   published over a newer one;
-* the garbage collector does not run during a round of checks: once the diagnostics are out
-  and no edit came for SETTLE_AFTER_SECONDS, the analysis thread collects the garbage of the
-  previous rounds (gpp.session.Collector);
+* the garbage collector does not run during a round of checks, and what a round made is frozen
+  out of its way after it (gpp.session.Collector): its collections between rounds only look at
+  the objects made since. The full collection of what the rounds left runs on the analysis
+  thread once no edit came for SETTLE_AFTER_SECONDS after Collector.min_rounds rounds (or,
+  after Collector.max_rounds rounds without such a pause, once a round's diagnostics are
+  out). The checks a round replaces are freed (by reference counting) on the event loop once
+  no edit came for FREE_AFTER_SECONDS, else at the end of the next round: not while a request
+  sent with the next keystroke is being answered;
 * the request thread runs the features (completion, hover, ...) on the latest check of the
   document's current version, so that a request does not wait behind a running analysis
   unless the document changed since the last one. Completion does not wait even then: it
@@ -32,7 +37,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import functools
+import inspect
 import itertools
+import json
 import os
 import stat
 import sys
@@ -54,7 +61,7 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 from gpp import __version__
 from gpp import diagnostics as diag
 from gpp.check import CheckResult
-from gpp.session import AnalysisThread, Collector, LspEdit, Session, diagnostics_in
+from gpp.session import AnalysisThread, Collector, Document, LspEdit, Session, diagnostics_in
 from gpp.source import Span
 from lsp.codes_doc import code_url
 
@@ -69,7 +76,9 @@ _SEVERITY = {
     diag.Severity.NOTE: types.DiagnosticSeverity.Information,
 }
 # How long after a round of checks, if no edit came since, the garbage collector catches up.
-SETTLE_AFTER_SECONDS = 0.5
+SETTLE_AFTER_SECONDS = 1.0
+# How long after a round of checks, if no edit came since, the checks it replaced are freed.
+FREE_AFTER_SECONDS = 0.02
 # How many times the event loop goes round before a round of checks starts: a request an
 # editor sends with the edit (completion after a keystroke) is read, answered and written in
 # those turns, before the check competes with it for the interpreter lock. (Microseconds.)
@@ -88,7 +97,8 @@ class Timeline:
 
     `edit` the first change not yet checked arrived (the handler ran) -> `queue` the round was
     submitted -> `wait` the analysis thread began it -> `pause` the collector paused -> `check`
-    the programs checked -> `back` the event loop took the results -> `convert` the diagnostics
+    the programs checked -> `free` the checks replaced by the last round freed (unless a pause
+    after it freed them) -> `back` the event loop took the results -> `convert` the diagnostics
     converted -> `publish` written and flushed."""
 
     def __init__(self, file: str | None) -> None:
@@ -224,14 +234,18 @@ class GppServer(LanguageServer):
         self.uris: dict[Path, str] = {}
         # The latest checks of each open document: (version, the programs' results).
         self.results: dict[Path, tuple[int, list[CheckResult]]] = {}
-        # What was published last for each document: (version, diagnostics).
-        self._published: dict[Path, tuple[int, list[dict[str, Any]]]] = {}
-        # The JSON of the diagnostics published last for each document (diagnostics_json).
-        self._converted: dict[Path, dict[tuple[object, ...], dict[str, Any]]] = {}
+        # What was published last for each document: (version, diagnostics as JSON texts).
+        self._published: dict[Path, tuple[int, list[str]]] = {}
+        # The JSON texts of the diagnostics published last for each document (diagnostics_json).
+        self._converted: dict[Path, dict[tuple[object, ...], str]] = {}
+        self._writes: set[asyncio.Future[Any]] = set()  # (send_json's, until done)
         self._running = False
         self._again = False
         self._round_done: asyncio.Event | None = None
         self._settle: asyncio.TimerHandle | None = None
+        # The checks replaced by the last rounds, not freed yet (_free_now, or the next round).
+        self._garbage: list[object] = []
+        self._free: asyncio.TimerHandle | None = None
         self.timeline = Timeline(os.environ.get("GPP_LSP_TIMING"))
 
     def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
@@ -286,9 +300,10 @@ class GppServer(LanguageServer):
             self._again = True
             return
         self._running = True
-        if self._settle is not None:
-            self._settle.cancel()  # typing goes on: collect later
-            self._settle = None
+        for timer in (self._settle, self._free):
+            if timer is not None:
+                timer.cancel()  # typing goes on: collect later, free in the round
+        self._settle = self._free = None
         self.timeline.start()
         self._start_round(START_AFTER_TURNS)
 
@@ -298,11 +313,18 @@ class GppServer(LanguageServer):
         if turns > 0:
             loop.call_soon(self._start_round, turns - 1)
             return
-        future = self.analysis.submit(self._analyze)
+        garbage, self._garbage = self._garbage, []
+        future = self.analysis.submit(functools.partial(self._analyze, garbage))
         future.add_done_callback(lambda f: loop.call_soon_threadsafe(self._analyzed, f))
 
-    def _analyze(self) -> dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]:
-        """On the analysis thread: check every open document's programs."""
+    def _analyze(
+        self, garbage: list[object]
+    ) -> dict[Path, tuple[int, list[CheckResult], list[diag.Diagnostic]] | BaseException]:
+        """On the analysis thread: check every open document's programs, then free `garbage`
+        (the checks the last rounds replaced). Not before: freeing a tree is one stretch of the
+        interpreter's own code that does not let go of the interpreter lock (5 to 15 ms for
+        1,000 lines), and a request sent with the keystroke (completion) may still come in
+        the round's first milliseconds."""
         self.timeline.mark("wait")
         self.collector.pause()
         self.timeline.mark("pause")
@@ -319,6 +341,9 @@ class GppServer(LanguageServer):
             except Exception as e:
                 out[path] = e
         self.timeline.mark("check")
+        garbage.clear()
+        self.collector.settle()
+        self.timeline.mark("free")
         return out
 
     def _analyzed(
@@ -328,9 +353,6 @@ class GppServer(LanguageServer):
         self.timeline.mark("back")
         self._running = False
         published: list[str] = []
-        # The checks these replace: freed (by reference counting, a whole tree and model: 5 ms
-        # for 1,000 lines) on the analysis thread once the diagnostics are out, not before.
-        replaced: list[object] = []
         try:
             found = future.result()
         except Exception as e:
@@ -348,7 +370,10 @@ class GppServer(LanguageServer):
             version, results, problems = outcome
             if version != doc.version:
                 continue  # stale: the document changed meanwhile, the next round publishes
-            replaced.append(self.results.get(path))
+            # The check this replaces: freed (by reference counting, a whole tree and model:
+            # 5 to 15 ms for 1,000 lines) once the diagnostics are out, not before (_free_now,
+            # or at the end of the next round).
+            self._garbage.append(self.results.get(path))
             self.results[path] = (version, results)
             try:
                 lsp_diags = self.diagnostics_json(path, problems)
@@ -358,41 +383,54 @@ class GppServer(LanguageServer):
             if self._published.get(path) != (version, lsp_diags):
                 self.timeline.mark("convert")  # (with those of documents not published again)
                 self._published[path] = (version, lsp_diags)
-                # (Sent as JSON objects: pygls would convert the lsprotocol objects again.)
-                params = {"uri": self.uri_of(path), "diagnostics": lsp_diags, "version": version}
-                message = {"jsonrpc": "2.0", "method": types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS, "params": params}
-                self.protocol._send_data(message)
+                # (Sent as JSON text, the diagnostics' texts kept from the last time: pygls
+                # would convert lsprotocol's objects again, and encode them all again.)
+                self.send_json(
+                    f'{{"jsonrpc": "2.0", "method": "{types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS}", "params": '
+                    f'{{"uri": {json.dumps(self.uri_of(path))}, "diagnostics": [{", ".join(lsp_diags)}], '
+                    f'"version": {version}}}}}'
+                )
                 self.timeline.mark("publish")
                 published.append(f"{path.name} v{version} ({len(lsp_diags)} diagnostics)")
         self.timeline.report(", ".join(published) or "nothing published")
-        if replaced:
-            self.analysis.submit(replaced.clear)
         if self._round_done is not None:
             self._round_done.set()
             self._round_done = None
-        due = self.collector.due
-        if due:
-            # A long burst: collect now that its diagnostics are out, not at the start of the
-            # next round, where a completion sent with the next keystroke would wait for it.
-            self.analysis.submit(functools.partial(self._collect, f"after {self.collector.paused_rounds} rounds"))
+        if self.collector.due:
+            # A long burst without a pause: collect now that its diagnostics are out, not at
+            # the start of the next round.
+            self.analysis.submit(functools.partial(self._collect, f"after {self.collector.rounds} rounds"))
         if self._again:
             self._again = False
             self.schedule()
-        elif self.collector.paused and not due:
+            return
+        loop = asyncio.get_running_loop()
+        if self._garbage:
+            self._free = loop.call_later(FREE_AFTER_SECONDS, self._free_now)
+        if self.collector.pending:
             # Collect the garbage of the rounds once the typing pauses.
-            loop = asyncio.get_running_loop()
             self._settle = loop.call_later(SETTLE_AFTER_SECONDS, self._settle_now)
+
+    def _free_now(self) -> None:
+        """On the event loop, no round running: free the checks the last rounds replaced. (A
+        request that comes meanwhile waits for it, but does not share the interpreter lock
+        with it, handing it over again and again.)"""
+        self._free = None
+        self._garbage.clear()
 
     def _settle_now(self) -> None:
         self._settle = None
-        if not self._running:
+        if not self._running and self.collector.pending:
             self.analysis.submit(functools.partial(self._collect, "the typing paused"))
 
     def _collect(self, why: str) -> None:
-        """On the analysis thread: the collector settles (a line in the timeline)."""
+        """On the analysis thread: a full collection (a line in the timeline)."""
         t0 = time.perf_counter()
-        self.collector.settle()
-        self.timeline.write(f"garbage collected, {why}", [("start", t0), ("collect", time.perf_counter())])
+        self.collector.collect()
+        done = time.perf_counter()
+        self.timeline.write(
+            f"garbage collected, {why} ({self.collector.freed} objects freed)", [("start", t0), ("collect", done)]
+        )
 
     async def result_for(self, uri: str) -> tuple[CheckResult, Path] | None:
         """The check of the program (the first one) a document belongs to, for its current
@@ -416,14 +454,14 @@ class GppServer(LanguageServer):
             except TimeoutError:
                 return None
 
-    def earlier_check(self, path: Path) -> tuple[CheckResult, str] | None:
+    def earlier_check(self, path: Path) -> tuple[CheckResult, Document] | None:
         """When a document changed since its last check: that check (of the program it
-        belongs to first) and the document's text now; else None."""
+        belongs to first) and the document now; else None."""
         doc = self.session.document(path)
         known = self.results.get(path)
         if doc is None or known is None or known[0] == doc.version or not known[1]:
             return None
-        return known[1][0], doc.text
+        return known[1][0], doc
 
     async def on_request_thread(self, fn: Callable[[], R]) -> R:
         return await asyncio.wrap_future(self.requests.submit(fn))
@@ -433,19 +471,35 @@ class GppServer(LanguageServer):
 
     # ------------------------------------------------------------ conversions
 
-    def diagnostics_json(self, path: Path, problems: Sequence[diag.Diagnostic]) -> list[dict[str, Any]]:
-        """The diagnostics of a document as the protocol's JSON objects. A diagnostic that was
-        published for the document last time too (same code, message, place, ...) is not
-        converted again: an edit changes a few of them, and converting one costs tens of
-        microseconds (lsprotocol's objects, then cattrs)."""
+    def send_json(self, body: str) -> None:
+        """Write one message, given as JSON text, as pygls' `_send_data` writes the ones it
+        encodes."""
+        protocol = self.protocol
+        if protocol.writer is None:
+            return
+        data = body.encode(protocol.CHARSET)
+        if protocol._include_headers:
+            header = f"Content-Length: {len(data)}\r\nContent-Type: {protocol.CONTENT_TYPE}; charset={protocol.CHARSET}"
+            data = f"{header}\r\n\r\n".encode(protocol.CHARSET) + data
+        written = protocol.writer.write(data)
+        if inspect.isawaitable(written):  # (a writer of pygls' other transports)
+            task = asyncio.ensure_future(written)
+            self._writes.add(task)
+            task.add_done_callback(self._writes.discard)
+
+    def diagnostics_json(self, path: Path, problems: Sequence[diag.Diagnostic]) -> list[str]:
+        """The diagnostics of a document as the JSON texts of the protocol's objects. A
+        diagnostic that was published for the document last time too (same code, message,
+        place, ...) is not converted again: an edit changes a few of them, and converting one
+        costs tens of microseconds (lsprotocol's objects, then cattrs, then json)."""
         before = self._converted.get(path, {})
-        now: dict[tuple[object, ...], dict[str, Any]] = {}
-        out: list[dict[str, Any]] = []
+        now: dict[tuple[object, ...], str] = {}
+        out: list[str] = []
         for d in problems:
             key = self._lsp_key(d)
             found = now.get(key) or before.get(key)
             if found is None:
-                found = self.protocol._converter.unstructure(self.to_lsp(d))
+                found = json.dumps(self.protocol._converter.unstructure(self.to_lsp(d)))
             now[key] = found
             out.append(found)
         self._converted[path] = now

@@ -204,9 +204,8 @@ def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Col
     _ = [[i] for i in range(100_000)]  # allocations that would start collections
     assert dead() is not None  # none ran
     collector.settle()
-    assert dead() is None
     assert gc.isenabled() and gc.get_threshold() == thresholds and not collector.paused
-    assert collector.collections == 1
+    assert collector.rounds == 1 and collector.collections == 0
     # A process that had the collector off keeps it off.
     gc.disable()
     collector.pause()
@@ -214,34 +213,89 @@ def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Col
     assert not gc.isenabled()
 
 
-def test_a_long_burst_of_rounds_is_collected_every_max_paused_rounds(collector: Collector) -> None:
-    collector.max_paused = 3
+def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collector: Collector) -> None:
+    """What a round made is frozen: no collection scans it (nor frees its cycles) until
+    `collect`, which frees the cycles of all the rounds since the last one."""
+    gc.enable()
     refs = []
     for _ in range(3):
         collector.pause()
-        assert collector.due == (collector.paused_rounds == 3)
         refs.append(_garbage())
-    assert [r() is not None for r in refs] == [True, True, True] and collector.collections == 0
-    assert collector.paused_rounds == 3
-    assert collector.due
-    collector.pause()  # the fourth round in a row: the first three are collected first
-    assert [r() is None for r in refs] == [True, True, True] and collector.collections == 1
-    assert collector.paused and not gc.isenabled() and not collector.due
+        collector.settle()
+        gc.collect()  # (as the collector would between rounds: the round's objects are not seen)
+    assert [r() is not None for r in refs] == [True, True, True]
+    assert collector.rounds == 3 and collector.collections == 0
+    made_since = _garbage()  # between rounds: an ordinary collection frees it
+    gc.collect()
+    assert made_since() is None
+    collector.collect()
+    assert [r() is None for r in refs] == [True, True, True]
+    assert collector.collections == 1 and not collector.pending
+    assert gc.isenabled() and gc.get_freeze_count() > 0  # the rest is frozen again
+
+
+def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(collector: Collector) -> None:
+    collector.min_rounds, collector.max_rounds = 2, 3
+    refs = []
+    for rounds in range(3):
+        assert (collector.pending, collector.due) == (rounds >= 2, False)
+        collector.pause()
+        refs.append(_garbage())
+        collector.settle()
+    assert collector.pending and collector.due and [r() is not None for r in refs] == [True, True, True]
+    collector.collect()
+    assert not collector.pending and not collector.due and [r() is None for r in refs] == [True, True, True]
+    assert collector.freed >= 3  # (the three cycles, and whatever else the test process left)
+
+
+def test_collections_that_find_little_garbage_are_made_rarer(collector: Collector) -> None:
+    collector.first_min_rounds = collector.min_rounds = 2
+    gc.collect()
+
+    def rounds(n: int, cycles: int) -> None:
+        for _ in range(n):
+            collector.pause()
+            for _ in range(cycles):
+                _Cycle()
+            collector.settle()
+
+    rounds(2, 0)
+    assert collector.pending
+    collector.collect()
+    assert collector.freed < 2 and collector.min_rounds == 4 and not collector.pending
+    rounds(3, 0)
+    assert not collector.pending
+    rounds(1, 0)
+    collector.collect()
+    assert collector.min_rounds == 8
+    rounds(8, 10)  # (80 cycles)
+    collector.collect()
+    assert collector.freed >= 80 and collector.min_rounds == 2
+
+
+def _heap() -> int:
+    """The objects the collector tracks, frozen or not."""
+    return len(gc.get_objects()) + gc.get_freeze_count()
 
 
 def test_a_long_session_does_not_grow_the_heap(collector: Collector, tmp_path: Path) -> None:
+    """A burst of rounds, none collected: each round's check replaces the last one's, which
+    dies by reference counting, frozen or not."""
     path = (tmp_path / "a.gpp").resolve()
     text = "".join(f"action a{i}(number n) {{ }}\nprocedure p{i}() {{ a{i}(1); }}\n" for i in range(40))
     session = Session()
     session.open(path, text + "procedure main() { }\n", 1)
     tracked = []
-    for version in range(2, 14):
+    for version in range(2, 32):
         collector.pause()
         session.edit(path, [(((80, 19), (80, 19)), " " if version % 2 else "")], version)
         [result] = session.results_for(path)
         assert result.errors == 0
         del result
         collector.settle()
-        tracked.append(len(gc.get_objects()))
-    # Each round's check replaces the last one's: after the first rounds the heap stays as it was.
+        tracked.append(_heap())
+    assert collector.collections == 0 and collector.rounds == 30
+    # After the first rounds the heap stays as it was (a check of this program: thousands of objects).
     assert max(tracked[3:]) <= tracked[2] + 100, tracked
+    collector.collect()
+    assert _heap() <= tracked[-1]

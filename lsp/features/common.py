@@ -125,13 +125,13 @@ def comments(file: ParsedFile) -> list[tuple[int, int]]:
     text = file.source.text
     tokens = file.tokens
     out: list[tuple[int, int]] = []
-    done = 0  # where the last comment ended
-    for match in _COMMENT_START.finditer(text):
+    at = 0  # where to look for the next one (after the last comment: `/*/*//` has `//` at 4)
+    while (match := _COMMENT_START.search(text, at)) is not None:
         i = match.start()
-        if i < done:
-            continue
+        at = i + 1
         k = bisect_right(tokens, i, key=_start) - 1
         if k >= 0 and tokens[k].end > i:
+            at = tokens[k].end
             continue  # in a token (a string, say)
         gap_end = tokens[k + 1].start if k + 1 < len(tokens) else len(text)
         if i + 2 > gap_end:
@@ -143,7 +143,7 @@ def comments(file: ParsedFile) -> list[tuple[int, int]]:
             j = text.find("*/", i + 2)
             j = gap_end if j < 0 or j + 2 > gap_end else j + 2
         out.append((i, j))
-        done = j
+        at = j
     return out
 
 
