@@ -59,6 +59,8 @@ bench: $(VENV)/.installed
 	$(BIN)/python bench/parse_speed.py
 	$(BIN)/python bench/incparse.py
 	$(BIN)/python bench/lints.py --sizes 1000 10000
+	$(BIN)/python bench/lint_reuse.py
+	$(BIN)/python bench/model_speed.py
 	$(BIN)/python bench/lsp.py
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py
