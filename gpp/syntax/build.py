@@ -21,13 +21,34 @@ from gpp.syntax.lexer import Token, number_value, unescape_string
 Child = Any  # a Token, an ast.Node or (for a few helper rules) a tuple of them
 N = TypeVar("N", bound=ast.Node)
 
-# A parse makes a Span for about every token. `Span(...)` runs the frozen dataclass's
-# `__init__`, which sets each field through `object.__setattr__`. `make_span` makes an instance
-# of `_SpanSlots` instead (a class with Span's base and slots, so of the same layout: calling it
-# costs less than `object.__new__(Span)`, and its slots are set by plain assignment), then
-# turns it into a Span by setting its `__class__` (allowed between classes of the same layout):
-# the same object with less than half of the work.
-_SpanSlots: type = type("_SpanSlots", (), {"__slots__": Span.__slots__})
+
+# A parse makes a Span for about every token, and a node for most. `Span(...)` runs the frozen
+# dataclass's `__init__`, which sets each field through `object.__setattr__`; each field set
+# through its slot's `__set__` (a call) costs about twice a plain assignment. So spans and nodes
+# are made as an instance of the `twin` of their class (same base, same slots, so of the same
+# layout: calling it costs less than `object.__new__(cls)`), their slots set by plain
+# assignment, then turned into the real class by setting `__class__` (allowed between classes
+# of the same layout): the same object with less than half of the work.
+_TWINS: dict[type, type] = {}
+
+
+def twin(cls: type) -> type:
+    """The class of the same layout as the slotted (frozen) dataclass `cls` whose instances
+    take plain assignments to the slots (neither frozen nor with the dataclass's `__init__`)."""
+    made = _TWINS.get(cls)
+    if made is None:
+        namespace = {
+            "__slots__": vars(cls)["__slots__"],
+            # Both of the base's, or attribute assignment would not take the plain path.
+            "__setattr__": object.__setattr__,
+            "__delattr__": object.__delattr__,
+            "__init__": object.__init__,
+        }
+        made = _TWINS.setdefault(cls, type(f"_{cls.__name__}Slots", cls.__bases__, namespace))
+    return made
+
+
+_SpanSlots = twin(Span)
 
 
 def make_span(source: Source, start: int, end: int) -> Span:
@@ -53,28 +74,6 @@ def span_lines(out: str, source: str, start: str, end: str, indent: str, names: 
         f"{indent}{out}.end = {end}",
         f"{indent}{out}.__class__ = _Span",
     ]
-
-
-# A node is made the same way: an instance of a twin of its class (same base, same slots, so of
-# the same layout), its slots set by plain assignment, then its class set. Each field of a frozen
-# dataclass set through its slot's `__set__` (a call) instead costs about twice as much in all.
-_TWINS: dict[type, type] = {}
-
-
-def twin(cls: type[ast.Node]) -> type:
-    """The class of the same layout as the node class `cls` whose instances take plain
-    assignments to the slots (neither frozen nor with the dataclass's `__init__`)."""
-    made = _TWINS.get(cls)
-    if made is None:
-        namespace = {
-            "__slots__": cls.__slots__,
-            # Both of the base's, or attribute assignment would not take the plain path.
-            "__setattr__": object.__setattr__,
-            "__delattr__": object.__delattr__,
-            "__init__": object.__init__,
-        }
-        made = _TWINS.setdefault(cls, type(f"_{cls.__name__}Slots", cls.__bases__, namespace))
-    return made
 
 
 def node_lines(cls: type[ast.Node], values: dict[str, str], out: str, indent: str, names: dict[str, Any]) -> list[str]:
