@@ -276,7 +276,7 @@ def test_another_environment_lints_everything() -> None:
 
 def test_a_relocation_off_by_one_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
     """The comparison above sees a warning moved one character too far."""
-    relocate = lintmemo._relocate_diagnostic
+    relocate = lintmemo.relocate_diagnostic
 
     def off_by_one(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
         return relocate(d, source, delta + 1)
@@ -284,7 +284,7 @@ def test_a_relocation_off_by_one_is_caught(monkeypatch: pytest.MonkeyPatch) -> N
     session = Session()
     session.check(BENCH_PATH, {BENCH_PATH: BENCH})
     edited = middle_body_edit(BENCH, "x")
-    monkeypatch.setattr(lintmemo, "_relocate_diagnostic", off_by_one)
+    monkeypatch.setattr(lintmemo, "relocate_diagnostic", off_by_one)
     got = session.check(BENCH_PATH, {BENCH_PATH: edited})
     want = from_scratch(BENCH_PATH, edited)
     assert len(got.diagnostics) == len(want.diagnostics)

@@ -46,7 +46,7 @@ from gpp.check.lints import run_lints, run_lints_split, skipped_lints
 from gpp.model.model import Model
 from gpp.source import Source, Span
 from gpp.syntax import ast
-from gpp.syntax.incremental import _diagnostic_spans, _relocate_diagnostic
+from gpp.syntax.incremental import diagnostic_spans, relocate_diagnostic
 from gpp.syntax.loader import ParsedFile
 
 
@@ -145,8 +145,8 @@ def _relocated(
             out[k] = ()
             continue
         delta = decls[k].span.start - old[k].start
-        if all(moved(span) == delta for w in warnings for span in _diagnostic_spans(w)):
-            out[k] = tuple(_relocate_diagnostic(w, source, delta) for w in warnings)
+        if all(moved(span) == delta for w in warnings for span in diagnostic_spans(w)):
+            out[k] = tuple(relocate_diagnostic(w, source, delta) for w in warnings)
     return out
 
 

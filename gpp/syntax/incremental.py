@@ -237,7 +237,10 @@ def _generate_relocators(moved: bool) -> dict[type, Relocator]:
     return generator.generate()
 
 
-def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
+def relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:
+    """`d` with every span (primary, labels, fix edits: `diagnostic_spans`) moved by `delta`
+    into `source` (the re-parse's kept diagnostics, and gpp.check.lintmemo's kept warnings)."""
+
     def span(s: Span) -> Span:
         return Span(source, s.start + delta, s.end + delta)
 
@@ -252,7 +255,8 @@ def _relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag
     )
 
 
-def _diagnostic_spans(d: diag.Diagnostic) -> list[Span]:
+def diagnostic_spans(d: diag.Diagnostic) -> list[Span]:
+    """Every span of `d`: its own, its labels', its fix edits'."""
     spans = [d.span, *(label.span for label in d.secondary)]
     if d.fix is not None:
         spans.extend(e.span for e in d.fix.edits)
@@ -407,7 +411,7 @@ def _reparse(old_text: str, old: ParseResult, source: Source, splice_only: bool)
     info = _Old(old)
     old_source = old.program.span.source
     # Where the old parse's first diagnostic (any of its spans) is, if it has one.
-    first_diag = min((sp.start for d in old.diagnostics for sp in _diagnostic_spans(d)), default=None)
+    first_diag = min((sp.start for d in old.diagnostics for sp in diagnostic_spans(d)), default=None)
     # Declarations [0, i) end before the edit; [j, n) start after it.
     i = info.boundary_before(bisect_left(info.ends, a))
     j = bisect_right(info.starts, b_old)
@@ -458,9 +462,7 @@ def _splice(source: Source, old: _Old, i: int, j: int, delta: int, frag: ParseRe
     diagnostics = list(frag.diagnostics)
     if j < len(old.decls):
         cut = old.starts[j]
-        diagnostics.extend(
-            _relocate_diagnostic(d, source, delta) for d in old.result.diagnostics if d.span.start >= cut
-        )
+        diagnostics.extend(relocate_diagnostic(d, source, delta) for d in old.result.diagnostics if d.span.start >= cut)
     program = ast.Program(span=Span(source, 0, len(source.text)), declarations=tuple(decls))
     return ParseResult(program, diagnostics, new_tokens)
 
