@@ -34,12 +34,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gpp.base.diagnostics import Diagnostic
+from gpp.base.source import Source, Span
 from gpp.check import check_program, check_text
 from gpp.codes import CODES
-from gpp.diagnostics import Diagnostic
-from gpp.render import render_json, render_text
-from gpp.sarif import render_sarif
-from gpp.source import Source, Span
+from gpp.report.sarif import render_sarif
+from gpp.report.text import render_json, render_text
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, tokenize
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -12,7 +12,7 @@ new text are timed one after the other in each run, for:
   from the declaration before the edit to its end);
 and the relocation alone: every declaration of the old parse moved into a new Source.
 The cyclic garbage collector is paused while a run is timed and runs between runs, as in the
-language server (gpp.session.Collector). The `tokens` column is what reading the new parse's
+language server (lsp.gc_policy.GcPolicy). The `tokens` column is what reading the new parse's
 tokens costs afterwards (a re-parse makes the list of the tokens it kept only when it is first
 read, `gpp.syntax.lexer.Tokens`).
 With `--against REF` (a git revision), gpp/syntax/incremental.py as it is at REF, with the
@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from genprog import generate_program
 from revision import modules_at
 
-from gpp.source import Source
+from gpp.base.source import Source
 from gpp.syntax import incremental
 from gpp.syntax.lexer import KEYWORDS
 from gpp.syntax.parser import parse

@@ -32,13 +32,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program
 
+from gpp.base.perf import paused_gc, with_deep_stack
+from gpp.base.source import Source
 from gpp.check.lintmemo import LintMemo, lint_again
 from gpp.check.lints import run_lints
+from gpp.check.session import Session
 from gpp.model.build import build_model
 from gpp.model.model import Model
-from gpp.perf import paused_gc, with_deep_stack
-from gpp.session import Session
-from gpp.source import Source
 from gpp.syntax import ast
 from gpp.syntax.loader import ParseCache, load
 from gpp.syntax.parser import parse

@@ -29,12 +29,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from genprog import generate_program
 from revision import modules_at
 
+from gpp.base.diagnostics import Diagnostic
+from gpp.base.perf import with_deep_stack
 from gpp.check import lints
-from gpp.diagnostics import Diagnostic
 from gpp.model.build import build_model
 from gpp.model.model import Model
-from gpp.perf import with_deep_stack
-from gpp.render import diagnostic_to_json
+from gpp.report.text import diagnostic_to_json
 from gpp.syntax.loader import load
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -44,11 +44,11 @@ from genprog import generate_program
 from lsprotocol import types
 from pygls.lsp.client import LanguageClient
 
+from gpp.base.perf import with_deep_stack
+from gpp.base.source import Source
 from gpp.check import check_loaded
 from gpp.check.lints import run_lints
 from gpp.model.build import build_model
-from gpp.perf import with_deep_stack
-from gpp.source import Source
 from gpp.syntax.loader import load
 from gpp.syntax.parser import parse
 

@@ -35,8 +35,8 @@ from genprog import generate_program  # noqa: E402
 from model_fingerprint import describe  # noqa: E402
 from revision import modules_at, python_files_at  # noqa: E402
 
+from gpp.base.perf import with_deep_stack  # noqa: E402
 from gpp.model.build import build_model  # noqa: E402
-from gpp.perf import with_deep_stack  # noqa: E402
 from gpp.syntax.loader import LoadResult, load  # noqa: E402
 
 BASELINE_PACKAGE = "gpp_model_baseline"

@@ -28,7 +28,7 @@ from genprog import generate_program, nested_expression_program
 from parse_corpus import corpus, dump
 from revision import modules_at
 
-from gpp.source import Source
+from gpp.base.source import Source
 from gpp.syntax.parser import parse
 
 ROOT = Path(__file__).resolve().parent.parent

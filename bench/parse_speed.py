@@ -21,8 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program, nested_expression_program
 
+from gpp.base.source import Source
 from gpp.check import check_text
-from gpp.source import Source
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse
 
@@ -61,7 +61,7 @@ def lark_baseline() -> Callable[[Source], object]:
             for t in tokenize(source)[0]:
                 yield LarkToken(t.type, t.value, t.start, 1, 1, 1, 1, t.end)
 
-    from gpp.resources import grammar_path
+    from gpp.base.resources import grammar_path
 
     lark = Lark(
         grammar_path().read_text(encoding="utf-8"),

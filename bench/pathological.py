@@ -142,7 +142,7 @@ def cases(family: Family, quick: bool, limit: int | None) -> list[int]:
 
 def measure(family_name: str, n: int, run: bool) -> dict[str, object]:
     from gpp.check import check_program
-    from gpp.render import DEFAULT_MAX_DIAGNOSTICS, render_text
+    from gpp.report.text import DEFAULT_MAX_DIAGNOSTICS, render_text
 
     family = next(f for f in FAMILIES if f.name == family_name)
     contents = family.make(n)
@@ -169,7 +169,7 @@ def measure(family_name: str, n: int, run: bool) -> dict[str, object]:
             "codes": Counter(d.code for d in result.diagnostics).most_common(2),
         }
         if run and not result.errors:
-            from gpp.runner import RunOptions, run_program
+            from gpp.run.runner import RunOptions, run_program
 
             started = time.perf_counter()
             outcome = run_program(path, RunOptions(timeout=600.0), checked=result)

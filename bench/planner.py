@@ -252,7 +252,12 @@ CATEGORIES = (
     ("planner loop and memo (dp)", ("gpp/planner/dp.py",)),
     (
         "trans/final (successors, semantics, codegen)",
-        ("gpp/planner/successors.py", "gpp/runtime/semantics.py", "gpp/planner/codegen.py", "gpp/runtime/codegen.py"),
+        (
+            "gpp/planner/fast/successors.py",
+            "gpp/runtime/semantics.py",
+            "gpp/planner/fast/codegen.py",
+            "gpp/runtime/codegen.py",
+        ),
     ),
     ("expressions: preconditions, conditions (compiled)", ("gpp/runtime/compiled.py",)),
     ("state updates and hashing (state)", ("gpp/runtime/state.py",)),

@@ -43,7 +43,7 @@ from ros2_servers import TestRobot  # noqa: E402
 from gpp.check import check_text  # noqa: E402
 from gpp.platform.base import Activity, ActivityUpdate  # noqa: E402
 from gpp.platform.ros2 import Ros2Platform  # noqa: E402
-from gpp.runner import RunOptions, run_program  # noqa: E402
+from gpp.run.runner import RunOptions, run_program  # noqa: E402
 from gpp.runtime.compiled import CompiledProgram  # noqa: E402
 from gpp.runtime.contract import program_interface  # noqa: E402
 from gpp.runtime.state import GroundAction  # noqa: E402

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import run_action
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ["blocksworld.gpp", "blocksworld_faults.gpp", "rescue.gpp"]

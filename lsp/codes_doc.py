@@ -23,7 +23,7 @@ def codes_markdown() -> str:
     out = [
         "# Diagnostic codes",
         "",
-        "Generated from `gpp/codes.py` (`gpp explain CODE` prints the same text); do not edit by hand.",
+        "Generated from `gpp/codes/__init__.py` (`gpp explain CODE` prints the same text); do not edit by hand.",
         "Codes are stable: `E00xx` syntax, `E01xx` names, `E02xx` types, `E03xx` declarations,",
         "`W01xx` lints (allowed with `gpp check --allow CODE`), `R00xx` run time.",
         "",

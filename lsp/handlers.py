@@ -16,8 +16,8 @@ from typing import TypeVar
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException
 
+from gpp.base.source import Source
 from gpp.check import CheckResult
-from gpp.source import Source
 from lsp import features
 from lsp.server import GppServer, guarded, uri_to_path
 

@@ -2,17 +2,17 @@
 
 Threads:
 
-* the event loop (pygls) reads messages, keeps the documents (gpp.session.Session: incremental
+* the event loop (pygls) reads messages, keeps the documents (gpp.check.session.Session: incremental
   changes are applied with gpp's own UTF-16 position conversion) and answers;
-* the analysis thread (gpp.session.AnalysisThread) checks the programs the open documents
+* the analysis thread (gpp.check.session.AnalysisThread) checks the programs the open documents
   belong to. Edits that arrive while it works are coalesced into one next round, and a result
   is published only if its document has not changed since: a stale analysis is dropped, never
   published over a newer one;
 * the garbage collector does not run during a round of checks, and what a round made is frozen
-  out of its way after it (gpp.session.Collector): its collections between rounds only look at
+  out of its way after it (lsp.gc_policy.GcPolicy): its collections between rounds only look at
   the objects made since. The full collection of what the rounds left runs on the analysis
-  thread once no edit came for SETTLE_AFTER_SECONDS after Collector.min_rounds rounds (or,
-  after Collector.max_rounds rounds without such a pause, once a round's diagnostics are
+  thread once no edit came for SETTLE_AFTER_SECONDS after GcPolicy.min_rounds rounds (or,
+  after GcPolicy.max_rounds rounds without such a pause, once a round's diagnostics are
   out). The checks a round replaces are freed (by reference counting) on the event loop once
   no edit came for FREE_AFTER_SECONDS, else at the end of the next round: not while a request
   sent with the next keystroke is being answered;
@@ -59,11 +59,12 @@ from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 
 from gpp import __version__
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.check import CheckResult
-from gpp.session import AnalysisThread, Collector, Document, LspEdit, Session, diagnostics_in
-from gpp.source import Span
+from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
 from lsp.codes_doc import code_url
+from lsp.gc_policy import GcPolicy
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -159,7 +160,7 @@ def lsp_range(span: Span) -> types.Range:
 
 
 class _Protocol(LanguageServerProtocol):
-    """pygls' protocol, but the documents are gpp's (gpp.session): pygls' own copies would
+    """pygls' protocol, but the documents are gpp's (gpp.check.session): pygls' own copies would
     cost a second application of every edit, and it counts line breaks its own way (Python's
     `splitlines`, which also breaks at form feeds and U+2028)."""
 
@@ -229,8 +230,8 @@ class GppServer(LanguageServer):
         self.session = Session()
         self.analysis = AnalysisThread("gpp-analysis")
         self.requests = AnalysisThread("gpp-requests")
-        # The garbage collector waits while a round of checks runs (gpp.session.Collector).
-        self.collector = Collector()
+        # The garbage collector waits while a round of checks runs (lsp.gc_policy.GcPolicy).
+        self.collector = GcPolicy()
         self.uris: dict[Path, str] = {}
         # The latest checks of each open document: (version, the programs' results).
         self.results: dict[Path, tuple[int, list[CheckResult]]] = {}

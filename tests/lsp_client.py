@@ -14,8 +14,8 @@ from pytest_lsp import ClientServerConfig
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
 from pytest_lsp.client import LanguageClient as TestClient
 
+from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_program
-from gpp.diagnostics import Diagnostic
 
 SERVER = [sys.executable, "-m", "gpp", "lsp"]
 

@@ -19,10 +19,10 @@ import hashlib
 from collections.abc import Sequence
 from pathlib import Path
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

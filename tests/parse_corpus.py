@@ -33,7 +33,7 @@ sys.path.append(str(ROOT / "bench"))
 from fuzz import VOCABULARY, Generator, mutate, pieces  # noqa: E402
 from genprog import generate_program, nested_expression_program  # noqa: E402
 
-from gpp.source import Source, Span  # noqa: E402
+from gpp.base.source import Source, Span  # noqa: E402
 
 FINGERPRINTS = ROOT / "tests" / "golden" / "parse_fingerprints.json"
 # Constructs the corpus writes by hand: the legacy forms, the platform model, lexical errors.

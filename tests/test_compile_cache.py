@@ -1,7 +1,7 @@
 """The cache of compiled generated source (gpp.runtime.codegen.CompileCache): a planning that
 writes the same source as an earlier one compiles nothing, the constants of each build are
 its own, and different source is compiled anew; and the `Successors` of a semantics object,
-reused by its later plannings (gpp.planner.successors.successors_of)."""
+reused by its later plannings (gpp.planner.fast.successors.successors_of)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from gpp.planner.fast.successors import successors_of
 from gpp.planner.problem import PlanningProblem
-from gpp.planner.successors import successors_of
 from gpp.runtime import codegen
 from gpp.runtime.codegen import CompileCache, Unit, build_units
 

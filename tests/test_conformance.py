@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from gpp.check import check_program
-from gpp.render import render_text
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.report.text import render_text
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import encode
 from gpp.runtime.executor import RunStatus
 

@@ -24,8 +24,8 @@ from pathlib import Path
 import pytest
 
 from gpp.check import check_paths, merged_diagnostics
-from gpp.render import render_text
-from gpp.runner import RunOptions, run_program
+from gpp.report.text import render_text
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -17,7 +17,7 @@ from gpp.model.types import NUMBER, STRING, Sym
 from gpp.platform.base import Activity, ActivityUpdate, ExogEvent, PlatformError
 from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError, random_value
 from gpp.platform.values import ConversionError, to_value
-from gpp.runner import RunOptions, RunSetupError, run_program
+from gpp.run.runner import RunOptions, RunSetupError, run_program
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunResult, RunStatus

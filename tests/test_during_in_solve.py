@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import PlanEvent, ReplanEvent
 from gpp.runtime.executor import RunStatus
 

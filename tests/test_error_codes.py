@@ -23,10 +23,10 @@ from typing import Any, NamedTuple
 
 import pytest
 
+from gpp.base.diagnostics import Diagnostic, Severity
 from gpp.check import CheckResult, check_program, check_text
 from gpp.codes import CODES
-from gpp.diagnostics import Diagnostic, Severity
-from gpp.render import render_text
+from gpp.report.text import render_text
 
 GOLDEN_DIR = Path(__file__).parent / "golden" / "check"
 UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from gpp.diagnostics import Diagnostic
+from gpp.base.diagnostics import Diagnostic
 from gpp.syntax import ast
 from gpp.syntax.parser import parse_text
 

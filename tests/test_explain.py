@@ -13,7 +13,7 @@ import pytest
 
 from gpp.check import check_paths, merged_diagnostics
 from gpp.codes import CODES, RUN_TIME_WARNINGS, close_matches, lints, lookup
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 
 REPO = Path(__file__).resolve().parent.parent

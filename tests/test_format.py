@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_printer import programs
 
-from gpp.source import Source
+from gpp.base.source import Source
 from gpp.syntax import ast
 from gpp.syntax.directives import directives
 from gpp.syntax.format import FormatError, _token_map, format_text

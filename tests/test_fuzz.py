@@ -26,9 +26,9 @@ import pytest
 from hypothesis import HealthCheck, currently_in_test_context, given, note, reject, settings
 from hypothesis import strategies as st
 
+from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_text
-from gpp.diagnostics import Diagnostic
-from gpp.render import render_text
+from gpp.report.text import render_text
 
 ROOT = Path(__file__).resolve().parent.parent
 # The token-level mutations and the vocabulary are those of `make fuzz` (bench/fuzz.py).

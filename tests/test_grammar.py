@@ -8,8 +8,8 @@ from typing import Any
 
 import pytest
 
-from gpp.resources import grammar_path
-from gpp.source import Source
+from gpp.base.resources import grammar_path
+from gpp.base.source import Source
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, tokenize
 from gpp.syntax.parser import parse_text, token_sets
@@ -33,7 +33,7 @@ def test_only_conflicts_are_dangling_else_and_during_handlers(fresh_tables):
 
 def test_cached_tables_parse_like_fresh_tables(fresh_tables):
     # lark numbers states differently from run to run, so compare what the tables do.
-    from gpp.source import Source
+    from gpp.base.source import Source
     from gpp.syntax.lexer import tokenize
     from gpp.syntax.parser import _Parser
 

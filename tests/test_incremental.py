@@ -21,7 +21,7 @@ import pytest
 from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 
-from gpp.source import Source, Span
+from gpp.base.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.incremental import fragment_text, relocate
 from gpp.syntax.lexer import Token, Tokens

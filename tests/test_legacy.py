@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
 from gpp.check import check_paths, merged_diagnostics
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 
 LEGACY = Path(__file__).resolve().parent / "legacy"

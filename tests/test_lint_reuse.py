@@ -20,11 +20,11 @@ from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 from test_lints import TRIGGERS
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
 from gpp.check import CheckResult, check_loaded, lintmemo
 from gpp.check.lints import LINTS
-from gpp.session import Session
-from gpp.source import Source, Span
+from gpp.check.session import Session
 from gpp.syntax import ast
 from gpp.syntax.loader import load
 from gpp.syntax.parser import parse

@@ -8,11 +8,11 @@ from pathlib import Path
 
 import pytest
 
+from gpp.base.diagnostics import Diagnostic, Severity
 from gpp.check import check_program
 from gpp.check.lints import LINTS
 from gpp.check.suppress import SUPPRESSION_LINTS
 from gpp.codes import CODES, lints
-from gpp.diagnostics import Diagnostic, Severity
 
 PATH = Path("lint_test.gpp")
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"

@@ -29,13 +29,13 @@ from test_pathological import FAMILIES
 from test_printer import programs
 
 from bench.genprog import generate_program, nested_expression_program
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.perf import with_deep_stack
 from gpp.check import lints
 from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol
-from gpp.perf import with_deep_stack
-from gpp.render import diagnostic_to_json
+from gpp.report.text import diagnostic_to_json
 from gpp.syntax import ast
 from gpp.syntax.loader import load
 from gpp.syntax.printer import format_program

@@ -27,8 +27,8 @@ from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
 
 import gpp
+from gpp.base.source import Source
 from gpp.check import CheckResult, check_program
-from gpp.source import Source
 from gpp.syntax.format import format_text
 from lsp import features
 

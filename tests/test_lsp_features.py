@@ -1,7 +1,7 @@
 """The language server's editor features (lsp.features), called as functions on real checked
 programs: what each answers at a position, with exact names, kinds and LSP ranges (0-based
 lines, UTF-16 columns). Positions are found with `text.index(...)`, so each test says in words
-where it points; expected ranges are computed from the text independently of gpp.source."""
+where it points; expected ranges are computed from the text independently of gpp.base.source."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import pytest
 from lsprotocol import types
 
 import lsp.features as F
+from gpp.base.resources import stdlib_dir
 from gpp.check import CheckResult, check_program, check_text
-from gpp.resources import stdlib_dir
 from lsp.features.completion import DECLARATION_SNIPPETS, _plain
 from lsp.features.tokens import TOKEN_MODIFIERS, TOKEN_TYPES
 

@@ -14,13 +14,13 @@ from pathlib import Path
 
 import pytest
 
+from gpp.base.diagnostics import Diagnostic
+from gpp.base.source import Source, Span
 from gpp.check import check_text
-from gpp.diagnostics import Diagnostic
 from gpp.model.model import Model, OutlineItem
 from gpp.model.regroup import BOOL_CHAIN, _climb, _Not
 from gpp.model.symbols import Reference, Symbol, SymbolKind
 from gpp.model.types import BOOL, NULL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
-from gpp.source import Source, Span
 from gpp.syntax import ast
 
 # ---------------------------------------------------------------- helpers

@@ -23,8 +23,8 @@ from pathlib import Path
 from golden import recorded
 from model_fingerprint import fingerprint
 
+from gpp.base.source import Source
 from gpp.check import check_loaded
-from gpp.source import Source
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.loader import load
 

@@ -20,7 +20,7 @@ from test_lints import TRIGGERS
 
 from bench.genprog import generate_program
 from gpp.check import check_program, check_text
-from gpp.session import Session
+from gpp.check.session import Session
 
 ROOT = Path(__file__).resolve().parent.parent
 REPOSITORY = sorted(p.relative_to(ROOT) for d in ("examples", "stdlib", "tests") for p in (ROOT / d).rglob("*.gpp"))

@@ -32,7 +32,7 @@ def wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_wheel_contains_grammar_and_stdlib(wheel: Path) -> None:
     names = set(zipfile.ZipFile(wheel).namelist())
     assert "gpp/_data/grammar/gpp.lark" in names
-    assert "gpp/cli.py" in names
+    assert "gpp/cli/common.py" in names
     assert "gpp/trace.schema.json" in names  # gpp.runtime.events.load_schema()
     assert {f"gpp/traceview/viewer.{ext}" for ext in ("html", "css", "js")} <= names  # gpp trace html
     assert any(n.startswith("gpp/_data/stdlib/") for n in names), sorted(n for n in names if "_data" in n)
@@ -48,11 +48,11 @@ def test_installed_package_checks_a_program_outside_the_source_tree(wheel: Path,
     deps = [p for p in sys.path if p.endswith("site-packages")]
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(site), *deps]), "XDG_CACHE_HOME": str(tmp_path / "cache")}
     script = (
-        "import gpp.resources as r, sys; "
+        "import gpp.base.resources as r, sys; "
         "assert '_data' in str(r.grammar_path()), r.grammar_path(); "
         "assert '_data' in str(r.stdlib_dir()), r.stdlib_dir(); "
         "import gpp.runtime.events as ev; assert ev.load_schema()['$id'].endswith(ev.TRACE_SCHEMA_VERSION); "
-        "from gpp.cli import main; main(['check', sys.argv[1]])"
+        "from gpp.cli.main import main; main(['check', sys.argv[1]])"
     )
     result = subprocess.run(
         [
@@ -75,7 +75,7 @@ def test_installed_package_checks_a_program_outside_the_source_tree(wheel: Path,
 def test_a_lark_replaced_by_lark_parser_is_reported_with_the_repair() -> None:
     import pytest
 
-    from gpp.resources import InstallationError, check_lark
+    from gpp.base.resources import InstallationError, check_lark
 
     check_lark("1.3.1")
     with pytest.raises(InstallationError, match=r"gpp needs lark 1.x, but lark 0.12.0 is installed") as caught:

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from gpp.check import check_text
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 from gpp.syntax.depth import MAX_NESTING, MAX_OPEN
 from gpp.syntax.parser import parse_text

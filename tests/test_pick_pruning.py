@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.events import PlanEvent
 from gpp.runtime.executor import RunStatus

@@ -19,7 +19,7 @@ from gpp.planner.profile import render_profile
 from gpp.planner.reference import NodeBudgetExceeded
 from gpp.planner.result import Plan
 from gpp.planner.search import search_plan
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import PlanEvent, StartEvent, TraceEvent, from_json_dict
 from gpp.runtime.executor import RunStatus

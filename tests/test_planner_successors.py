@@ -1,5 +1,5 @@
-"""The planner's specialised `final`/`trans` (gpp.planner.successors) and the source it
-generates (gpp.planner.codegen, gpp.runtime.codegen) against the semantics' own
+"""The planner's specialised `final`/`trans` (gpp.planner.fast.successors) and the source it
+generates (gpp.planner.fast.codegen, gpp.runtime.codegen) against the semantics' own
 (gpp.runtime.semantics), on every configuration reachable in random programs: the same
 answer, the same successors in the same order, or the same error; the generated `apply` and
 reward against the semantics' and the closures'; and the specialised effects of a ground
@@ -18,10 +18,10 @@ from hypothesis import strategies as st
 from test_planner_properties import PROPERTY, Case, cases, looping_cases, staggered_cases
 
 from gpp.check import check_text
-from gpp.planner import successors as successors_module
 from gpp.planner.dp import solve_plan
+from gpp.planner.fast import successors as successors_module
+from gpp.planner.fast.successors import Successors
 from gpp.planner.problem import PlanningProblem, first_solve
-from gpp.planner.successors import Successors
 from gpp.runtime.codegen import DUMP_VARIABLE
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import EMPTY_FRAME, DoStep, Prog, Semantics

@@ -19,8 +19,8 @@ import pytest
 from typer.testing import CliRunner, Result
 
 from gpp.check import check_text
-from gpp.cli_app import app
-from gpp.config import ConfigError, config_for, find_config_file, load_config, project_files
+from gpp.cli.app import app
+from gpp.project.config import ConfigError, config_for, find_config_file, load_config, project_files
 
 # Line 5 has a misspelled symbol with one close name (a safe fix); `idle` is unused.
 AGENT = """\

@@ -1,4 +1,4 @@
-"""Tests for gpp.render: golden text for typical diagnostics, the JSON report, colour parity.
+"""Tests for gpp.report.text: golden text for typical diagnostics, the JSON report, colour parity.
 
 The goldens live in tests/golden/render/<case>.txt. To regenerate them after an intended change
 of the layout, run `GPP_UPDATE_GOLDEN=1 .venv/bin/pytest tests/test_render.py` and review the diff.
@@ -16,8 +16,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from gpp.diagnostics import Diagnostic, Edit, Fix, Label, error, warning
-from gpp.render import (
+from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, error, warning
+from gpp.base.source import Source, Span
+from gpp.report.text import (
     count_problems,
     layout_diagnostic,
     print_diagnostics,
@@ -26,7 +27,6 @@ from gpp.render import (
     render_text,
     to_rich_text,
 )
-from gpp.source import Source, Span
 
 GOLDEN_DIR = Path(__file__).parent / "golden" / "render"
 UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TypeVar
 
 from gpp.planner.profile import plan_events
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import EndEvent, EventBase, PlanEvent, ReplanEvent, StartEvent
 from gpp.runtime.executor import RunStatus
 

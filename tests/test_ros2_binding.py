@@ -120,7 +120,7 @@ def test_without_the_ros_packages_the_platform_says_how_to_install_them(tmp_path
         "    def find_spec(self, name, path=None, target=None):\n"
         "        if name == 'rclpy' or name.startswith('rclpy.'): raise ModuleNotFoundError(name)\n"
         "sys.meta_path.insert(0, Block())\n"
-        "from gpp.cli import main\n"
+        "from gpp.cli.main import main\n"
         "main(['run', sys.argv[1], '--platform', 'ros2'])\n"
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}

@@ -21,12 +21,12 @@ from pathlib import Path
 
 import pytest
 
+from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_text
-from gpp.diagnostics import Diagnostic
 from gpp.planner.policy import PolicyPlanner
 from gpp.platform.dummy import DummyPlatform, Scenario
-from gpp.render import render_text
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.report.text import render_text
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.events import (
     AssignEvent,
@@ -145,7 +145,7 @@ def test_no_runtime_error_prints_a_traceback() -> None:
     script = (
         "import sys\n"
         "from pathlib import Path\n"
-        "from gpp.runner import RunOptions, run_program\n"
+        "from gpp.run.runner import RunOptions, run_program\n"
         "for name in sys.argv[1:]:\n"
         "    o = run_program(Path(name), RunOptions(timeout=30))\n"
         "    print(name, o.result.status.value, o.exit_code)\n"

@@ -14,10 +14,10 @@ from typing import Any
 import pytest
 
 import gpp
+from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_paths, check_program, merged_diagnostics
 from gpp.codes import CODES
-from gpp.diagnostics import Diagnostic
-from gpp.sarif import render_sarif, to_sarif
+from gpp.report.sarif import render_sarif, to_sarif
 
 # ---------------------------------------------------------------- a small structural schema
 

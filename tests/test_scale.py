@@ -15,10 +15,10 @@ import sys
 import time
 from pathlib import Path
 
+from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, error
+from gpp.base.source import Source, Span, decode_text
 from gpp.check import check_program
-from gpp.diagnostics import Diagnostic, Edit, Fix, Label, error
-from gpp.render import limit_diagnostics, render_plain, render_text
-from gpp.source import Source, Span, decode_text
+from gpp.report.text import limit_diagnostics, render_plain, render_text
 
 # One line of 818 characters: `oops` at character 405, `c` at 813.
 LONG = "x = " + "a + " * 100 + "oops + " + "b + " * 100 + "c;\n"

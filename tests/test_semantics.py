@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from gpp.base.source import Span
 from gpp.check import check_text
 from gpp.model.types import Sym, Type
 from gpp.runtime import semantics
@@ -34,7 +35,6 @@ from gpp.runtime.semantics import (
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value
-from gpp.source import Span
 from gpp.syntax import ast
 
 RUNNING, FINAL, FAILED, CANCELLED = (

@@ -1,4 +1,4 @@
-"""gpp.session and the positions it relies on: LSP positions both ways (UTF-16, `\r`, `\r\n`,
+"""gpp.check.session and the positions it relies on: LSP positions both ways (UTF-16, `\r`, `\r\n`,
 characters beyond U+FFFF), incremental edits, the parse cache, the include index, the
 analysis thread."""
 
@@ -12,10 +12,11 @@ from pathlib import Path
 
 import pytest
 
+from gpp.base.source import Source
 from gpp.check import check_program
-from gpp.session import AnalysisThread, Collector, Session, apply_edits, diagnostics_in
-from gpp.source import Source
+from gpp.check.session import AnalysisThread, Session, apply_edits, diagnostics_in
 from gpp.syntax.loader import ParseCache, load
+from lsp.gc_policy import GcPolicy
 
 MIXED = 'a\r\nbé\r"😀x"\nlast'
 
@@ -176,8 +177,8 @@ def test_the_include_index_follows_edits_and_files_that_change(tmp_path: Path) -
 
 
 @pytest.fixture
-def collector() -> Iterator[Collector]:
-    made = Collector()
+def collector() -> Iterator[GcPolicy]:
+    made = GcPolicy()
     try:
         yield made
     finally:
@@ -195,7 +196,7 @@ def _garbage() -> weakref.ref[_Cycle]:
     return weakref.ref(_Cycle())
 
 
-def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Collector) -> None:
+def test_the_collector_waits_during_a_round_and_is_restored_after(collector: GcPolicy) -> None:
     thresholds = gc.get_threshold()
     gc.enable()
     collector.pause()
@@ -213,7 +214,7 @@ def test_the_collector_waits_during_a_round_and_is_restored_after(collector: Col
     assert not gc.isenabled()
 
 
-def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collector: Collector) -> None:
+def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collector: GcPolicy) -> None:
     """What a round made is frozen: no collection scans it (nor frees its cycles) until
     `collect`, which frees the cycles of all the rounds since the last one."""
     gc.enable()
@@ -234,7 +235,7 @@ def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collec
     assert gc.isenabled() and gc.get_freeze_count() > 0  # the rest is frozen again
 
 
-def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(collector: Collector) -> None:
+def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(collector: GcPolicy) -> None:
     collector.min_rounds, collector.max_rounds = 2, 3
     refs = []
     for rounds in range(3):
@@ -248,7 +249,7 @@ def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(colle
     assert collector.freed >= 3  # (the three cycles, and whatever else the test process left)
 
 
-def test_collections_that_find_little_garbage_are_made_rarer(collector: Collector) -> None:
+def test_collections_that_find_little_garbage_are_made_rarer(collector: GcPolicy) -> None:
     collector.first_min_rounds = collector.min_rounds = 2
     gc.collect()
 
@@ -278,7 +279,7 @@ def _heap() -> int:
     return len(gc.get_objects()) + gc.get_freeze_count()
 
 
-def test_a_long_session_does_not_grow_the_heap(collector: Collector, tmp_path: Path) -> None:
+def test_a_long_session_does_not_grow_the_heap(collector: GcPolicy, tmp_path: Path) -> None:
     """A burst of rounds, none collected: each round's check replaces the last one's, which
     dies by reference counting, frozen or not."""
     path = (tmp_path / "a.gpp").resolve()

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 import gpp as gpp_package
-from gpp.cli import main
+from gpp.cli.main import main
 from gpp.model.types import NUMBER, Sym
 from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.values import CompoundValue, Value, show, show_json, to_json
@@ -146,7 +146,7 @@ def test_the_run_log_the_trace_and_its_views_show_golog_values(
 
 
 def test_a_bad_horizon_is_shown_as_golog_writes_it(tmp_path: Path) -> None:
-    from gpp.runner import RunOptions, run_program
+    from gpp.run.runner import RunOptions, run_program
 
     path = tmp_path / "horizon.gpp"
     path.write_text(

@@ -15,7 +15,7 @@ from PIL import Image
 from gpp.platform.base import PlatformConfig
 from gpp.platform.sim import SimPlatform, World, WorldError
 from gpp.platform.sim.platform import run_action
-from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
+from gpp.run.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.events import EventBase, ExogEvent, PlanEvent, SenseEvent, UpdateEvent
 from gpp.runtime.executor import RunStatus
 from gpp.syntax.directives import file_directives

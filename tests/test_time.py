@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import AssignEvent, CancelEvent, StartEvent, WaitingEvent
 from gpp.runtime.executor import RunStatus
 
@@ -183,7 +183,7 @@ def test_the_live_view_shows_what_the_program_waits_for(tmp_path: Path) -> None:
 
     from rich.console import Console
 
-    from gpp.runview import LiveView, PlainView
+    from gpp.run.view import LiveView, PlainView
 
     outcome = run(tmp_path, TIMEOUT)
     assert outcome.trace is not None

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import (
     AssignEvent,
     BlockedEvent,
@@ -413,7 +413,7 @@ def test_the_run_view_shows_the_pinned_trace() -> None:
     (tests/golden/trace/small.view.txt) and the live view's state after it."""
     from rich.console import Console
 
-    from gpp.runview import LiveView, PlainView
+    from gpp.run.view import LiveView, PlainView
 
     events = [decode(line) for line in (GOLDEN / "small.jsonl").read_text(encoding="utf-8").splitlines()]
     out = io.StringIO()

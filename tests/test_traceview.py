@@ -16,8 +16,8 @@ from typing import Any
 
 import pytest
 
-from gpp.cli import main
-from gpp.runner import RunOptions, run_program
+from gpp.cli.main import main
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import (
     AssignEvent,
     CancelEvent,

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import ExogEvent, StartEvent
 from gpp.traceview.html import html_page
 from gpp.traceview.model import build_model, load_trace

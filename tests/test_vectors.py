@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pytest
 
-from gpp.diagnostics import Diagnostic
+from gpp.base.diagnostics import Diagnostic
 from gpp.syntax import ast
 from gpp.syntax.parser import ParseResult, parse_text
 

@@ -44,7 +44,7 @@ from gpp.platform.base import ActivityUpdate, ExogActionBinding, ExogEvent, Para
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity
 from gpp.runtime.state import ActivityStatus
-from gpp.source import Source, Span
+from gpp.base.source import Source, Span
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 

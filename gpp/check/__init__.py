@@ -13,12 +13,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.perf import paused_gc, with_deep_stack
+from gpp.base.source import Span
 from gpp.check.suppress import apply_suppressions
 from gpp.model.build import build_model
 from gpp.model.model import Model
-from gpp.perf import paused_gc, with_deep_stack
-from gpp.source import Span
 from gpp.syntax.loader import LoadResult, ParseCache, load
 
 if TYPE_CHECKING:

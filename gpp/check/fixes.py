@@ -17,10 +17,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.resources import stdlib_dir
+from gpp.base.source import Source
 from gpp.check import CheckResult
-from gpp.resources import stdlib_dir
-from gpp.source import Source
 
 MAX_ROUNDS = 10
 

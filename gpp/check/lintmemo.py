@@ -12,7 +12,7 @@ The language server checks a program at every keystroke; most of it did not chan
   W0109: calls followed into other procedure bodies; W0114: an `end` anywhere). They run over
   the whole program at every check, as `run_lints` does.
 
-A check made with a `LintMemo` (`gpp.check.check_loaded(memo=...)`; `gpp.session.Session`
+A check made with a `LintMemo` (`gpp.check.check_loaded(memo=...)`; `gpp.check.session.Session`
 passes the one of the program's previous check) hands back a new one: the environment, and per
 top-level declaration of the root file, in order, its kind, its exact text, where it started
 and the local lints' warnings about it (their primary span is in it). The next check, when its
@@ -41,10 +41,10 @@ from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
 from gpp.check.lints import run_lints, run_lints_split, skipped_lints
 from gpp.model.model import Model
-from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.incremental import diagnostic_spans, relocate_diagnostic
 from gpp.syntax.loader import ParsedFile

@@ -26,11 +26,11 @@ from pathlib import Path
 from typing import Any, TypeVar, assert_never, get_args
 
 from gpp import codes
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base, show_value
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr

@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from gpp import codes
-from gpp import diagnostics as diag
-from gpp.source import Source, Span
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
 from gpp.syntax.loader import ParsedFile
 
 _COMMENTS = re.compile(r"/\*.*?\*/|//[^\n]*", re.DOTALL)

@@ -19,7 +19,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.perf import paused_gc
 from gpp.model.builder_state import BuilderState
 from gpp.model.collect import Collector
 from gpp.model.declarations import DeclarationChecker
@@ -28,7 +29,6 @@ from gpp.model.model import Model
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Reference
 from gpp.model.typecheck import TypeChecker
-from gpp.perf import paused_gc
 from gpp.syntax.loader import ParsedFile
 
 

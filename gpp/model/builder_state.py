@@ -22,11 +22,11 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
+from gpp.base.suggest import Suggestion
 from gpp.model.model import Model
 from gpp.model.symbols import Reference, Symbol
-from gpp.source import Span
-from gpp.suggest import Suggestion
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 

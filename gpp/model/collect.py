@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import weakref
 
+from gpp.base.source import Span
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import NUMBER, STRING, SYMBOL, VOID, CompoundType, DomainType
-from gpp.source import Span
 from gpp.syntax import ast
 
 # Enum members read for every declaration, bound once: Python 3.11's enum class has a

@@ -17,12 +17,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from gpp.base.suggest import suggestion
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker
 from gpp.model.types import BOOL, ERROR, Type
-from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 Op = ast.BinaryOp

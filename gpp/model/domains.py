@@ -11,11 +11,11 @@ Reads `model.types` and the domains' element types (from resolve); writes each D
 
 from __future__ import annotations
 
+from gpp.base.suggest import suggestion
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
 from gpp.model.types import ERROR, SYMBOL, DomainType, DomainValue, value_key
-from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 # Enum members read for every declaration, bound once: Python 3.11's enum class has a

@@ -8,9 +8,9 @@ from __future__ import annotations
 from bisect import bisect_right
 from dataclasses import dataclass, field
 
+from gpp.base.source import Source, Span
 from gpp.model.symbols import GLOBAL_KINDS, Reference, ScopeRecord, Symbol, SymbolKind
 from gpp.model.types import ERROR, DomainType, Sym, Type
-from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.walk import path_to, walk

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from gpp.base.source import Span
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.types import BOOL, DomainType, Type
-from gpp.source import Span
 from gpp.syntax import ast
 
 Op = ast.BinaryOp

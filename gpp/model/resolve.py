@@ -16,7 +16,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.suggest import suggestion
 from gpp.model.builder_state import Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import (
@@ -33,7 +34,6 @@ from gpp.model.types import (
     ListType,
     Type,
 )
-from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 # Enum members read for every declaration, bound once: Python 3.11's enum class has a

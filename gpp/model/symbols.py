@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import NamedTuple
 
+from gpp.base.source import Span
 from gpp.model.types import Type, show_value
-from gpp.source import Span
 from gpp.syntax import ast
 
 _weak = weakref.ref

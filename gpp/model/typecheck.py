@@ -28,7 +28,9 @@ from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager
 from typing import Any, assert_never
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
+from gpp.base.suggest import suggestion
 from gpp.model.builder_state import BuilderState, new_tuple
 from gpp.model.regroup import BOOL_CHAIN, CHAIN_OPS, EQUALITY, Regrouper, continues_chain
 from gpp.model.resolve import TypeResolver
@@ -56,8 +58,6 @@ from gpp.model.types import (
     same_type,
     show_value,
 )
-from gpp.source import Span
-from gpp.suggest import suggestion
 from gpp.syntax import ast
 
 Op = ast.BinaryOp

@@ -90,6 +90,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, DomainType, ListType, Sym, Type
@@ -97,7 +98,6 @@ from gpp.planner.guards import FREE_STEP_LIMIT
 from gpp.runtime.compiled import Env
 from gpp.runtime.semantics import Semantics
 from gpp.runtime.state import State
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

@@ -44,12 +44,12 @@ What makes it fast, and why each keeps the result identical to the reference's:
    On the towers of bench/planner.py the steps-to-the-goal bound leaves a few dozen nodes of
    thousands (six blocks, horizon 14: 80 of 24,953); `bench/planner.py --bound` measures it.
 
-`final`, `trans` and `apply` are called through gpp.planner.successors: for each program point
-met, Python source generated from the semantics' definitions (gpp.planner.codegen: the
+`final`, `trans` and `apply` are called through gpp.planner.fast.successors: for each program point
+met, Python source generated from the semantics' definitions (gpp.planner.fast.codegen: the
 conditions, the `pick` values and guards, each action's precondition with its arguments
 folded in, the successors as constants, each action step's effects); what the generator does
 not write out runs the semantics' definitions specialised as closures. They are made once per
-semantics object and reused by its later plannings (gpp.planner.successors.successors_of: the
+semantics object and reused by its later plannings (gpp.planner.fast.successors.successors_of: the
 same problem planned again), and a source text is compiled once per process
 (gpp.runtime.codegen.CompileCache: a program checked again, online re-planning).
 tests/test_planner_successors.py checks both against the semantics on random programs and on
@@ -90,15 +90,15 @@ from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from gpp.base.source import Span
 from gpp.planner.bounds import StateBound
+from gpp.planner.fast.successors import ApplyFn, FinalFn, TransFn, successors_of
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.planner.successors import ApplyFn, FinalFn, TransFn, successors_of
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
-from gpp.source import Span
 
 Config = tuple[Prog, State, Activities]
 
@@ -216,7 +216,7 @@ def solve_plan(
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
     takes longer than `progress_interval` seconds reports a `Progress` about every interval.
     `bound`: from gpp.planner.bounds.solve_bound, for branch and bound (None: none).
-    `generate=False`: `trans` and `apply` by the closures of gpp.planner.successors only (no
+    `generate=False`: `trans` and `apply` by the closures of gpp.planner.fast.successors only (no
     generated source; for tests and benchmarks)."""
     assert sem.planning
     stats = PlanStats()

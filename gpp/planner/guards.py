@@ -8,9 +8,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import assert_never
 
+from gpp.base.source import Span
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import AwaitEnd, Code, Conc, Done, DuringEnd, Planned, Prog, Rest, Seq, Step
-from gpp.source import Span
 from gpp.syntax import ast
 
 LOOP_CODE = "R0010"

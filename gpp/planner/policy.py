@@ -1,7 +1,7 @@
 """Executing a plan online, with re-planning when the world deviates (SEMANTICS §5, §6).
 
 This module implements the online-planning port of gpp.runtime.planning: `PolicyPlanner`
-is the OnlinePlanner that gpp.runner gives the executor, and `PlanHolder` the PlanSession.
+is the OnlinePlanner that gpp.run.runner gives the executor, and `PlanHolder` the PlanSession.
 A `solve`/`search` statement reached online becomes a `Planned` continuation holding a
 PlanHolder. The executor has the holder plan when it performs the PlanStep, and plan again on
 every ReplanStep. `PlanHolder.successors` offers the next planned step if it is still possible
@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
+from gpp.base.source import Span
 from gpp.model.types import Type
 from gpp.planner.dp import ProgressCallback
 from gpp.planner.result import Plan, PolicyStep
@@ -44,7 +45,6 @@ from gpp.runtime.semantics import (
 )
 from gpp.runtime.state import Activities, ActivityStatus, State
 from gpp.runtime.values import Value, show
-from gpp.source import Span
 from gpp.syntax import ast
 
 

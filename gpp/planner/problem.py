@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
+from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.types import Type
 from gpp.planner.bounds import solve_bound
@@ -19,7 +20,6 @@ from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import EMPTY_FRAME, Code, Frame, Prog, Semantics
 from gpp.runtime.state import Activities, State
 from gpp.runtime.values import Value, show
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

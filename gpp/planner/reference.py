@@ -23,11 +23,11 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from gpp.base.source import Span
 from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
 from gpp.planner.result import INFEASIBLE, STOP, Branch, Plan, PlanStats, better
 from gpp.runtime.semantics import Prog, Semantics
 from gpp.runtime.state import Activities, State
-from gpp.source import Span
 
 Reward = Callable[[State], float]
 Config = tuple[Prog, State, Activities]

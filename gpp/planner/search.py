@@ -21,12 +21,12 @@ from __future__ import annotations
 
 import time
 
+from gpp.base.source import Span
 from gpp.planner.guards import LOOP_CODE, program_point_span
 from gpp.planner.result import Plan, PlanStats, PolicyStep
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
-from gpp.source import Span
 
 DEFAULT_STEP_BOUND = 10_000
 

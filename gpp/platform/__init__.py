@@ -12,8 +12,8 @@ from collections.abc import Mapping
 from importlib import import_module
 from importlib.metadata import entry_points
 
+from gpp.base.suggest import did_you_mean
 from gpp.platform.base import Platform, PlatformError
-from gpp.suggest import did_you_mean
 
 _BUILTIN: dict[str, str] = {
     "dummy": "gpp.platform.dummy:DummyPlatform",

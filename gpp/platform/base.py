@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, TypeVar, Union
 
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import Type
 from gpp.runtime.contract import (
     ActionBinding,
@@ -39,7 +40,6 @@ from gpp.runtime.contract import (
     ProgramInterface,
 )
 from gpp.runtime.values import Value
-from gpp.suggest import did_you_mean
 
 __all__ = [
     "ActionBinding",

@@ -23,8 +23,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gpp.base.numbers import MAX_SECONDS, bound_text, describe
+from gpp.base.source import Source, Span
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
-from gpp.numbers import MAX_SECONDS, bound_text, describe
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,
@@ -41,8 +43,6 @@ from gpp.platform.base import (
 from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import CompoundValue, Value, show
-from gpp.source import Source, Span
-from gpp.suggest import did_you_mean
 
 
 class ScenarioError(Exception):

@@ -13,8 +13,8 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from gpp.base.numbers import RANGE_TEXT, describe, in_range
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
-from gpp.numbers import RANGE_TEXT, describe, in_range
 from gpp.runtime.values import CompoundValue, Value, show
 
 

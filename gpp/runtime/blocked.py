@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from typing import assert_never
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
     AwaitEnd,
@@ -24,7 +25,6 @@ from gpp.runtime.semantics import (
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value, show
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

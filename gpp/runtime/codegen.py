@@ -28,12 +28,12 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
+from gpp.base.source import Span
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import Sym, Type
 from gpp.runtime.compiled import CompiledProgram, Env, domain_values
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.values import Value, same
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

@@ -14,14 +14,14 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol, cast
 
+from gpp.base.numbers import MAX_WHOLE, RANGE_TEXT
+from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
-from gpp.numbers import MAX_WHOLE, RANGE_TEXT
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show, to_string
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 

@@ -22,12 +22,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from gpp.base.source import Span
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import Type
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import Value
-from gpp.source import Span
 from gpp.syntax import ast
 
 

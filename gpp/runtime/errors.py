@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from gpp import diagnostics as diag
-from gpp.source import Span
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 
 
 class GppRuntimeError(Exception):

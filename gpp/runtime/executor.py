@@ -21,7 +21,8 @@ from enum import Enum
 from typing import assert_never
 
 import gpp.runtime.events as ev
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
@@ -58,7 +59,6 @@ from gpp.runtime.semantics import (
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace
 from gpp.runtime.values import Value
-from gpp.source import Span
 from gpp.syntax import ast
 
 # Wall-clock seconds the executor waits, when a run ends, for the platform to acknowledge the
@@ -136,7 +136,7 @@ class Executor:
         wall_timeout: float | None = None,
         entry_args: tuple[Value, ...] = (),
     ) -> None:
-        """`planner` runs `solve`/`search` (gpp.runner gives gpp.planner's); without one, a
+        """`planner` runs `solve`/`search` (gpp.run.runner gives gpp.planner's); without one, a
         program that reaches them stops with an error (R0010)."""
         self.program = program
         self.platform = platform

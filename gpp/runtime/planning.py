@@ -5,7 +5,7 @@ Online, `trans` of a `solve`/`search` asks the `OnlinePlanner` for a `PlanSessio
 statement and continues as `Planned(session, 0)` after a `PlanStep(session)`. The session
 answers `final` (`exhausted`) and `trans` (`successors`) of the `Planned` continuation, and
 the executor, when it performs a PlanStep or ReplanStep, asks it to `plan` or `replan` and
-traces the `PlanReport` it returns. gpp.planner.policy implements the port; gpp.runner, above
+traces the `PlanReport` it returns. gpp.planner.policy implements the port; gpp.run.runner, above
 both layers, gives the executor that implementation.
 """
 

@@ -23,7 +23,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypeAlias, assert_never
 
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import DomainType, ListType
 from gpp.runtime.compiled import (
@@ -41,7 +42,6 @@ from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import OnlinePlanner, PlanSession
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show
-from gpp.source import Span
 from gpp.syntax import ast
 
 if TYPE_CHECKING:

@@ -10,10 +10,10 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import TYPE_CHECKING, TypeAlias
 
-from gpp.source import Span
+from gpp.base.source import Span
 
 if TYPE_CHECKING:
-    from gpp.source import Source
+    from gpp.base.source import Source
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -13,8 +13,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any, TypeVar
 
-from gpp import diagnostics as diag
-from gpp.source import Source, Span
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token, number_value, unescape_string
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 from bisect import bisect_left
 from collections.abc import Sequence
 
-from gpp import diagnostics as diag
-from gpp.source import Span
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token
 from gpp.syntax.walk import children

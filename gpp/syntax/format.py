@@ -39,8 +39,8 @@ from dataclasses import dataclass
 from enum import Enum
 from itertools import pairwise
 
-from gpp.diagnostics import Diagnostic
-from gpp.source import Source
+from gpp.base.diagnostics import Diagnostic
+from gpp.base.source import Source
 from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
 from gpp.syntax.parser import parse
 from gpp.syntax.printer import INDENT, format_program

@@ -43,9 +43,9 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
-from gpp import diagnostics as diag
-from gpp.perf import paused_gc
-from gpp.source import Source, Span
+from gpp.base import diagnostics as diag
+from gpp.base.perf import paused_gc
+from gpp.base.source import Source, Span
 from gpp.syntax import ast, build
 from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.parser import ParseResult, parse

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from gpp import diagnostics as diag
-from gpp.source import Source, Span
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
 from gpp.syntax.lexer import Token
 
 SIGIL_TYPES = {

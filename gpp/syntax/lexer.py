@@ -23,8 +23,8 @@ from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 from functools import lru_cache
 
-from gpp.numbers import RANGE_TEXT, literal_value
-from gpp.source import Source, Span
+from gpp.base.numbers import RANGE_TEXT, literal_value
+from gpp.base.source import Source, Span
 
 
 class Token:
@@ -344,7 +344,7 @@ _ENDS_DECLARATION = frozenset({"SEMI", "RBRACE", "NUMBER", "STRING", "RBRACKET",
 
 @lru_cache(maxsize=4096)
 def number_value(text: str) -> int | float | None:
-    """`gpp.numbers.literal_value` of a number literal, remembered: the lexer checks each
+    """`gpp.base.numbers.literal_value` of a number literal, remembered: the lexer checks each
     literal's range and the builder takes its value."""
     return literal_value(text)
 

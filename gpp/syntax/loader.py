@@ -21,9 +21,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gpp import diagnostics as diag
-from gpp.resources import stdlib_dir
-from gpp.source import NotText, Source, Span, decode_text
+from gpp.base import diagnostics as diag
+from gpp.base.resources import stdlib_dir
+from gpp.base.source import NotText, Source, Span, decode_text
 from gpp.syntax import ast
 from gpp.syntax.incremental import Reparsed, reparse
 from gpp.syntax.lexer import Token, Tokens

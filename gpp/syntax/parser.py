@@ -18,9 +18,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from gpp import diagnostics as diag
-from gpp.perf import paused_gc
-from gpp.source import Source, Span
+from gpp.base import diagnostics as diag
+from gpp.base.perf import paused_gc
+from gpp.base.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
 from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error

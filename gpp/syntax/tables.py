@@ -17,7 +17,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from gpp.resources import grammar_path
+from gpp.base.resources import grammar_path
 
 _FORMAT = 4  # bump when the layout of the cached tables changes
 
@@ -57,7 +57,7 @@ def build_tables(grammar: str) -> Tables:
 
     import lark as lark_package
 
-    from gpp.resources import check_lark
+    from gpp.base.resources import check_lark
 
     check_lark(lark_package.__version__)
     from lark import Lark, logger

@@ -14,11 +14,11 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from gpp.base.resources import stdlib_dir
+from gpp.base.source import Source, Span
 from gpp.check import CheckResult
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.resources import stdlib_dir
-from gpp.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.loader import ParsedFile

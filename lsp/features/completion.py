@@ -16,11 +16,11 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from gpp.base.resources import stdlib_dir
 from gpp.check import CheckResult
 from gpp.model.model import Model
 from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, SymbolKind
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
-from gpp.resources import stdlib_dir
 from gpp.syntax.incremental import changed_stretch
 from gpp.syntax.lexer import Token
 from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo, position

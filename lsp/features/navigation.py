@@ -8,9 +8,9 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from gpp.base.source import Span
 from gpp.check import CheckResult
 from gpp.model.symbols import Reference, Symbol, SymbolKind
-from gpp.source import Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.walk import walk

@@ -26,9 +26,9 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from gpp.base.source import Source
 from gpp.check import CheckResult
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.source import Source
 from lsp.features.common import KEYWORD_TYPES, document, memo, stdlib_sources
 
 TOKEN_TYPES = [

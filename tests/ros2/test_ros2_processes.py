@@ -21,7 +21,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from gpp.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import PlanEvent, SenseEvent, UpdateEvent
 
 ROOT = Path(__file__).resolve().parents[2]

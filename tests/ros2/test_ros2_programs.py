@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from gpp.runner import RunOptions, RunOutcome, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import SenseEvent, StartEvent, UpdateEvent
 from gpp.runtime.executor import RunStatus
 

@@ -40,10 +40,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gpp.base.source import Source, Span
+from gpp.base.suggest import did_you_mean
 from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
 from gpp.platform.values import show_plain
-from gpp.source import Source, Span
-from gpp.suggest import did_you_mean
 
 
 class BindingError(Exception):

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from gpp.base.source import Span
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
 from gpp.platform.base import ActionBinding, ExogActionBinding, ExogFunctionSignature, Problem, ProgramInterface
 from gpp.platform.ros2.binding import Binding, FunctionEntry
@@ -26,8 +28,6 @@ from gpp.platform.ros2.interfaces import (
     type_problem,
 )
 from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
-from gpp.source import Span
-from gpp.suggest import did_you_mean
 
 if TYPE_CHECKING:
     from gpp.platform.ros2.bridge import Bridge

@@ -22,9 +22,9 @@ from typing import Any
 
 from rosidl_parser import definition as d
 
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
 from gpp.runtime.values import CompoundValue, Value, show
-from gpp.suggest import did_you_mean
 
 KINDS = ("action", "srv", "msg")
 

@@ -35,6 +35,8 @@ from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from gpp.base.source import Span
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
 from gpp.platform.base import (
     ActionBinding,
@@ -60,8 +62,6 @@ from gpp.platform.ros2.names import MappedName, NameError_, parse_mapped
 from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
-from gpp.source import Span
-from gpp.suggest import did_you_mean
 
 if TYPE_CHECKING:
     from gpp.platform.ros2.bridge import Bridge, Job, Outcome

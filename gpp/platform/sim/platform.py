@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
+from gpp.base.paths import output_problem
 from gpp.model.types import STRING, DomainType, Sym, Type
-from gpp.paths import output_problem
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,

@@ -7,12 +7,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from gpp.base.suggest import did_you_mean
 from gpp.model.types import DomainType, Type
 from gpp.platform.base import ActionBinding, ExogActionBinding, Problem, ProgramInterface
 from gpp.platform.sim.world import World
 from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.values import Value
-from gpp.suggest import did_you_mean
 
 
 @dataclass(frozen=True)

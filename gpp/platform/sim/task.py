@@ -6,8 +6,8 @@ from __future__ import annotations
 from collections.abc import Generator, Iterable
 from dataclasses import dataclass
 
+from gpp.base.suggest import closest
 from gpp.runtime.state import ActivityStatus
-from gpp.suggest import closest
 
 
 @dataclass(frozen=True)

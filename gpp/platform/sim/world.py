@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from gpp.numbers import MAX_SECONDS, bound_text, describe
-from gpp.resources import stdlib_dir
-from gpp.suggest import closest
+from gpp.base.numbers import MAX_SECONDS, bound_text, describe
+from gpp.base.resources import stdlib_dir
+from gpp.base.suggest import closest
 
 DEFAULT_WORLD = "blocksworld"
 

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 from pathlib import Path
 
-from gpp.diagnostics import Diagnostic
-from gpp.render import render_text
-from gpp.runner import RunOptions, RunOutcome, RunSetupError, run_program
+from gpp.base.diagnostics import Diagnostic
+from gpp.report.text import render_text
+from gpp.run.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.executor import RunStatus
 
 

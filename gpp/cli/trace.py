@@ -54,7 +54,7 @@ def _fail(message: str, code: int) -> NoReturn:
 def _load(path: Path) -> RunModel:
     """The run in a trace file, or a one-line error (exit 2 when the file cannot be read, 1
     when it is not a valid trace)."""
-    from gpp.cli import EXIT_PROBLEMS, EXIT_USAGE
+    from gpp.cli.common import EXIT_PROBLEMS, EXIT_USAGE
     from gpp.traceview.model import TraceReadError, build_model, load_trace
 
     try:
@@ -69,25 +69,25 @@ def _load(path: Path) -> RunModel:
 def _output_path(trace: Path, output: Path | None, suffix: str) -> Path | None:
     """Where to write (None: stdout for `-o -`). The default is next to the trace. Writing
     over the trace itself, or into a folder that does not exist, is a usage error."""
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     if output is not None and str(output) == "-":
         return None
     target = output if output is not None else trace.with_name(trace.name.removesuffix(".jsonl") + suffix)
     if target.is_dir():
-        _usage_error(f"cannot write '{target}': it is a directory (give a file name with -o)")
+        usage_error(f"cannot write '{target}': it is a directory (give a file name with -o)")
     if not target.parent.is_dir():
-        _usage_error(f"cannot write '{target}': the folder '{target.parent}' does not exist")
+        usage_error(f"cannot write '{target}': the folder '{target.parent}' does not exist")
     try:
         if target.exists() and target.resolve() == trace.resolve():
-            _usage_error(f"'{target}' is the trace itself; give another file with -o")
+            usage_error(f"'{target}' is the trace itself; give another file with -o")
     except OSError:
         pass
     return target
 
 
 def _write(target: Path | None, text: str) -> None:
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     if target is None:
         sys.stdout.write(text)
@@ -96,7 +96,7 @@ def _write(target: Path | None, text: str) -> None:
     try:
         target.write_text(text, encoding="utf-8")
     except OSError as e:
-        _usage_error(f"cannot write '{target}': {e.strerror or e}")
+        usage_error(f"cannot write '{target}': {e.strerror or e}")
 
 
 @trace_app.command("summary")
@@ -123,11 +123,11 @@ def summary(
 
     from rich.console import Console
 
-    from gpp.cli import EXIT_OK, ColorMode, _usage_error, use_color
+    from gpp.cli.common import EXIT_OK, ColorMode, usage_error, use_color
     from gpp.traceview.summary import render_summary
 
     if width is not None and width < MIN_WIDTH:
-        _usage_error(f"--width must be at least {MIN_WIDTH}, not {width}")
+        usage_error(f"--width must be at least {MIN_WIDTH}, not {width}")
     model = _load(file)
     colored = use_color(ColorMode(color.value))
     if width is None:
@@ -173,12 +173,12 @@ def html(
     Activities per lane, exogenous events, plans with their values, numeric values over
     time, and the source line of each step on hover; zoom and pan. The page needs no network
     access to open."""
-    from gpp.cli import EXIT_OK, _usage_error
+    from gpp.cli.common import EXIT_OK, usage_error
     from gpp.traceview.html import html_page
 
     for root in source_root or []:
         if not root.is_dir():
-            _usage_error(f"--source-root '{root}' is not a folder")
+            usage_error(f"--source-root '{root}' is not a folder")
     model = _load(file)
     target = _output_path(file, output, ".html")
     search = [*(source_root or []), Path.cwd(), file.parent]
@@ -209,7 +209,7 @@ def perfetto(
 
     Activities on one track per action, exogenous events, plans and errors as instants,
     numeric values as counters; times are platform time in microseconds."""
-    from gpp.cli import EXIT_OK
+    from gpp.cli.common import EXIT_OK
     from gpp.traceview.perfetto import render_chrome_trace
 
     model = _load(file)

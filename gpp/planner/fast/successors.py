@@ -3,7 +3,7 @@ later plannings, see `successors_of`): what the production planner calls instead
 gpp.runtime.semantics on every configuration.
 
 `trans` of a statement, a sequence or the rest of a block is generated Python source
-(gpp.planner.codegen, compiled with `apply` of the action steps it returns), as is a `while`
+(gpp.planner.fast.codegen, compiled with `apply` of the action steps it returns), as is a `while`
 condition in `final`; the closures below are what that source calls for the parts it does
 not write out, and what runs with `generate=False`.
 
@@ -37,7 +37,7 @@ from collections.abc import Callable
 from weakref import WeakKeyDictionary
 
 from gpp.model.symbols import Symbol, SymbolKind
-from gpp.planner.codegen import ApplyGen, TransGen
+from gpp.planner.fast.codegen import ApplyGen, TransGen
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
@@ -126,7 +126,7 @@ class Successors:
 
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
         """`Semantics.apply`; for an action step, generated source made once per step object
-        (gpp.planner.codegen.ApplyGen) when the action's effects allow it."""
+        (gpp.planner.fast.codegen.ApplyGen) when the action's effects allow it."""
         return self.apply_fn(step)(state, acts)
 
     def apply_fn(self, step: Step) -> ApplyFn:
@@ -184,7 +184,7 @@ class Successors:
 
     def trans_fn(self, p: Prog) -> TransFn:
         """`trans` of `p`: generated source for a statement, a sequence or the rest of a block
-        (gpp.planner.codegen), else the closures below."""
+        (gpp.planner.fast.codegen), else the closures below."""
         if self.generate and isinstance(p, Code | Seq | Rest) and self._trans_units < MAX_TRANS_UNITS:
             self._trans_units += 1
             gen = TransGen(self, self.unit_name("trans"))

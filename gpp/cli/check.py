@@ -16,23 +16,23 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
-from gpp.cli import (
+from gpp.cli.common import (
     EXIT_OK,
     EXIT_PROBLEMS,
     EXIT_USAGE,
     ColorMode,
     OutputFormat,
-    _did_you_mean,
-    _emit_diagnostics,
-    _require_readable,
-    _usage_error,
+    did_you_mean,
+    emit_diagnostics,
+    require_readable,
+    usage_error,
 )
 
 if TYPE_CHECKING:
+    from gpp.base.diagnostics import Diagnostic
     from gpp.check import CheckResult
     from gpp.check.fixes import Checker
-    from gpp.config import Config, ConfigError
-    from gpp.diagnostics import Diagnostic
+    from gpp.project.config import Config, ConfigError
 
 DESCRIPTION = (
     "Parse PATHs and everything they include, and report the problems found. Settings come from the "
@@ -43,7 +43,7 @@ DESCRIPTION = (
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # type: ignore[override]  # argparse's is NoReturn too
         self.print_usage()
-        _usage_error(message)
+        usage_error(message)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -117,7 +117,7 @@ def check(argv: Sequence[str]) -> int:
 
 def config_error(e: ConfigError) -> NoReturn:
     """A bad configuration file: its diagnostic on stderr, exit status 2."""
-    from gpp.render import render_text
+    from gpp.report.text import render_text
 
     sys.stderr.write(render_text([e.diagnostic], summary=False))
     raise SystemExit(EXIT_USAGE)
@@ -125,7 +125,7 @@ def config_error(e: ConfigError) -> NoReturn:
 
 def load_config(start: Path) -> Config:
     """The settings for a file or folder (a bad configuration file ends the command)."""
-    from gpp.config import ConfigError, config_for
+    from gpp.project.config import ConfigError, config_for
 
     try:
         return config_for(start)
@@ -134,22 +134,22 @@ def load_config(start: Path) -> Config:
 
 
 def files_to_check(given: Sequence[Path], hint: str = "") -> list[Path]:
-    """The files `gpp check` and `gpp fmt` work on (gpp.config.project_files): each file given,
+    """The files `gpp check` and `gpp fmt` work on (gpp.project.config.project_files): each file given,
     the .gpp files under each folder given, or with no PATH the project's `paths`. A path that
     does not exist, a bad configuration file or no .gpp file at all end the command (exit 2;
     `hint` is added to the last message)."""
-    from gpp.config import ConfigError, project_files
+    from gpp.project.config import ConfigError, project_files
 
     for path in given:
         if not path.exists():
-            _usage_error(f"cannot read '{path}': No such file or directory")
+            usage_error(f"cannot read '{path}': No such file or directory")
     try:
         files = project_files(given)
     except ConfigError as e:
         config_error(e)
     if not files:
         where = ", ".join(f"'{p}'" for p in given) if given else "the project (the working directory)"
-        _usage_error(f"no .gpp files found in {where}{hint}")
+        usage_error(f"no .gpp files found in {where}{hint}")
     return files
 
 
@@ -170,14 +170,12 @@ def run_check(
     from gpp.syntax.loader import load
 
     if max_diagnostics is not None and output_format is not OutputFormat.TEXT:
-        _usage_error(
-            f"--max-diagnostics applies to the text output only ({output_format.value} holds every diagnostic)"
-        )
+        usage_error(f"--max-diagnostics applies to the text output only ({output_format.value} holds every diagnostic)")
     if diff and output_format is not OutputFormat.TEXT:
-        _usage_error(f"--diff writes a unified diff; --format {output_format.value} does not apply to it")
+        usage_error(f"--diff writes a unified diff; --format {output_format.value} does not apply to it")
     paths = files_to_check(files, "; give .gpp files or folders, or --list-lints")
     for path in paths:
-        _require_readable(path)
+        require_readable(path)
     configs = {path: load_config(path) for path in paths}
 
     plan = _plan(paths, configs)
@@ -195,10 +193,10 @@ def run_check(
         else:
             results = [checker(p, {}) for p in plan.programs]
     except OSError as e:  # a file that vanished after the check above
-        _usage_error(f"cannot read '{e.filename or paths[0]}': {e.strerror or e}")
+        usage_error(f"cannot read '{e.filename or paths[0]}': {e.strerror or e}")
     results = plan.agreed(results)
     diagnostics = merged_diagnostics(results)
-    _emit_diagnostics(diagnostics, output_format, color, max_per_code=max_diagnostics)
+    emit_diagnostics(diagnostics, output_format, color, max_per_code=max_diagnostics)
     if fixed:
         to_stdout = output_format in (OutputFormat.TEXT, OutputFormat.CONCISE)
         print(fixed, file=sys.stdout if to_stdout else sys.stderr, flush=True)
@@ -309,9 +307,9 @@ def _lint_code(code_or_name: str) -> str:
 
     info = codes.lookup(code_or_name)
     if info is None:
-        _usage_error(f"unknown lint `{code_or_name}`" + _did_you_mean(codes.close_matches(code_or_name, lints=True)))
+        usage_error(f"unknown lint `{code_or_name}`" + did_you_mean(codes.close_matches(code_or_name, lints=True)))
     if not info.is_lint:
-        _usage_error(f"`{info.code}` is an error, not a lint: only lints can be allowed")
+        usage_error(f"`{info.code}` is an error, not a lint: only lints can be allowed")
     return info.code
 
 

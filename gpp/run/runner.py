@@ -12,7 +12,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from gpp import __version__
-from gpp import diagnostics as diag
+from gpp.base import diagnostics as diag
+from gpp.base.source import Span
+from gpp.base.suggest import did_you_mean
 from gpp.check import CheckResult, check_program
 from gpp.model.symbols import Symbol
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, DomainType, Type
@@ -25,8 +27,6 @@ from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, He
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace
 from gpp.runtime.values import Value
-from gpp.source import Span
-from gpp.suggest import did_you_mean
 from gpp.syntax.directives import directives
 
 if TYPE_CHECKING:

@@ -39,14 +39,14 @@ def fmt(
     ] = False,
 ) -> None:
     """Format golog++ files in the canonical layout, keeping their comments."""
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, _usage_error
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, usage_error
 
     paths = paths or []
     if any(str(p) == STDIN for p in paths):
         if len(paths) > 1:
-            _usage_error("`-` (standard input) cannot be combined with other paths")
+            usage_error("`-` (standard input) cannot be combined with other paths")
         raise typer.Exit(_format_stdin(check, diff))
-    from gpp.cli_check import files_to_check
+    from gpp.cli.check import files_to_check
 
     files = files_to_check(paths)
     # Every file is read before any is written: an unreadable one stops the command early.
@@ -77,7 +77,7 @@ def fmt(
 
 
 def _format_stdin(check: bool, diff: bool) -> int:
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS
 
     text = sys.stdin.read()
     formatted = _format(text, "<stdin>")
@@ -94,7 +94,7 @@ def _format_stdin(check: bool, diff: bool) -> int:
 
 def _format(text: str, path: str) -> str | None:
     """The formatted text, or None after reporting the syntax errors on stderr."""
-    from gpp.render import render_text
+    from gpp.report.text import render_text
     from gpp.syntax.format import FormatError, format_text
 
     try:
@@ -105,23 +105,23 @@ def _format(text: str, path: str) -> str | None:
 
 
 def _read(path: Path) -> str:
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     try:
         return path.read_bytes().decode("utf-8")
     except OSError as e:
-        _usage_error(f"cannot read '{path}': {e.strerror or e}")
+        usage_error(f"cannot read '{path}': {e.strerror or e}")
     except UnicodeDecodeError:
-        _usage_error(f"cannot read '{path}': it is not UTF-8 text")
+        usage_error(f"cannot read '{path}': it is not UTF-8 text")
 
 
 def _write(path: Path, text: str) -> None:
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     try:
         path.write_bytes(text.encode("utf-8"))
     except OSError as e:
-        _usage_error(f"cannot write '{path}': {e.strerror or e}")
+        usage_error(f"cannot write '{path}': {e.strerror or e}")
 
 
 def _diff(before: str, after: str, name: str) -> list[str]:

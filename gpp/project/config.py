@@ -41,9 +41,9 @@ from pathlib import Path
 from typing import Any
 
 from gpp import codes
-from gpp import diagnostics as diag
-from gpp.source import Source, Span
-from gpp.suggest import did_you_mean
+from gpp.base import diagnostics as diag
+from gpp.base.source import Source, Span
+from gpp.base.suggest import did_you_mean
 
 CONFIG_NAME = "gpp.toml"
 PYPROJECT = "pyproject.toml"

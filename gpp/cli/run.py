@@ -14,8 +14,8 @@ import typer
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
-    from gpp.runview import RunView
-    from gpp.testing import TestCase
+    from gpp.run.testing import TestCase
+    from gpp.run.view import RunView
 
 PlatformOption = Annotated[
     str | None,
@@ -59,16 +59,16 @@ WorldOption = Annotated[
 def key_values(pairs: list[str] | None, option: str) -> dict[str, str]:
     """`KEY=VALUE` pairs of a repeatable option; a malformed pair or a key given twice is a
     usage error."""
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     found: dict[str, str] = {}
     for pair in pairs or []:
         key, sep, value = pair.partition("=")
         key = key.strip()
         if not sep or not key:
-            _usage_error(f"{option} takes KEY=VALUE, not {pair!r}")
+            usage_error(f"{option} takes KEY=VALUE, not {pair!r}")
         if key in found:
-            _usage_error(f"{option} `{key}` is given twice")
+            usage_error(f"{option} `{key}` is given twice")
         found[key] = value.strip()
     return found
 
@@ -76,14 +76,14 @@ def key_values(pairs: list[str] | None, option: str) -> dict[str, str]:
 def platform_options(pairs: list[str] | None, **shorthand: object) -> dict[str, str | int | float | bool | Path]:
     """The platform options from `--platform-opt KEY=VALUE` pairs and the shorthand flags (those
     given: not None, not False). A malformed pair, or a key given twice, is a usage error."""
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     options: dict[str, str | int | float | bool | Path] = dict(key_values(pairs, "--platform-opt"))
     for name, given in shorthand.items():
         if given is None or given is False:
             continue
         if name in options:
-            _usage_error(f"platform option `{name}` is given twice (--{name} and --platform-opt {name}=...)")
+            usage_error(f"platform option `{name}` is given twice (--{name} and --platform-opt {name}=...)")
         assert isinstance(given, str | int | float | bool | Path)
         options[name] = given
     return options
@@ -101,10 +101,10 @@ def check_timeout(timeout: float | None) -> None:
     """A timeout must be a positive number of seconds (a usage error otherwise)."""
     import math
 
-    from gpp.cli import _usage_error
+    from gpp.cli.common import usage_error
 
     if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
-        _usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
+        usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
 
 
 def register(app: typer.Typer) -> None:
@@ -153,41 +153,41 @@ def run(
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
 
     Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise."""
-    from gpp.cli import (
+    from gpp.cli.check import load_config
+    from gpp.cli.common import (
         EXIT_OK,
         EXIT_PROBLEMS,
         ColorMode,
         OutputFormat,
-        _emit_diagnostics,
-        _require_readable,
-        _usage_error,
+        emit_diagnostics,
+        require_readable,
+        usage_error,
         use_color,
     )
-    from gpp.cli_check import load_config
-    from gpp.runner import RunOptions, RunSetupError, platform_for, run_program
+    from gpp.run.runner import RunOptions, RunSetupError, platform_for, run_program
 
-    _require_readable(file)
+    require_readable(file)
     check_timeout(timeout)
     from gpp.planner.search import STRATEGIES
 
     if search_strategy not in STRATEGIES:
-        _usage_error(f"--search-strategy must be one of {', '.join(STRATEGIES)}, not `{search_strategy}`")
+        usage_error(f"--search-strategy must be one of {', '.join(STRATEGIES)}, not `{search_strategy}`")
     config = load_config(file)
     if timeout is None:
         timeout = config.run_timeout
     if trace is not None:
-        from gpp.paths import output_problem
+        from gpp.base.paths import output_problem
 
         problem = output_problem(trace)
         if problem is not None:
-            _usage_error(f"--trace: {problem}")
+            usage_error(f"--trace: {problem}")
     from gpp.check import check_program
 
     allow = config.disabled_lints()
     checked = check_program(file, allow=allow, include_dirs=config.include)
     shown = list(checked.diagnostics)
     if shown:
-        _emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
+        emit_diagnostics(shown, OutputFormat.TEXT, ColorMode.AUTO, summary=bool(checked.errors))
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
     chosen = platform_for(platform or config.run_platform, checked, file)
@@ -217,10 +217,10 @@ def run(
         with view:
             outcome = run_program(file, options, [view] if view.shows else None, checked=checked)
     except RunSetupError as e:
-        _usage_error(str(e))
+        usage_error(str(e))
     runtime = [d for d in outcome.diagnostics if d not in shown]
     if runtime:
-        _emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
+        emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
     if profile and outcome.trace is not None:
         from rich.console import Console
 
@@ -229,7 +229,7 @@ def run(
         # Off a terminal rich would assume 80 columns; the table needs more.
         width = None if sys.stdout.isatty() else 140
         render_profile(outcome.trace.records, Console(file=sys.stdout, highlight=False, width=width))
-    from gpp.runview import summary_lines
+    from gpp.run.view import summary_lines
 
     print("\n".join(summary_lines(outcome)))
     if outcome.result is not None and outcome.result.status.value == "interrupted":
@@ -275,31 +275,31 @@ def test_command(
 
     Exit code 0 when every program passes, 1 when one fails, 2 when interrupted or misused,
     5 when no program was selected (as pytest)."""
-    from gpp.cli import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, _usage_error
-    from gpp.cli_check import load_config
-    from gpp.runner import RunOptions
-    from gpp.testing import SelectionError, discover, run_all, selector
+    from gpp.cli.check import load_config
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, usage_error
+    from gpp.run.runner import RunOptions
+    from gpp.run.testing import SelectionError, discover, run_all, selector
 
     check_timeout(timeout)
     if jobs < 1:
-        _usage_error(f"-j takes a number of processes of at least 1, not {jobs}")
+        usage_error(f"-j takes a number of processes of at least 1, not {jobs}")
     config = load_config(paths[0] if paths else Path.cwd())
     targets = paths or list(config.test_paths)
     for p in targets:
         if not p.exists():
-            _usage_error(f"no such file or folder: '{p}'")
+            usage_error(f"no such file or folder: '{p}'")
     if junitxml is not None:
-        from gpp.paths import output_problem
+        from gpp.base.paths import output_problem
 
         problem = output_problem(junitxml)
         if problem is not None:
-            _usage_error(f"--junitxml: {problem}")
+            usage_error(f"--junitxml: {problem}")
     files = discover([_shown(p) for p in targets])
     if keyword is not None:
         try:
             matches = selector(keyword)
         except SelectionError as e:
-            _usage_error(str(e))
+            usage_error(str(e))
         files = [f for f in files if matches(str(f))]
     if not files:
         where = ", ".join(f"'{p}'" for p in targets)
@@ -322,7 +322,7 @@ def test_command(
         raise typer.Exit(EXIT_USAGE) from None
     _print_results(cases, platform)
     if junitxml is not None:
-        from gpp.testing import junit_xml
+        from gpp.run.testing import junit_xml
 
         junitxml.write_text(junit_xml(cases), encoding="utf-8")
     raise typer.Exit(EXIT_PROBLEMS if any(c.failed for c in cases) else EXIT_OK)
@@ -344,8 +344,8 @@ def _print_results(cases: list[TestCase], platform: str | None) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from gpp.cli import ColorMode, OutputFormat, _emit_diagnostics, use_color
-    from gpp.testing import Verdict
+    from gpp.cli.common import ColorMode, OutputFormat, emit_diagnostics, use_color
+    from gpp.run.testing import Verdict
 
     console = Console(file=sys.stdout, highlight=False, no_color=not use_color(ColorMode.AUTO), width=120)
     table = Table(title=f"gpp test ({platform or 'dummy, or sim for programs with a world'})", title_justify="left")
@@ -364,7 +364,7 @@ def _print_results(cases: list[TestCase], platform: str | None) -> None:
     console.print(table)
     for case in cases:
         if case.failed and case.errors:
-            _emit_diagnostics(list(case.errors), OutputFormat.TEXT, ColorMode.AUTO, summary=False)
+            emit_diagnostics(list(case.errors), OutputFormat.TEXT, ColorMode.AUTO, summary=False)
     counts = {v: sum(1 for c in cases if c.verdict is v) for v in Verdict}
     print(
         f"{counts[Verdict.PASS]} passed, {counts[Verdict.FAIL] + counts[Verdict.ERROR]} failed"
@@ -377,7 +377,7 @@ def _configured_world(
 ) -> str | None:
     """The configuration's `run.world` for a run on the sim, unless `-o world=...` or the
     program's `// world:` line names one (the program's own choice comes first)."""
-    from gpp.runner import program_directives
+    from gpp.run.runner import program_directives
 
     if world is None or platform != "sim" or "world" in key_values(platform_opt, "--platform-opt"):
         return None
@@ -385,7 +385,7 @@ def _configured_world(
 
 
 def _view(file: Path, platform: str, quiet: bool, color: bool) -> RunView:
-    from gpp.runview import LiveView, NoView, PlainView
+    from gpp.run.view import LiveView, NoView, PlainView
 
     if quiet:
         return NoView()

@@ -1,7 +1,7 @@
-"""The typer app behind every `gpp` command but `check` (gpp.cli_check, which gpp.cli calls
+"""The typer app behind every `gpp` command but `check` (gpp.cli.check, which gpp.cli calls
 directly so that a check does not pay for typer): `explain` here, `run` and `test` in
-gpp.cli_run, `trace` in gpp.cli_trace, `fmt` in gpp.cli_fmt, `config` and `new` in
-gpp.cli_project."""
+gpp.cli.run, `trace` in gpp.cli.trace, `fmt` in gpp.cli.fmt, `config` and `new` in
+gpp.cli.project."""
 
 from __future__ import annotations
 
@@ -11,12 +11,12 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from gpp import __version__
-from gpp.cli import EXIT_OK, _did_you_mean, _usage_error
-from gpp.cli_check import DESCRIPTION
-from gpp.cli_fmt import register as register_fmt
-from gpp.cli_project import register as register_project
-from gpp.cli_run import register
-from gpp.cli_trace import register as register_trace
+from gpp.cli.check import DESCRIPTION
+from gpp.cli.common import EXIT_OK, did_you_mean, usage_error
+from gpp.cli.fmt import register as register_fmt
+from gpp.cli.project import register as register_project
+from gpp.cli.run import register
+from gpp.cli.trace import register as register_trace
 
 if TYPE_CHECKING:
     from gpp.codes import CodeInfo
@@ -54,7 +54,7 @@ def _root(
 )
 def check(ctx: typer.Context) -> None:
     # Listed here for `gpp --help`; gpp.cli.main runs `gpp check` without typer.
-    from gpp.cli_check import check as run_check
+    from gpp.cli.check import check as run_check
 
     raise typer.Exit(run_check(ctx.args))
 
@@ -74,15 +74,15 @@ def explain(
 
     if list_codes:
         if code is not None:
-            _usage_error("give a CODE or --list, not both")
+            usage_error("give a CODE or --list, not both")
         _print_codes()
         raise typer.Exit(EXIT_OK)
     if code is None:
-        _usage_error("give a CODE to explain (or --list for all of them)")
+        usage_error("give a CODE to explain (or --list for all of them)")
 
     info = codes.lookup(code)
     if info is None:
-        _usage_error(f"unknown code `{code}`" + _did_you_mean(codes.close_matches(code)))
+        usage_error(f"unknown code `{code}`" + did_you_mean(codes.close_matches(code)))
     print(f"{info.code} ({_kind(info)} `{info.name}`): {info.summary}")
     if info.explanation:
         print()
@@ -117,7 +117,7 @@ def lsp(
 ) -> None:
     """Run the golog++ language server for editors (diagnostics as you type, quick fixes, ...)."""
     if stdio and tcp is not None:
-        _usage_error("give either --stdio or --tcp, not both")
+        usage_error("give either --stdio or --tcp, not both")
     address = _loopback_address(tcp) if tcp is not None else None
     # A server has nothing to finish: SIGTERM (an editor stopping it) ends it at once.
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -138,13 +138,13 @@ def _loopback_address(text: str) -> tuple[str, int]:
     host, sep, port = text.rpartition(":")
     host = host.strip("[]")
     if not sep or not port.isdigit() or not 0 < int(port) < 65536:
-        _usage_error(f"--tcp wants HOST:PORT with a port from 1 to 65535, not `{text}`")
+        usage_error(f"--tcp wants HOST:PORT with a port from 1 to 65535, not `{text}`")
     try:
         loopback = host == "localhost" or ipaddress.ip_address(host).is_loopback
     except ValueError:
         loopback = False
     if not loopback:
-        _usage_error(f"--tcp listens on loopback addresses only (127.0.0.1, ::1, localhost), not `{host}`")
+        usage_error(f"--tcp listens on loopback addresses only (127.0.0.1, ::1, localhost), not `{host}`")
     return host, int(port)
 
 

@@ -6,8 +6,8 @@ import difflib
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from gpp.diagnostics import Applicability, Edit, Fix
-from gpp.source import Span
+from gpp.base.diagnostics import Applicability, Edit, Fix
+from gpp.base.source import Span
 
 
 def _same_but_case(name: str, pool: list[str]) -> str | None:

@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import TYPE_CHECKING, TypedDict
 
-from gpp.diagnostics import Diagnostic, Edit, Fix, Label, Severity
-from gpp.source import Source, Span
+from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, Severity
+from gpp.base.source import Source, Span
 
 if TYPE_CHECKING:
     from rich.console import Console

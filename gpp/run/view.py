@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from rich.live import Live
 
     from gpp.planner.dp import Progress
-    from gpp.runner import RunOutcome
+    from gpp.run.runner import RunOutcome
 
 
 def describe(event: TraceEvent) -> str | None:

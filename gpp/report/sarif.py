@@ -16,9 +16,9 @@ from typing import Any
 from urllib.parse import quote
 
 from gpp import __version__
+from gpp.base.diagnostics import Diagnostic, Severity
+from gpp.base.source import Span
 from gpp.codes import CODES
-from gpp.diagnostics import Diagnostic, Severity
-from gpp.source import Span
 
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 SARIF_VERSION = "2.1.0"

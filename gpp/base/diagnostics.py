@@ -2,7 +2,7 @@
 
 A Diagnostic carries a stable code, a severity, a primary span with an optional label,
 labelled secondary spans, notes, a help line and an optional fix (replacement edits). The
-renderers in gpp.render turn it into rustc-style terminal text, plain text or JSON.
+renderers in gpp.report.text turn it into rustc-style terminal text, plain text or JSON.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import TypedDict, Unpack
 
-from gpp.source import Span
+from gpp.base.source import Span
 
 
 class Severity(Enum):

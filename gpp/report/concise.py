@@ -15,8 +15,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gpp.diagnostics import Diagnostic, Severity
-from gpp.source import Span
+from gpp.base.diagnostics import Diagnostic, Severity
+from gpp.base.source import Span
 
 
 def span_range(span: Span) -> tuple[int, int, int, int]:

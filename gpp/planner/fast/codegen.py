@@ -1,17 +1,17 @@
 """`trans` of a program point as generated Python source, written once per semantics object and
 compiled once per source text (gpp.runtime.codegen.CompileCache): the successors of a
-continuation in straight-line code, for gpp.planner.successors.
+continuation in straight-line code, for gpp.planner.fast.successors.
 
 For a continuation (a statement with its bindings, a sequence, the rest of a block) this
 module writes one function of (state, activities) that does what the specialised closures of
-gpp.planner.successors do, written out: the `while`/`if` conditions, `test`s, the `choose`
+gpp.planner.fast.successors do, written out: the `while`/`if` conditions, `test`s, the `choose`
 alternatives, the values of a `pick` over a domain (its precondition guard included), and an
 action call with known arguments (its running check and precondition conjuncts, with the
 action's parameters folded to constants) become nested `if`s appending constant successors
 (the continuation after the step is known when the code is written: `seq` is applied once,
 here). Conditions are written by gpp.runtime.codegen. Whatever is not written out (a
 procedure call, an assignment, `pick ... in {...}`, a guard that reads a fluent in its
-arguments, concurrency, hooks) calls the closure of gpp.planner.successors for that part,
+arguments, concurrency, hooks) calls the closure of gpp.planner.fast.successors for that part,
 and the successors it returns are put in their place, continued the same way.
 
 The order of evaluation is the closures' (and so the semantics'): alternatives in textual
@@ -25,6 +25,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from gpp.base.source import Span
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import Sym
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported, build_units
@@ -33,11 +34,10 @@ from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import DONE, Code, Done, DoStep, Frame, Prog, Rest, Semantics, Seq, TestStep
 from gpp.runtime.state import ActivityStatus, State, identical, item_hash
 from gpp.runtime.values import Value, show
-from gpp.source import Span
 from gpp.syntax import ast
 
 if TYPE_CHECKING:
-    from gpp.planner.successors import ApplyFn, FinalFn, Successors, TransFn
+    from gpp.planner.fast.successors import ApplyFn, FinalFn, Successors, TransFn
 
 _EMPTY = State()
 _PLAIN = (Sym, str, type(None))
@@ -114,7 +114,7 @@ class TransGen:
 
     def then_final(self, d: int, final: FinalFn, rest: Prog, wrap: Prog) -> None:
         """If `final` holds, the successors of `rest` too (the tail of a sequence)."""
-        from gpp.planner.successors import always, never
+        from gpp.planner.fast.successors import always, never
 
         if final is never:
             return
@@ -128,7 +128,7 @@ class TransGen:
 
     def leaf(self, d: int, fn: TransFn, wrap: Prog) -> None:
         """The successors a closure returns, continued by `wrap`."""
-        call = f"{self.unit.const(fn, 'a closure of gpp.planner.successors')}(state, acts)"
+        call = f"{self.unit.const(fn, 'a closure of gpp.planner.fast.successors')}(state, acts)"
         if isinstance(wrap, Done):
             self.unit.emit(d, f"out.extend({call})")
             return
@@ -238,7 +238,7 @@ class TransGen:
             for f in frames:
                 self.code(d, s.body, f, wrap, known)
             return
-        # As gpp.planner.successors does: once the guard found its conjuncts true, the action's
+        # As gpp.planner.fast.successors does: once the guard found its conjuncts true, the action's
         # precondition need not evaluate those that read only fluents again.
         action = program.action(successors.guarded_call(s).name)
         conjuncts = [(check, expr) for check, expr in action.precondition if check in guard.conjuncts]

@@ -24,13 +24,13 @@ def config_command(
 ) -> None:
     """Show the settings that apply to PATH and the file they come from (gpp.toml, or
     [tool.gpp] in pyproject.toml, the nearest going up)."""
-    from gpp.cli import EXIT_OK, _usage_error
-    from gpp.cli_check import load_config
-    from gpp.config import describe
+    from gpp.cli.check import load_config
+    from gpp.cli.common import EXIT_OK, usage_error
+    from gpp.project.config import describe
 
     start = path if path is not None else Path.cwd()
     if not start.exists():
-        _usage_error(f"no such file or folder: '{start}'")
+        usage_error(f"no such file or folder: '{start}'")
     print(describe(load_config(start)), end="")
     raise typer.Exit(EXIT_OK)
 
@@ -40,15 +40,15 @@ def new_command(
 ) -> None:
     """Create a starter agent project in the folder NAME: an agent, a robot library, a test
     program with its scenario, gpp.toml and a README. NAME must not exist or be empty."""
-    from gpp.cli import EXIT_OK, _usage_error
-    from gpp.scaffold import ScaffoldError, create_project
+    from gpp.cli.common import EXIT_OK, usage_error
+    from gpp.project.scaffold import ScaffoldError, create_project
 
     try:
         written = create_project(name)
     except ScaffoldError as e:
-        _usage_error(str(e))
+        usage_error(str(e))
     except OSError as e:
-        _usage_error(f"cannot create '{name}': {e.strerror or e}")
+        usage_error(f"cannot create '{name}': {e.strerror or e}")
     print(f"created {name}/ with {len(written)} files:")
     for path in written:
         print(f"  {path.relative_to(name).as_posix()}")

@@ -1,0 +1,2 @@
+"""The `gpp` command line: `main` dispatches, `common` holds what the commands share, one
+module per command."""

@@ -1,0 +1,118 @@
+"""What the commands of `gpp` share: exit codes, output formats and colour, usage errors, and
+writing diagnostics.
+
+Adding a command (`run`, `test`, `lsp`, ...): write a function decorated with
+`@app.command()` in gpp.cli.app (or register it from a module of its own, as gpp.cli.run
+does), import its machinery inside the function, report problems through `emit_diagnostics`,
+user mistakes through `usage_error`, and end with `raise typer.Exit(code)`.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+from enum import StrEnum
+from pathlib import Path
+from typing import TYPE_CHECKING, NoReturn
+
+if TYPE_CHECKING:
+    from gpp.base.diagnostics import Diagnostic
+
+EXIT_OK = 0
+EXIT_PROBLEMS = 1
+EXIT_USAGE = 2
+EXIT_INTERNAL = 3
+
+
+class OutputFormat(StrEnum):
+    """How diagnostics are written: rustc-style text, a line each (concise), GitHub workflow
+    annotations, gpp's JSON report, or SARIF 2.1.0."""
+
+    TEXT = "text"
+    CONCISE = "concise"
+    GITHUB = "github"
+    JSON = "json"
+    SARIF = "sarif"
+
+
+class ColorMode(StrEnum):
+    AUTO = "auto"
+    ALWAYS = "always"
+    NEVER = "never"
+
+
+# ---------------------------------------------------------------- shared by the commands
+
+
+def did_you_mean(candidates: Sequence[str]) -> str:
+    """`; did you mean `a` or `b`?` to end a usage error, or "" without candidates."""
+    if not candidates:
+        return ""
+    from gpp.base.suggest import Suggestion
+
+    return "; " + Suggestion(tuple(candidates)).help
+
+
+def require_readable(path: Path) -> None:
+    try:
+        with path.open("rb"):
+            pass
+    except OSError as e:
+        usage_error(f"cannot read '{path}': {e.strerror or e}")
+
+
+def usage_error(message: str) -> NoReturn:
+    print(f"error: {message}", file=sys.stderr)
+    raise SystemExit(EXIT_USAGE)
+
+
+def use_color(mode: ColorMode, stream: object = None) -> bool:
+    """Whether text output gets colour: `always`/`never` decide, `auto` asks the environment
+    (NO_COLOR and TERM=dumb turn colour off, FORCE_COLOR on) and then whether `stream` is a TTY."""
+    if mode is ColorMode.ALWAYS:
+        return True
+    if mode is ColorMode.NEVER or os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR"):
+        return True
+    if os.environ.get("TERM") == "dumb":
+        return False
+    isatty = getattr(stream if stream is not None else sys.stdout, "isatty", None)
+    return bool(isatty and isatty())
+
+
+def emit_diagnostics(
+    diagnostics: Sequence[Diagnostic],
+    output_format: OutputFormat,
+    color: ColorMode,
+    *,
+    summary: bool = True,
+    max_per_code: int | None = None,
+) -> None:
+    """Write diagnostics to stdout in the chosen format; text ends with the summary line
+    (unless `summary` is false: `gpp run` prints its own summary). Text shows at most
+    `max_per_code` diagnostics of one code in one file (None: the default; 0: all)."""
+    from gpp.report import text as render
+
+    limit = render.DEFAULT_MAX_DIAGNOSTICS if max_per_code is None else max_per_code
+    if output_format is OutputFormat.JSON:
+        sys.stdout.write(render.render_json(diagnostics))
+    elif output_format in (OutputFormat.CONCISE, OutputFormat.GITHUB):
+        from gpp.report import concise as formats
+
+        concise = output_format is OutputFormat.CONCISE
+        sys.stdout.write((formats.render_concise if concise else formats.render_github)(diagnostics))
+    elif output_format is OutputFormat.SARIF:
+        from gpp.report.sarif import render_sarif
+
+        sys.stdout.write(render_sarif(diagnostics))
+    elif use_color(color):
+        from rich.console import Console
+
+        # "standard" colours: our theme needs no more, and they work even where TERM is unknown.
+        console = Console(file=sys.stdout, force_terminal=True, no_color=False, color_system="standard")
+        render.print_diagnostics(console, diagnostics, summary=summary, max_per_code=limit)
+    else:
+        sys.stdout.write(render.render_text(diagnostics, summary=summary, max_per_code=limit))
+    sys.stdout.flush()
