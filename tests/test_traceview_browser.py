@@ -2,8 +2,11 @@
 driven by Playwright (the `dev` extra; never `playwright install`, which would download a
 browser of its own). The page of the blocksworld run on the sim loads without console errors
 or network requests, draws one bar per activity, shows the source line on hover, zooms and
-pans. `GPP_UPDATE_SCREENSHOT=1` also writes its screenshot to docs/trace_viewer.png (the
-README's picture; its own variable, since the planning time shown in it varies run to run)."""
+pans. Each step waits for the state it asserts (playwright's `expect`, or the chart's
+`data-view` for the time window drawn) with a timeout long enough for a loaded machine, never
+for a fixed time or for "some change". `GPP_UPDATE_SCREENSHOT=1` also writes its screenshot to
+docs/trace_viewer.png (the README's picture; its own variable, since the planning time shown in
+it varies run to run)."""
 
 from __future__ import annotations
 
@@ -21,12 +24,14 @@ from gpp.traceview.html import html_page
 from gpp.traceview.model import build_model, load_trace
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser, ConsoleMessage, Page
+    from playwright.sync_api import Browser, ConsoleMessage, Locator, LocatorAssertions, Page
 
 ROOT = Path(__file__).resolve().parent.parent
 SCREENSHOT = ROOT / "docs" / "trace_viewer.png"
 UPDATE_SCREENSHOT = os.environ.get("GPP_UPDATE_SCREENSHOT") == "1"
 CHROMIUM = "/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else shutil.which("chromium")
+# How long a step may take to show its state (ms): long, since a wait that holds ends at once.
+WAIT = 30_000
 CHROMIUM_ARGS = [
     "--headless",
     "--no-sandbox",
@@ -51,7 +56,7 @@ def browser() -> Iterator[Browser]:
     except ImportError:
         pytest.skip("the Python package playwright is not installed: pip install -e '.[dev]'")
     with sync_playwright() as playwright:
-        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, timeout=WAIT)
         yield launched
         launched.close()
 
@@ -76,12 +81,22 @@ def blocksworld(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     return trace, html
 
 
+def expect(locator: Locator) -> LocatorAssertions:
+    """Playwright's `expect`, its timeout set to WAIT (imported here, so that the module loads
+    without playwright and the `browser` fixture says why it skips)."""
+    from playwright.sync_api import expect as playwright_expect
+
+    playwright_expect.set_options(timeout=WAIT)
+    return playwright_expect(locator)
+
+
 class Opened:
     """A page opened from a file, with what it said on the console and what it requested."""
 
     def __init__(self, browser: Browser, path: Path, width: int = 1280) -> None:
         self.url = path.resolve().as_uri()
         self.page: Page = browser.new_page(viewport={"width": width, "height": 800})
+        self.page.set_default_timeout(WAIT)
         self.problems: list[str] = []
         self.requests: list[str] = []
         self.page.on("console", self._console)
@@ -89,7 +104,7 @@ class Opened:
         self.page.on("requestfailed", lambda r: self.problems.append(f"request failed: {r.url}"))
         self.page.on("request", lambda r: self.requests.append(r.url))
         self.page.goto(self.url)
-        self.page.wait_for_selector("body[data-ready=true]", timeout=10_000)
+        self.page.wait_for_selector("body[data-ready=true]")
 
     def _console(self, message: ConsoleMessage) -> None:
         if message.type in ("error", "warning"):
@@ -100,6 +115,33 @@ class Opened:
 
     def range_text(self) -> str:
         return self.page.inner_text("#range")
+
+    def view(self) -> tuple[float, float]:
+        """The time window (start, end) of the chart's last drawing: its `data-view`."""
+        start, end = (self.page.get_attribute("#chart", "data-view") or "nan nan").split()
+        return float(start), float(end)
+
+    def plot(self) -> tuple[float, float]:
+        """The plot area (left, width) in the chart's pixels: its `data-plot`."""
+        left, width = (self.page.get_attribute("#chart", "data-plot") or "nan nan").split()
+        return float(left), float(width)
+
+    def wait_for_view(self, condition: str, what: str) -> tuple[float, float]:
+        """Wait until the chart draws a window for which `condition` holds, a JavaScript
+        expression over `start` and `end` (and `near(a, b, tolerance)`), and return that window.
+        A view changes at once and is drawn at the next frame, so a test waits for the drawing."""
+        from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+        script = (
+            "() => { const v = document.getElementById('chart').getAttribute('data-view');"
+            " if (!v) return false; const [start, end] = v.split(' ').map(Number);"
+            f" const near = (a, b, tolerance) => Math.abs(a - b) <= tolerance; return {condition}; }}"
+        )
+        try:
+            self.page.wait_for_function(script, timeout=WAIT)
+        except PlaywrightTimeout:
+            pytest.fail(f"the chart did not show {what} within {WAIT // 1000} s: it shows {self.view()}")
+        return self.view()
 
 
 @pytest.fixture
@@ -140,9 +182,8 @@ def test_the_page_loads_cleanly_and_draws_every_activity(opened: Opened, blocksw
     assert opened.page.locator("#plans-table tbody tr").count() == 1
     assert opened.page.locator("#activities-table tbody tr").count() == 0  # filled when opened
     opened.page.click("#activities-card summary")
-    # The table is filled by the `toggle` event, after the click returns: wait for its last row.
-    opened.page.locator("#activities-table tbody tr").nth(len(starts) - 1).wait_for(timeout=10_000)
-    assert opened.page.locator("#activities-table tbody tr").count() == len(starts)
+    # The table is filled by the `toggle` event, after the click returns: wait for its rows.
+    expect(opened.page.locator("#activities-table tbody tr")).to_have_count(len(starts))
     assert opened.page.locator("text.axis-label").first.text_content() == "0 s"
 
 
@@ -154,19 +195,20 @@ def test_hover_shows_the_step_and_its_source_line(opened: Opened, blocksworld: t
     source = (ROOT / file).read_text(encoding="utf-8").splitlines()[int(line) - 1].strip()
     tooltip = opened.page.locator("#tooltip")
     assert tooltip.is_hidden()
+    # The tooltip follows pointer events, which the page may handle after the hover returns.
     opened.page.hover(f'g.activity[data-id="{stack.id}"] rect.bar')
-    assert tooltip.is_visible()
-    text = tooltip.inner_text()
-    assert "stack(a,t2)" in text and stack.at in text and source in text
+    expect(tooltip).to_be_visible()
+    for part in ("stack(a,t2)", stack.at, source):
+        expect(tooltip).to_contain_text(part)
     assert opened.page.locator("#tooltip pre.src .hl").inner_text().strip().endswith(source)
     # Moving off the chart hides it; an exogenous event and the plan explain themselves too.
     opened.page.mouse.move(5, 5)
-    assert tooltip.is_hidden()
+    expect(tooltip).to_be_hidden()
     opened.page.hover("g.exog >> nth=1")
-    assert "battery_report(95)" in tooltip.inner_text()
+    expect(tooltip).to_contain_text("battery_report(95)")
     opened.page.hover("g.plan")
-    plan_text = tooltip.inner_text()
-    assert "value 96" in plan_text and "horizon" in plan_text and "stack(c,t3)" in plan_text
+    for part in ("value 96", "horizon", "stack(c,t3)"):
+        expect(tooltip).to_contain_text(part)
     assert opened.problems == []
 
 
@@ -174,32 +216,54 @@ def test_zoom_and_pan(opened: Opened) -> None:
     page = opened.page
     whole = opened.range_text()
     assert whole.startswith("showing 0.0 s – 35.8 s")
+    full = opened.view()
+    left, width = opened.plot()
+    exact = (full[1] - full[0]) * 1e-9  # rounding only
+    # Zoom in twice: a quarter of the run (and its margins), around its middle. Each click
+    # halves the view, and a frame may be drawn between the clicks: wait for the quarter.
     page.click("#zoom-in")
     page.click("#zoom-in")
-    page.wait_for_function(f"document.querySelector('#range').textContent !== {whole!r}")
-    zoomed = opened.range_text()
-    start, end = float(zoomed.split()[1]), float(zoomed.split()[4])
-    assert 8 < end - start < 10  # a quarter of the run (and its margins), around its middle
+    quarter, middle = (full[1] - full[0]) / 4, (full[0] + full[1]) / 2
+    zoomed = opened.wait_for_view(
+        f"near(end - start, {quarter!r}, {exact!r}) && near((start + end) / 2, {middle!r}, {exact!r})",
+        "a quarter of the run around its middle",
+    )
+    zoomed_text = opened.range_text()
+    start, end = float(zoomed_text.split()[1]), float(zoomed_text.split()[4])
+    assert 8 < end - start < 10
     assert abs((start + end) / 2 - 35.8 / 2) < 0.5
     drawn = page.locator("g.activity").count()
     assert 0 < drawn < 13  # only what is on screen
-    # Drag to pan: the window moves later in time.
+    # Drag 300 pixels to the left to pan: the window moves as far later in time.
     box = page.locator("#chart").bounding_box()
     assert box is not None
     y = box["y"] + 60
+    span = zoomed[1] - zoomed[0]
+    pixel = span / width  # one pixel's time: pointer positions may be rounded to whole pixels
     page.mouse.move(box["x"] + 700, y)
     page.mouse.down()
     page.mouse.move(box["x"] + 400, y, steps=5)
     page.mouse.up()
-    page.wait_for_function(f"document.querySelector('#range').textContent !== {zoomed!r}")
-    panned = opened.range_text()
-    assert float(panned.split()[1]) > float(zoomed.split()[1])
-    # The wheel zooms around the pointer; double-click shows the whole run again.
-    page.mouse.move(box["x"] + 600, y)
+    later = zoomed[0] + 300 * pixel
+    panned = opened.wait_for_view(
+        f"near(start, {later!r}, {pixel!r}) && near(end - start, {span!r}, {exact!r})",
+        f"the zoomed window 300 pixels later (from {later:.3f} s)",
+    )
+    assert float(opened.range_text().split()[1]) > start
+    # The wheel zooms in around the pointer: a narrower window, the same time under the pointer.
+    px = 600
+    at = (px - left) / width
+    under = panned[0] + at * (panned[1] - panned[0])
+    page.mouse.move(box["x"] + px, y)
     page.mouse.wheel(0, -400)
-    page.wait_for_function(f"document.querySelector('#range').textContent !== {panned!r}")
+    opened.wait_for_view(
+        f"end - start < {span * 0.9!r} && near(start + {at!r} * (end - start), {under!r}, {pixel!r})",
+        f"a narrower window with {under:.3f} s still under the pointer",
+    )
+    # Double-click shows the whole run again.
     page.dblclick("#chart")
-    page.wait_for_function(f"document.querySelector('#range').textContent === {whole!r}")
+    opened.wait_for_view(f"near(start, {full[0]!r}, {exact!r}) && near(end, {full[1]!r}, {exact!r})", "the whole run")
+    assert opened.range_text() == whole
     assert opened.problems == []
 
 
@@ -216,8 +280,8 @@ def test_a_run_that_stops_renders_its_waits_and_problems(browser: Browser, tmp_p
         assert opened.page.locator("g.wait-span").count() == 1
         assert opened.page.locator("g.problem").count() == 1
         opened.page.hover("g.problem")
-        text = opened.page.inner_text("#tooltip")
-        assert "R0002" in text and "agent.gpp:14:9" in text and "not embedded" in text
+        for part in ("R0002", "agent.gpp:14:9", "not embedded"):
+            expect(opened.page.locator("#tooltip")).to_contain_text(part)
         assert opened.page.inner_text("#status") == "ERROR"
     finally:
         opened.page.close()
@@ -227,6 +291,7 @@ def test_screenshot_of_the_blocksworld_run(opened: Opened, tmp_path: Path) -> No
     """The README's picture: the whole page with the tooltip of a step. Written to
     docs/trace_viewer.png with GPP_UPDATE_SCREENSHOT=1."""
     opened.page.hover('g.activity[data-action="stack(a,t2)"] rect.bar')
+    expect(opened.page.locator("#tooltip")).to_contain_text("stack(a,t2)")
     shot = tmp_path / "trace_viewer.png"
     opened.page.screenshot(path=str(shot), full_page=True)
     data = shot.read_bytes()

@@ -246,6 +246,12 @@
       "showing " + fmtTime(Math.max(view[0], t0), digits + 1) + " – " + fmtTime(Math.min(view[1], t1), digits + 1) +
       " of " + fmtTime(t0, 0) + " – " + fmtTime(D.end, 3) +
       (hidden ? " · " + plural(hidden, "activity", "activities") + " too short to draw at this zoom" : "");
+    // What this drawing shows, for tests and tools that drive the page (the view changes at
+    // once, the drawing at the next frame): data-view is the time window drawn ("start end",
+    // seconds, margins included) and data-plot the plot area in the chart's pixels ("left
+    // width"), so a pixel px of the chart is at time start + (px - left) / width * (end - start).
+    svg.setAttribute("data-view", view[0] + " " + view[1]);
+    svg.setAttribute("data-plot", GUTTER + " " + plotW);
   }
 
   // Labels right of marks, cut short before the next mark and skipped where they would not
