@@ -60,11 +60,11 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 
 from gpp import __version__
 from gpp.base import diagnostics as diag
-from gpp.base.source import Span
 from gpp.check import CheckResult
 from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
 from lsp.codes_doc import code_url
 from lsp.gc_policy import GcPolicy
+from lsp.ranges import lsp_range
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -149,11 +149,6 @@ def uri_to_path(uri: str) -> Path:
     if parsed.scheme in ("file", ""):
         return Path(unquote(parsed.path)).resolve()
     return Path("/", f"<{parsed.scheme}>", quote(unquote(parsed.path or parsed.netloc), safe="")).resolve()
-
-
-def lsp_range(span: Span) -> types.Range:
-    (l1, c1), (l2, c2) = span.lsp_range()
-    return types.Range(types.Position(l1, c1), types.Position(l2, c2))
 
 
 # ---------------------------------------------------------------- the protocol

@@ -137,7 +137,7 @@ def value_key(v: DomainValue) -> object:
     return (cls, v)
 
 
-def format_number(v: int | float) -> str:
+def number_to_string(v: int | float) -> str:
     """Numbers as `to_string` writes them: `1`, `2.0`, `0.3`, `1e+20`."""
     if isinstance(v, bool):
         raise TypeError("a bool is not a number")
@@ -156,7 +156,7 @@ def show_value(v: DomainValue | None) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int | float):
-        return format_number(v)
+        return number_to_string(v)
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     return v.name

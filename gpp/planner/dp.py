@@ -93,7 +93,7 @@ from dataclasses import dataclass
 from gpp.base.source import Span
 from gpp.planner.bounds import StateBound
 from gpp.planner.fast.successors import ApplyFn, FinalFn, TransFn, successors_of
-from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
+from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
 from gpp.runtime.errors import GppRuntimeError
@@ -438,7 +438,7 @@ def solve_plan(
         by_id.clear()
 
     root = intern(prog, state, acts)
-    with deep_recursion(span), _collector_paused():
+    with planning_recursion_guard(span), _collector_paused():
         try:
             result = best(root, horizon, 0)
         finally:

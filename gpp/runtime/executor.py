@@ -29,7 +29,7 @@ from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
-    ExogEvent,
+    ExogOccurrence,
     PlatformError,
     PlatformPort,
 )
@@ -170,7 +170,7 @@ class Executor:
     # ---------------------------------------------------------------- the loop
 
     def run(self) -> RunResult:
-        with deep_recursion():
+        with raised_recursion_limit():
             return self._run()
 
     def _run(self) -> RunResult:
@@ -373,7 +373,7 @@ class Executor:
         if body is None:
             return None
         try:
-            with deep_recursion():
+            with raised_recursion_limit():
                 value = body(Env(self.state, {}, self.ctx))
         except RecursionError:
             raise GppRuntimeError("R0012", "`postcond()` nests function calls too deeply", symbol.span) from None
@@ -410,7 +410,7 @@ class Executor:
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
 
-    def on_exog(self, t: float, event: ExogEvent) -> None:
+    def on_exog(self, t: float, event: ExogOccurrence) -> None:
         info = self.program.action(event.action)
         g = GroundAction(event.action, event.args)
         holds = self.sem.precondition_holds(info, g, self.state)
@@ -691,7 +691,8 @@ RECURSION_LIMIT = 20_000
 
 
 @contextlib.contextmanager
-def deep_recursion() -> Iterator[None]:
+def raised_recursion_limit() -> Iterator[None]:
+    """Python's recursion limit raised to RECURSION_LIMIT for the block (restored after)."""
     old = sys.getrecursionlimit()
     sys.setrecursionlimit(max(old, RECURSION_LIMIT))
     try:

@@ -43,7 +43,7 @@ from gpp.platform.base import (
     Activity,
     ActivityUpdate,
     ExogActionBinding,
-    ExogEvent,
+    ExogOccurrence,
     Platform,
     PlatformConfig,
     PlatformError,
@@ -315,7 +315,7 @@ class Ros2Platform(Platform):
                 log.warning("ros2: a message on %s does not fit `%s` and is dropped: %s", topic.name, exog.name, e)
                 continue
             self.exog_received += 1
-            self.queue.put(ExogEvent(exog.name, tuple(args)), now)
+            self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
 
     def _handle_sigterm(self) -> None:
         """SIGTERM stops the run as Ctrl-C does (goals cancelled, node shut down), not at once."""
