@@ -593,7 +593,9 @@ def _edits(changes: Sequence[types.TextDocumentContentChangeEvent]) -> list[LspE
     return out
 
 
-def make_server() -> GppServer:
+def document_server() -> GppServer:
+    """A server that keeps the documents: initialization, document synchronisation, workspace
+    folders, shutdown (lsp.main adds the requests of lsp.handlers)."""
     server = GppServer()
 
     @server.feature(types.INITIALIZE)
@@ -659,23 +661,4 @@ def make_server() -> GppServer:
         ls.analysis.close(1.0)
         ls.requests.close(1.0)
 
-    from lsp.handlers import register_features
-
-    register_features(server)
     return server
-
-
-# How often a thread that holds the interpreter lock lets a waiting one run (Python's default
-# is every 5 ms): a request answered while a check runs needs the lock a dozen times, on the
-# event loop and on the request thread, and waited 5 ms each time.
-SWITCH_INTERVAL_SECONDS = 0.001
-
-
-def serve_stdio() -> None:
-    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
-    make_server().start_io()
-
-
-def serve_tcp(host: str, port: int) -> None:
-    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
-    make_server().start_tcp(host, port)

@@ -92,7 +92,8 @@ from dataclasses import dataclass
 
 from gpp.base.source import Span
 from gpp.planner.bounds import StateBound
-from gpp.planner.fast.successors import ApplyFn, FinalFn, TransFn, successors_of
+from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn
+from gpp.planner.fast.successors import successors_of
 from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep

@@ -34,7 +34,7 @@ from gpp.runtime.contract import (
     PlatformPort,
 )
 from gpp.runtime.errors import GppRuntimeError, Terminated
-from gpp.runtime.planning import OnlinePlanner, PlanReport
+from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
     AwaitEnd,
@@ -45,6 +45,7 @@ from gpp.runtime.semantics import (
     DoStep,
     DuringEnd,
     EndStep,
+    OnlinePlanner,
     Planned,
     PlanStep,
     Prog,

@@ -352,8 +352,9 @@ class _Completer:
         subject = self.operand_type(self.doc.file.tokens, self.ctx.previous_index - 1)
         compounds = [subject] if subject is not None else [s.type for s in self.model.types.values()]
         for t in compounds:
-            if isinstance(t, CompoundType) and t.symbol is not None:
-                for member in t.symbol.members.values():
+            declaration = self.model.declaration(t) if isinstance(t, CompoundType) else None
+            if declaration is not None:
+                for member in declaration.members.values():
                     self.symbol_item(member)
 
     def include_paths(self) -> None:

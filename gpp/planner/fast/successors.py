@@ -38,6 +38,7 @@ from weakref import WeakKeyDictionary
 
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.planner.fast.codegen import ApplyGen, TransGen
+from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn, always, never
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
@@ -59,10 +60,6 @@ from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
-TransFn = Callable[[State, Activities], list[Successor]]
-FinalFn = Callable[[State, Activities], bool]
-ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
-
 _EMPTY = State()
 
 # At most this many continuations get generated source per semantics object (its plannings
@@ -74,15 +71,6 @@ MAX_TRANS_UNITS = 200
 
 # By semantics object: its Successors, with and without generated source (see successors_of).
 _SHARED: WeakKeyDictionary[Semantics, dict[bool, Successors]] = WeakKeyDictionary()
-
-
-def never(state: State, acts: Activities) -> bool:
-    """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
-    return False
-
-
-def always(state: State, acts: Activities) -> bool:
-    return True
 
 
 def _nothing(state: State, acts: Activities) -> list[Successor]:
@@ -308,7 +296,7 @@ class Successors:
 
                 return final_while
             case _:
-                return lambda state, acts: sem._final_code(s, frame, state, acts)
+                return lambda state, acts: sem.final_code(s, frame, state, acts)
 
     # ---------------------------------------------------------------- statements: trans
 
@@ -397,7 +385,7 @@ class Successors:
                     return self._procedure_call(s, frame)
                 return self._action_call(s, frame, known)
             case _:
-                return lambda state, acts: sem._trans_code(s, frame, state, acts)
+                return lambda state, acts: sem.trans_code(s, frame, state, acts)
 
     def _pick(self, s: ast.Pick, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
@@ -497,7 +485,7 @@ class Successors:
     def _action_call(self, s: ast.CallStmt, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
         call = s.call
-        generic: TransFn = lambda state, acts: sem._trans_code(s, frame, state, acts)  # noqa: E731
+        generic: TransFn = lambda state, acts: sem.trans_code(s, frame, state, acts)  # noqa: E731
         if not isinstance(call, ast.Call) or not all(self._static(a) for a in call.args):
             return generic
         try:
