@@ -5,30 +5,9 @@ gpp.runtime.semantics on every configuration.
 `trans` of a statement, a sequence or the rest of a block is generated Python source
 (gpp.planner.fast.codegen, compiled with `apply` of the action steps it returns), as is a `while`
 condition in `final`; the closures below are what that source calls for the parts it does
-not write out, and what runs with `generate=False`.
-
-The planner meets the same few program points in thousands of states. For each of them this
-module builds, once, a function of (state, activities) that does exactly what
-`Semantics.final` / `Semantics.trans` (planning mode) do for that point, with everything that
-does not depend on the state done in advance:
-
-* the `match` on the continuation and on the statement kind, the frames of a `pick` over a
-  domain, its precondition guard, and the body for every frame;
-* an action call whose arguments read only variables and literals: its ground action, the
-  domain check of its arguments and its `DoStep` (made once and returned every time), and
-  its precondition with the conjuncts that read no fluent evaluated once (`x != y`): a true
-  one is dropped, a false one ends the precondition there;
-* `final` of a statement that is never final whatever the state, without evaluating anything
-  (an action call, a test, an assignment, a `pick` or `choose` of such, a block that starts
-  with one): the constant False, exactly what `final` computes for it.
-
-Everything else (procedure bodies reached by a call, assignments, hooks, `during`,
-concurrency, a `pick ... in {...}`) calls the semantics itself for that part; a program point
-never met is never specialised. The functions are built from the same compiled expressions
-and the same helpers (`Semantics.seq`, `pick_frames`, `ground_call`, `CompiledProgram.pick_guard`)
-and evaluate conditions in the same order, so results and errors are the semantics' own:
-tests/test_planner_successors.py compares them with `Semantics.final`/`trans` on random
-programs and states.
+not write out, and what runs with `generate=False`. Each closure does exactly what the
+semantics does for its program point, with what does not depend on the state done in advance
+(docs/design.md, "The speed tier"); the parts it does not specialise call the semantics.
 """
 
 from __future__ import annotations
