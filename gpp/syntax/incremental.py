@@ -2,33 +2,16 @@
 
 `reparse` compares the old and the new text (common prefix and suffix), finds the top-level
 declarations of the old parse that the changed region touches, parses only the new text of that
-region (a fragment, between two declaration boundaries) and splices the result between the
-declarations before and after it. Everything it returns points into the new file's `Source`
-with the new file's offsets: the declarations and diagnostics kept from the old parse are
-relocated (`relocate`, generated per node class: gpp.syntax.fast); the
-tokens kept are those of the old parse, those after the edit moved when the new parse's tokens
-are first read (`gpp.syntax.lexer.Tokens`).
+region (a fragment, between two clean declaration boundaries, parsed in place in the new
+`Source`) and splices the result between the declarations before and after it, which are
+relocated (gpp.syntax.fast.relocate) with the old diagnostics after the edit; the tokens kept
+are moved when the new parse's tokens are first read (`gpp.syntax.lexer.Tokens`).
 
-The result is exactly what `parse` of the new text gives, or there is none (None: the caller
-parses the whole file) when that is not certain:
-
-* when the fragment has any diagnostic, or the old parse has one before the end of the region
-  or less than two lines below it (error recovery can cross declaration boundaries, and an
-  error's message reads the line before it), the file is parsed again from the
-  declaration before the region to its end (the "tail"), keeping only the declarations before
-  that one, if the old parse has no diagnostic up to its end;
-* the fragment starts and ends at clean boundaries: where the declaration before ends with `;`
-  or `}` (else it grows to the next such boundary); a fragment that leaves a brace, a string
-  or a comment open is parsed as a tail (an open string or comment is a lexical error);
-* legacy forms (gpp.syntax.legacy, one diagnostic for all the sigils of a file) or the nesting
-  limit (gpp.syntax.depth) in the old or the new diagnostics, an `#include` in the region, or an
-  old diagnostic before the tail would start: None.
-
-The fragment is parsed as the file itself: the new `Source` holds, while it is parsed, text of
-the same length whose part before the fragment is blank (with the same line breaks before the
-fragment's line, so that line comparisons and columns are those of the whole file) and which
-ends where the fragment ends. Its tokens, nodes and diagnostics thus get their final offsets
-and their final `Source` directly.
+The result is exactly what `parse` of the new text gives. Where that is not certain it parses
+more: from the declaration before the edit to the end of the file (a diagnostic in or near the
+region, a fragment that leaves a brace, a string or a comment open), or nothing (None: the
+caller parses the whole file; legacy forms, the nesting limit, an `#include` in the region, an
+old diagnostic before the tail). The rules in full: docs/design.md, "Incremental re-parse".
 """
 
 from __future__ import annotations
