@@ -16,8 +16,9 @@ language server (lsp.gc_policy.GcPolicy). The `tokens` column is what reading th
 tokens costs afterwards (a re-parse makes the list of the tokens it kept only when it is first
 read, `gpp.syntax.lexer.Tokens`).
 With `--against REF` (a git revision), gpp/syntax/incremental.py as it is at REF, with the
-node-building code it generates its relocators from (gpp/syntax/build.py at REF), is timed as
-well, in the same runs (interleaved: both see the same load), and the table shows the ratio.
+relocators and the node-building code they are generated from (gpp/syntax/fast.py at REF, or
+gpp/syntax/build.py before that module existed), is timed as well, in the same runs
+(interleaved: both see the same load), and the table shows the ratio.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from genprog import generate_program
-from revision import modules_at
+from revision import modules_at, python_files_at
 
 from gpp.base.source import Source
 from gpp.syntax import incremental
@@ -58,8 +59,11 @@ def main() -> None:
     modules = {"now": incremental}
     if args.against:
         folder = Path(tempfile.mkdtemp())
-        copied = modules_at(args.against, ["gpp/syntax/incremental.py", "gpp/syntax/build.py"], folder, "at_ref")
-        copied["incremental"].build = copied["build"]  # imported as `from gpp.syntax import build`
+        if "gpp/syntax/fast.py" in python_files_at(args.against, "gpp/syntax"):
+            copied = modules_at(args.against, ["gpp/syntax/incremental.py", "gpp/syntax/fast.py"], folder, "at_ref")
+        else:
+            copied = modules_at(args.against, ["gpp/syntax/incremental.py", "gpp/syntax/build.py"], folder, "at_ref")
+            copied["incremental"].build = copied["build"]  # imported as `from gpp.syntax import build`
         modules[args.against] = copied["incremental"]
     text = generate_program(args.lines)
     old = parse(Source(text, "bench.gpp"))

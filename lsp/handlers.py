@@ -16,9 +16,10 @@ from typing import TypeVar
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException
 
-from gpp.base.source import Source
+from gpp.base.source import Source, Span
 from gpp.check import CheckResult
 from lsp import features
+from lsp.ranges import lsp_range
 from lsp.server import GppServer, guarded, uri_to_path
 
 R = TypeVar("R")
@@ -236,11 +237,6 @@ def register_features(server: GppServer) -> None:
             if formatted == text:
                 return []
             source = Source(text)
-            return [types.TextEdit(range=lsp_range_of(source, 0, len(text)), new_text=formatted)]
+            return [types.TextEdit(range=lsp_range(Span(source, 0, len(text))), new_text=formatted)]
 
         return await ls.on_request_thread(run)
-
-
-def lsp_range_of(source: Source, start: int, end: int) -> types.Range:
-    (l1, c1), (l2, c2) = source.lsp_position(start), source.lsp_position(end)
-    return types.Range(types.Position(l1, c1), types.Position(l2, c2))

@@ -1,35 +1,14 @@
-"""The golog++ language server (`gpp lsp`): pygls 2 on stdio (or TCP for debugging).
-
-Threads:
-
-* the event loop (pygls) reads messages, keeps the documents (gpp.check.session.Session: incremental
-  changes are applied with gpp's own UTF-16 position conversion) and answers;
-* the analysis thread (gpp.check.session.AnalysisThread) checks the programs the open documents
-  belong to. Edits that arrive while it works are coalesced into one next round, and a result
-  is published only if its document has not changed since: a stale analysis is dropped, never
-  published over a newer one;
-* the garbage collector does not run during a round of checks, and what a round made is frozen
-  out of its way after it (lsp.gc_policy.GcPolicy): its collections between rounds only look at
-  the objects made since. The full collection of what the rounds left runs on the analysis
-  thread once no edit came for SETTLE_AFTER_SECONDS after GcPolicy.min_rounds rounds (or,
-  after GcPolicy.max_rounds rounds without such a pause, once a round's diagnostics are
-  out). The checks a round replaces are freed (by reference counting) on the event loop once
-  no edit came for FREE_AFTER_SECONDS, else at the end of the next round: not while a request
-  sent with the next keystroke is being answered;
-* the request thread runs the features (completion, hover, ...) on the latest check of the
-  document's current version, so that a request does not wait behind a running analysis
-  unless the document changed since the last one. Completion does not wait even then: it
-  answers from the last check and the text typed since (features.completion_after_edit), on
-  the event loop, and a round of checks starts only after the event loop has gone round a
-  few times (START_AFTER_TURNS), so that a completion sent with the keystroke goes first;
-* stdin is read by the event loop itself when it is a pipe (`_PipeReader`), not on pygls'
-  thread pool.
+"""The golog++ language server's core (`gpp lsp`, composed in lsp.main): `GppServer`, pygls 2
+on stdio (or TCP for debugging), with the documents kept in a gpp.check.session.Session, the
+programs checked in rounds on the analysis thread (only the results for a document's current
+version are published), the features answered on a request thread, the garbage collector
+governed by lsp.gc_policy.GcPolicy, and the document synchronisation handlers
+(`document_server`). Why the threads and what keeps a round short: docs/design.md, "Analysis
+session and language server".
 
 GPP_LSP_TIMING=FILE appends to FILE where each round's time goes (`Timeline`) and how long
-each completion took inside the server.
-
-Every handler catches what goes wrong, logs it to the client (window/logMessage) and answers
-with an empty result: the server never stops answering whatever the document.
+each completion took inside the server. Every handler catches what goes wrong, logs it to the
+client (window/logMessage) and answers with an empty result (`guarded`).
 """
 
 from __future__ import annotations
@@ -60,11 +39,11 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 
 from gpp import __version__
 from gpp.base import diagnostics as diag
-from gpp.base.source import Span
 from gpp.check import CheckResult
 from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
 from lsp.codes_doc import code_url
 from lsp.gc_policy import GcPolicy
+from lsp.ranges import lsp_range
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -149,11 +128,6 @@ def uri_to_path(uri: str) -> Path:
     if parsed.scheme in ("file", ""):
         return Path(unquote(parsed.path)).resolve()
     return Path("/", f"<{parsed.scheme}>", quote(unquote(parsed.path or parsed.netloc), safe="")).resolve()
-
-
-def lsp_range(span: Span) -> types.Range:
-    (l1, c1), (l2, c2) = span.lsp_range()
-    return types.Range(types.Position(l1, c1), types.Position(l2, c2))
 
 
 # ---------------------------------------------------------------- the protocol
@@ -598,7 +572,9 @@ def _edits(changes: Sequence[types.TextDocumentContentChangeEvent]) -> list[LspE
     return out
 
 
-def make_server() -> GppServer:
+def document_server() -> GppServer:
+    """A server that keeps the documents: initialization, document synchronisation, workspace
+    folders, shutdown (lsp.main adds the requests of lsp.handlers)."""
     server = GppServer()
 
     @server.feature(types.INITIALIZE)
@@ -664,23 +640,4 @@ def make_server() -> GppServer:
         ls.analysis.close(1.0)
         ls.requests.close(1.0)
 
-    from lsp.handlers import register_features
-
-    register_features(server)
     return server
-
-
-# How often a thread that holds the interpreter lock lets a waiting one run (Python's default
-# is every 5 ms): a request answered while a check runs needs the lock a dozen times, on the
-# event loop and on the request thread, and waited 5 ms each time.
-SWITCH_INTERVAL_SECONDS = 0.001
-
-
-def serve_stdio() -> None:
-    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
-    make_server().start_io()
-
-
-def serve_tcp(host: str, port: int) -> None:
-    sys.setswitchinterval(SWITCH_INTERVAL_SECONDS)
-    make_server().start_tcp(host, port)

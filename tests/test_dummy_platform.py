@@ -14,7 +14,7 @@ import pytest
 import gpp.runtime.events as ev
 from gpp.check import check_text
 from gpp.model.types import NUMBER, STRING, Sym
-from gpp.platform.base import Activity, ActivityUpdate, ExogEvent, PlatformError
+from gpp.platform.base import Activity, ActivityUpdate, ExogOccurrence, PlatformError
 from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError, random_value
 from gpp.platform.values import ConversionError, to_value
 from gpp.run.runner import RunOptions, RunSetupError, run_program
@@ -530,7 +530,7 @@ def test_exog_event_objects_carry_parameter_order() -> None:
     platform = _attached(scn)
     assert platform.wait(None)
     [(_, event)] = platform.queue.drain()
-    assert event == ExogEvent("visit", (Sym("kitchen"), 4))
+    assert event == ExogOccurrence("visit", (Sym("kitchen"), 4))
 
 
 def test_scenario_with_a_whole_number_too_long_for_toml_is_a_clear_error(tmp_path: Path) -> None:

@@ -23,7 +23,8 @@ from hypothesis import strategies as st
 
 from gpp.base.source import Source, Span
 from gpp.syntax import ast
-from gpp.syntax.incremental import fragment_text, relocate
+from gpp.syntax.fast import relocate
+from gpp.syntax.incremental import fragment_text
 from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.loader import ParseCache
 from gpp.syntax.parser import ParseResult, parse

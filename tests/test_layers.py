@@ -29,14 +29,7 @@ LAYERS: list[tuple[str, set[str]]] = [
 APART = {frozenset({"gpp.planner", "gpp.platform"})}
 # Import circles between modules of one folder that are two halves of one thing, each with why.
 # A circle across folders is always a fault.
-HALVES: dict[frozenset[str], str] = {
-    frozenset({"gpp.model.symbols", "gpp.model.types"}): "to be broken (issue 21)",
-    frozenset({"gpp.runtime.planning", "gpp.runtime.semantics"}): "to be broken (issue 21)",
-    frozenset({"gpp.planner.fast.codegen", "gpp.planner.fast.successors"}): "to be broken (issue 21)",
-    frozenset({"lsp.handlers", "lsp.server"}): "to be broken (issue 21)",
-    frozenset({"gpp.platform.ros2.checks", "gpp.platform.ros2.platform"}): "to be broken (issue 21)",
-    frozenset({"gpp.platform.sim.platform", "gpp.platform.sim.render"}): "to be broken (issue 21)",
-}
+HALVES: dict[frozenset[str], str] = {}
 
 
 def unit(module: str) -> str:

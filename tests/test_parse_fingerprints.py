@@ -16,7 +16,7 @@ import pytest
 from parse_corpus import FINGERPRINTS, digest, dump, dumps, fingerprints
 
 from gpp.syntax import ast
-from gpp.syntax.build import fast_constructor
+from gpp.syntax.fast import fast_constructor
 from gpp.syntax.parser import parse
 
 

@@ -22,7 +22,7 @@ from gpp.base.source import Source, Span
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.parser import parse_text
-from gpp.syntax.printer import format_expr, format_number, format_program, format_stmt, format_string
+from gpp.syntax.printer import format_expr, format_program, format_stmt, format_string, number_literal
 
 SPAN = Span(Source("", "<generated>"), 0, 0)
 # Nodes with a `parenthesized` flag.
@@ -752,9 +752,9 @@ def test_expression_tree_text(tree: ast.Expr, expected: str) -> None:
 
 def test_numbers_without_literal_are_rejected() -> None:
     with pytest.raises(ValueError):
-        format_number(float("inf"))
+        number_literal(float("inf"))
     with pytest.raises(ValueError):
-        format_number(float("nan"))
+        number_literal(float("nan"))
 
 
 @pytest.mark.parametrize(

@@ -611,11 +611,11 @@ def test_deep_recursion_is_final_and_steps_in_linear_depth() -> None:
 
 
 def run_through_many(sem: Semantics, p: Prog, state: State, limit: int) -> tuple[list[str], State]:
-    from gpp.runtime.executor import deep_recursion
+    from gpp.runtime.executor import raised_recursion_limit
 
     done: list[str] = []
     activities = NO_ACTS
-    with deep_recursion():
+    with raised_recursion_limit():
         for _ in range(limit):
             if sem.final(p, state, activities):
                 return done, state

@@ -9,7 +9,7 @@ import pymunk
 
 from gpp.check import check_text
 from gpp.model.types import Sym
-from gpp.platform.base import ActivityUpdate, ExogEvent
+from gpp.platform.base import ActivityUpdate, ExogOccurrence
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity, run_action
 from gpp.runtime.compiled import CompiledProgram
@@ -104,7 +104,7 @@ def test_victim_events_arrive_when_the_robot_enters_a_region() -> None:
     while not done:
         assert sim.wait(None) or len(sim.queue)
         for t, event in sim.queue.drain():
-            if isinstance(event, ExogEvent) and event.action == "victim_detected":
+            if isinstance(event, ExogOccurrence) and event.action == "victim_detected":
                 assert event.args == (Sym("v1"),)
                 seen.append((t, m.position))
             elif isinstance(event, ActivityUpdate):

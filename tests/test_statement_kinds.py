@@ -22,8 +22,8 @@ DISPATCH_SITES = {
     "gpp/syntax/printer.py:_stmt",
     "gpp/syntax/walk.py:sub_statements",
     "gpp/runtime/blocked.py:_Explanation.why_code",
-    "gpp/runtime/semantics.py:Semantics._final_code",
-    "gpp/runtime/semantics.py:Semantics._trans_code",
+    "gpp/runtime/semantics.py:Semantics.final_code",
+    "gpp/runtime/semantics.py:Semantics.trans_code",
 }
 
 NEW_KIND = '''

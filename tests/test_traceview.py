@@ -37,7 +37,7 @@ from gpp.runtime.events import (
     encode,
 )
 from gpp.traceview.html import embed_json, html_page
-from gpp.traceview.model import build_model, load_trace, split_action
+from gpp.traceview.model import build_run_model, load_trace, split_action
 from gpp.traceview.perfetto import chrome_trace
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -162,7 +162,7 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 def test_activities_are_paired_with_their_update_cancel_and_end() -> None:
-    model = build_model(stopped_run())
+    model = build_run_model(stopped_run())
     by_id = {a.id: a for a in model.activities}
     hi, go, again = by_id[1], by_id[2], by_id[3]
     assert (hi.start, hi.stop, hi.status, hi.consumed_at, hi.hook, hi.result) == (0, 1, "final", 1, "call", 21.5)
@@ -184,7 +184,7 @@ def test_numeric_arguments_of_exogenous_events_are_series() -> None:
         ExogEvent(t=1, action='report(80,"ok",[1,2])'),
         ExogEvent(t=2, action='report(75,"a,b",[3])'),
     ]
-    [series] = build_model(events).series
+    [series] = build_run_model(events).series
     assert (series.name, series.kind, [s.value for s in series.samples]) == ("report(·,_,_)", "exog argument", [80, 75])
 
 
@@ -327,7 +327,7 @@ def test_html_page_data_cannot_break_out_of_its_script(tmp_path: Path) -> None:
         UpdateEvent(t=1, action=nasty, status="final", id=1),
         FinishEvent(t=1, status="finished", actions=1, failures=0, unhandled_failures=0, exog_events=0),
     ]
-    page, _ = html_page(build_model(events), trace_name="x.jsonl", search=[tmp_path])
+    page, _ = html_page(build_run_model(events), trace_name="x.jsonl", search=[tmp_path])
     assert page.count("</script>") == 2 and '<!--"' not in page
     (tmp_path / "x.html").write_text(page, encoding="utf-8")
     assert page_of(tmp_path / "x.html")["activities"][0]["action"] == nasty
@@ -337,7 +337,7 @@ def test_html_page_data_cannot_break_out_of_its_script(tmp_path: Path) -> None:
 def test_html_page_of_a_run_that_stops(tmp_path: Path) -> None:
     trace = write_trace(tmp_path / "stopped.jsonl", stopped_run())
     (tmp_path / "agent.gpp").write_text("".join(f"line {n}\n" for n in range(1, 20)), encoding="utf-8")
-    page, sources = html_page(build_model(load_trace(trace).events), trace_name="stopped.jsonl", search=[tmp_path])
+    page, sources = html_page(build_run_model(load_trace(trace).events), trace_name="stopped.jsonl", search=[tmp_path])
     assert_self_contained(page)
     (tmp_path / "stopped.html").write_text(page, encoding="utf-8")
     data = page_of(tmp_path / "stopped.html")
@@ -425,11 +425,11 @@ def test_perfetto_json_of_real_runs_and_of_a_run_that_stops(runs: dict[str, Path
     traces = [*runs.values(), write_trace(tmp_path / "stopped.jsonl", stopped_run())]
     for trace in traces:
         events = load_trace(trace).events
-        doc = chrome_trace(build_model(events), trace_name=trace.name)
+        doc = chrome_trace(build_run_model(events), trace_name=trace.name)
         check_chrome_trace(json.loads(json.dumps(doc)))
         starts = Counter(e.action for e in events if isinstance(e, StartEvent))
         assert Counter(e["name"] for e in doc["traceEvents"] if e["ph"] == "X" and "activity" in e["cat"]) == starts
-    stopped = chrome_trace(build_model(stopped_run()), trace_name="stopped.jsonl")["traceEvents"]
+    stopped = chrome_trace(build_run_model(stopped_run()), trace_name="stopped.jsonl")["traceEvents"]
     threads = {e["tid"]: e["args"]["name"] for e in stopped if e["name"] == "thread_name"}
     assert sorted(threads[e["tid"]] for e in stopped if e["ph"] == "X") == ["go", "program", "say", "say (2)"]
     [error] = [e for e in stopped if e.get("cat") == "error"]

@@ -21,7 +21,7 @@ import pytest
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import ExogEvent, StartEvent
 from gpp.traceview.html import html_page
-from gpp.traceview.model import build_model, load_trace
+from gpp.traceview.model import build_run_model, load_trace
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, ConsoleMessage, Locator, LocatorAssertions, Page
@@ -72,7 +72,7 @@ def blocksworld(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
         trace = out / "run.jsonl"
         outcome = run_program(Path("examples/blocksworld.gpp"), RunOptions(platform="sim", trace=trace))
         assert outcome.ok
-        page, sources = html_page(build_model(load_trace(trace).events), trace_name="run.jsonl", search=[ROOT])
+        page, sources = html_page(build_run_model(load_trace(trace).events), trace_name="run.jsonl", search=[ROOT])
         assert sources.missing == []
     finally:
         os.chdir(cwd)
@@ -270,7 +270,7 @@ def test_zoom_and_pan(opened: Opened) -> None:
 def test_a_run_that_stops_renders_its_waits_and_problems(browser: Browser, tmp_path: Path) -> None:
     from test_traceview import stopped_run
 
-    page, _ = html_page(build_model(stopped_run()), trace_name="stopped.jsonl", search=[tmp_path])
+    page, _ = html_page(build_run_model(stopped_run()), trace_name="stopped.jsonl", search=[tmp_path])
     path = tmp_path / "stopped.html"
     path.write_text(page, encoding="utf-8")
     opened = Opened(browser, path, width=900)

@@ -40,7 +40,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
 from gpp.model.types import NUMBER, Sym
-from gpp.platform.base import ActivityUpdate, ExogActionBinding, ExogEvent, Parameter, ProgramInterface
+from gpp.platform.base import ActivityUpdate, ExogActionBinding, ExogOccurrence, Parameter, ProgramInterface
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity
 from gpp.runtime.state import ActivityStatus
@@ -108,7 +108,7 @@ class SimThread:
 
     def _deliver(self) -> None:
         for _, event in self.sim.queue.drain():
-            if isinstance(event, ExogEvent):
+            if isinstance(event, ExogOccurrence):
                 self.on_battery(float(event.args[0]))  # type: ignore[arg-type]
                 continue
             waiting = self.waiting.pop(event.activity_id, None)

@@ -1,37 +1,13 @@
 """Lints after an edit: only the declarations the edit touched are linted anew.
 
-The language server checks a program at every keystroke; most of it did not change. The lints
-(gpp.check.lints) are of two sorts, written in their registry:
-
-* a *local* lint: whether and what it warns about a node depends only on the top-level
-  declaration holding the node and on the program's *environment*: every declaration of the
-  root file except the `{...}` body of a procedure, the included files, the lints allowed and
-  the root set. (W0102 unused parameter: a parameter is named only in its own declaration;
-  W0103 uninitialised fluent: the fluent's `initially:` and its parameter types...)
-* a *global* lint reads facts across declarations (W0101 unused: a use anywhere counts; W0105,
-  W0109: calls followed into other procedure bodies; W0114: an `end` anywhere). They run over
-  the whole program at every check, as `run_lints` does.
-
-A check made with a `LintMemo` (`gpp.check.check_loaded(memo=...)`; `gpp.check.session.Session`
-passes the one of the program's previous check) hands back a new one: the environment, and per
-top-level declaration of the root file, in order, its kind, its exact text, where it started
-and the local lints' warnings about it (their primary span is in it). The next check, when its
-environment is the previous one exactly, has the same declarations in the same order with the
-same headers; the i-th declaration whose kind and text are those of the previous i-th one gets
-the old warnings back, relocated: every span of a warning (primary, labels, fix edits) lies in
-some declaration whose text did not change, and moves with it. The local lints then run only
-over the other declarations (`run_lints_split`). A warning with a span outside every unchanged
-declaration, in another file, or in one that moved by another distance than its own
-declaration, is not reused: its declaration is linted anew.
-
-Anything else (more than one root file, a legacy main block, another environment) lints the
-whole program, as `run_lints`, and notes the result for next time; a check with syntax errors
-runs no lints and passes the memo on unchanged. The result is exactly `run_lints`'s: the same
-warnings, and where two have the same place and code, in the same order (tests/test_lint_reuse.py
-compares after random edits).
-
-A memo holds warnings and texts, never a check result or a syntax tree: results do not chain,
-and the memo makes no reference cycle.
+A check made with a `LintMemo` (`gpp.check.check_loaded(memo=...)`; gpp.check.session.Session
+passes the one of the program's previous check) hands back a new one: the environment and, per
+top-level declaration of the root file, its kind, text, start and the *local* lints' warnings.
+The next check with the same environment takes the warnings of every unchanged declaration
+over, relocated, and runs the local lints only over the others (`run_lints_split`); the
+*global* lints run over the whole program. Anything it cannot reuse is linted as `run_lints`
+lints it, and the result is exactly `run_lints`'s (tests/test_lint_reuse.py). The local and
+global lints, and why reuse is exact: docs/design.md, "Lint reuse".
 """
 
 from __future__ import annotations

@@ -32,9 +32,10 @@ from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base, show_value
 from gpp.syntax import ast
+from gpp.syntax.fast import LEAVES, PUSH_CHILDREN
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.printer import format_expr
-from gpp.syntax.walk import LEAVES, PUSH_CHILDREN, children, sub_statements, walk
+from gpp.syntax.walk import children, sub_statements, walk
 
 Op = ast.BinaryOp
 # A statement, and whether it is lexically inside `solve` or `search`.

@@ -122,7 +122,7 @@ def lsp(
     # A server has nothing to finish: SIGTERM (an editor stopping it) ends it at once.
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     # pygls and lsprotocol take half a second to import: only this command pays for them.
-    from lsp.server import serve_stdio, serve_tcp
+    from lsp.main import serve_stdio, serve_tcp
 
     if address is None:
         serve_stdio()

@@ -55,7 +55,7 @@ def _load(path: Path) -> RunModel:
     """The run in a trace file, or a one-line error (exit 2 when the file cannot be read, 1
     when it is not a valid trace)."""
     from gpp.cli.common import EXIT_PROBLEMS, EXIT_USAGE
-    from gpp.traceview.model import TraceReadError, build_model, load_trace
+    from gpp.traceview.model import TraceReadError, build_run_model, load_trace
 
     try:
         loaded = load_trace(path)
@@ -63,7 +63,7 @@ def _load(path: Path) -> RunModel:
         _fail(str(e), EXIT_USAGE if e.usage else EXIT_PROBLEMS)
     for warning in loaded.warnings:
         print(f"warning: {warning}", file=sys.stderr)
-    return build_model(loaded.events)
+    return build_run_model(loaded.events)
 
 
 def _output_path(trace: Path, output: Path | None, suffix: str) -> Path | None:

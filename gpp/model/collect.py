@@ -12,8 +12,6 @@ declarations' references, `state.declarations` and `state.decl_symbol`.
 
 from __future__ import annotations
 
-import weakref
-
 from gpp.base.source import Span
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
@@ -93,9 +91,9 @@ class Collector(Phase):
             symbol = Symbol(name.name, kind, name.span, decl)
             # Types exist from the start, so a use before the declaration resolves (§2.1).
             if kind is _DOMAIN:
-                symbol.type = DomainType(name.name, SYMBOL, weakref.ref(symbol))
+                symbol.type = DomainType(name.name, SYMBOL)
             elif kind is _COMPOUND:
-                symbol.type = CompoundType(name.name, weakref.ref(symbol))
+                symbol.type = CompoundType(name.name)
             table[name.name] = symbol
             return self.attach(symbol, name, decl)
         detached = Symbol(name.name, kind, name.span, decl=decl)

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 from gpp.base.source import Source, Span
 from gpp.model.symbols import GLOBAL_KINDS, Reference, ScopeRecord, Symbol, SymbolKind
-from gpp.model.types import ERROR, DomainType, Sym, Type
+from gpp.model.types import ERROR, CompoundType, DomainType, Sym, Type
 from gpp.syntax import ast
 from gpp.syntax.loader import ParsedFile
 from gpp.syntax.walk import path_to, walk
@@ -67,6 +67,12 @@ class Model:
 
     def file_of(self, source: Source) -> ParsedFile | None:
         return next((f for f in self.files if f.source is source), None)
+
+    def declaration(self, t: DomainType | CompoundType) -> Symbol | None:
+        """The symbol that declares a domain or compound type (a type names its declaration
+        only by its name)."""
+        s = self.types.get(t.name)
+        return s if s is not None and s.type is t else None
 
     def domain(self, name: str) -> DomainType | None:
         s = self.types.get(name)

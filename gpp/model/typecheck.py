@@ -922,8 +922,9 @@ class TypeChecker(Regrouper):
                     notes=[f"fields of `{subject}`: " + ", ".join(f"`{f}`" for f in subject.fields)],
                 )
                 return ERROR
-            if subject.symbol is not None:
-                member = subject.symbol.members.get(e.field.name)
+            declaration = self.model.declaration(subject)
+            if declaration is not None:
+                member = declaration.members.get(e.field.name)
                 if member is not None:
                     self.refer(e.field.span, member, e.field)
             return ftype

@@ -3,12 +3,7 @@ SEMANTICS.md §2.4)."""
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from gpp.model.symbols import Symbol
 
 
 class Type:
@@ -64,21 +59,12 @@ class Sym:
 DomainValue = int | float | str | bool | Sym
 
 
-def _declared_by(ref: weakref.ReferenceType[Symbol] | None) -> Symbol | None:
-    """The symbol that declares a domain or compound type. The symbol holds its type, so the
-    type names it through a weak reference (a strong one would make each a reference cycle,
-    freed only by the cyclic garbage collector); the model keeps the symbol alive."""
-    return None if ref is None else ref()
-
-
 @dataclass(eq=False, slots=True)
 class DomainType(Type):
     """A named finite set of values of one element type; also usable as a type."""
 
     name: str
     element: BuiltinType
-    # The domain's symbol, weakly (see `symbol`).
-    _symbol: weakref.ReferenceType[Symbol] | None = field(default=None, repr=False)
     # Members in declaration order, filled when the domain's definition is evaluated.
     values: tuple[DomainValue, ...] = ()
     defined: bool = False
@@ -91,10 +77,6 @@ class DomainType(Type):
 
     def __str__(self) -> str:
         return self.name
-
-    @property
-    def symbol(self) -> Symbol | None:
-        return _declared_by(self._symbol)
 
     def contains(self, value: DomainValue) -> bool:
         return value_key(value) in self._member_keys()
@@ -137,7 +119,7 @@ def value_key(v: DomainValue) -> object:
     return (cls, v)
 
 
-def format_number(v: int | float) -> str:
+def number_to_string(v: int | float) -> str:
     """Numbers as `to_string` writes them: `1`, `2.0`, `0.3`, `1e+20`."""
     if isinstance(v, bool):
         raise TypeError("a bool is not a number")
@@ -156,7 +138,7 @@ def show_value(v: DomainValue | None) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int | float):
-        return format_number(v)
+        return number_to_string(v)
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     return v.name
@@ -167,14 +149,8 @@ class CompoundType(Type):
     """A nominal record type."""
 
     name: str
-    # The compound's symbol, weakly (see `symbol`).
-    _symbol: weakref.ReferenceType[Symbol] | None = field(default=None, repr=False)
     # Field name -> type, in declaration order; filled when the declaration is resolved.
     fields: dict[str, Type] = field(default_factory=dict)
-
-    @property
-    def symbol(self) -> Symbol | None:
-        return _declared_by(self._symbol)
 
     def __str__(self) -> str:
         return self.name

@@ -1,87 +1,11 @@
 """Branch and bound for `solve`, only where it is provably exact: a static analysis of a
-`solve` that gives an upper bound on what the rest of any branch can still earn, and that
-enables it only when skipping a subtree cannot change the result of the reference planner
-(gpp.planner.reference).
+`solve` (`analyse`) that gives an upper bound on what the rest of any branch can still earn
+(`solve_bound`: per step, `GOAL_LOOP` when a goal ends the loop, `STEPS_TO_GOAL` from the
+state), and enables it only when no step of planning in a skipped subtree could raise, so
+that skipping it cannot change the result of gpp.planner.reference. Anything outside the
+fragment it can prove gives no bound, and `analyse` says why and where.
 
-The bound. Let M be an upper bound on the reward over every state the program can be in, and
-say the rewards are whole numbers. Every costed step costs at least 1, so a branch with h
-steps of horizon left makes at most h costed steps after this one, each worth at most M; a
-branch that stops earns 0. So the best value of any configuration with h steps left is at most
-U(h) = max(M, 0) * h, and an option whose step leads to a state worth r is worth at most
-r + U(h - cost).
-
-A tighter bound where the program's termination is known: when the body of the `solve` is
-`while (!G) S`, the reward is `if (G) a else b` (through functions without parameters) with
-the same G reading no variable, and every run of S makes at most one step, a costed one, after
-which S is done. Then after every costed step the loop tests G: if G holds, the program is
-final and makes no further step. So in a branch of k >= 1 costed steps the first k - 1 lead to
-states where G does not hold (each worth at most B, the bound of `b`), and the last to a state
-worth at most max(A, B) (A the bound of `a`): the value is at most (k - 1) * B + max(A, B).
-The largest over 0 <= k <= h is U(h) = max(0, max(A, B) + (h - 1) * max(B, 0)) for h >= 1. On
-the blocks world towers (A = 100, B = -1) that is 100, where the first bound gives 100 * h.
-
-Tighter still, from the state (STEPS_TO_GOAL): when moreover G is a conjunction (through
-functions without parameters) of conjuncts that each read only fluent instances named by
-constants (`loc(a) == table`), no instance read by two conjuncts. A conjunct that is not true
-in s can only become true when a step writes an instance it reads; one step writes at most W
-instances (an assignment one, an action one per effect; W is the most over the actions the
-`solve` can call), and each of them is read by at most one conjunct. So with m conjuncts not
-true in s, reaching G takes at least n = ceil(m / W) more steps. From a state s after a costed
-step (the loop is about to test G), with h steps left:
-  * m = 0: G holds, the loop is over, the rest is worth 0;
-  * else a branch that never reaches G is worth at most k * B for its k <= h steps, so at most
-    max(0, h * B); one that reaches G at its step k >= n (k <= h) at most (k - 1) * B + A,
-    largest at k = n if B <= 0, at k = h if B > 0; if n > h no branch reaches G.
-U(s, h) is the larger of the two. On the towers every block not yet in place is a conjunct
-not true: from the start of the tower of five with 10 steps left, U = 100 - 4 = 96.
-
-Why skipping such an option is exact. The production planner (gpp.planner.dp) takes the
-options of a node in the reference's order and keeps the first best one: a later option
-replaces the incumbent only if it is feasible and strictly better. If r + U(h - cost) <= v for
-the value v of a feasible incumbent, the option's true value is <= v, so it can never replace
-it: not when it is lower, and not when it is equal either (ties go to the earlier option). So
-the node's choice and value are the reference's (equal values are skipped: "not strictly
-better" is the whole test; the comparison is exact because every value involved is a sum of
-whole numbers below 2**53, which floats add exactly).
-
-Why the subtree may be skipped at all. What the reference does in a subtree is part of its
-result: an error raised there (a division by zero, a value outside its domain, a loop without
-a costed step, the limit on free steps, a procedure without a body, an exogenous function asked
-offline, ...) is the error of the whole `solve`. So the analysis proves, for the body of the
-`solve` and everything it can reach (procedures it calls, the actions' preconditions and
-effects, the functions in any expression) and for the reward, that no step of planning can
-raise. Each part must be in a fragment where that is evident:
-
-* expressions: literals, variables, fluents, functions with a body (no recursion), `!`, `&`,
-  `|`, `->`, `==`, `!=`, quantifiers over finite types, `if ... else ...`; ordering and
-  arithmetic only on operands proven never `null` and, for arithmetic, in a finite interval (no
-  overflow); `/` and `%` only by a divisor whose interval excludes 0 (`%` on whole numbers);
-  nothing else (no lists, fields, `**`, `length`, `to_string`, exogenous functions, the clock);
-* statements: blocks, `if`, `while`, `choose`, `pick`, calls of actions and of procedures
-  that are not recursive, assignments to whole fluent instances; a test (the only free step
-  here) never inside a loop, and at most FREE_STEP_LIMIT of them on any path, so no run of
-  free steps can repeat a configuration or grow past the limit; nothing concurrent, durative,
-  nested `solve`/`search`, or list operation;
-* a value stored into a domain (an action's argument, a procedure's argument, an assignment,
-  an effect) must come from a type whose values all lie in that domain, so the domain check
-  cannot fail; two effects of one action never write the same fluent;
-* actions: no `senses`; the exogenous actions' effects count among the assignments below.
-
-What a fluent can hold is one fact for the whole program (so it holds in every state planning
-starts from, online too): never `null` if an initial value covers every instance and every
-assignment anywhere in the program (statements, effects of all actions, exogenous ones
-included) stores a value never `null`; for a number, the interval spanned by its initial
-values and everything assigned to it, computed to a fixpoint (a fluent whose interval keeps
-growing, `x = x + 1`, gets no interval, so no arithmetic on it is proven safe). The reward
-must be a number in a finite interval of whole numbers; its upper end is M.
-
-The recursion of planning is bounded too: pruning is only enabled for horizons up to
-MAX_HORIZON (with at most FREE_STEP_LIMIT free steps that keeps every branch far within the
-recursion limit the planners share), so a skipped subtree cannot hide a "planning went too
-deep" error either.
-
-Anything outside the fragment gives no bound (`analyse` says why, and where): the planner
-then explores everything the reference explores.
+The bounds and the proof that pruning with them is exact: docs/design.md, "Branch and bound".
 """
 
 from __future__ import annotations
@@ -104,7 +28,7 @@ from gpp.syntax.walk import walk
 # A bound on the value of the rest of a branch with h steps of horizon left.
 Bound = Callable[[int], float]
 
-# The two bounds (see the module docstring).
+# The bounds (docs/design.md, "Branch and bound").
 PER_STEP = "per step"
 GOAL_LOOP = "goal ends the loop"
 STEPS_TO_GOAL = "steps to the goal"
@@ -112,7 +36,7 @@ STEPS_TO_GOAL = "steps to the goal"
 # A bound on the value of the rest of a branch from a state with h steps of horizon left.
 StateBound = Callable[[State, int], float]
 
-# Pruning is enabled up to this horizon (see the module docstring).
+# Pruning is enabled up to this horizon (docs/design.md, "Branch and bound").
 MAX_HORIZON = 1000
 
 # Sums of whole numbers below this are exact in floating point.
@@ -758,7 +682,7 @@ def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | 
 def _steps_to_goal(
     sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, at_goal: float, elsewhere: float
 ) -> StateBound:
-    """U(s, h) of the goal loop with the steps the goal still needs from s (module docstring)."""
+    """U(s, h) of the goal loop with the steps the goal still needs from s (docs/design.md)."""
     evaluators = [sem.program.expr(atom) for atom in atoms]
     ctx = sem.ctx
     needed: dict[State, int] = {}

@@ -1,85 +1,11 @@
 """The production planner for `solve`: exactly the result of gpp.planner.reference, fast.
 
-What makes it fast, and why each keeps the result identical to the reference's:
-
-1. Memoisation on (continuation, state, activities, remaining horizon). The reference's value
-   of a subtree is a function of exactly these (`trans`, `final`, `apply` and the reward read
-   nothing else while planning), so a repeated configuration has the same best branch.
-
-2. One expansion per configuration. `final`, `trans` and `apply` do not depend on the
-   horizon, so a configuration met again with another remaining horizon reuses its options.
-
-3. One reward evaluation per state (the reward is a function of the state).
-
-4. Horizon-independent results. Let d be the largest number of costed steps on any branch of
-   a subtree computed with horizon h. If d < h, no branch reached the horizon: every node of
-   the tree had horizon left, so for any h' > d the tree is the same tree, with the same
-   options in the same order, and the same best branch. The result is then kept for every
-   h' > d. In particular an infeasible configuration (no branch reaches the horizon, or it
-   would be feasible) is never expanded again at a larger horizon: infeasible bindings are
-   pruned from then on, at the cost of one lookup, before any of their steps is looked at.
-
-5. Duplicate options. Two options of one node that lead to the same configuration with the
-   same cost have the same value; the later one can never be strictly better, and ties go to
-   the earlier, so the later one is skipped.
-
-6. Branch and bound, only where gpp.planner.bounds proves it exact. It gives a bound U(s, h)
-   on the value of any configuration in state s with h steps left (the largest reward times
-   h, or tighter when the loop ends at the goal the reward pays for, and tighter again with
-   the steps the goal still needs from s), or none. A costed option leading to a
-   state worth r is skipped when a feasible incumbent is worth v >= r + U(h - cost): the
-   option's value is at most v, and only a strictly better option replaces the incumbent
-   (ties go to the earlier one), so the node's choice and value are the reference's (and its
-   longest run of free steps: a costed option adds none). The comparison is exact
-   (whole-number rewards, sums below 2**53). The subtree skipped is one the reference
-   explores; the bounds module proves that nothing in it can raise (no division by a
-   possible 0, no domain check that can fail, no loop of free steps, ...), so no error of the
-   reference is lost (the reward, which cannot raise either, may be evaluated where the
-   reference does not); where it cannot prove that, there is no bound.
-   The memo: a result computed with an option skipped is still the exact best branch for its
-   remaining horizon h, so it is kept for h (memo[h]). It is not horizon-independent: with
-   more horizon U grows and the skipped option might win. So a skip counts as if the subtree
-   had reached the horizon (depth = h): the result is never settled for h' > h, and neither
-   is any result above it (each parent's depth is then its own horizon as well).
-   On the towers of bench/planner.py the steps-to-the-goal bound leaves a few dozen nodes of
-   thousands (six blocks, horizon 14: 80 of 24,953); `bench/planner.py --bound` measures it.
-
-`final`, `trans` and `apply` are called through gpp.planner.fast.successors: for each program point
-met, Python source generated from the semantics' definitions (gpp.planner.fast.codegen: the
-conditions, the `pick` values and guards, each action's precondition with its arguments
-folded in, the successors as constants, each action step's effects); what the generator does
-not write out runs the semantics' definitions specialised as closures. They are made once per
-semantics object and reused by its later plannings (gpp.planner.fast.successors.successors_of: the
-same problem planned again), and a source text is compiled once per process
-(gpp.runtime.codegen.CompileCache: a program checked again, online re-planning).
-tests/test_planner_successors.py checks both against the semantics on random programs and on
-block towers.
-
-How it is laid out, for speed (none of it changes what is computed):
-
-* every configuration is interned once into a `_Config`, found by the identity of its
-  continuation and activities first (the generated `trans` returns the same objects), then by
-  the hash of its state (an int, hashed and compared without a call of Python code; the
-  states are compared once found); it holds its expansion and its memo, a list indexed by the remaining horizon (a
-  horizon-independent result, see 4, is stored for every horizon it holds for, and told from
-  the others by its depth being below the horizon): after the first meeting, a configuration
-  is never hashed again;
-* an option holds the `_Config` it leads to, so following it is a pointer, not a lookup;
-  once all options of a configuration are made, the duplicates are dropped from the list
-  walked; an option is a tuple, unpacked in the loop (cheaper than attribute lookups);
-* a result is a tuple (one is made per node: a tuple is made faster than an object) that
-  holds its first step and the result of the rest (a linked list): choosing a branch costs no
-  copy of its steps; the plan's steps are collected once at the end;
-* Python's cyclic garbage collector is off while planning (all that planning allocates stays
-  alive until the plan is made, and every full collection walked all of it again); the
-  cycles between configurations are broken when planning ends, so reference counting frees
-  them.
-
-A run of free steps (tests) that comes back to a configuration it passed is the reference's
-"loop without a costed step" error, detected at the same point: the nodes on the current path
-with the same remaining horizon are exactly those since the last costed step. The reference's
-limit on the length of a run of free steps is kept exactly, memo hits included: every result
-records the longest run of free steps its subtree starts with.
+`solve_plan` plans by dynamic programming over (continuation, state, activities, remaining
+horizon): memoised, one expansion per configuration, results kept for every horizon they hold
+for, duplicate options skipped, and branch and bound where gpp.planner.bounds proves it exact;
+`final`, `trans` and `apply` run through the speed tier gpp.planner.fast. Why each of these
+keeps the reference's result, and how the loop is laid out: docs/design.md, "The production
+planner".
 """
 
 from __future__ import annotations
@@ -92,8 +18,9 @@ from dataclasses import dataclass
 
 from gpp.base.source import Span
 from gpp.planner.bounds import StateBound
-from gpp.planner.fast.successors import ApplyFn, FinalFn, TransFn, successors_of
-from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
+from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn
+from gpp.planner.fast.successors import successors_of
+from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
 from gpp.runtime.errors import GppRuntimeError
@@ -438,7 +365,7 @@ def solve_plan(
         by_id.clear()
 
     root = intern(prog, state, acts)
-    with deep_recursion(span), _collector_paused():
+    with planning_recursion_guard(span), _collector_paused():
         try:
             result = best(root, horizon, 0)
         finally:

@@ -87,7 +87,7 @@ def free_run_error(span: Span | None) -> GppRuntimeError:
 
 
 @contextmanager
-def deep_recursion(span: Span | None) -> Iterator[None]:
+def planning_recursion_guard(span: Span | None) -> Iterator[None]:
     """Allow deep planning recursion; if even that is exceeded, fail with the `solve`/`search`
     span instead of crashing (an unbounded recursion of free steps, e.g. a procedure that calls
     itself after a test and before any action)."""

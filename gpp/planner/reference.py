@@ -24,7 +24,7 @@ import time
 from collections.abc import Callable
 
 from gpp.base.source import Span
-from gpp.planner.guards import FREE_STEP_LIMIT, deep_recursion, free_loop_error, free_run_error
+from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
 from gpp.planner.result import INFEASIBLE, STOP, Branch, Plan, PlanStats, better
 from gpp.runtime.semantics import Prog, Semantics
 from gpp.runtime.state import Activities, State
@@ -85,7 +85,7 @@ def reference_plan(
                 choice = option
         return choice
 
-    with deep_recursion(span):
+    with planning_recursion_guard(span):
         result = best(prog, state, acts, horizon, frozenset({(prog, state, acts)}))
     value = 0.0
     if result.feasible:
@@ -117,5 +117,5 @@ def reference_node_count(sem: Semantics, prog: Prog, state: State, acts: Activit
         sizes[key] = total
         return total
 
-    with deep_recursion(None):
+    with planning_recursion_guard(None):
         return size(prog, state, acts, horizon)

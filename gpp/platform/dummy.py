@@ -31,7 +31,7 @@ from gpp.platform.base import (
     Activity,
     ActivityUpdate,
     Event,
-    ExogEvent,
+    ExogOccurrence,
     Platform,
     PlatformConfig,
     PlatformError,
@@ -331,7 +331,7 @@ class DummyPlatform(Platform):
             except ConversionError as e:
                 problem(f"`{exog.action}` at {exog.at:g} s: {e}", exog.span)
                 continue
-            self._schedule(exog.at, ExogEvent(exog.action, args))
+            self._schedule(exog.at, ExogOccurrence(exog.action, args))
         for f in self.scenario.functions:
             function = interface.exog_functions.get(f.name)
             if function is None:
@@ -451,12 +451,12 @@ class DummyPlatform(Platform):
         """Random mode: keep one random exogenous event scheduled ahead (every 0-2 s)."""
         if not self.random_mode or self.interface is None or not self.interface.exog_actions:
             return
-        if any(isinstance(e, ExogEvent) for _, _, e in self._agenda):
+        if any(isinstance(e, ExogOccurrence) for _, _, e in self._agenda):
             return
         signature = self.rng.choice(sorted(self.interface.exog_actions.values(), key=lambda s: s.name))
         args = tuple(random_value(self.rng, t) for t in signature.param_types)
         at = max(self._next_random_exog, self.clock)
-        self._schedule(at, ExogEvent(signature.name, args))
+        self._schedule(at, ExogOccurrence(signature.name, args))
         self._next_random_exog = at + self.rng.uniform(0.0, 2.0)
 
 

@@ -1,32 +1,11 @@
 """Project configuration: a `gpp.toml`, or the `[tool.gpp]` table of a `pyproject.toml`.
 
-The configuration of a file is the nearest one found going up from the file's folder (like
-ruff): in each folder a `gpp.toml` comes first, then a `pyproject.toml` that has a `[tool.gpp]`
-table (one without it is passed over). The nearest file wins as a whole; files further up are
-not merged in. Paths in the file are relative to the folder that holds it. Options given on
-the command line override the file. The keys (docs/config.md):
-
-    paths = ["."]            # what `gpp check` / `gpp fmt` look at when given no files
-    exclude = ["build"]      # folders and files (glob patterns) skipped inside folders
-    include = ["lib"]        # where `#include "x.gpp"` looks after the including file's folder
-
-    [lint]
-    enable = ["all"]         # the lints reported: "all", or codes / names
-    disable = ["unused"]     # lints not reported (after `enable`)
-    deny_warnings = false    # warnings fail `gpp check` too
-
-    [run]
-    platform = "dummy"       # the platform of `gpp run` without --platform
-    world = "rescue"         # the sim's world (a name, or a .toml file) when neither --world
-                             # nor `// world:` names one
-    timeout = 600            # seconds; a run's limit without --timeout
-
-    [test]
-    paths = ["tests"]        # the programs `gpp test` runs when given no paths
-    timeout = 60             # seconds per program without --timeout
-
-An unknown key (with a did-you-mean), a value of the wrong type or an unknown lint is a
-diagnostic located in the file; the commands exit with status 2.
+The configuration of a file is the nearest one found going up from the file's folder (in each
+folder a `gpp.toml` first, then a `pyproject.toml` with a `[tool.gpp]` table); the nearest file
+wins as a whole, its paths are relative to its folder, and options given on the command line
+override it. The keys: docs/config.md. An unknown key (with a did-you-mean), a value of the
+wrong type or an unknown lint is a diagnostic located in the file; the commands exit with
+status 2.
 """
 
 from __future__ import annotations

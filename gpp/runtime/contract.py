@@ -62,14 +62,14 @@ class ActivityUpdate:
 
 
 @dataclass(frozen=True, slots=True)
-class ExogEvent:
+class ExogOccurrence:
     """An exogenous action happened: its golog++ name and argument values in parameter order."""
 
     action: str
     args: tuple[Value, ...]
 
 
-Event = ActivityUpdate | ExogEvent
+Event = ActivityUpdate | ExogOccurrence
 
 
 class EventQueue:

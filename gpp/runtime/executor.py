@@ -29,12 +29,12 @@ from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
-    ExogEvent,
+    ExogOccurrence,
     PlatformError,
     PlatformPort,
 )
 from gpp.runtime.errors import GppRuntimeError, Terminated
-from gpp.runtime.planning import OnlinePlanner, PlanReport
+from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
     AwaitEnd,
@@ -45,6 +45,7 @@ from gpp.runtime.semantics import (
     DoStep,
     DuringEnd,
     EndStep,
+    OnlinePlanner,
     Planned,
     PlanStep,
     Prog,
@@ -170,7 +171,7 @@ class Executor:
     # ---------------------------------------------------------------- the loop
 
     def run(self) -> RunResult:
-        with deep_recursion():
+        with raised_recursion_limit():
             return self._run()
 
     def _run(self) -> RunResult:
@@ -373,7 +374,7 @@ class Executor:
         if body is None:
             return None
         try:
-            with deep_recursion():
+            with raised_recursion_limit():
                 value = body(Env(self.state, {}, self.ctx))
         except RecursionError:
             raise GppRuntimeError("R0012", "`postcond()` nests function calls too deeply", symbol.span) from None
@@ -410,7 +411,7 @@ class Executor:
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
 
-    def on_exog(self, t: float, event: ExogEvent) -> None:
+    def on_exog(self, t: float, event: ExogOccurrence) -> None:
         info = self.program.action(event.action)
         g = GroundAction(event.action, event.args)
         holds = self.sem.precondition_holds(info, g, self.state)
@@ -691,7 +692,8 @@ RECURSION_LIMIT = 20_000
 
 
 @contextlib.contextmanager
-def deep_recursion() -> Iterator[None]:
+def raised_recursion_limit() -> Iterator[None]:
+    """Python's recursion limit raised to RECURSION_LIMIT for the block (restored after)."""
     old = sys.getrecursionlimit()
     sys.setrecursionlimit(max(old, RECURSION_LIMIT))
     try:

@@ -11,8 +11,8 @@ Two modes differ only where SEMANTICS says so: while planning (`planning=True`) 
 call `a(args);` is a single step whose activity ends instantly in `final`, `fail(...)` and
 `cancel(...)` are impossible, and `solve`/`search` inside a plan are transparent; online, a
 call starts an activity and waits for the platform, and `solve`/`search` ask the planner
-given to the semantics, through the port of gpp.runtime.planning (this module never imports
-a planner).
+given to the semantics, through the port `OnlinePlanner`/`PlanSession` (this module never
+imports a planner).
 
 Continuations (`Prog`) and steps (`Step`) are closed unions, so that a `match` over them can
 end in `assert_never`, as a match over `ast.Statement` does.
@@ -21,7 +21,7 @@ end in `assert_never`, as a match over `ast.Statement` does.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, TypeAlias, assert_never
+from typing import TYPE_CHECKING, Protocol, TypeAlias, assert_never
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
@@ -39,7 +39,7 @@ from gpp.runtime.compiled import (
     ground,
 )
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.planning import OnlinePlanner, PlanSession
+from gpp.runtime.planning import PlanReport
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show
 from gpp.syntax import ast
@@ -160,7 +160,7 @@ class Conc(ProgNode):
 class Planned(ProgNode):
     """Online only: a `solve`/`search` whose plan is being executed, from its `index`-th
     planned step on; the session's plan is made when the executor performs the PlanStep or
-    ReplanStep (see gpp.runtime.planning)."""
+    ReplanStep (see `PlanSession`)."""
 
     session: PlanSession
     index: int
@@ -300,6 +300,49 @@ _NO_PLAN: _EffectPlan = ({}, ())  # not yet prepared (compared by identity)
 # How many `final` results of procedure calls are remembered (then the memo starts afresh).
 _FINAL_MEMO_SIZE = 100_000
 
+# ---------------------------------------------------------------- the online-planning port
+
+# What the semantics and the executor need of a planner to run `solve`/`search` online
+# (SEMANTICS §5, §6), without depending on one. Online, `trans` of a `solve`/`search` asks the
+# `OnlinePlanner` for a `PlanSession` for the statement and continues as `Planned(session, 0)`
+# after a `PlanStep(session)`. The session answers `final` (`exhausted`) and `trans`
+# (`successors`) of the `Planned` continuation, and the executor, when it performs a PlanStep
+# or ReplanStep, asks it to `plan` or `replan` and traces the `PlanReport` it returns.
+# gpp.planner.policy implements the port; gpp.run.runner, above both layers, gives the
+# executor that implementation.
+
+
+class PlanSession(Protocol):
+    """The plan of one `solve`/`search` being executed online: held by `Planned`, `PlanStep`
+    and `ReplanStep`. It is filled (and refilled) when the executor performs those steps."""
+
+    @property
+    def stmt(self) -> ast.Solve | ast.Search: ...
+
+    def exhausted(self, index: int) -> bool:
+        """`final` of `Planned(self, index)`: the plan has been executed to its end."""
+        ...
+
+    def successors(self, sem: Semantics, p: Planned, state: State, acts: Activities) -> list[Successor]:
+        """`trans` of `p` (a `Planned` of this session): the next planned step if it is still
+        possible in the actual world, a ReplanStep if not."""
+        ...
+
+    def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:
+        """Plan the statement's body from the actual state (performing the PlanStep)."""
+        ...
+
+    def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
+        """Plan again from the program point of `Planned(self, index)` (a ReplanStep)."""
+        ...
+
+
+class OnlinePlanner(Protocol):
+    """What runs `solve`/`search` online: makes a session for a statement reached online."""
+
+    def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession: ...
+
+
 # ---------------------------------------------------------------- the semantics
 
 
@@ -355,28 +398,31 @@ class Semantics:
             case AwaitEnd() | DuringEnd():
                 return False
             case Code():
-                return self._final_code(p.stmt, p.frame, state, acts)
+                return self.final_code(p.stmt, p.frame, state, acts)
             case _:
                 assert_never(p)
 
-    def _final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
+    def final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
+        """`final` of the statement `s` with the bindings of `frame` (`final(Code(s, frame))`):
+        one case per statement kind. The planner's fast tier (gpp.planner.fast) calls it for
+        the statements it does not specialise."""
         match s:
             case ast.Block():
-                return all(self._final_code(x, frame, state, acts) for x in s.body)
+                return all(self.final_code(x, frame, state, acts) for x in s.body)
             case ast.If():
                 if self.condition(s.condition, state, frame):
-                    return self._final_code(s.then, frame, state, acts)
-                return s.otherwise is None or self._final_code(s.otherwise, frame, state, acts)
+                    return self.final_code(s.then, frame, state, acts)
+                return s.otherwise is None or self.final_code(s.otherwise, frame, state, acts)
             case ast.While():
-                return not self.condition(s.condition, state, frame) or self._final_code(s.body, frame, state, acts)
+                return not self.condition(s.condition, state, frame) or self.final_code(s.body, frame, state, acts)
             case ast.Choose():
-                return any(self._final_code(x, frame, state, acts) for x in s.alternatives)
+                return any(self.final_code(x, frame, state, acts) for x in s.alternatives)
             case ast.Concurrent():
-                return all(self._final_code(x, frame, state, acts) for x in s.branches)
+                return all(self.final_code(x, frame, state, acts) for x in s.branches)
             case ast.Pick():
-                return any(self._final_code(s.body, f, state, acts) for f in self.pick_frames(s, frame))
+                return any(self.final_code(s.body, f, state, acts) for f in self.pick_frames(s, frame))
             case ast.Solve() | ast.Search():
-                return self.planning and self._final_code(s.body, frame, state, acts)
+                return self.planning and self.final_code(s.body, frame, state, acts)
             case ast.CallStmt():
                 callee = self.callee(s)
                 if callee.kind is not SymbolKind.PROCEDURE:
@@ -387,7 +433,7 @@ class Semantics:
                 known = self._final_memo.get(key)
                 if known is None:
                     body, inner = self.procedure_body(s, callee.name, state, frame)
-                    known = self._final_code(body, inner, state, acts)
+                    known = self.final_code(body, inner, state, acts)
                     if len(self._final_memo) >= _FINAL_MEMO_SIZE:
                         self._final_memo.clear()
                     self._final_memo[key] = known
@@ -442,7 +488,7 @@ class Semantics:
             case Planned():
                 return p.session.successors(self, p, state, acts)
             case Code():
-                return self._trans_code(p.stmt, p.frame, state, acts, first)
+                return self.trans_code(p.stmt, p.frame, state, acts, first)
             case _:
                 assert_never(p)
 
@@ -471,9 +517,12 @@ class Semantics:
         new = (*branches[:i], q, *branches[i + 1 :])
         return DONE if all(isinstance(b, Done) for b in new) else Conc(new)
 
-    def _trans_code(
+    def trans_code(
         self, s: ast.Statement, frame: Frame, state: State, acts: Activities, first: bool = False
     ) -> list[Successor]:
+        """`trans` of the statement `s` with the bindings of `frame` (`trans(Code(s, frame))`):
+        one case per statement kind; `first` as for `trans`. The planner's fast tier
+        (gpp.planner.fast) calls it for the statements it does not specialise."""
         match s:
             case ast.Block():
                 if not s.body:
@@ -481,19 +530,19 @@ class Semantics:
                 return self.trans(Rest(s, 0, frame), state, acts, first)
             case ast.If():
                 if self.condition(s.condition, state, frame):
-                    return self._trans_code(s.then, frame, state, acts, first)
-                return self._trans_code(s.otherwise, frame, state, acts, first) if s.otherwise is not None else []
+                    return self.trans_code(s.then, frame, state, acts, first)
+                return self.trans_code(s.otherwise, frame, state, acts, first) if s.otherwise is not None else []
             case ast.While():
                 if not self.condition(s.condition, state, frame):
                     return []
                 loop = Code(s, frame)
-                return [(self.seq(q, loop), step) for q, step in self._trans_code(s.body, frame, state, acts, first)]
+                return [(self.seq(q, loop), step) for q, step in self.trans_code(s.body, frame, state, acts, first)]
             case ast.Test():
                 return [(DONE, TestStep(s.span))] if self.condition(s.condition, state, frame) else []
             case ast.Choose():
                 out: list[Successor] = []
                 for alternative in s.alternatives:
-                    out.extend(self._trans_code(alternative, frame, state, acts, first))
+                    out.extend(self.trans_code(alternative, frame, state, acts, first))
                     if first and out:
                         break
                 return out
@@ -506,13 +555,13 @@ class Semantics:
                     if guard is not None and guard.rejects(state, f.vars, self.ctx):
                         self.pruned_bindings += 1
                         continue
-                    out.extend(self._trans_code(s.body, f, state, acts, first))
+                    out.extend(self.trans_code(s.body, f, state, acts, first))
                     if first and out:
                         break
                 return out
             case ast.Solve() | ast.Search():
                 if self.planning:
-                    return self._trans_code(s.body, frame, state, acts, first)
+                    return self.trans_code(s.body, frame, state, acts, first)
                 session = self.plan_session(s, frame, state)
                 return [(Planned(session, 0), PlanStep(session))]
             case ast.CallStmt():
@@ -557,7 +606,7 @@ class Semantics:
         callee = self.callee(s)
         if callee.kind is SymbolKind.PROCEDURE:
             body, inner = self.procedure_body(s, callee.name, state, frame)
-            return self._trans_code(body, inner, state, acts, first)
+            return self.trans_code(body, inner, state, acts, first)
         action, g = self.ground_call(s.call, frame, state)
         if not self.startable(action, g, state, acts):
             return []

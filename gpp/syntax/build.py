@@ -7,110 +7,19 @@ and nodes its rule matched; methods pick their parts by token type and node clas
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any, TypeVar
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
 from gpp.syntax import ast
+from gpp.syntax.fast import SpanTwin, fast_constructor, make_span
 from gpp.syntax.lexer import Token, number_value, unescape_string
 
 Child = Any  # a Token, an ast.Node or (for a few helper rules) a tuple of them
 N = TypeVar("N", bound=ast.Node)
-
-
-# A parse makes a Span for about every token, and a node for most. `Span(...)` runs the frozen
-# dataclass's `__init__`, which sets each field through `object.__setattr__`; each field set
-# through its slot's `__set__` (a call) costs about twice a plain assignment. So spans and nodes
-# are made as an instance of the `twin` of their class (same base, same slots, so of the same
-# layout: calling it costs less than `object.__new__(cls)`), their slots set by plain
-# assignment, then turned into the real class by setting `__class__` (allowed between classes
-# of the same layout): the same object with less than half of the work.
-_TWINS: dict[type, type] = {}
-
-
-def twin(cls: type) -> type:
-    """The class of the same layout as the slotted (frozen) dataclass `cls` whose instances
-    take plain assignments to the slots (neither frozen nor with the dataclass's `__init__`)."""
-    made = _TWINS.get(cls)
-    if made is None:
-        namespace = {
-            "__slots__": vars(cls)["__slots__"],
-            # Both of the base's, or attribute assignment would not take the plain path.
-            "__setattr__": object.__setattr__,
-            "__delattr__": object.__delattr__,
-            "__init__": object.__init__,
-        }
-        made = _TWINS.setdefault(cls, type(f"_{cls.__name__}Slots", cls.__bases__, namespace))
-    return made
-
-
-_SpanSlots = twin(Span)
-
-
-def make_span(source: Source, start: int, end: int) -> Span:
-    """`Span(source, start, end)`, made faster."""
-    span: Any = _SpanSlots()
-    span.source = source
-    span.start = start
-    span.end = end
-    span.__class__ = Span
-    made: Span = span
-    return made
-
-
-def span_lines(out: str, source: str, start: str, end: str, indent: str, names: dict[str, Any]) -> list[str]:
-    """Python statements that set the variable `out` to `Span(source, start, end)` (each an
-    expression), made as `make_span` makes it; `names` receives the globals they use."""
-    names["_SpanSlots"] = _SpanSlots
-    names["_Span"] = Span
-    return [
-        f"{indent}{out} = _SpanSlots()",
-        f"{indent}{out}.source = {source}",
-        f"{indent}{out}.start = {start}",
-        f"{indent}{out}.end = {end}",
-        f"{indent}{out}.__class__ = _Span",
-    ]
-
-
-def node_lines(cls: type[ast.Node], values: dict[str, str], out: str, indent: str, names: dict[str, Any]) -> list[str]:
-    """Python statements that set the variable `out` to a node of class `cls` whose fields are
-    the expressions `values[field]`: an instance of its `twin`, each slot set by plain
-    assignment, then its class set (the frozen dataclass's `__init__` calls
-    `object.__setattr__` for each field, at several times the cost). `names` receives the
-    globals they use. `fast_constructor` and the relocators of gpp.syntax.incremental are made
-    of these statements."""
-    assert not hasattr(cls, "__post_init__"), cls
-    name = cls.__name__
-    names[f"_T_{name}"] = twin(cls)
-    names[f"_C_{name}"] = cls
-    lines = [f"{indent}{out} = _T_{name}()"]
-    lines += [f"{indent}{out}.{f.name} = {values[f.name]}" for f in dataclasses.fields(cls)]
-    lines.append(f"{indent}{out}.__class__ = _C_{name}")
-    return lines
-
-
-def fast_constructor(cls: type[N]) -> Callable[..., N]:
-    """A constructor of the node class `cls` that takes the keyword arguments `cls(...)` takes
-    and makes an equal node, about twice as fast (`node_lines`). Generated from the class's
-    fields, as dataclasses generates `__init__`."""
-    namespace: dict[str, Any] = {}
-    params: list[str] = []
-    for f in dataclasses.fields(cls):
-        assert f.init and f.default_factory is dataclasses.MISSING, (cls, f.name)
-        if f.default is dataclasses.MISSING:
-            params.append(f.name)
-        else:
-            params.append(f"{f.name}=_default_{f.name}")
-            namespace[f"_default_{f.name}"] = f.default
-    lines = node_lines(cls, {f.name: f.name for f in dataclasses.fields(cls)}, "node", "    ", namespace)
-    code = f"def {cls.__name__}(*, {', '.join(params)}):\n" + "\n".join(lines) + "\n    return node\n"
-    exec(code, namespace)
-    made: Callable[..., N] = namespace[cls.__name__]
-    return made
 
 
 # Constructors of the nodes a parse makes most of.
@@ -167,8 +76,8 @@ class AstBuilder:
     def span(self, children: Sequence[Child]) -> Span:
         first = children[0]
         last = children[-1]
-        # make_span, inlined: the builder makes a span for almost every reduction.
-        span: Any = _SpanSlots()
+        # make_span (gpp.syntax.fast), inlined: the builder makes a span for almost every reduction.
+        span: Any = SpanTwin()
         span.source = self.source
         span.start = first.start if type(first) is Token else first.span.start
         span.end = last.end if type(last) is Token else last.span.end

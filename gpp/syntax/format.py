@@ -1,33 +1,12 @@
 """The formatter behind `gpp fmt` and the language server's formatting request.
 
 `format_text` lays a program out canonically and keeps every comment where it was. The layout
-is the pretty-printer's (printer.format_program: 4-space indentation, one statement per line,
-`} else {`), so the formatted program parses to the same tree. The comments and blank lines
-are then put back between the printed tokens: the formatter lines up the program's tokens with
-the printed ones (the same but for the spelling of literals and the redundant parentheses the
-printer drops) and writes the comments of each gap between two tokens into the matching gap of
-the printed text:
-
-* a comment on a line of its own stays on a line of its own, directly above the code that
-  followed it, indented like that code (one step deeper above a closing `}`);
-* a comment after code on the same line stays at the end of that line (after the token that
-  preceded it), two spaces after the code; the comments ending consecutive lines are aligned;
-* a block comment between two tokens of one line stays between them (`f(a /* x */, b)`);
-* one blank line is kept where the program had one or more between two lines (never directly
-  after an opening `{` or a section keyword, never before a closing `}`), none where it had
-  none.
-
-Printed lines are broken at break points: after the `=` of a top-level definition, after `,`,
-before `->`, `|`, `&` and binary `+`/`-` (loosest first). A line break the program has at a
-break point is kept; a line still longer than `WIDTH` is broken at its loosest break points of
-the shallowest bracket depth, and so on until the parts fit. Brackets broken after their commas
-hold one part per line and close on a line of their own (`f(` / `a,` / `b` / `)`); any other
-continued line is indented one step more than the line it continues, plus one per open bracket.
-A comment that has to end a line the printer did not end (a `//` comment inside an
-expression) breaks it the same way.
-
-Directives (`// world: ...`) and suppression comments (`// gpp: allow ...`) are ordinary comments
-for the formatter: they stay on their line, above what they preceded.
+is the pretty-printer's (printer.format_program), so the formatted program parses to the same
+tree; the formatter then lines up the program's tokens with the printed ones (the same but for
+the spelling of literals and the redundant parentheses the printer drops), writes the comments
+and blank lines of each gap between two tokens into the matching gap of the printed text, and
+breaks lines longer than `WIDTH` at their loosest break points. The rules for comments, blank
+lines and line breaks, as users see them: docs/format.md.
 """
 
 from __future__ import annotations

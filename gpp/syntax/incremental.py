@@ -2,51 +2,30 @@
 
 `reparse` compares the old and the new text (common prefix and suffix), finds the top-level
 declarations of the old parse that the changed region touches, parses only the new text of that
-region (a fragment, between two declaration boundaries) and splices the result between the
-declarations before and after it. Everything it returns points into the new file's `Source`
-with the new file's offsets: the declarations and diagnostics kept from the old parse are
-relocated (`relocate`, per-class code generated once from the AST's dataclass fields); the
-tokens kept are those of the old parse, those after the edit moved when the new parse's tokens
-are first read (`gpp.syntax.lexer.Tokens`).
+region (a fragment, between two clean declaration boundaries, parsed in place in the new
+`Source`) and splices the result between the declarations before and after it, which are
+relocated (gpp.syntax.fast.relocate) with the old diagnostics after the edit; the tokens kept
+are moved when the new parse's tokens are first read (`gpp.syntax.lexer.Tokens`).
 
-The result is exactly what `parse` of the new text gives, or there is none (None: the caller
-parses the whole file) when that is not certain:
-
-* when the fragment has any diagnostic, or the old parse has one before the end of the region
-  or less than two lines below it (error recovery can cross declaration boundaries, and an
-  error's message reads the line before it), the file is parsed again from the
-  declaration before the region to its end (the "tail"), keeping only the declarations before
-  that one, if the old parse has no diagnostic up to its end;
-* the fragment starts and ends at clean boundaries: where the declaration before ends with `;`
-  or `}` (else it grows to the next such boundary); a fragment that leaves a brace, a string
-  or a comment open is parsed as a tail (an open string or comment is a lexical error);
-* legacy forms (gpp.syntax.legacy, one diagnostic for all the sigils of a file) or the nesting
-  limit (gpp.syntax.depth) in the old or the new diagnostics, an `#include` in the region, or an
-  old diagnostic before the tail would start: None.
-
-The fragment is parsed as the file itself: the new `Source` holds, while it is parsed, text of
-the same length whose part before the fragment is blank (with the same line breaks before the
-fragment's line, so that line comparisons and columns are those of the whole file) and which
-ends where the fragment ends. Its tokens, nodes and diagnostics thus get their final offsets
-and their final `Source` directly.
+The result is exactly what `parse` of the new text gives. Where that is not certain it parses
+more: from the declaration before the edit to the end of the file (a diagnostic in or near the
+region, a fragment that leaves a brace, a string or a comment open), or nothing (None: the
+caller parses the whole file; legacy forms, the nesting limit, an `#include` in the region, an
+old diagnostic before the tail). The rules in full: docs/design.md, "Incremental re-parse".
 """
 
 from __future__ import annotations
 
 import dataclasses
-import threading
-import types
-import typing
 from bisect import bisect_left, bisect_right
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from enum import Enum
-from typing import Any
 
 from gpp.base import diagnostics as diag
 from gpp.base.perf import paused_gc
 from gpp.base.source import Source, Span
-from gpp.syntax import ast, build
+from gpp.syntax import ast
+from gpp.syntax.fast import relocators
 from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.parser import ParseResult, parse
 
@@ -69,172 +48,6 @@ class Reparsed:
     result: ParseResult
     how: str
     parsed_chars: int
-
-
-# ---------------------------------------------------------------- relocation
-
-Relocator = Callable[[Any, Source, int], Any]
-# Made on first use (generating each table takes about a tenth of a second, which a command
-# that parses each file once need not pay), complete before any thread sees them: by whether
-# they move the spans (those that do not, for the declarations before an edit, add nothing).
-_RELOCATORS: dict[bool, dict[type, Relocator]] = {True: {}, False: {}}
-_GENERATING = threading.Lock()
-
-
-def relocators(moved: bool = True) -> dict[type, Relocator]:
-    """The relocator of each syntax node class: (node, source, delta) -> a copy of the node with
-    every span moved by `delta` into `source`; with `moved` false, for a delta of 0 only."""
-    table = _RELOCATORS[moved]
-    if not table:
-        with _GENERATING:
-            if not table:
-                table.update(_generate_relocators(moved))
-    return table
-
-
-def relocate(node: ast.Node, source: Source, delta: int) -> Any:
-    """A copy of `node` with every span moved by `delta` into `source`."""
-    return relocators(delta != 0)[type(node)](node, source, delta)
-
-
-def _node_classes() -> list[type[ast.Node]]:
-    """The syntax node classes (those of gpp.syntax.ast; `__subclasses__` would also list the
-    classes that `dataclass(slots=True)` replaced)."""
-    return [c for c in vars(ast).values() if isinstance(c, type) and issubclass(c, ast.Node) and c is not ast.Node]
-
-
-def _is_node(tp: Any) -> bool:
-    return isinstance(tp, type) and issubclass(tp, ast.Node)
-
-
-# The leaf classes (a span and plain values) that their parents' relocators copy themselves,
-# tested in this order (the most frequent first); any other node is copied by the relocator of
-# its class (a call and a look-up in the table less for about half of the nodes of a program).
-_INLINED: tuple[type[ast.Node], ...] = (ast.Ident, ast.Name, ast.NumberLit, ast.NamedType, ast.StringLit)
-
-
-# The node classes whose child (the field named) has the parent's span object itself, as the
-# builder makes them (a main block and its body): the relocated child shares the relocated span.
-_SHARED_SPAN: dict[type[ast.Node], str] = {ast.MainBlock: "body"}
-
-
-class _Generator:
-    """Writes the relocators: per class, statements made of `build.node_lines` and
-    `build.span_lines` (as `fast_constructor` makes its nodes), the fields that hold spans
-    relocated first, into local variables."""
-
-    def __init__(self, moved: bool) -> None:
-        self.moved = moved  # whether the spans are moved by `d` (else `d` is 0)
-        self.table: dict[type, Relocator] = {}
-        self.names: dict[str, Any] = {"R": self.table}
-        self.hints: dict[type, dict[str, Any]] = {}
-        self.count = 0
-
-    def fields(self, cls: type) -> dict[str, Any]:
-        if cls not in self.hints:
-            self.hints[cls] = typing.get_type_hints(cls, vars(ast), {"Source": Source, "Span": Span})
-        return self.hints[cls]
-
-    def fresh(self) -> str:
-        self.count += 1
-        return f"v{self.count}"
-
-    def holds_span(self, tp: Any) -> bool:
-        """Does a value of type `tp` hold a span (it is copied as it is if not)?"""
-        if tp is Span or _is_node(tp):
-            return True
-        origin = typing.get_origin(tp)
-        if origin in (types.UnionType, typing.Union, tuple):
-            return any(self.holds_span(a) for a in typing.get_args(tp) if a is not Ellipsis)
-        if tp is type(None) or (isinstance(tp, type) and issubclass(tp, (str, int, float, Enum))):
-            return False
-        raise TypeError(f"cannot relocate a field of type {tp}")
-
-    def node(self, cls: type[ast.Node], value: str, out: str, indent: str) -> list[str]:
-        """Statements that set `out` to the relocated node `value` of class `cls`."""
-        lines: list[str] = []
-        values: dict[str, str] = {}
-        shared = _SHARED_SPAN.get(cls)
-        for name, tp in self.fields(cls).items():
-            if self.holds_span(tp):
-                part, moved = self.fresh(), self.fresh()
-                lines.append(f"{indent}{part} = {value}.{name}")
-                lines += self.value(tp, part, moved, indent)
-                values[name] = moved
-                if name == shared:
-                    # The child, just made, takes the parent's new span if it had its span.
-                    self.names[f"_set_{cls.__name__}_shared"] = getattr(ast.Node, "span").__set__  # noqa: B009
-                    lines += [
-                        f"{indent}if {part}.span is {value}.span:",
-                        f"{indent}    _set_{cls.__name__}_shared({moved}, {values['span']})",
-                    ]
-            else:
-                values[name] = f"{value}.{name}"
-        return lines + build.node_lines(cls, values, out, indent, self.names)
-
-    def value(self, tp: Any, value: str, out: str, indent: str) -> list[str]:
-        """Statements that set `out` to the relocated `value` of type `tp` (a span, a node, a
-        tuple of nodes, either or None)."""
-        if tp is Span:
-            plus = " + d" if self.moved else ""
-            return build.span_lines(out, "src", f"{value}.start{plus}", f"{value}.end{plus}", indent, self.names)
-        if _is_node(tp):
-            return self.dispatch((tp,), value, out, indent)
-        args = typing.get_args(tp)
-        if typing.get_origin(tp) in (types.UnionType, typing.Union):
-            present = tuple(a for a in args if a is not type(None))
-            if all(_is_node(a) for a in present):
-                lines = self.dispatch(present, value, out, indent + "    ")
-            elif len(present) == 1:
-                lines = self.value(present[0], value, out, indent + "    ")
-            else:
-                raise TypeError(f"cannot relocate a field of type {tp}")
-            if len(present) == len(args):
-                return [line[4:] for line in lines]
-            return [f"{indent}if {value} is None:", f"{indent}    {out} = None", f"{indent}else:", *lines]
-        if typing.get_origin(tp) is tuple and len(args) == 2 and args[1] is Ellipsis:
-            items, item, moved = self.fresh(), self.fresh(), self.fresh()
-            return [
-                f"{indent}if {value}:",
-                f"{indent}    {items} = []",
-                f"{indent}    for {item} in {value}:",
-                *self.value(args[0], item, moved, indent + "        "),
-                f"{indent}        {items}.append({moved})",
-                f"{indent}    {out} = tuple({items})",
-                f"{indent}else:",
-                f"{indent}    {out} = {value}",
-            ]
-        raise TypeError(f"cannot relocate a field of type {tp}")
-
-    def dispatch(self, kinds: tuple[type, ...], value: str, out: str, indent: str) -> list[str]:
-        """Statements that set `out` to the relocated node `value`, one of the classes `kinds`
-        or their subclasses (the builder's children are untyped: the class is tested)."""
-        lines: list[str] = []
-        for cls in _INLINED:
-            if issubclass(cls, kinds):
-                lines.append(f"{indent}{'elif' if lines else 'if'} type({value}) is _C_{cls.__name__}:")
-                lines += self.node(cls, value, out, indent + "    ")
-        call = f"R[type({value})]({value}, src, d)"
-        if not lines:
-            return [f"{indent}{out} = {call}"]
-        return [*lines, f"{indent}else:", f"{indent}    {out} = {call}"]
-
-    def generate(self) -> dict[type, Relocator]:
-        lines: list[str] = []
-        for cls in _node_classes():
-            name = cls.__name__
-            lines += [f"def r_{name}(n, src, d):", *self.node(cls, "n", "o", "    "), "    return o"]
-            lines.append(f"R[_C_{name}] = r_{name}")
-        exec(compile("\n".join(lines), "<gpp.syntax.incremental relocators>", "exec"), self.names)
-        return self.table
-
-
-def _generate_relocators(moved: bool) -> dict[type, Relocator]:
-    """One function per syntax node class (`_Generator`)."""
-    generator = _Generator(moved)
-    for cls in _INLINED:  # leaves: a span and plain values
-        assert not any(_is_node(tp) for tp in generator.fields(cls).values()), cls
-    return generator.generate()
 
 
 def relocate_diagnostic(d: diag.Diagnostic, source: Source, delta: int) -> diag.Diagnostic:

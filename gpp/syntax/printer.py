@@ -106,7 +106,7 @@ def _print_expr(e: ast.Expr) -> _Printed:
     """`e` without its own parentheses."""
     match e:
         case ast.NumberLit():
-            text = format_number(e.value)
+            text = number_literal(e.value)
             # `-5` is a unary minus folded into the literal: it binds like unary minus.
             return _Printed(text, _Level.UNARY if text.startswith("-") else _Level.POSTFIX)
         case ast.StringLit():
@@ -176,7 +176,7 @@ def _expr_list(exprs: tuple[ast.Expr, ...]) -> str:
     return ", ".join(format_expr(x) for x in exprs)
 
 
-def format_number(value: int | float) -> str:
+def number_literal(value: int | float) -> str:
     """A number literal that the tokenizer reads back as the same value."""
     if isinstance(value, float):
         if not math.isfinite(value):
@@ -410,7 +410,7 @@ def format_clock(c: ast.ClockFormula, at_least: int = 0) -> str:
 def _print_clock(c: ast.ClockFormula) -> tuple[str, int]:
     match c:
         case ast.ClockBound():
-            return f"{c.clock.name} {c.op.value} {format_number(c.bound.value)}", _CLOCK_UNARY
+            return f"{c.clock.name} {c.op.value} {number_literal(c.bound.value)}", _CLOCK_UNARY
         case ast.ClockNot():
             return f"!{format_clock(c.operand, _CLOCK_UNARY)}", _CLOCK_UNARY
         case ast.ClockBinary():
@@ -434,8 +434,8 @@ def format_spec(s: ast.Spec, at_least: int = 0) -> str:
 def _bound(b: ast.Bound | None) -> str:
     if b is None:
         return ""
-    low = "" if b.low is None else format_number(b.low.value)
-    high = "" if b.high is None else format_number(b.high.value)
+    low = "" if b.low is None else number_literal(b.low.value)
+    high = "" if b.high is None else number_literal(b.high.value)
     return f"[{low}, {high}]"
 
 

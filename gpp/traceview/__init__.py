@@ -2,11 +2,11 @@
 gpp.runtime.events record per line) and show it as a terminal timeline, one self-contained
 interactive HTML page, or Chrome trace-event JSON for ui.perfetto.dev.
 
-All three read the trace through `gpp.traceview.model` (load_trace, build_model); they know
+All three read the trace through `gpp.traceview.model` (load_trace, build_run_model); they know
 nothing of the executor, only the trace's events.
 """
 
-from gpp.traceview.model import Activity, Lane, RunModel, Sample, Series, TraceReadError, Wait, build_model
+from gpp.traceview.model import Activity, Lane, RunModel, Sample, Series, TraceReadError, Wait, build_run_model
 from gpp.traceview.model import load_trace as load_trace
 
 __all__ = [
@@ -17,6 +17,6 @@ __all__ = [
     "Series",
     "TraceReadError",
     "Wait",
-    "build_model",
+    "build_run_model",
     "load_trace",
 ]

@@ -1,7 +1,7 @@
 """A run as the viewers see it, built from the trace's events only (gpp.runtime.events).
 
 `load_trace(path)` reads a trace file (TraceReadError with a one-line message for anything
-that is not a trace); `build_model(events)` pairs each activity's `start` with its `update`,
+that is not a trace); `build_run_model(events)` pairs each activity's `start` with its `update`,
 `cancel` and `end`, puts activities into lanes (one per action name, with extra rows where
 activities of that action overlap), and collects exogenous events, plans, waits, problems,
 and the numeric series to plot.
@@ -263,7 +263,7 @@ class RunModel:
         return list(seen)
 
 
-def build_model(events: Sequence[TraceEvent]) -> RunModel:
+def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
     """The run the events describe (events in trace order; at least one)."""
     times = [e.t for e in events]
     start, end = (min(times), max(times)) if times else (0.0, 0.0)
@@ -503,7 +503,7 @@ def show_value(value: JsonValue | Absent) -> str:
     return show_json(value)
 
 
-def format_number(value: float) -> str:
+def short_number(value: float) -> str:
     """A number without a needless `.0`: 80, 21.5, 0.333333."""
     if isinstance(value, int):
         return str(value)
@@ -528,13 +528,13 @@ __all__ = [
     "Wait",
     "action_name",
     "as_number",
-    "build_model",
+    "build_run_model",
     "build_series",
-    "format_number",
     "format_seconds",
     "load_trace",
     "numeric_samples",
     "parse_location",
+    "short_number",
     "show_value",
     "split_action",
 ]

@@ -13,7 +13,7 @@ import json
 from typing import Any
 
 from gpp.runtime.events import ABSENT, SenseEvent
-from gpp.traceview.model import RunModel, format_number, show_value
+from gpp.traceview.model import RunModel, short_number, show_value
 
 PID = 1
 TID_PROGRAM = 1
@@ -118,7 +118,7 @@ def chrome_trace(model: RunModel, *, trace_name: str) -> dict[str, Any]:
         )
     for plan in model.plans:
         label = (
-            f"{plan.EVENT} ({plan.kind}): value {format_number(plan.value)}"
+            f"{plan.EVENT} ({plan.kind}): value {short_number(plan.value)}"
             if plan.feasible
             else f"{plan.EVENT}: no plan"
         )

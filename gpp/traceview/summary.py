@@ -17,8 +17,8 @@ from gpp.traceview.model import (
     RunModel,
     Series,
     action_name,
-    format_number,
     format_seconds,
+    short_number,
 )
 
 if TYPE_CHECKING:
@@ -383,7 +383,7 @@ def _plans(model: RunModel, width: int) -> list[RenderableType]:
             [
                 format_seconds(plan.t),
                 plan.kind + (" (replan)" if plan.EVENT == "replan" else ""),
-                format_number(plan.value),
+                short_number(plan.value),
                 str(plan.horizon),
                 str(plan.nodes),
                 f"{plan.seconds:.3f} s",
@@ -506,10 +506,10 @@ def _series(model: RunModel, width: int) -> list[RenderableType]:
                 series.name,
                 series.kind,
                 str(len(values)),
-                format_number(values[0]),
-                format_number(values[-1]),
-                format_number(min(values)),
-                format_number(max(values)),
+                short_number(values[0]),
+                short_number(values[-1]),
+                short_number(min(values)),
+                short_number(max(values)),
             ]
         )
     columns = [

@@ -22,6 +22,7 @@ from gpp.model.symbols import Symbol, SymbolKind
 from gpp.syntax import ast
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
 from gpp.syntax.loader import ParsedFile
+from lsp.ranges import lsp_range
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,19 +55,6 @@ def document(result: CheckResult, path: Path) -> Document | None:
     except (OSError, ValueError, RuntimeError):
         return None
     return None if f2 is None else Document(result, f2)
-
-
-def clamp(offset: int, text: str) -> int:
-    return max(0, min(offset, len(text)))
-
-
-def position(source: Source, offset: int) -> types.Position:
-    line, character = source.lsp_position(clamp(offset, source.text))
-    return types.Position(line=line, character=character)
-
-
-def lsp_range(span: Span) -> types.Range:
-    return types.Range(start=position(span.source, span.start), end=position(span.source, span.end))
 
 
 def path_of(result: CheckResult, source: Source) -> Path | None:

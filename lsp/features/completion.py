@@ -23,9 +23,10 @@ from gpp.model.symbols import EXPRESSION_CALLABLE, STATEMENT_CALLABLE, Symbol, S
 from gpp.model.types import CompoundType, DomainType, ListType, Sym, Type, show_value
 from gpp.syntax.incremental import changed_stretch
 from gpp.syntax.lexer import Token
-from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo, position
+from lsp.features.common import COMPLETION_KIND, LOCAL_KINDS, Document, document, memo
 from lsp.features.context import OPERAND_ENDS, Binder, Context, Position, context_at, opening
 from lsp.features.info import CODE_LANGUAGE
+from lsp.ranges import position
 
 # Characters after which an editor should ask for completion without being told: a field
 # after '.', an argument after '(' or ',', an include path after '"' or '/'.
@@ -351,8 +352,9 @@ class _Completer:
         subject = self.operand_type(self.doc.file.tokens, self.ctx.previous_index - 1)
         compounds = [subject] if subject is not None else [s.type for s in self.model.types.values()]
         for t in compounds:
-            if isinstance(t, CompoundType) and t.symbol is not None:
-                for member in t.symbol.members.values():
+            declaration = self.model.declaration(t) if isinstance(t, CompoundType) else None
+            if declaration is not None:
+                for member in declaration.members.values():
                     self.symbol_item(member)
 
     def include_paths(self) -> None:

@@ -14,8 +14,9 @@ from gpp.model.types import DomainType, Sym, show_value
 from gpp.syntax import ast
 from gpp.syntax.printer import format_expr
 from gpp.syntax.walk import walk
-from lsp.features.common import LOCAL_KINDS, doc_comment, document, header_comment, included_at, lsp_range, position
+from lsp.features.common import LOCAL_KINDS, doc_comment, document, header_comment, included_at
 from lsp.features.context import context_at
+from lsp.ranges import lsp_range, position
 
 # The language of code blocks in hover and completion documentation.
 CODE_LANGUAGE = "gpp"

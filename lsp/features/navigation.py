@@ -21,10 +21,10 @@ from lsp.features.common import (
     document,
     included_at,
     location,
-    lsp_range,
     path_of,
     stdlib_sources,
 )
+from lsp.ranges import lsp_range
 
 
 class RenameError(Exception):

@@ -13,7 +13,8 @@ from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import DomainType, Sym
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
-from lsp.features.common import SYMBOL_KIND, comments_alone, document, location, lsp_range
+from lsp.features.common import SYMBOL_KIND, comments_alone, document, location
+from lsp.ranges import lsp_range
 
 
 def document_symbols(result: CheckResult, path: Path) -> list[types.DocumentSymbol]:

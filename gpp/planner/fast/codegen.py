@@ -23,11 +23,11 @@ with `Semantics.trans` on random programs.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from gpp.base.source import Span
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import Sym
+from gpp.planner.fast.port import ApplyFn, Closures, FinalFn, TransFn, always, never
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported, build_units
 from gpp.runtime.compiled import Effect, Env, Evaluator, check_domain, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
@@ -35,9 +35,6 @@ from gpp.runtime.semantics import DONE, Code, Done, DoStep, Frame, Prog, Rest, S
 from gpp.runtime.state import ActivityStatus, State, identical, item_hash
 from gpp.runtime.values import Value, show
 from gpp.syntax import ast
-
-if TYPE_CHECKING:
-    from gpp.planner.fast.successors import ApplyFn, FinalFn, Successors, TransFn
 
 _EMPTY = State()
 _PLAIN = (Sym, str, type(None))
@@ -56,7 +53,7 @@ def _snippet(span: Span) -> str:
 class TransGen:
     """Writes the `trans` function of one continuation."""
 
-    def __init__(self, successors: Successors, name: str) -> None:
+    def __init__(self, successors: Closures, name: str) -> None:
         self.successors = successors
         self.sem = successors.sem
         self.program = successors.program
@@ -114,8 +111,6 @@ class TransGen:
 
     def then_final(self, d: int, final: FinalFn, rest: Prog, wrap: Prog) -> None:
         """If `final` holds, the successors of `rest` too (the tail of a sequence)."""
-        from gpp.planner.fast.successors import always, never
-
         if final is never:
             return
         if final is always:
@@ -336,7 +331,7 @@ class ApplyGen:
     "effect plan"), step for step, with the slots, the parameters and the values known in
     advance folded in. None for any other action (the semantics applies it)."""
 
-    def __init__(self, successors: Successors, name: str) -> None:
+    def __init__(self, successors: Closures, name: str) -> None:
         self.sem = successors.sem
         self.program = successors.program
         self.unit = Unit(name, "state, acts")

@@ -5,30 +5,9 @@ gpp.runtime.semantics on every configuration.
 `trans` of a statement, a sequence or the rest of a block is generated Python source
 (gpp.planner.fast.codegen, compiled with `apply` of the action steps it returns), as is a `while`
 condition in `final`; the closures below are what that source calls for the parts it does
-not write out, and what runs with `generate=False`.
-
-The planner meets the same few program points in thousands of states. For each of them this
-module builds, once, a function of (state, activities) that does exactly what
-`Semantics.final` / `Semantics.trans` (planning mode) do for that point, with everything that
-does not depend on the state done in advance:
-
-* the `match` on the continuation and on the statement kind, the frames of a `pick` over a
-  domain, its precondition guard, and the body for every frame;
-* an action call whose arguments read only variables and literals: its ground action, the
-  domain check of its arguments and its `DoStep` (made once and returned every time), and
-  its precondition with the conjuncts that read no fluent evaluated once (`x != y`): a true
-  one is dropped, a false one ends the precondition there;
-* `final` of a statement that is never final whatever the state, without evaluating anything
-  (an action call, a test, an assignment, a `pick` or `choose` of such, a block that starts
-  with one): the constant False, exactly what `final` computes for it.
-
-Everything else (procedure bodies reached by a call, assignments, hooks, `during`,
-concurrency, a `pick ... in {...}`) calls the semantics itself for that part; a program point
-never met is never specialised. The functions are built from the same compiled expressions
-and the same helpers (`Semantics.seq`, `pick_frames`, `ground_call`, `CompiledProgram.pick_guard`)
-and evaluate conditions in the same order, so results and errors are the semantics' own:
-tests/test_planner_successors.py compares them with `Semantics.final`/`trans` on random
-programs and states.
+not write out, and what runs with `generate=False`. Each closure does exactly what the
+semantics does for its program point, with what does not depend on the state done in advance
+(docs/design.md, "The speed tier"); the parts it does not specialise call the semantics.
 """
 
 from __future__ import annotations
@@ -38,6 +17,7 @@ from weakref import WeakKeyDictionary
 
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.planner.fast.codegen import ApplyGen, TransGen
+from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn, always, never
 from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env, Evaluator, PickGuard, reads_only_variables
 from gpp.runtime.errors import GppRuntimeError
@@ -59,10 +39,6 @@ from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
-TransFn = Callable[[State, Activities], list[Successor]]
-FinalFn = Callable[[State, Activities], bool]
-ApplyFn = Callable[[State, Activities], tuple[State, Activities]]
-
 _EMPTY = State()
 
 # At most this many continuations get generated source per semantics object (its plannings
@@ -74,15 +50,6 @@ MAX_TRANS_UNITS = 200
 
 # By semantics object: its Successors, with and without generated source (see successors_of).
 _SHARED: WeakKeyDictionary[Semantics, dict[bool, Successors]] = WeakKeyDictionary()
-
-
-def never(state: State, acts: Activities) -> bool:
-    """`final` of a statement that is never final, whatever the state (nothing is evaluated)."""
-    return False
-
-
-def always(state: State, acts: Activities) -> bool:
-    return True
 
 
 def _nothing(state: State, acts: Activities) -> list[Successor]:
@@ -308,7 +275,7 @@ class Successors:
 
                 return final_while
             case _:
-                return lambda state, acts: sem._final_code(s, frame, state, acts)
+                return lambda state, acts: sem.final_code(s, frame, state, acts)
 
     # ---------------------------------------------------------------- statements: trans
 
@@ -397,7 +364,7 @@ class Successors:
                     return self._procedure_call(s, frame)
                 return self._action_call(s, frame, known)
             case _:
-                return lambda state, acts: sem._trans_code(s, frame, state, acts)
+                return lambda state, acts: sem.trans_code(s, frame, state, acts)
 
     def _pick(self, s: ast.Pick, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
@@ -497,7 +464,7 @@ class Successors:
     def _action_call(self, s: ast.CallStmt, frame: Frame, known: frozenset[int]) -> TransFn:
         sem = self.sem
         call = s.call
-        generic: TransFn = lambda state, acts: sem._trans_code(s, frame, state, acts)  # noqa: E731
+        generic: TransFn = lambda state, acts: sem.trans_code(s, frame, state, acts)  # noqa: E731
         if not isinstance(call, ast.Call) or not all(self._static(a) for a in call.args):
             return generic
         try:

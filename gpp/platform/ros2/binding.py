@@ -1,32 +1,11 @@
-"""The binding file of the ros2 platform: what a mapping cannot say.
+"""The binding file of the ros2 platform: what a mapping cannot say (a mapped name's interface
+type, timeouts, stamped fields, the sensing result field, QoS, the topics or services that
+answer exogenous functions).
 
 A TOML file beside the agent (`agent.ros2.toml` for `agent.gpp`), or the file named by a
-`// ros2: FILE` line of the program, or by `-o binding=FILE`. Its tables:
-
-    [defaults]                      # for every mapped name
-    server_timeout = 5.0            # s to wait for an action server or service to appear
-    ack_timeout = 5.0               # s to wait for a goal to be accepted (then one retry)
-    result_timeout = 0              # s an action may run (0: no limit); services: default 10
-
-    ["/navigate_to_pose"]           # one mapped ROS name (as in the program's mapping)
-    type = "nav2_msgs/action/NavigateToPose"   # when the mapping does not say it
-    server_timeout = 10.0
-    stamp = ["pose.header.stamp"]   # set to the agent's clock when the goal is sent
-    result = "location"             # the result field that is the sensing value
-    qos = { reliability = "best_effort", depth = 10 }   # topics
-
-    [exog_function.battery]         # an exogenous function of the program
-    topic = "/battery_state : sensor_msgs/msg/BatteryState"   # the latest message answers
-    field = "percentage"
-
-    [exog_function.block_on]
-    service = "/get_block_pose"     # each evaluation calls the service
-    request = { block = "b" }       # request field = parameter of the function
-    field = "location"
-    timeout = 2.0
-
-Everything is checked when the file is read (unknown keys with a did-you-mean, value
-types); whether its names fit the program is checked when the program attaches.
+`// ros2: FILE` line of the program, or by `-o binding=FILE`; its tables: docs/platforms.md.
+Everything is checked when the file is read (unknown keys with a did-you-mean, value types);
+whether its names fit the program is checked when the program attaches.
 """
 
 from __future__ import annotations

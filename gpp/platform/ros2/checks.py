@@ -8,13 +8,15 @@ sensing action's result fits the sensed type. Each problem is located at the map
 
 from __future__ import annotations
 
+import re
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
 from gpp.platform.base import ActionBinding, ExogActionBinding, ExogFunctionSignature, Problem, ProgramInterface
-from gpp.platform.ros2.binding import Binding, FunctionEntry
+from gpp.platform.ros2.binding import Binding, FunctionEntry, NameEntry
 from gpp.platform.ros2.interfaces import (
     FieldError,
     Interface,
@@ -28,12 +30,22 @@ from gpp.platform.ros2.interfaces import (
     type_problem,
 )
 from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
+from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
     from gpp.platform.ros2.bridge import Bridge
-    from gpp.platform.ros2.platform import Target
 
 _KIND_WORD = {"action": "an action", "srv": "a service", "msg": "a topic"}
+
+
+@dataclass
+class Target:
+    """A mapped action as the platform serves it (made by `action_target`)."""
+
+    binding: ActionBinding
+    name: MappedName
+    entry: NameEntry
+    interface: Interface | None = None
 
 
 class Graph:
@@ -106,8 +118,6 @@ def _load(type_name: str, span: Span, what: str) -> tuple[Interface | None, list
 
 
 def action_target(binding: ActionBinding, b: Binding, graph: Graph) -> tuple[Target | None, list[Problem]]:
-    from gpp.platform.ros2.platform import Target, literal
-
     what = f"action `{binding.name}`"
     name, problems = _parse(binding.mapped_name, binding.span, what)
     if name is None:
@@ -340,3 +350,27 @@ def unused_entries(b: Binding, interface: ProgramInterface) -> list[Problem]:
                 )
             )
     return problems
+
+
+# ---------------------------------------------------------------- literal constants
+
+_NUMBER = re.compile(r"^-?\d+(\.\d+)?([eE][-+]?\d+)?$")
+_STRING = re.compile(r'^"([^"\\]*)"$')
+
+
+def literal(span: Span) -> tuple[bool, Value]:
+    """The value of a mapping entry `name = literal` (number, string, true or false) from its
+    source text; (False, None) for any other expression."""
+    _, sep, text = span.text.partition("=")
+    text = text.strip()
+    if not sep:
+        return False, None
+    if _NUMBER.match(text):
+        number = float(text)
+        return True, int(number) if number.is_integer() and "." not in text and "e" not in text.lower() else number
+    m = _STRING.match(text)
+    if m:
+        return True, m.group(1)
+    if text in ("true", "false"):
+        return True, text == "true"
+    return False, None

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import contextlib
 import logging
-import re
 import signal
 import threading
 import time
@@ -35,15 +34,13 @@ from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
 from gpp.platform.base import (
-    ActionBinding,
     Activity,
     ActivityUpdate,
     ExogActionBinding,
-    ExogEvent,
+    ExogOccurrence,
     Platform,
     PlatformConfig,
     PlatformError,
@@ -58,13 +55,14 @@ from gpp.platform.ros2.binding import (
     NameEntry,
     find_binding,
 )
-from gpp.platform.ros2.names import MappedName, NameError_, parse_mapped
+from gpp.platform.ros2.names import NameError_, parse_mapped
 from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
     from gpp.platform.ros2.bridge import Bridge, Job, Outcome
+    from gpp.platform.ros2.checks import Target
     from gpp.platform.ros2.interfaces import Interface
 
 log = logging.getLogger("gpp.platform.ros2")
@@ -84,16 +82,6 @@ class Ros2Options:
     )
     node_name: str = field(default="gpp_agent", metadata={"help": "the name of the agent's ROS node"})
     log_level: str = field(default="warn", metadata={"help": "rclpy's log level (debug, info, warn, error)"})
-
-
-@dataclass
-class Target:
-    """A mapped action as the platform serves it."""
-
-    binding: ActionBinding
-    name: MappedName
-    entry: NameEntry
-    interface: Interface | None = None
 
 
 @dataclass
@@ -315,7 +303,7 @@ class Ros2Platform(Platform):
                 log.warning("ros2: a message on %s does not fit `%s` and is dropped: %s", topic.name, exog.name, e)
                 continue
             self.exog_received += 1
-            self.queue.put(ExogEvent(exog.name, tuple(args)), now)
+            self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
 
     def _handle_sigterm(self) -> None:
         """SIGTERM stops the run as Ctrl-C does (goals cancelled, node shut down), not at once."""
@@ -514,27 +502,3 @@ def _unwrap(plain: Any, t: Type) -> Any:
     if isinstance(plain, dict) and len(plain) == 1 and not isinstance(base(t), CompoundType):
         return next(iter(plain.values()))
     return plain
-
-
-# ---------------------------------------------------------------- literal constants
-
-_NUMBER = re.compile(r"^-?\d+(\.\d+)?([eE][-+]?\d+)?$")
-_STRING = re.compile(r'^"([^"\\]*)"$')
-
-
-def literal(span: Span) -> tuple[bool, Value]:
-    """The value of a mapping entry `name = literal` (number, string, true or false) from its
-    source text; (False, None) for any other expression."""
-    _, sep, text = span.text.partition("=")
-    text = text.strip()
-    if not sep:
-        return False, None
-    if _NUMBER.match(text):
-        number = float(text)
-        return True, int(number) if number.is_integer() and "." not in text and "e" not in text.lower() else number
-    m = _STRING.match(text)
-    if m:
-        return True, m.group(1)
-    if text in ("true", "false"):
-        return True, text == "true"
-    return False, None

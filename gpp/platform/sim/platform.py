@@ -27,7 +27,7 @@ from gpp.platform.base import (
     Activity,
     ActivityUpdate,
     ExogActionBinding,
-    ExogEvent,
+    ExogOccurrence,
     Platform,
     PlatformConfig,
     PlatformError,
@@ -347,7 +347,7 @@ class SimPlatform(Platform):
         for signature in self.routes.get(happening.event, []):
             args = event_args(signature, happening.fields)
             if args is not None:
-                self.queue.put(ExogEvent(signature.name, args), self.clock)
+                self.queue.put(ExogOccurrence(signature.name, args), self.clock)
 
     def _gripper_problem(self, activity: Activity) -> str | None:
         wb = self.workbench
@@ -383,16 +383,16 @@ def make_activity(mapped: str, **args: str) -> Activity:
 
 def run_action(
     sim: SimPlatform, mapped: str, timeout: float | None = None, **args: str
-) -> tuple[ActivityUpdate, list[ExogEvent]]:
+) -> tuple[ActivityUpdate, list[ExogOccurrence]]:
     """Start one activity (see make_activity) and step the sim until it ends; returns its
     update and the exogenous events that happened meanwhile."""
     activity = make_activity(mapped, **args)
-    events: list[ExogEvent] = []
+    events: list[ExogOccurrence] = []
     sim.start(activity)
     deadline = sim.now() + timeout if timeout is not None else None
     while True:
         for _, event in sim.queue.drain():
-            if isinstance(event, ExogEvent):
+            if isinstance(event, ExogOccurrence):
                 events.append(event)
             elif event.activity_id == activity.id:
                 return event, events

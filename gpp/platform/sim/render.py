@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from functools import cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from PIL import Image, ImageDraw, ImageFont
 
@@ -20,8 +20,21 @@ from gpp.platform.sim.world import World
 
 if TYPE_CHECKING:
     from gpp.platform.sim.navigation import MapScene
-    from gpp.platform.sim.platform import SimPlatform
     from gpp.platform.sim.workbench import Workbench
+
+
+class Scene(Protocol):
+    """What a frame shows of the sim (gpp.platform.sim.platform.SimPlatform is one)."""
+
+    world: World
+    map: MapScene | None
+    workbench: Workbench | None
+    clock: float
+
+    def caption(self) -> str:
+        """The running actions, as the frame's caption."""
+        ...
+
 
 Color = tuple[int, int, int]
 
@@ -172,7 +185,7 @@ class Renderer:
 
     # ---------------------------------------------------------------- a frame
 
-    def draw(self, sim: SimPlatform) -> Image.Image:
+    def draw(self, sim: Scene) -> Image.Image:
         image = self._static.copy()
         draw = ImageDraw.Draw(image)
         if sim.map is not None and self.map_box is not None:
@@ -300,7 +313,7 @@ class Recorder:
         self.next_time = 0.0
         self.last: Image.Image | None = None
 
-    def capture(self, sim: SimPlatform, force: bool = False) -> None:
+    def capture(self, sim: Scene, force: bool = False) -> None:
         if not force and (self.gif is None or sim.clock + 1e-9 < self.next_time):
             return
         image = self.renderer.draw(sim)
@@ -324,6 +337,6 @@ class Recorder:
             self.last.save(self.png)
 
 
-def snapshot(sim: SimPlatform) -> Image.Image:
+def snapshot(sim: Scene) -> Image.Image:
     """The current frame of a running sim (for tests and tools)."""
     return Renderer(sim.world).draw(sim)
