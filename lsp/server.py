@@ -63,6 +63,7 @@ from gpp.base import diagnostics as diag
 from gpp.base.source import Span
 from gpp.check import CheckResult
 from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
+from gpp.codes import W0101, W0102
 from lsp.codes_doc import code_url
 from lsp.gc_policy import GcPolicy
 
@@ -70,7 +71,7 @@ P = ParamSpec("P")
 R = TypeVar("R")
 
 # Lints about declarations nobody uses: editors grey them out.
-_UNNECESSARY = frozenset({"W0101", "W0102"})
+_UNNECESSARY = frozenset({W0101.code, W0102.code})
 _SEVERITY = {
     diag.Severity.ERROR: types.DiagnosticSeverity.Error,
     diag.Severity.WARNING: types.DiagnosticSeverity.Warning,

@@ -15,6 +15,7 @@ from typing import Any, TypeVar
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
+from gpp.codes import E0020, E0021
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token, number_value, unescape_string
 
@@ -274,8 +275,7 @@ class AstBuilder:
                 word = ast.SECTION_KINDS[type(s)].value
                 self.diagnostics.append(
                     diag.error(
-                        "E0020",
-                        f"section `{word}:` appears twice",
+                        E0020.twice(word),
                         s.keyword,
                         "second section",
                         secondary=[diag.Label(first.keyword, "first given here")],
@@ -386,8 +386,7 @@ class AstBuilder:
             if first is not None:
                 self.diagnostics.append(
                     diag.error(
-                        "E0021",
-                        f"`{keyword.value}` handler given twice",
+                        E0021.twice(keyword.value),
                         self.tspan(keyword),
                         "second handler",
                         secondary=[diag.Label(self.tspan(first[0]), "first given here")],
