@@ -1,7 +1,8 @@
 """The page an editor opens for a diagnostic's code (the LSP `codeDescription`).
 
-Every code is documented in one Markdown page, docs/codes.md, generated from gpp.codes (the
-text `gpp explain CODE` prints); a test keeps the committed page in step with the registry.
+Every code is documented in one Markdown page, docs/codes.md, generated from gpp.codes and its
+explanation files gpp/codes/explain/CODE.md (the text `gpp explain CODE` prints); a test keeps
+the committed page in step with the registry.
 Each code is a heading of its own, so `codes.md#e0011` links to it. In a source checkout the
 link points at docs/codes.md; an installed gpp writes the same page into the user's cache
 directory once per version and points there.
@@ -23,7 +24,8 @@ def codes_markdown() -> str:
     out = [
         "# Diagnostic codes",
         "",
-        "Generated from `gpp/codes/__init__.py` (`gpp explain CODE` prints the same text); do not edit by hand.",
+        "Generated from `gpp/codes/` and `gpp/codes/explain/CODE.md` (`gpp explain CODE` prints the same text);",
+        "do not edit by hand.",
         "Codes are stable: `E00xx` syntax, `E01xx` names, `E02xx` types, `E03xx` declarations,",
         "`W01xx` lints (allowed with `gpp check --allow CODE`), `R00xx` run time.",
         "",

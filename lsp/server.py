@@ -41,6 +41,7 @@ from gpp import __version__
 from gpp.base import diagnostics as diag
 from gpp.check import CheckResult
 from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
+from gpp.codes import W0101, W0102
 from lsp.codes_doc import code_url
 from lsp.gc_policy import GcPolicy
 from lsp.ranges import lsp_range
@@ -49,7 +50,7 @@ P = ParamSpec("P")
 R = TypeVar("R")
 
 # Lints about declarations nobody uses: editors grey them out.
-_UNNECESSARY = frozenset({"W0101", "W0102"})
+_UNNECESSARY = frozenset({W0101.code, W0102.code})
 _SEVERITY = {
     diag.Severity.ERROR: types.DiagnosticSeverity.Error,
     diag.Severity.WARNING: types.DiagnosticSeverity.Warning,

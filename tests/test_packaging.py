@@ -34,6 +34,7 @@ def test_wheel_contains_grammar_and_stdlib(wheel: Path) -> None:
     assert "gpp/_data/grammar/gpp.lark" in names
     assert "gpp/cli/common.py" in names
     assert "gpp/trace.schema.json" in names  # gpp.runtime.events.load_schema()
+    assert {"gpp/codes/explain/E0001.md", "gpp/codes/explain/W0101.md"} <= names  # gpp explain
     assert {f"gpp/traceview/viewer.{ext}" for ext in ("html", "css", "js")} <= names  # gpp trace html
     assert any(n.startswith("gpp/_data/stdlib/") for n in names), sorted(n for n in names if "_data" in n)
     assert not any(n.startswith("tests/") for n in names)
@@ -52,6 +53,7 @@ def test_installed_package_checks_a_program_outside_the_source_tree(wheel: Path,
         "assert '_data' in str(r.grammar_path()), r.grammar_path(); "
         "assert '_data' in str(r.stdlib_dir()), r.stdlib_dir(); "
         "import gpp.runtime.events as ev; assert ev.load_schema()['$id'].endswith(ev.TRACE_SCHEMA_VERSION); "
+        "from gpp.codes import CODES; assert CODES['E0204'].explanation.startswith('An operator'); "
         "from gpp.cli.main import main; main(['check', sys.argv[1]])"
     )
     result = subprocess.run(

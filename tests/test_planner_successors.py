@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from test_planner_properties import PROPERTY, Case, cases, looping_cases, staggered_cases
 
 from gpp.check import check_text
+from gpp.codes import R0002
 from gpp.planner.dp import solve_plan
 from gpp.planner.fast import successors as successors_module
 from gpp.planner.fast.successors import Successors
@@ -97,7 +98,7 @@ def closure_reward(pb: PlanningProblem) -> Callable[[State], float]:
     def reward(s: State) -> float:
         v = closure(pb.sem.env(s, EMPTY_FRAME))
         if not isinstance(v, int | float) or isinstance(v, bool):
-            raise GppRuntimeError("R0002", "the reward is not a number", solve.reward.span)
+            raise GppRuntimeError(R0002.reward_not_number(), solve.reward.span)
         return float(v)
 
     return reward

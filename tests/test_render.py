@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, error, warning
+from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, Message, error, warning
 from gpp.base.source import Source, Span
 from gpp.report.text import (
     count_problems,
@@ -52,8 +52,7 @@ def missing_semicolon() -> Diagnostic:
     src = Source("procedure main() {\n    x() = 1\n    y() = 2;\n}\n", "agent.gpp")
     at = point_after(src, "x() = 1")
     return error(
-        "E0011",
-        "expected `;` after this statement",
+        Message("E0011", "expected `;` after this statement"),
         at,
         "add `;` here",
         fix=Fix("insert `;`", (Edit(at, ";"),)),
@@ -63,8 +62,7 @@ def missing_semicolon() -> Diagnostic:
 def unexpected_token_with_secondary() -> Diagnostic:
     src = Source("procedure main() {\n  if (done(\n    x = 1;\n  }\n}\n", "agent.gpp")
     return error(
-        "E0010",
-        "expected `)`, found `}`",
+        Message("E0010", "expected `)`, found `}`"),
         span_of(src, "}"),
         "unexpected token",
         secondary=[Label(span_of(src, "(", 2), "this `(` is not closed")],
@@ -79,8 +77,7 @@ def multiline_span() -> Diagnostic:
     start = src.text.index("while")
     end = src.text.index("  }\n}") + 3
     return error(
-        "E0200",
-        "this loop never ends",
+        Message("E0200", "this loop never ends"),
         Span(src, start, end),
         "the loop",
         secondary=[Label(span_of(src, "true"), "the condition is always true")],
@@ -90,15 +87,14 @@ def multiline_span() -> Diagnostic:
 def multiline_span_mid_line() -> Diagnostic:
     src = Source("procedure main() { if (a) {\n  b();\n} }\n", "mid.gpp")
     start = src.text.index("{ if")
-    return error("E0201", "unbalanced block", Span(src, start, len(src.text) - 1), "this block")
+    return error(Message("E0201", "unbalanced block"), Span(src, start, len(src.text) - 1), "this block")
 
 
 def zero_width_at_end_of_file() -> Diagnostic:
     src = Source("procedure main() {\n  x() = 1;\n", "eof.gpp")
     end = len(src.text)
     return error(
-        "E0012",
-        "unexpected end of file, expected `}`",
+        Message("E0012", "unexpected end of file, expected `}`"),
         Span(src, end, end),
         "the file ends here",
         secondary=[Label(span_of(src, "{"), "this `{` is not closed")],
@@ -108,14 +104,13 @@ def zero_width_at_end_of_file() -> Diagnostic:
 def zero_width_at_end_of_file_without_newline() -> Diagnostic:
     src = Source("procedure main() {", "eof.gpp")
     end = len(src.text)
-    return error("E0012", "unexpected end of file, expected `}`", Span(src, end, end), "the file ends here")
+    return error(Message("E0012", "unexpected end of file, expected `}`"), Span(src, end, end), "the file ends here")
 
 
 def tab_indented_line() -> Diagnostic:
     src = Source("procedure main() {\n\tif (x)\t{\n\t\tgoto(\tkitchen);\n\t}\n}\n", "tabs.gpp")
     return error(
-        "E0300",
-        "unknown location `kitchen`",
+        Message("E0300", "unknown location `kitchen`"),
         span_of(src, "kitchen"),
         "not declared",
         secondary=[Label(span_of(src, "goto"), "expects a `Location`")],
@@ -126,8 +121,7 @@ def tab_indented_line() -> Diagnostic:
 def warning_with_notes_and_help() -> Diagnostic:
     src = Source("bool fluent busy() {\ninitially:\n  () = false;\n}\nprocedure main() {\n  int n = 3;\n}\n", "w.gpp")
     return warning(
-        "W0101",
-        "variable `n` is never used",
+        Message("W0101", "variable `n` is never used"),
         span_of(src, "n =", width=1),
         "assigned but never read",
         notes=["unused variables are often typos", "this note has\ntwo lines"],
@@ -139,8 +133,7 @@ def secondary_in_another_file() -> Diagnostic:
     main = Source('#include "lib.gpp"\nprocedure main() {\n  pick_up(a, b);\n}\n', "agent.gpp")
     lib = Source("action pick_up(Block x) {\n  effect: holding() = x;\n}\n", "lib/lib.gpp")
     return error(
-        "E0400",
-        "`pick_up` takes 1 argument but 2 were given",
+        Message("E0400", "`pick_up` takes 1 argument but 2 were given"),
         span_of(main, "pick_up(a, b)"),
         "called with 2 arguments",
         secondary=[
@@ -154,8 +147,7 @@ def replacement_fix() -> Diagnostic:
     src = Source("procedur main() {\n}\n", "typo.gpp")
     name = span_of(src, "procedur")
     return error(
-        "E0101",
-        "unknown keyword `procedur`",
+        Message("E0101", "unknown keyword `procedur`"),
         name,
         "not a keyword",
         fix=Fix("did you mean `procedure`?", (Edit(name, "procedure"),)),
@@ -165,8 +157,7 @@ def replacement_fix() -> Diagnostic:
 def several_labels_on_one_line() -> Diagnostic:
     src = Source("procedure main() {\n  x = f(a, b, c);\n}\n", "labels.gpp")
     return error(
-        "E0500",
-        "mismatched types",
+        Message("E0500", "mismatched types"),
         span_of(src, "c)", width=1),
         "expected `number`, found `symbol`",
         secondary=[Label(span_of(src, "a,", width=1), "first"), Label(span_of(src, "b,", width=1), "second")],
@@ -227,13 +218,13 @@ def test_missing_semicolon_caret_sits_right_after_the_previous_token() -> None:
 
 def test_carets_cover_the_whole_primary_span() -> None:
     src = Source("procedure main() {\n  navigate(kitchen);\n}\n", "a.gpp")
-    d = error("E1", "m", span_of(src, "navigate"), "here")
+    d = error(Message("E1", "m"), span_of(src, "navigate"), "here")
     assert "  |   ^^^^^^^^ here" in render_plain(d).splitlines()
 
 
 def test_gutter_is_as_wide_as_the_largest_line_number() -> None:
     src = Source("\n" * 120 + "x;\n", "big.gpp")
-    d = error("E1", "m", span_of(src, "x"), secondary=[Label(Span(src, 0, 0), "top")])
+    d = error(Message("E1", "m"), span_of(src, "x"), secondary=[Label(Span(src, 0, 0), "top")])
     lines = render_plain(d).splitlines()
     assert lines[1] == "   --> big.gpp:121:1"
     assert "121 | x;" in lines
@@ -252,7 +243,7 @@ def test_tabs_keep_carets_aligned() -> None:
 
 def test_wide_characters_keep_carets_aligned() -> None:
     src = Source('procedure main() { say("日本語"); x(); }\n', "wide.gpp")
-    lines = render_plain(error("E1", "m", span_of(src, "x()"))).splitlines()
+    lines = render_plain(error(Message("E1", "m"), span_of(src, "x()"))).splitlines()
     # Each of the three CJK characters takes two terminal cells.
     assert lines[4].index("^") == lines[3].index("x()") + 3
     assert lines[4].count("^") == 3
@@ -260,7 +251,7 @@ def test_wide_characters_keep_carets_aligned() -> None:
 
 def test_control_characters_are_not_echoed() -> None:
     src = Source("x\x1b[31m = 1;\n", "ctl.gpp")
-    text = render_plain(error("E1", "m", span_of(src, "= 1")))
+    text = render_plain(error(Message("E1", "m"), span_of(src, "= 1")))
     assert "\x1b" not in text
     assert "x\ufffd[31m = 1;" in text
 
@@ -279,7 +270,7 @@ def test_summary_counts_errors_and_warnings() -> None:
 
 def test_multiline_fix_falls_back_to_a_help_line() -> None:
     src = Source("a;\nb;\n", "f.gpp")
-    d = error("E1", "m", span_of(src, "a"), fix=Fix("join the lines", (Edit(Span(src, 1, 4), ""),)))
+    d = error(Message("E1", "m"), span_of(src, "a"), fix=Fix("join the lines", (Edit(Span(src, 1, 4), ""),)))
     text = render_plain(d)
     assert "  = help: join the lines" in text
     assert "\nhelp:" not in text
@@ -291,7 +282,7 @@ def test_multiline_fix_falls_back_to_a_help_line() -> None:
 )
 def test_out_of_range_spans_do_not_crash(start: int, end: int) -> None:
     src = Source("ab\ncd\n", "r.gpp")
-    assert render_plain(error("E1", "m", Span(src, start, end), "l")).startswith("error[E1]: m\n")
+    assert render_plain(error(Message("E1", "m"), Span(src, start, end), "l")).startswith("error[E1]: m\n")
 
 
 @given(
@@ -303,8 +294,7 @@ def test_any_span_renders(text: str, points: list[int], fix_text: str) -> None:
     src = Source(text, "p.gpp")
     a, b, c, d = (min(p, len(text)) for p in points)
     diagnostic = error(
-        "E1",
-        "m",
+        Message("E1", "m"),
         Span(src, min(a, b), max(a, b)),
         "primary",
         secondary=[Label(Span(src, min(c, d), max(c, d)), "secondary")],

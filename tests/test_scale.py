@@ -15,7 +15,7 @@ import sys
 import time
 from pathlib import Path
 
-from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, error
+from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, Message, error
 from gpp.base.source import Source, Span, decode_text
 from gpp.check import check_program
 from gpp.report.text import limit_diagnostics, render_plain, render_text
@@ -48,7 +48,7 @@ def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
 
 def test_a_long_line_is_shown_around_its_label_with_the_real_column() -> None:
     src = long_source()
-    text = render_plain(error("E0101", "unknown name `oops`", span_of(src, "oops"), "not declared"))
+    text = render_plain(error(Message("E0101", "unknown name `oops`"), span_of(src, "oops"), "not declared"))
     shown = "…" + "a + " * 10 + "oops + " + "b + " * 9 + "b…"
     assert text == (
         "error[E0101]: unknown name `oops`\n"
@@ -62,8 +62,7 @@ def test_a_long_line_is_shown_around_its_label_with_the_real_column() -> None:
 def test_labels_far_apart_on_a_long_line_each_get_a_part_of_it() -> None:
     src = long_source()
     diagnostic = error(
-        "E0101",
-        "two",
+        Message("E0101", "two"),
         span_of(src, "oops"),
         "here",
         secondary=[Label(Span(src, 0, 1), "start"), Label(span_of(src, "c;", 1), "end")],
@@ -83,7 +82,7 @@ def test_a_fix_on_a_long_line_shows_the_edited_part() -> None:
     src = long_source()
     end = src.text.index("c;") + 1
     fix = Fix("rename it", (Edit(span_of(src, "oops"), "fine"),))
-    text = render_plain(error("E0011", "semi", Span(src, end, end), "add", fix=fix))
+    text = render_plain(error(Message("E0011", "semi"), Span(src, end, end), "add", fix=fix))
     window = "…" + "a + " * 10 + "{} + " + "b + " * 9 + "b…"
     assert text.splitlines()[1:] == [
         " --> long.gpp:1:813",
@@ -100,7 +99,7 @@ def test_a_fix_on_a_long_line_shows_the_edited_part() -> None:
 
 def test_a_short_line_is_shown_whole() -> None:
     src = Source("x = " + "a + " * 30 + "oops;\n", "short.gpp")
-    lines = render_plain(error("E0101", "unknown", span_of(src, "oops"))).splitlines()
+    lines = render_plain(error(Message("E0101", "unknown"), span_of(src, "oops"))).splitlines()
     assert lines[3] == "1 | " + src.text.rstrip("\n")
     assert lines[4] == "  | " + " " * src.text.index("oops") + "^^^^"
 
@@ -110,7 +109,7 @@ def test_rendering_is_linear_in_the_number_of_diagnostics_and_the_line_length() 
     # Printing the whole line for each diagnostic made this 64 times slower, not 8.
     def seconds(size: int) -> float:
         src = Source("a();" * (size // 4) + "\n", "one-line.gpp")
-        diagnostics = [error("E0103", "unknown", Span(src, k, k + 1), "here") for k in range(0, size, 64)]
+        diagnostics = [error(Message("E0103", "unknown"), Span(src, k, k + 1), "here") for k in range(0, size, 64)]
         best = float("inf")
         for _ in range(3):
             started = time.perf_counter()
@@ -127,7 +126,7 @@ def test_rendering_is_linear_in_the_number_of_diagnostics_and_the_line_length() 
 
 
 def many(n: int, code: str, source: Source) -> list[Diagnostic]:
-    return [error(code, f"number {k}", Span(source, k, k + 1)) for k in range(n)]
+    return [error(Message(code, f"number {k}"), Span(source, k, k + 1)) for k in range(n)]
 
 
 def test_after_the_limit_the_rest_of_a_code_in_a_file_is_counted_in_one_line() -> None:

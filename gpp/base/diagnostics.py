@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import TypedDict, Unpack
+from typing import NamedTuple, TypedDict, Unpack
 
 from gpp.base.source import Span
 
@@ -61,6 +61,15 @@ class Fix:
         return self.applicability is Applicability.SAFE
 
 
+class Message(NamedTuple):
+    """A diagnostic's code and its text, as a message of the registry (gpp.codes) makes them
+    (`E0204.cannot_compare(left, right)`). The code is "" for a problem without one (an
+    unreadable `gpp.toml`)."""
+
+    code: str
+    text: str
+
+
 @dataclass(frozen=True, slots=True)
 class Diagnostic:
     code: str
@@ -90,11 +99,11 @@ class Details(TypedDict, total=False):
     fix: Fix | None
 
 
-def _make(severity: Severity, code: str, message: str, span: Span, label: str, details: Details) -> Diagnostic:
+def _make(severity: Severity, message: Message, span: Span, label: str, details: Details) -> Diagnostic:
     return Diagnostic(
-        code,
+        message.code,
         severity,
-        message,
+        message.text,
         span,
         label,
         tuple(details.get("secondary", ())),
@@ -104,12 +113,12 @@ def _make(severity: Severity, code: str, message: str, span: Span, label: str, d
     )
 
 
-def error(code: str, message: str, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
-    return _make(Severity.ERROR, code, message, span, label, details)
+def error(message: Message, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
+    return _make(Severity.ERROR, message, span, label, details)
 
 
-def warning(code: str, message: str, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
-    return _make(Severity.WARNING, code, message, span, label, details)
+def warning(message: Message, span: Span, label: str = "", **details: Unpack[Details]) -> Diagnostic:
+    return _make(Severity.WARNING, message, span, label, details)
 
 
 @dataclass

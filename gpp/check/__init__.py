@@ -17,6 +17,7 @@ from gpp.base import diagnostics as diag
 from gpp.base.perf import paused_gc, with_deep_stack
 from gpp.base.source import Span
 from gpp.check.suppress import apply_suppressions
+from gpp.codes import E0101, E0102, E0103, E0105, E0106, E0107
 from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.syntax.loader import LoadResult, ParseCache, load
@@ -26,7 +27,7 @@ if TYPE_CHECKING:
 
 # After a syntax error the parser may have skipped a declaration; names declared there would
 # then be reported as unknown. These follow-on reports are held back until the syntax is fixed.
-_NAME_CODES = frozenset({"E0101", "E0102", "E0103", "E0105", "E0106", "E0107"})
+_NAME_CODES = frozenset(c.code for c in (E0101, E0102, E0103, E0105, E0106, E0107))
 
 
 @dataclass

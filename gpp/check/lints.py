@@ -426,7 +426,9 @@ LINTS: dict[str, Lint] = {}
 LOCAL: set[str] = set()
 
 
-def _lint(code: str, local: bool) -> Callable[[Lint], Lint]:
+def _lint(lint: type[codes.Code], local: bool) -> Callable[[Lint], Lint]:
+    code = lint.code
+
     def register(f: Lint) -> Lint:
         assert code in codes.CODES and codes.CODES[code].is_lint, code
         LINTS[code] = f
@@ -441,7 +443,7 @@ def _lint(code: str, local: bool) -> Callable[[Lint], Lint]:
 
 
 # Global: a global counts as used by a reference in any declaration.
-@_lint("W0101", local=False)
+@_lint(codes.W0101, local=False)
 def unused_declaration(program: _Program) -> Iterator[diag.Diagnostic]:
     for symbol in program.model.globals.values():
         if (
@@ -454,28 +456,27 @@ def unused_declaration(program: _Program) -> Iterator[diag.Diagnostic]:
         ):
             continue
         assert symbol.span is not None
-        yield diag.warning("W0101", f"{symbol.kind.value} `{symbol.name}` is never used", symbol.span)
+        yield diag.warning(codes.W0101.unused(symbol.kind, symbol.name), symbol.span)
 
 
 # ---------------------------------------------------------------- W0102 unused parameter / variable
 
 
 # Local: a parameter or `pick`/quantifier variable is named only inside the declaration that declares it.
-@_lint("W0102", local=True)
+@_lint(codes.W0102, local=True)
 def unused_variable(program: _Program) -> Iterator[diag.Diagnostic]:
     for symbol in _params_with_body(program):
         if not program.used(symbol):
             assert symbol.span is not None and symbol.owner is not None
             owner = symbol.owner
             yield diag.warning(
-                "W0102",
-                f"parameter `{symbol.name}` of {owner.kind.value} `{owner.name}` is never used",
+                codes.W0102.parameter(symbol.name, owner.kind, owner.name),
                 symbol.span,
             )
     for symbol in _variables(program):
         if not program.used(symbol):
             assert symbol.span is not None
-            yield diag.warning("W0102", f"variable `{symbol.name}` is never used", symbol.span)
+            yield diag.warning(codes.W0102.variable(symbol.name), symbol.span)
 
 
 def _params_with_body(program: _Program) -> Iterator[Symbol]:
@@ -536,7 +537,7 @@ def _finite_values(t: Type | None) -> tuple[DomainValue, ...] | None:
 
 
 # Local: the fluent's own `initially:` entries, against its parameter types (environment).
-@_lint("W0103", local=True)
+@_lint(codes.W0103, local=True)
 def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for decl in program.declarations():
@@ -548,8 +549,7 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         if decl.initially is None:
             names = ", ".join(p.name for p in symbol.params)
             yield diag.warning(
-                "W0103",
-                f"fluent `{symbol.name}` has no initial values",
+                codes.W0103.no_initial_values(symbol.name),
                 symbol.span,
                 "declared, but never defined with `initially:`",
                 notes=["every instance of it starts as `null`"],
@@ -565,12 +565,8 @@ def uninitialized_fluent(program: _Program) -> Iterator[diag.Diagnostic]:
         if count > len(instances):
             instances.append(f"{count - len(instances)} more instance{'s' * (count - len(instances) > 1)}")
         shown = instances[0] if len(instances) == 1 else ", ".join(instances[:-1]) + " and " + instances[-1]
-        message = f"fluent `{symbol.name}` has no initial value for {shown}"
-        if open_params:
-            message += " with " + ", ".join(f"`{p}`" for p in open_params) + " not listed in `initially:`"
         yield diag.warning(
-            "W0103",
-            message,
+            codes.W0103.missing_instances(symbol.name, shown, open_params),
             symbol.span,
             "some instances start as `null`",
             notes=["instances that no `initially:` entry covers start as `null`"],
@@ -646,7 +642,7 @@ def _literal(model: Model, e: ast.Expr) -> DomainValue | None:
 
 
 # Local: the effects of one action.
-@_lint("W0104", local=True)
+@_lint(codes.W0104, local=True)
 def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
     for decl in program.declarations():
         if not isinstance(decl, ast.ActionDecl):
@@ -664,8 +660,7 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
                     continue
                 target = format_expr(effect.target)
                 yield diag.warning(
-                    "W0104",
-                    f"action `{decl.name.name}` assigns `{target}` twice",
+                    codes.W0104.twice(decl.name.name, target),
                     effect.target.span,
                     "assigned again here",
                     secondary=[diag.Label(first.target.span, "first assigned here")],
@@ -678,7 +673,7 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
 
 
 # Global: `planning_only` follows the calls of every procedure body.
-@_lint("W0105", local=False)
+@_lint(codes.W0105, local=False)
 def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
     for owner, found in program.body_statements(program.root_files):
         if owner is not None and id(owner) in program.planning_only:
@@ -688,8 +683,7 @@ def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
                 continue
             if isinstance(s, ast.Pick):
                 yield diag.warning(
-                    "W0105",
-                    "`pick` outside `solve` or `search` takes the first value that works now",
+                    codes.W0105.pick(),
                     keyword_span(s, "pick"),
                     "chosen greedily, without looking ahead",
                     notes=[
@@ -700,8 +694,7 @@ def online_nondeterminism(program: _Program) -> Iterator[diag.Diagnostic]:
                 )
             elif isinstance(s, ast.Choose) and not all(_guarded(a) for a in s.alternatives):
                 yield diag.warning(
-                    "W0105",
-                    "`choose` outside `solve` or `search` takes the first alternative that works now",
+                    codes.W0105.choose(),
                     keyword_span(s, "choose"),
                     "chosen greedily, without looking ahead",
                     notes=[
@@ -751,7 +744,7 @@ def _effectful(s: ast.Statement) -> bool:
 
 
 # Local: the loop and the statements in its body.
-@_lint("W0106", local=True)
+@_lint(codes.W0106, local=True)
 def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
     effectful = program.statements_where(_ALL_STATEMENTS, _effectful)
     for node in program.nodes(ast.While):
@@ -760,8 +753,7 @@ def busy_loop(program: _Program) -> Iterator[diag.Diagnostic]:
         if effectful.any_inside(node.body):
             continue
         yield diag.warning(
-            "W0106",
-            "this `while (true)` loop never executes an action, a test or an assignment",
+            codes.W0106.busy_loop(),
             _while_head(node),
             "loops forever without doing anything",
             notes=["the program can never get past this loop, and nothing in it can change the world"],
@@ -825,14 +817,13 @@ def _conditions(program: _Program) -> Iterator[_Condition]:
 
 
 # Local: one condition; its names and types come from the environment.
-@_lint("W0107", local=True)
+@_lint(codes.W0107, local=True)
 def constant_condition(program: _Program) -> Iterator[diag.Diagnostic]:
     for c in _conditions(program):
         value = _constant(program.model, c.expr)
         if value is not None:
             yield diag.warning(
-                "W0107",
-                f"{c.what} is always {'true' if value else 'false'}",
+                codes.W0107.constant(c.what, value),
                 c.expr.span,
                 c.if_true if value else c.if_false,
                 help=c.help_if_true if value else None,
@@ -840,7 +831,7 @@ def constant_condition(program: _Program) -> Iterator[diag.Diagnostic]:
 
 
 # Local: one `if` and its condition.
-@_lint("W0108", local=True)
+@_lint(codes.W0108, local=True)
 def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
     for node in program.nodes(ast.If):
         if node.otherwise is None:
@@ -848,8 +839,7 @@ def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
         value = _constant(program.model, node.condition)
         if value is True:
             yield diag.warning(
-                "W0108",
-                "the `else` branch can never run",
+                codes.W0108.else_never_runs(),
                 _else_keyword(program, node),
                 "unreachable",
                 secondary=[diag.Label(node.condition.span, "this condition is always true")],
@@ -857,8 +847,7 @@ def unreachable_else(program: _Program) -> Iterator[diag.Diagnostic]:
             )
         elif value is False:
             yield diag.warning(
-                "W0108",
-                "the `if` branch can never run, only the `else` branch",
+                codes.W0108.if_never_runs(),
                 node.condition.span,
                 "this condition is always false",
                 help="remove the `if` branch, or fix the condition",
@@ -923,7 +912,7 @@ def _is_bool(model: Model, *operands: ast.Expr) -> bool:
 
 
 # Global: `choosing` follows calls into other procedure bodies.
-@_lint("W0109", local=False)
+@_lint(codes.W0109, local=False)
 def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
     for _, found in program.body_statements(program.root_files):
         solves = [s for s, _ in found if isinstance(s, ast.Solve)]
@@ -936,8 +925,7 @@ def solve_without_choice(program: _Program) -> Iterator[diag.Diagnostic]:
             if choosing.any_inside(node.body):
                 continue
             yield diag.warning(
-                "W0109",
-                "`solve` has nothing to decide: its program has no `pick` or `choose`",
+                codes.W0109.no_choice(),
                 keyword_span(node, "solve"),
                 "no choice to plan",
                 notes=["`solve` plans the choices of `pick` and `choose`; without them it only runs the program"],
@@ -983,7 +971,7 @@ Shape = int | tuple[Op, "Shape", "Shape"]
 
 
 # Local: one expression; its operand types come from the environment.
-@_lint("W0110", local=True)
+@_lint(codes.W0110, local=True)
 def mixed_precedence(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for top in program.chained_expressions():
@@ -1023,8 +1011,7 @@ def _precedence_warning(chain: ast.Expr, operands: list[ast.Expr], golog: Shape,
     source = chain.span.source
     edits = tuple(diag.Edit(Span(source, at, at), text) for at, text in sorted(insertions.items()))
     return diag.warning(
-        "W0110",
-        f"golog++ reads this as `{render_shape(golog, texts)}`",
+        codes.W0110.reads_as(render_shape(golog, texts)),
         chain.span,
         "mixes operators of different precedence",
         notes=[f"gpp uses standard precedence: `{render_shape(ours, texts)}`"],
@@ -1153,7 +1140,7 @@ def _sub_expressions(e: ast.Node) -> list[ast.Expr]:
 
 
 # Local: the declaration's locals against the domain symbols, declared in the environment.
-@_lint("W0111", local=True)
+@_lint(codes.W0111, local=True)
 def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
     symbols = program.model.symbols
     locals_: list[Symbol] = list(_variables(program))
@@ -1166,8 +1153,7 @@ def shadowed_symbol(program: _Program) -> Iterator[diag.Diagnostic]:
             continue
         what = "parameter" if local.kind is SymbolKind.PARAMETER else "variable"
         yield diag.warning(
-            "W0111",
-            f"{what} `{local.name}` shadows the symbol `{local.name}`",
+            codes.W0111.shadows(what, local.name),
             local.span,
             f"in its scope, `{local.name}` means this {what}",
             secondary=[diag.Label(shadowed.span, "the symbol is declared here")] if shadowed.span else [],
@@ -1181,7 +1167,7 @@ _CONNECTIVES = frozenset({Op.AND, Op.OR, Op.IMPLIES})
 
 
 # Local: one quantifier.
-@_lint("W0112", local=True)
+@_lint(codes.W0112, local=True)
 def quantifier_scope(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for node in program.nodes(ast.Quantified):
@@ -1204,8 +1190,7 @@ def quantifier_scope(program: _Program) -> Iterator[diag.Diagnostic]:
             diag.Edit(Span(source, operands[last].span.end, operands[last].span.end), ")"),
         )
         yield diag.warning(
-            "W0112",
-            f"`{rest}` is part of the `{head}` body but does not use `{var}`",
+            codes.W0112.runs_on(rest, head, var),
             outside,
             f"inside the `{q}`",
             notes=[
@@ -1267,7 +1252,7 @@ def _quantifier_head(node: ast.Quantified) -> Span:
 
 
 # Local: one `senses:` section; the exogenous functions are declared in the environment.
-@_lint("W0113", local=True)
+@_lint(codes.W0113, local=True)
 def shared_sensing_result(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     for section in program.nodes(ast.SensesSection):
@@ -1284,8 +1269,7 @@ def shared_sensing_result(program: _Program) -> Iterator[diag.Diagnostic]:
             if format_expr(call) == first:
                 continue
             yield diag.warning(
-                "W0113",
-                f"`{format_expr(call)}` gets the same value as `{first}` in this `senses:` section",
+                codes.W0113.shared(format_expr(call), first),
                 call.span,
                 f"answered with the same result as `{first}`",
                 secondary=[diag.Label(calls[0].span, "the first exogenous function here")],
@@ -1303,7 +1287,7 @@ _ENDING_HOOKS = frozenset({ast.Hook.END, ast.Hook.FINISH, ast.Hook.FAIL, ast.Hoo
 
 
 # Global: an activity may be ended in any procedure body.
-@_lint("W0114", local=False)
+@_lint(codes.W0114, local=False)
 def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     ended: set[int] = set()
@@ -1319,8 +1303,7 @@ def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
             continue
         started = format_expr(s.action)
         yield diag.warning(
-            "W0114",
-            f"`{started}` is started, but the program has no `end`, `finish`, `fail` or `cancel` of `{action.name}`",
+            codes.W0114.never_ended(started, action.name),
             s.span,
             "started here, never ended",
             notes=[
@@ -1335,7 +1318,7 @@ def unended_activity(program: _Program) -> Iterator[diag.Diagnostic]:
 
 
 # Local: the loop, and the function bodies (environment) its condition calls.
-@_lint("W0115", local=True)
+@_lint(codes.W0115, local=True)
 def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
     model = program.model
     moving = program.statements_where(_ALL_STATEMENTS, lambda s: not _still(model, s))
@@ -1356,8 +1339,7 @@ def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
         fix = diag.Fix(f"wait with `{replacement}`", (diag.Edit(node.span, replacement),)) if not changed else None
         if steps:
             yield diag.warning(
-                "W0115",
-                "this `while` loop busy-waits: nothing in its body changes what its condition reads",
+                codes.W0115.busy_waits(),
                 _while_head(node),
                 "repeats its body without changing its condition",
                 notes=[
@@ -1369,8 +1351,7 @@ def busy_wait(program: _Program) -> Iterator[diag.Diagnostic]:
             )
         else:
             yield diag.warning(
-                "W0115",
-                "this `while` loop does not wait for its condition: its body does nothing, so it ends at once",
+                codes.W0115.does_not_wait(),
                 _while_head(node),
                 "ends at once, whatever the condition",
                 notes=["a loop whose body has nothing to do is finished, whether or not its condition holds"],

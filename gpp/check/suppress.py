@@ -31,8 +31,8 @@ _SUPPRESSION = re.compile(r"//[ \t]*gpp:[ \t]*(allow-file|allow)(?![\w-])")
 _ENTRY = re.compile(r"[ \t]*([A-Za-z][A-Za-z0-9_-]*)")
 _SEPARATOR = re.compile(r"[ \t]*,")
 
-UNUSED = "W0116"
-INVALID = "W0117"
+UNUSED = codes.W0116.code
+INVALID = codes.W0117.code
 SUPPRESSION_LINTS = (UNUSED, INVALID)
 
 
@@ -94,8 +94,7 @@ def _problems(s: _Suppression, allowed: set[str]) -> Iterator[diag.Diagnostic]:
     if not s.entries and INVALID not in allowed:
         remove = diag.Fix("remove the suppression", (diag.Edit(s.removal, ""),), diag.Applicability.SAFE)
         yield diag.warning(
-            INVALID,
-            "a suppression that names no lint",
+            codes.W0117.names_nothing(),
             s.comment,
             "allows nothing",
             help="name lints: `// gpp: allow unused`",
@@ -110,9 +109,7 @@ def _problems(s: _Suppression, allowed: set[str]) -> Iterator[diag.Diagnostic]:
                 continue
             if info is not None:
                 yield diag.warning(
-                    INVALID,
-                    f"`{e.text}` is {'an error' if info.code.startswith('E') else 'a run-time problem'}: "
-                    "only lints can be allowed",
+                    codes.W0117.not_a_lint(e.text, error=info.code.startswith("E")),
                     e.span,
                     "cannot be suppressed",
                     help="fix the problem instead; errors cannot be suppressed",
@@ -125,8 +122,7 @@ def _problems(s: _Suppression, allowed: set[str]) -> Iterator[diag.Diagnostic]:
                     safe = diag.Applicability.SAFE if len(close) == 1 else diag.Applicability.UNSAFE
                     fix = diag.Fix(f"replace with `{close[0]}`", (diag.Edit(e.span, close[0]),), safe)
                 yield diag.warning(
-                    INVALID,
-                    f"unknown lint `{e.text}` in a suppression",
+                    codes.W0117.unknown(e.text),
                     e.span,
                     "not a lint code or name",
                     help=f"did you mean `{close[0]}`?" if close else "`gpp check --list-lints` lists the lints",
@@ -135,8 +131,7 @@ def _problems(s: _Suppression, allowed: set[str]) -> Iterator[diag.Diagnostic]:
         elif not e.used and e.code not in allowed and UNUSED not in allowed:
             name = codes.CODES[e.code].name
             yield diag.warning(
-                UNUSED,
-                f"unused suppression: no `{name}` ({e.code}) to allow {_where(s.kind)}",
+                codes.W0116.unused(name, e.code, _where(s.kind)),
                 e.span,
                 "allows nothing",
                 fix=remove,

@@ -205,10 +205,6 @@ def run_check(
     return EXIT_PROBLEMS if failed else EXIT_OK
 
 
-# Lints about what a program uses of a library: each program sees its own part of the library.
-_USE_LINTS = frozenset({"W0101", "W0116"})
-
-
 @dataclass
 class _Plan:
     """How the files of a project are checked. A file that another file of the set includes (a
@@ -224,8 +220,12 @@ class _Plan:
         """The results without a library's `unused` warnings that not every user reports."""
         from collections import Counter
 
+        from gpp.codes import W0101, W0116
+
         if not self.users:
             return results
+        # Lints about what a program uses of a library: each program sees its own part of the library.
+        use_lints = {W0101.code, W0116.code}
 
         def key(d: Diagnostic) -> tuple[str, int, str]:
             return (d.span.source.path, d.span.start, d.message)
@@ -234,12 +234,12 @@ class _Plan:
             f = next((f for f in r.loaded.files if f.source is d.span.source), None)
             return f.path if f is not None and f.path in self.users else None
 
-        counts = Counter(key(d) for r in results for d in r.diagnostics if d.code in _USE_LINTS and library(r, d))
+        counts = Counter(key(d) for r in results for d in r.diagnostics if d.code in use_lints and library(r, d))
         for r in results:
             r.diagnostics = [
                 d
                 for d in r.diagnostics
-                if d.code not in _USE_LINTS or (lib := library(r, d)) is None or counts[key(d)] == self.users[lib]
+                if d.code not in use_lints or (lib := library(r, d)) is None or counts[key(d)] == self.users[lib]
             ]
         return results
 

@@ -62,8 +62,7 @@ class BuilderState:
 
     def error(
         self,
-        code: str,
-        message: str,
+        message: diag.Message,
         span: Span,
         label: str = "",
         *,
@@ -77,7 +76,7 @@ class BuilderState:
         and a fix replacing it)."""
         if suggested is not None:
             help, fix = suggested.help, suggested.fix(span)
-        self.report(diag.error(code, message, span, label, secondary=secondary, notes=notes, help=help, fix=fix))
+        self.report(diag.error(message, span, label, secondary=secondary, notes=notes, help=help, fix=fix))
 
     def refer(self, span: Span, symbol: Symbol, node: ast.Node | None = None, declaration: bool = False) -> None:
         if self.silent:
@@ -86,10 +85,8 @@ class BuilderState:
         if node is not None:
             self._targets[id(node)] = symbol
 
-    def given_twice(self, code: str, what: str, span: Span, first: Span) -> None:
-        self.error(
-            code, f"{what} is given twice", span, "given again", secondary=[diag.Label(first, "first given here")]
-        )
+    def given_twice(self, message: diag.Message, span: Span, first: Span) -> None:
+        self.error(message, span, "given again", secondary=[diag.Label(first, "first given here")])
 
     def declared_here(self, symbol: Symbol, what: str = "declared here") -> list[diag.Label]:
         return [diag.Label(symbol.span, what)] if symbol.span is not None else []

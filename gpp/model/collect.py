@@ -13,6 +13,7 @@ declarations' references, `state.declarations` and `state.decl_symbol`.
 from __future__ import annotations
 
 from gpp.base.source import Span
+from gpp.codes import E0301, E0302, E0304, E0310
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import NUMBER, STRING, SYMBOL, VOID, CompoundType, DomainType
@@ -99,8 +100,7 @@ class Collector(Phase):
         detached = Symbol(name.name, kind, name.span, decl=decl)
         if existing.predefined:
             self.error(
-                "E0304",
-                f"`{name.name}` is predefined and cannot be declared",
+                E0304.predefined(name.name),
                 name.span,
                 "predefined name",
                 notes=[f"gpp predefines `{existing.signature()}`"],
@@ -108,8 +108,7 @@ class Collector(Phase):
             return self.attach(detached, name, decl)
         if existing.kind is not kind:
             self.error(
-                "E0302",
-                f"`{name.name}` is already declared as {existing.kind.article} {existing.kind.value}",
+                E0302.kind_clash(name.name, existing.kind),
                 name.span,
                 f"declared again as {kind.article} {kind.value}",
                 secondary=self.declared_here(existing, f"the {existing.kind.value} is declared here"),
@@ -117,8 +116,7 @@ class Collector(Phase):
             return self.attach(detached, name, decl)
         if definition and existing.is_defined:
             self.error(
-                "E0301",
-                f"`{name.name}` is defined twice",
+                E0301.defined_twice(name.name),
                 name.span,
                 "second definition",
                 secondary=self.declared_here(existing, "first defined here"),
@@ -149,8 +147,7 @@ class Collector(Phase):
             existing = self.model.globals.get("main")
             if existing is not None:
                 self.error(
-                    "E0310",
-                    "a legacy main block and `main` in one program",
+                    E0310.main_twice(),
                     Span(block.span.source, block.span.start, block.span.start + 1),
                     "this block means `procedure main()`",
                     secondary=self.declared_here(existing, "`main` is declared here"),

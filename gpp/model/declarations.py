@@ -18,6 +18,7 @@ from collections.abc import Callable
 from typing import Any
 
 from gpp.base.suggest import suggestion
+from gpp.codes import E0103, E0107, E0204, E0213, E0305, E0307, E0308, E0309, E0312
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
@@ -27,7 +28,7 @@ from gpp.syntax import ast
 
 Op = ast.BinaryOp
 
-_INITIAL_LITERAL = "initial values must be literals"
+_INITIAL_LITERAL = E0213.INITIAL_VALUES
 
 # Read for every mapping entry of an exogenous action, bound once: Python 3.11's enum class has
 # a `__getattr__`, which makes reading any attribute of the class several times slower than
@@ -108,9 +109,7 @@ class DeclarationChecker(Phase):
     def check_initial_value(self, fluent: Symbol, params: tuple[Symbol, ...], init: ast.InitialValue) -> None:
         if len(init.args) != len(params):
             self.error(
-                "E0307",
-                f"fluent `{fluent.name}` has {len(params)} parameter{'s' * (len(params) != 1)}, "
-                f"but this initial value gives {len(init.args)} argument{'s' * (len(init.args) != 1)}",
+                E0307.argument_count(fluent.name, len(params), len(init.args)),
                 init.span,
                 secondary=self.declared_here(fluent),
             )
@@ -125,9 +124,7 @@ class DeclarationChecker(Phase):
                 if by_name is not None:
                     position = params.index(by_name) + 1
                     self.error(
-                        "E0307",
-                        f"`{arg.name}` is the parameter in position {position}; "
-                        f"here only `{param.name if param else '?'}` or a literal can stand",
+                        E0307.parameter_position(arg.name, position, param.name if param else "?"),
                         arg.span,
                         "parameter in the wrong position",
                         help="a parameter name stands for every value, and only in its own position",
@@ -152,8 +149,7 @@ class DeclarationChecker(Phase):
         if decl.exogenous and isinstance(section, ast.SensesSection | ast.DurationSection):
             word = ast.SECTION_KINDS[type(section)].value
             self.error(
-                "E0309",
-                f"an exogenous action cannot have a `{word}:` section",
+                E0309.exogenous(word),
                 section.keyword,
                 help="exogenous actions are events the platform reports; they are not executed",
             )
@@ -173,16 +169,16 @@ class DeclarationChecker(Phase):
         elif isinstance(section, ast.SilentSection):
             v = section.value
             if not isinstance(v, ast.BoolLit | ast.NullLit):
-                self.error("E0312", "`silent:` takes `true`, `false` or `null`", v.span)
+                self.error(E0312.silent(), v.span)
         elif isinstance(section, ast.DurationSection):
             values: list[float] = []
             for v in (section.low, section.high):
                 if isinstance(v, ast.NumberLit) and v.value >= 0:
                     values.append(float(v.value))
                 else:
-                    self.error("E0312", "a duration bound is a non-negative number literal (seconds)", v.span)
+                    self.error(E0312.bound(), v.span)
             if len(values) == 2 and values[0] > values[1]:
-                self.error("E0312", "the lower duration bound is greater than the upper one", section.span)
+                self.error(E0312.bounds_order(), section.span)
 
     def check_mapping(
         self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], mapping: ast.Mapping
@@ -192,7 +188,7 @@ class DeclarationChecker(Phase):
         for arg in mapping.args:
             first = seen.get(arg.name.name)
             if first is not None:
-                self.given_twice("E0305", f"mapping argument `{arg.name.name}`", arg.name.span, first.name.span)
+                self.given_twice(E0305.mapping_argument(arg.name.name), arg.name.span, first.name.span)
             else:
                 seen[arg.name.name] = arg
             self.checker.expr(arg.value)
@@ -203,8 +199,7 @@ class DeclarationChecker(Phase):
                     bound.add(target.name)
                 else:
                     self.error(
-                        "E0308",
-                        "an exogenous action's mapping entry must be one of its parameters",
+                        E0308.not_a_parameter(),
                         v.span,
                         "not a parameter",
                         notes=["the mapping is read backwards: incoming event fields set the parameters"],
@@ -212,10 +207,8 @@ class DeclarationChecker(Phase):
         if decl.exogenous:
             missing = [p.name for p in params if p.name not in bound]
             if missing:
-                names = ", ".join(f"`{m}`" for m in missing)
                 self.error(
-                    "E0308",
-                    f"the mapping of exogenous action `{action.name}` does not bind {names}",
+                    E0308.unbound(action.name, missing),
                     mapping.span,
                     help="add " + ", ".join(f"`{m} = {m}`" for m in missing),
                 )
@@ -240,8 +233,7 @@ class DeclarationChecker(Phase):
         if member is None or member.kind is not kind:
             names = [m.name for m in component.members.values() if m.kind is kind]
             self.error(
-                "E0107",
-                f"component `{component.name}` has no {kind.value} `{name.name}`",
+                E0107.no_member(component.name, kind, name.name),
                 name.span,
                 suggested=suggestion(name.name, names),
             )
@@ -253,7 +245,7 @@ class DeclarationChecker(Phase):
         if isinstance(f, ast.ClockBound):
             self.component_member(component, f.clock, SymbolKind.CLOCK)
             if f.op not in (Op.LE, Op.GE):
-                self.error("E0204", "a clock bound uses `<=` or `>=`", f.span)
+                self.error(E0204.clock_bound(), f.span)
         elif isinstance(f, ast.ClockNot):
             self.clock_formula(component, f.operand)
         elif isinstance(f, ast.ClockBinary):
@@ -271,8 +263,7 @@ class DeclarationChecker(Phase):
             if component is None or component.kind is not SymbolKind.COMPONENT:
                 components = [g.name for g in self.model.globals.values() if g.kind is SymbolKind.COMPONENT]
                 self.error(
-                    "E0107",
-                    f"unknown component `{s.component.name}`",
+                    E0107.unknown_component(s.component.name),
                     s.component.span,
                     suggested=suggestion(s.component.name, components),
                 )
@@ -285,7 +276,7 @@ class DeclarationChecker(Phase):
             if action is None or action.kind is not SymbolKind.ACTION:
                 actions = [x.name for x in self.model.globals.values() if x.kind is SymbolKind.ACTION]
                 self.error(
-                    "E0103", f"unknown action `{g.name.name}`", g.name.span, suggested=suggestion(g.name.name, actions)
+                    E0103.unknown("action", g.name.name), g.name.span, suggested=suggestion(g.name.name, actions)
                 )
                 return
             self.refer(g.name.span, action, g.name)
@@ -295,9 +286,7 @@ class DeclarationChecker(Phase):
             for arg, p in zip(g.args, action.params, strict=True):
                 if isinstance(arg, ast.Wildcard):
                     continue
-                self.checker.expect_literal(
-                    arg, p.type, "constraint patterns take literals or `*`", f"parameter `{p.name}`", p.span
-                )
+                self.checker.expect_literal(arg, p.type, E0213.CONSTRAINT_PATTERNS, f"parameter `{p.name}`", p.span)
 
 
 def _parameter_named(params: tuple[Symbol, ...], name: str) -> Symbol | None:

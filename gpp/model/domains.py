@@ -12,6 +12,7 @@ Reads `model.types` and the domains' element types (from resolve); writes each D
 from __future__ import annotations
 
 from gpp.base.suggest import suggestion
+from gpp.codes import E0105, E0202, E0213, E0311
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker, is_literal
@@ -53,8 +54,7 @@ class DomainEvaluator(Phase):
             return ()
         if id(symbol) in self.domains_in_progress:
             self.error(
-                "E0311",
-                f"domain `{symbol.name}` is defined in terms of itself",
+                E0311.recursive(symbol.name),
                 decl.name.span,
                 "this definition refers back to itself",
             )
@@ -72,17 +72,15 @@ class DomainEvaluator(Phase):
             if other is None or other.kind is not _DOMAIN:
                 domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
                 name = d.name.name
-                message = f"`{name}` is not a domain" if other is not None else f"unknown domain `{name}`"
-                self.error("E0105", message, d.name.span, suggested=suggestion(name, domains))
+                message = E0105.not_domain(name) if other is not None else E0105.unknown_domain(name)
+                self.error(message, d.name.span, suggested=suggestion(name, domains))
                 return ()
             self.refer(d.name.span, other, d.name)
             values = self.evaluate_domain(other)
             assert isinstance(other.type, DomainType)
             if other.type.element != dtype.element:
                 self.error(
-                    "E0311",
-                    f"domain `{other.name}` has `{other.type.element}` elements, "
-                    f"but `{dtype.name}` has `{dtype.element}` elements",
+                    E0311.mixed(other.name, other.type.element, dtype.name, dtype.element),
                     d.span,
                 )
                 return ()
@@ -122,18 +120,14 @@ class DomainEvaluator(Phase):
                     self.refer(e.span, symbol, e, declaration=True)
                 self.model.expr_types[id(e)] = SYMBOL
                 return self.checker.symbol_value(e.name)
-            self.error(
-                "E0202", "expected a symbol name", e.span, f"a `symbol` domain lists names like `{dtype.name}_a`"
-            )
+            self.error(E0202.symbol_name_expected(), e.span, f"a `symbol` domain lists names like `{dtype.name}_a`")
             return None
         if not is_literal(e) or isinstance(e, _NOT_MEMBERS):
-            self.error("E0213", f"a `{element}` domain lists {element} literals", e.span, "not a literal")
+            self.error(E0213.domain_element(element), e.span, "not a literal")
             return None
         t = self.checker.expr(e)
         if t is not ERROR and t != element:
-            self.error(
-                "E0202", f"expected `{element}`, found `{t}`", e.span, f"domain `{dtype.name}` holds `{element}` values"
-            )
+            self.error(E0202.mismatch(element, t), e.span, f"domain `{dtype.name}` holds `{element}` values")
             return None
         return _literal_value(e)
 

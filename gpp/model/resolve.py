@@ -18,6 +18,7 @@ from collections.abc import Sequence
 
 from gpp.base import diagnostics as diag
 from gpp.base.suggest import suggestion
+from gpp.codes import E0105, E0206, E0303, E0305, E0311
 from gpp.model.builder_state import Phase
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import (
@@ -63,8 +64,7 @@ class TypeResolver(Phase):
         if builtin is not None:
             if builtin is VOID and data:
                 self.error(
-                    "E0206",
-                    "`void` is not a type of data",
+                    E0206.void_data(),
                     t.span,
                     "no value has type `void`",
                     help="actions and procedures have no type; data needs bool, number, string, symbol, "
@@ -76,8 +76,7 @@ class TypeResolver(Phase):
         if symbol is None:
             candidates = [*self.model.types, *(n for n in BUILTIN_TYPES if n != "void")]
             self.error(
-                "E0105",
-                f"unknown type `{t.name}`",
+                E0105.unknown_type(t.name),
                 t.span,
                 "not a declared type",
                 suggested=suggestion(t.name, candidates),
@@ -97,8 +96,7 @@ class TypeResolver(Phase):
             first = seen.get(p.name.name)
             if first is not None:
                 self.error(
-                    "E0305",
-                    f"`{p.name.name}` is declared twice in this list",
+                    E0305.in_list(p.name.name),
                     p.name.span,
                     "second declaration",
                     secondary=self.declared_here(first, "first declared here"),
@@ -125,8 +123,7 @@ class TypeResolver(Phase):
                 dtype.broken = True
             elif not (isinstance(element, BuiltinType) and element in (SYMBOL, NUMBER, STRING, BOOL)):
                 self.error(
-                    "E0311",
-                    f"a domain's elements must be symbols, numbers, strings or bools, not `{element}`",
+                    E0311.element_kind(element),
                     decl.element_type.span,
                 )
                 dtype.broken = True
@@ -135,8 +132,7 @@ class TypeResolver(Phase):
                 dtype.element_known = True
             elif dtype.element != element:
                 self.error(
-                    "E0303",
-                    f"`{symbol.name}` has element type `{dtype.element}` in one declaration and `{element}` here",
+                    E0303.element_type(symbol.name, dtype.element, element),
                     decl.element_type.span,
                     "different element type",
                     secondary=self.declared_here(symbol),
@@ -192,8 +188,7 @@ class TypeResolver(Phase):
         first = owner.members.get(name.name)
         if first is not None:
             self.error(
-                "E0305",
-                f"`{name.name}` is declared twice in component `{owner.name}`",
+                E0305.in_component(name.name, owner.name),
                 name.span,
                 secondary=self.declared_here(first, "first declared here"),
             )
@@ -226,17 +221,14 @@ class TypeResolver(Phase):
             b = self.resolve_type_quiet(other_type)
             if a is not ERROR and b is not ERROR and a != b:
                 self.error(
-                    "E0303",
-                    f"`{symbol.name}` is declared with type `{b}` but defined with type `{a}`",
+                    E0303.type_(symbol.name, b, a),
                     main_type.span,
                     secondary=label,
                 )
                 return
         if len(mine) != len(theirs):
             self.error(
-                "E0303",
-                f"`{symbol.name}` is declared with {len(theirs)} parameter{'s' * (len(theirs) != 1)} "
-                f"but defined with {len(mine)}",
+                E0303.parameter_count(symbol.name, len(theirs), len(mine)),
                 symbol.span or other_name.span,
                 secondary=label,
             )
@@ -249,16 +241,14 @@ class TypeResolver(Phase):
             if p.type is not ERROR and q.type is not ERROR and p.type != q.type:
                 assert p.span is not None
                 self.error(
-                    "E0303",
-                    f"parameter `{p.name}` has type `{p.type}` here but `{q.type}` in the forward declaration",
+                    E0303.parameter_type(p.name, p.type, q.type),
                     p.span,
                     secondary=[diag.Label(q.span, "declared here")] if q.span else [],
                 )
             elif p.name != q.name:
                 assert p.span is not None
                 self.error(
-                    "E0303",
-                    f"parameter `{p.name}` is called `{q.name}` in the forward declaration",
+                    E0303.parameter_name(p.name, q.name),
                     p.span,
                     secondary=[diag.Label(q.span, "declared here")] if q.span else [],
                     help="use the same parameter names in both",

@@ -31,6 +31,27 @@ from typing import Any, assert_never
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
 from gpp.base.suggest import suggestion
+from gpp.codes import (
+    E0101,
+    E0102,
+    E0103,
+    E0104,
+    E0105,
+    E0106,
+    E0201,
+    E0202,
+    E0203,
+    E0204,
+    E0205,
+    E0207,
+    E0208,
+    E0209,
+    E0210,
+    E0211,
+    E0212,
+    E0213,
+    E0306,
+)
 from gpp.model.builder_state import BuilderState, new_tuple
 from gpp.model.regroup import BOOL_CHAIN, CHAIN_OPS, EQUALITY, Regrouper, continues_chain
 from gpp.model.resolve import TypeResolver
@@ -235,7 +256,7 @@ class TypeChecker(Regrouper):
         self,
         e: ast.Expr,
         target: Type | None,
-        message: str,
+        rule: str,
         context: str,
         span: Span | None,
         help: str | None = None,
@@ -243,7 +264,7 @@ class TypeChecker(Regrouper):
         """Check an expression where only a literal may stand (initial values, `pick ... in`,
         constraint patterns): written as a literal, and every bare name in it a symbol."""
         if not is_literal(e):
-            self.error("E0213", message, e.span, "not a literal", help=help)
+            self.error(E0213.not_literal(rule), e.span, "not a literal", help=help)
             self.expr(e)
             return
         if target is not None:
@@ -254,8 +275,7 @@ class TypeChecker(Regrouper):
             symbol = self.model.targets.get(id(node))
             if symbol is not None and symbol.kind is not _SYMBOL_KIND:
                 self.error(
-                    "E0213",
-                    f"{message}; `{node.name}` is {symbol.kind.article} {symbol.kind.value}",
+                    E0213.names_non_symbol(rule, node.name, symbol.kind),
                     node.span,
                     "not a literal",
                     help=help,
@@ -314,8 +334,7 @@ class TypeChecker(Regrouper):
         else:
             self.expr(s.call)
             self.error(
-                "E0104",
-                "this expression is not a statement",
+                E0104.not_a_statement(),
                 s.call.span,
                 "its value would be thrown away",
                 help="statements call actions or procedures, assign fluents, or `test(...)` a condition",
@@ -363,7 +382,7 @@ class TypeChecker(Regrouper):
     def list_stmt(self, s: ast.ListStmt) -> None:
         target = self.assign_target(s.target)
         if target is not ERROR and not isinstance(target, ListType) and target is not NULL:
-            self.error("E0204", f"`{s.op.value}` needs a list, found `{target}`", s.target.span, f"this is `{target}`")
+            self.error(E0204.needs_list(s.op.value, target), s.target.span, f"this is `{target}`")
             target = ERROR
         if s.value is not None:
             element = target.element if isinstance(target, ListType) else ERROR
@@ -374,7 +393,7 @@ class TypeChecker(Regrouper):
             self.call(e, hook)
         else:
             self.expr(e)
-            self.error("E0104", f"`{hook}` needs an action call such as `{hook}(go(kitchen))`", e.span)
+            self.error(E0104.hook_needs_action(hook), e.span)
 
     def pick(self, s: ast.Pick) -> None:
         variable = self.new_variable(s.var_type, s.var, s)
@@ -382,17 +401,14 @@ class TypeChecker(Regrouper):
         if s.values is None:
             if not is_finite(var_type):
                 self.error(
-                    "E0210",
-                    f"`pick` over `{var_type}` needs a list of values",
+                    E0210.pick(var_type),
                     s.var_type.span,
                     f"`{var_type}` has infinitely many values",
                     help=f"write `pick ({var_type} {s.var.name} in {{...}})` or use a domain type",
                 )
         else:
             for v in s.values:
-                self.expect_literal(
-                    v, var_type, "`pick ... in {...}` lists literal values", f"`{s.var.name}`", s.var_type.span
-                )
+                self.expect_literal(v, var_type, E0213.PICK_VALUES, f"`{s.var.name}`", s.var_type.span)
         # The variable is visible in the body only (not in its own list of values).
         with self.scope(s.body.span, [variable]):
             self.stmt(s.body)
@@ -405,18 +421,16 @@ class TypeChecker(Regrouper):
             if symbol is not None and symbol.kind is not _FUNCTION:
                 self.resolve_misused_call(reward, symbol)
                 self.error(
-                    "E0212",
-                    f"the reward of `solve` must be a function, but `{symbol.name}` is "
-                    f"{symbol.kind.article} {symbol.kind.value}",
+                    E0212.reward_not_function(symbol.name, symbol.kind),
                     reward.span,
                     secondary=self.declared_here(symbol),
                     help="declare `number function reward() = ...` and call it here",
                 )
             elif (t := self.expr(reward)) is not ERROR and base(t) is not NUMBER:
-                self.error("E0212", f"the reward of `solve` must be a number, found `{t}`", reward.span)
+                self.error(E0212.reward_not_number(t), reward.span)
         else:
             self.expr(reward)
-            self.error("E0212", "the reward of `solve` is a call of a number function", reward.span)
+            self.error(E0212.reward_not_call(), reward.span)
         self.stmt(s.body)
 
     def assign_target(self, e: ast.Expr) -> Type:
@@ -430,8 +444,7 @@ class TypeChecker(Regrouper):
             if symbol is not None and symbol.kind is not _FLUENT:
                 self.resolve_misused_call(root, symbol)
                 self.error(
-                    "E0306",
-                    f"cannot assign to `{symbol.name}`: it is {symbol.kind.article} {symbol.kind.value}",
+                    E0306.declaration(symbol.name, symbol.kind),
                     root.span,
                     "not a fluent",
                     secondary=self.declared_here(symbol),
@@ -449,15 +462,14 @@ class TypeChecker(Regrouper):
             else:
                 help = "parameters and variables are immutable; declare a fluent to hold changing values"
             self.error(
-                "E0306",
-                f"cannot assign to {target.kind.value} `{root.name}`",
+                E0306.local(target.kind, root.name),
                 root.span,
                 "not a fluent",
                 help=help,
             )
             return ERROR
         self.expr(e)
-        self.error("E0306", "cannot assign to this expression", e.span, "not a fluent")
+        self.error(E0306.expression(), e.span, "not a fluent")
         return ERROR
 
     # ---------------------------------------------------------------- expressions
@@ -481,8 +493,7 @@ class TypeChecker(Regrouper):
             elif isinstance(target, DomainType) and isinstance(t, DomainType):
                 help = f"`{t}` and `{target}` hold different kinds of values"
             self.error(
-                "E0202",
-                f"expected `{target}`, found `{t}`",
+                E0202.mismatch(target, t),
                 e.span,
                 f"expected `{target}` for {context}",
                 secondary=secondary,
@@ -504,8 +515,7 @@ class TypeChecker(Regrouper):
             secondary = self.context_label(target, context, context_span)
             shown = ", ".join(show_value(v) for v in target.values[:10]) + (", ..." if len(target.values) > 10 else "")
             self.error(
-                "E0203",
-                f"`{show_value(value)}` is not in domain `{target}`",
+                E0203.not_in_domain(show_value(value), target),
                 e.span,
                 f"not a member of `{target}`",
                 secondary=secondary,
@@ -597,8 +607,7 @@ class TypeChecker(Regrouper):
         vt = variable.type or ERROR
         if not is_finite(vt):
             self.error(
-                "E0210",
-                f"`{e.quantifier.value}` over `{vt}` cannot be evaluated",
+                E0210.quantifier(e.quantifier.value, vt),
                 e.var_type.span,
                 f"`{vt}` has infinitely many values",
                 help="quantify over a domain, `bool` or `symbol`",
@@ -618,8 +627,7 @@ class TypeChecker(Regrouper):
         common = common_type(a, b)
         if common is None:
             self.error(
-                "E0211",
-                f"the branches of this conditional have different types: `{a}` and `{b}`",
+                E0211.branches(a, b),
                 e.span,
                 secondary=[diag.Label(e.then.span, f"`{a}`"), diag.Label(e.otherwise.span, f"`{b}`")],
             )
@@ -633,7 +641,7 @@ class TypeChecker(Regrouper):
             return ERROR
         if isinstance(subject, ListType):
             return subject.element
-        self.error("E0207", f"`{subject}` cannot be indexed", e.subject.span, "not a list")
+        self.error(E0207.not_indexable(subject), e.subject.span, "not a list")
         return ERROR
 
     def list_literal(self, e: ast.ListLit) -> Type:
@@ -647,14 +655,14 @@ class TypeChecker(Regrouper):
         arg = self.expr(e.arg)
         if e.function is _LENGTH:
             if arg is not ERROR and not isinstance(arg, ListType):
-                self.error("E0204", f"`length` needs a list, found `{arg}`", e.arg.span, f"this is `{arg}`")
+                self.error(E0204.needs_list("length", arg), e.arg.span, f"this is `{arg}`")
             return NUMBER
         if isinstance(arg, _NOT_CONVERTIBLE) or arg is VOID:
-            self.error("E0204", f"`to_string` converts numbers, bools, symbols and strings, not `{arg}`", e.arg.span)
+            self.error(E0204.not_convertible(arg), e.arg.span)
         return STRING
 
     def wildcard(self, e: ast.Wildcard) -> Type:
-        self.error("E0213", "`*` stands only in constraint patterns", e.span)
+        self.error(E0213.wildcard(), e.span)
         return ERROR
 
     def expect_operand(self, e: ast.Expr, want: Type, op: str | Op) -> Type:
@@ -665,10 +673,10 @@ class TypeChecker(Regrouper):
             return t
         if t is ERROR or assignable(want, t):
             if t is NULL:
-                self.error("E0204", f"`{_text(op)}` cannot be applied to `null`", e.span)
+                self.error(E0204.null_operand(_text(op)), e.span)
                 return ERROR
             return t
-        self.error("E0204", f"`{_text(op)}` needs `{want}` operands, found `{t}`", e.span, f"this is `{t}`")
+        self.error(E0204.operand_type(_text(op), want, t), e.span, f"this is `{t}`")
         return ERROR
 
     def binary(self, e: ast.Binary) -> Type:
@@ -688,7 +696,7 @@ class TypeChecker(Regrouper):
         if left is ERROR or right is ERROR:
             return ERROR
         if left is NULL or right is NULL:
-            self.error("E0204", f"`{op.value}` cannot be applied to `null`", (e.left if left is NULL else e.right).span)
+            self.error(E0204.null_operand(op.value), (e.left if left is NULL else e.right).span)
             return ERROR
         if left is NUMBER and right is NUMBER:  # the commonest case first
             return NUMBER
@@ -697,20 +705,11 @@ class TypeChecker(Regrouper):
             return STRING
         if bl is NUMBER and br is NUMBER:
             return NUMBER
-        verb = {
-            Op.ADD: "add",
-            Op.SUB: "subtract",
-            Op.MUL: "multiply",
-            Op.DIV: "divide",
-            Op.MOD: "take the remainder of",
-        }
         help = None
         if op is Op.ADD and STRING in (bl, br):
             help = "convert the other operand with `to_string(...)` to concatenate"
-        what = verb.get(op, "raise")
         self.error(
-            "E0204",
-            f"cannot {what} `{left}` and `{right}`" if op is not Op.POW else f"cannot raise `{left}` to `{right}`",
+            E0204.arithmetic(op.value, left, right),
             operator_span(e),
             f"`{op.value}` needs two numbers" + (" or two strings" if op is Op.ADD else ""),
             secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
@@ -727,8 +726,7 @@ class TypeChecker(Regrouper):
         if chained and not (e.op in EQUALITY and base(right) is BOOL):
             assert isinstance(e.left, ast.Binary)
             self.error(
-                "E0205",
-                "comparison operators cannot be chained",
+                E0205.chained(),
                 e.span,
                 f"`{e.left.op.value}` then `{e.op.value}`",
                 help=f"compare each pair and join them with `&`: `a {e.left.op.value} b & b {e.op.value} c`",
@@ -738,15 +736,13 @@ class TypeChecker(Regrouper):
             if not equatable(left, right):
                 if isinstance(base(left), CompoundType | ListType) or isinstance(base(right), CompoundType | ListType):
                     self.error(
-                        "E0209",
-                        f"values of type `{left}` cannot be compared with `{e.op.value}`",
+                        E0209.not_comparable(left, e.op.value),
                         e.span,
                         help="compare their fields or elements instead",
                     )
                 else:
                     self.error(
-                        "E0204",
-                        f"cannot compare `{left}` with `{right}`",
+                        E0204.not_equatable(left, right),
                         operator_span(e),
                         secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
                     )
@@ -754,11 +750,10 @@ class TypeChecker(Regrouper):
         if left is NUMBER and right is NUMBER:  # the commonest case: ordered, of one type
             return BOOL
         if left is NULL or right is NULL:
-            self.error("E0204", f"`{e.op.value}` cannot compare with `null`", e.span, help="test `x != null` first")
+            self.error(E0204.order_null(e.op.value), e.span, help="test `x != null` first")
         elif not ordered(left) or not same_type(base(left), base(right)):
             self.error(
-                "E0204",
-                f"cannot order `{left}` and `{right}` with `{e.op.value}`",
+                E0204.not_ordered(left, right, e.op.value),
                 operator_span(e),
                 secondary=[diag.Label(e.left.span, f"`{left}`"), diag.Label(e.right.span, f"`{right}`")],
                 notes=["`<`, `<=`, `>`, `>=` compare two numbers, two strings or two symbols"],
@@ -771,8 +766,7 @@ class TypeChecker(Regrouper):
         if g is not None and g.kind in EXPRESSION_CALLABLE:
             self.refer(e.span, g, e)
             self.error(
-                "E0102",
-                f"`{e.name}` is {g.kind.article} {g.kind.value}; call it with `{e.name}(...)`",
+                E0102.missing_call(e.name, g.kind),
                 e.span,
                 "missing `(...)`",
                 secondary=self.declared_here(g),
@@ -789,8 +783,7 @@ class TypeChecker(Regrouper):
             return ERROR
         candidates = [*self.visible_variables(), *self.model.symbols]
         self.error(
-            "E0101",
-            f"unknown name `{e.name}`",
+            E0101.unknown(e.name),
             e.span,
             "not a variable, parameter or symbol",
             suggested=suggestion(e.name, candidates),
@@ -811,8 +804,7 @@ class TypeChecker(Regrouper):
                 what = "fluent or function"
             pool = [g.name for g in self.model.globals.values() if g.kind in allowed]
             self.error(
-                "E0103",
-                f"unknown {what} `{name}`",
+                E0103.unknown(what, name),
                 e.name.span,
                 "not declared",
                 suggested=suggestion(name, pool) or suggestion(name, self.model.globals),
@@ -858,12 +850,10 @@ class TypeChecker(Regrouper):
         if kind in _CALLABLE_IN.get(context, _ACTION):
             return True
         name = symbol.name
-        described = f"`{name}` is {kind.article} {kind.value}"
         secondary = self.declared_here(symbol)
         if context == "expression":
             self.error(
-                "E0104",
-                f"{described}; only fluents and functions can be used in expressions",
+                E0104.in_expression(name, kind),
                 e.span,
                 f"{kind.value} call in an expression",
                 secondary=secondary,
@@ -878,8 +868,7 @@ class TypeChecker(Regrouper):
             else:
                 help = "to wait until a condition holds, write `test(...)`" if symbol.type is BOOL else None
             self.error(
-                "E0104",
-                f"{described} and cannot be executed as a statement",
+                E0104.as_statement(name, kind),
                 e.span,
                 "not an action or procedure",
                 secondary=secondary,
@@ -887,8 +876,7 @@ class TypeChecker(Regrouper):
             )
             return False
         self.error(
-            "E0104",
-            f"{described}; `{context}` needs an action",
+            E0104.hook_of(name, kind, context),
             e.span,
             "not an action",
             secondary=secondary,
@@ -898,8 +886,7 @@ class TypeChecker(Regrouper):
     def arity_error(self, symbol: Symbol, span: Span, given: int) -> None:
         n = len(symbol.params)
         self.error(
-            "E0201",
-            f"`{symbol.name}` takes {n} argument{'s' * (n != 1)} but {given} {'were' if given != 1 else 'was'} given",
+            E0201.arity(symbol.name, n, given),
             span,
             f"expected {n} argument{'s' * (n != 1)}",
             secondary=self.declared_here(symbol),
@@ -914,8 +901,7 @@ class TypeChecker(Regrouper):
             ftype = subject.fields.get(e.field.name)
             if ftype is None:
                 self.error(
-                    "E0106",
-                    f"`{subject}` has no field `{e.field.name}`",
+                    E0106.no_field(subject, e.field.name),
                     e.field.span,
                     "unknown field",
                     suggested=suggestion(e.field.name, subject.fields),
@@ -928,7 +914,7 @@ class TypeChecker(Regrouper):
                 if member is not None:
                     self.refer(e.field.span, member, e.field)
             return ftype
-        self.error("E0207", f"`{subject}` has no fields", e.subject.span, f"this is `{subject}`, not a compound")
+        self.error(E0207.no_fields(subject), e.subject.span, f"this is `{subject}`, not a compound")
         return ERROR
 
     def compound_literal(self, e: ast.CompoundLit) -> Type:
@@ -936,8 +922,8 @@ class TypeChecker(Regrouper):
         if symbol is None or symbol.kind is not _COMPOUND:
             compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
             name = e.type_name.name
-            message = f"unknown compound type `{name}`" if symbol is None else f"`{name}` is not a compound type"
-            self.error("E0105", message, e.type_name.span, suggested=suggestion(name, compounds))
+            message = E0105.unknown_compound(name) if symbol is None else E0105.not_compound(name)
+            self.error(message, e.type_name.span, suggested=suggestion(name, compounds))
             for f in e.fields:
                 self.expr(f.value)
             return ERROR
@@ -949,8 +935,7 @@ class TypeChecker(Regrouper):
             ftype = ctype.fields.get(f.name.name)
             if ftype is None:
                 self.error(
-                    "E0106",
-                    f"`{ctype}` has no field `{f.name.name}`",
+                    E0106.no_field(ctype, f.name.name),
                     f.name.span,
                     "unknown field",
                     suggested=suggestion(f.name.name, ctype.fields),
@@ -959,7 +944,7 @@ class TypeChecker(Regrouper):
                 continue
             first = given.get(f.name.name)
             if first is not None:
-                self.given_twice("E0208", f"field `{f.name.name}`", f.name.span, first.name.span)
+                self.given_twice(E0208.field_twice(f.name.name), f.name.span, first.name.span)
             given[f.name.name] = f
             member = symbol.members.get(f.name.name)
             if member is not None:
@@ -970,10 +955,8 @@ class TypeChecker(Regrouper):
                 self.check_fits(f.value, t, ftype, f"field `{f.name.name}`", member.span if member else None)
         missing = [name for name in ctype.fields if name not in given]
         if missing:
-            names = ", ".join(f"`{m}`" for m in missing)
             self.error(
-                "E0208",
-                f"missing field{'s' * (len(missing) != 1)} {names} in `{ctype}` literal",
+                E0208.missing_fields(missing, ctype),
                 e.span,
                 secondary=self.declared_here(symbol, f"`{ctype}` declared here"),
                 help="give every field a value; write `null` for a field without one",

@@ -9,11 +9,10 @@ from contextlib import contextmanager
 from typing import assert_never
 
 from gpp.base.source import Span
+from gpp.codes import R0010
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import AwaitEnd, Code, Conc, Done, DuringEnd, Planned, Prog, Rest, Seq, Step
 from gpp.syntax import ast
-
-LOOP_CODE = "R0010"
 
 # The longest run of free steps (tests) planning follows: a longer one is taken for a recursion
 # that never makes a costed step (a loop that repeats a configuration is caught exactly).
@@ -70,8 +69,7 @@ def free_loop_error(q: Prog, step: Step) -> GppRuntimeError:
         candidate = getattr(step, "span", None)
         span = candidate if isinstance(candidate, Span) else program_point_span(q)
     return GppRuntimeError(
-        LOOP_CODE,
-        "this loop can run forever without a costed step",
+        R0010.free_loop(),
         span,
         ("while planning, only actions, hooks and assignments use up the horizon; tests do not",),
     )
@@ -79,8 +77,7 @@ def free_loop_error(q: Prog, step: Step) -> GppRuntimeError:
 
 def free_run_error(span: Span | None) -> GppRuntimeError:
     return GppRuntimeError(
-        LOOP_CODE,
-        f"planning followed more than {FREE_STEP_LIMIT} steps in a row without a costed step",
+        R0010.free_run(FREE_STEP_LIMIT),
         span,
         ("a recursion or loop that never uses up the horizon: only actions, hooks and assignments do",),
     )
@@ -97,8 +94,7 @@ def planning_recursion_guard(span: Span | None) -> Iterator[None]:
         yield
     except RecursionError:
         raise GppRuntimeError(
-            LOOP_CODE,
-            "planning went too deep: a recursion that makes no costed step, or a horizon too large",
+            R0010.too_deep(),
             span,
             (f"the planner gives up at {RECURSION_LIMIT} nested configurations",),
         ) from None

@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from gpp.base.source import Span
+from gpp.codes import R0010
 from gpp.model.types import Type
 from gpp.planner.dp import ProgressCallback
 from gpp.planner.result import Plan, PolicyStep
@@ -164,9 +165,7 @@ class PlanHolder:
         if isinstance(h, float) and h.is_integer():
             h = int(h)
         if not isinstance(h, int) or isinstance(h, bool) or h < 0:
-            raise GppRuntimeError(
-                "R0010", f"the horizon of `solve` must be a whole number >= 0, got {show(h)}", s.horizon.span
-            )
+            raise GppRuntimeError(R0010.bad_horizon(show(h)), s.horizon.span)
         return cls("solve", Code(s.body, frame), h, frame, s)
 
     @property

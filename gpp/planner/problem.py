@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from gpp.base.source import Span
+from gpp.codes import R0002, R0007
 from gpp.model.model import Model
 from gpp.model.types import Type
 from gpp.planner.bounds import solve_bound
@@ -28,7 +29,7 @@ class OfflineContext:
     """Planning without a platform: the clock stands still and nothing can be sensed."""
 
     def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
-        raise GppRuntimeError("R0007", f"exogenous function `{name}` cannot be asked offline", span)
+        raise GppRuntimeError(R0007.exog_function_offline(name), span)
 
     def now(self) -> float:
         return 0.0
@@ -49,7 +50,7 @@ def make_reward(planning: Semantics, stmt: ast.Solve, frame: Frame) -> Reward:
     def reward(s: State) -> float:
         v = evaluate(s)
         if not isinstance(v, int | float) or isinstance(v, bool):
-            raise GppRuntimeError("R0002", "the reward is not a number", span)
+            raise GppRuntimeError(R0002.reward_not_number(), span)
         return float(v)
 
     return reward

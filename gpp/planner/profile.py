@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
+from gpp.codes import R0010
 from gpp.runtime.events import ErrorEvent, EventBase, PlanEvent, ReplanEvent
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ def profile_table(events: Iterable[EventBase]) -> Table | None:
     return table
 
 
-PLANNING_ABORTED = "R0010"
+PLANNING_ABORTED = R0010.code
 
 
 def render_profile(events: Iterable[EventBase], console: Console) -> None:

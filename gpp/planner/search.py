@@ -22,7 +22,8 @@ from __future__ import annotations
 import time
 
 from gpp.base.source import Span
-from gpp.planner.guards import LOOP_CODE, program_point_span
+from gpp.codes import R0010
+from gpp.planner.guards import program_point_span
 from gpp.planner.result import Plan, PlanStats, PolicyStep
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog, Semantics, Step
@@ -96,9 +97,7 @@ def _bound_error(q: Prog, bound: int, span: Span | None, strategy: str) -> GppRu
             "depth first follows the first alternative as far as it goes; if a shorter execution "
             f"exists, `gpp run --search-strategy {ITERATIVE_DEEPENING}` finds a shortest one",
         )
-    return GppRuntimeError(
-        LOOP_CODE, f"`search` exceeded its bound of {bound} steps without finding an end", where, notes
-    )
+    return GppRuntimeError(R0010.search_bound(bound), where, notes)
 
 
 def _iterative_deepening(

@@ -128,12 +128,16 @@ def load_config(path: Path) -> Config:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as e:
         reason = e.strerror if isinstance(e, OSError) else "not UTF-8 text"
-        raise ConfigError(diag.error("", f"cannot read {shown}: {reason}", Span(Source("", shown), 0, 0))) from None
+        raise ConfigError(
+            diag.error(diag.Message("", f"cannot read {shown}: {reason}"), Span(Source("", shown), 0, 0))
+        ) from None
     source = Source(text, shown)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise ConfigError(diag.error("", f"{shown} is not valid TOML: {e}", _toml_error_span(source, str(e)))) from None
+        raise ConfigError(
+            diag.error(diag.Message("", f"{shown} is not valid TOML: {e}"), _toml_error_span(source, str(e)))
+        ) from None
     prefix: tuple[str, ...] = ()
     if path.name == PYPROJECT:
         prefix = ("tool", "gpp")
@@ -283,7 +287,7 @@ class _Reader:
         span = self.places.get((*self.prefix, *key.split(".")))
         if span is None:  # a key written in an inline table: point at the table
             span = self.places.get((*self.prefix, key.partition(".")[0])) or Span(self.source, 0, 0)
-        return diag.error("", message, span, label, notes=notes, help=help)
+        return diag.error(diag.Message("", message), span, label, notes=notes, help=help)
 
 
 def _flatten(data: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:

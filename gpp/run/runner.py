@@ -16,6 +16,7 @@ from gpp.base import diagnostics as diag
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.check import CheckResult, check_program
+from gpp.codes import R0007, R0008
 from gpp.model.symbols import Symbol
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, DomainType, Type
 from gpp.platform import choose_platform, platform_class
@@ -122,9 +123,7 @@ def run_program(
     if check.errors:
         return outcome
     if check.model.main is None:
-        outcome.diagnostics.append(
-            diag.error("R0008", "the program has no `procedure main()` to run", check.loaded.files[-1].program.span)
-        )
+        outcome.diagnostics.append(diag.error(R0008.no_main(), check.loaded.files[-1].program.span))
         return outcome
     entry_args = entry_arguments(check.model.globals[options.entry], options.args)
     platform = make_platform(options, check, path)
@@ -252,8 +251,7 @@ def _unfit(problem: Problem, platform: str, fallback: Span) -> diag.Diagnostic:
     """A problem found when the platform attached, as an error at the mapping (or data file
     entry) it is about."""
     return diag.error(
-        "R0007",
-        problem.message,
+        R0007.unfit(problem.message),
         problem.span or fallback,
         problem.label,
         notes=(*problem.notes, f"the program does not fit platform `{platform}`"),

@@ -9,6 +9,7 @@ from typing import assert_never
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.codes import R0011
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
     AwaitEnd,
@@ -28,13 +29,12 @@ from gpp.runtime.values import Value, show
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 
-BLOCKED = "the program is blocked: "
-_AWAITS_ACTIVITY = BLOCKED + "it waits for `"
+BLOCKED = R0011.PREFIX
 
 
 def awaits_activity(d: diag.Diagnostic) -> bool:
     """Does the explanation say the program waits for an activity (to end, finish, fail...)?"""
-    return d.message.startswith(_AWAITS_ACTIVITY)
+    return d.message.startswith(R0011.AWAITS)
 
 
 def why_blocked(sem: Semantics, p: Prog, state: State, acts: Activities) -> diag.Diagnostic | None:
@@ -73,8 +73,7 @@ class _Explanation:
             case Planned():
                 stmt = p.session.stmt
                 return diag.error(
-                    "R0011",
-                    BLOCKED + f"`{stmt.__class__.__name__.lower()}` found no plan",
+                    R0011.no_plan(stmt.__class__.__name__.lower()),
                     stmt.span,
                     "no feasible plan from the current state",
                     notes=[
@@ -97,8 +96,7 @@ class _Explanation:
                 return self.why(Rest(s, 0, frame)) if s.body else None
             case ast.Test():
                 return diag.error(
-                    "R0011",
-                    BLOCKED + "this test is false",
+                    R0011.test_false(),
                     s.span,
                     "waits for this condition",
                     notes=self.fluent_notes(s.condition, frame),
@@ -140,8 +138,7 @@ class _Explanation:
         status = self.acts.status(g)
         shown = status.value if status is not None else "not started"
         return diag.error(
-            "R0011",
-            _AWAITS_ACTIVITY + f"{g.text}` {what}",
+            R0011.awaits(g.text, what),
             span,
             f"`{g.text}` is {shown}",
         )
@@ -159,8 +156,7 @@ class _Explanation:
             notes.append(f"false: `{_text(conjunct)}`" + (f" (with {bound})" if bound else ""))
             notes.extend(self.fluent_notes(conjunct, Frame(tuple(env_vars.items())), indent="  "))
         return diag.error(
-            "R0011",
-            BLOCKED + f"the precondition of `{g.text}` is false",
+            R0011.precondition_false(g.text),
             span,
             "cannot start",
             notes=notes,

@@ -29,6 +29,7 @@ from collections.abc import Callable
 from typing import Any
 
 from gpp.base.source import Span
+from gpp.codes import R0002
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import Sym, Type
 from gpp.runtime.compiled import CompiledProgram, Env, domain_values
@@ -53,7 +54,7 @@ class Unsupported(Exception):
 
 def order_error(op: str, span: Span) -> GppRuntimeError:
     """The closures' error for an ordering comparison with `null` (gpp.runtime.compiled)."""
-    return GppRuntimeError("R0002", f"`{op}` compares `null`", span)
+    return GppRuntimeError(R0002.compares_null(op), span)
 
 
 def _ordered(a: Value, b: Value, op: str, spans: list[Span], i: int) -> bool:

@@ -16,6 +16,7 @@ from typing import Protocol, cast
 
 from gpp.base.numbers import MAX_WHOLE, RANGE_TEXT
 from gpp.base.source import Span
+from gpp.codes import R0001, R0002, R0003, R0004, R0008, R0099
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, SYMBOL, CompoundType, DomainType, ListType, Sym, Type
@@ -346,7 +347,7 @@ class CompiledProgram:
             def negate(env: Env) -> Value:
                 v = operand(env)
                 if v is None:
-                    raise GppRuntimeError("R0002", "`-` applied to `null`", span)
+                    raise GppRuntimeError(R0002.applied_to_null("-"), span)
                 return -v  # type: ignore[operator]
 
             return negate
@@ -364,7 +365,7 @@ class CompiledProgram:
             def get_field(env: Env) -> Value:
                 v = subject(env)
                 if v is None:
-                    raise GppRuntimeError("R0002", f"field `{name}` of `null`", span)
+                    raise GppRuntimeError(R0002.field_of_null(name), span)
                 assert isinstance(v, CompoundValue)
                 return v.get(name)
 
@@ -389,7 +390,7 @@ class CompiledProgram:
                 def length(env: Env) -> Value:
                     v = arg(env)
                     if v is None:
-                        raise GppRuntimeError("R0002", "`length` of `null`", span)
+                        raise GppRuntimeError(R0002.length_of_null(), span)
                     assert isinstance(v, tuple)
                     return len(v)
 
@@ -418,7 +419,7 @@ class CompiledProgram:
                 else:
                     params, maybe = program.function(name)
                     if maybe is None:
-                        raise GppRuntimeError("R0008", f"function `{name}` is declared but never defined", e.span)
+                        raise GppRuntimeError(R0008.function(name), e.span)
                     body = maybe
                     compiled.append((params, body))
                 if not args:
@@ -492,7 +493,7 @@ class CompiledProgram:
 
             def order(a: Value, b: Value) -> Value:
                 if a is None or b is None:
-                    raise GppRuntimeError("R0002", f"`{op.value}` compares `null`", span)
+                    raise GppRuntimeError(R0002.compares_null(op.value), span)
                 if isinstance(a, Sym):
                     return compare(a.name, b.name)  # type: ignore[union-attr]
                 return compare(a, b)
@@ -503,7 +504,7 @@ class CompiledProgram:
         def calculate(env: Env) -> Value:
             a, b = left(env), right(env)
             if a is None or b is None:
-                raise GppRuntimeError("R0002", f"`{op.value}` applied to `null`", span)
+                raise GppRuntimeError(R0002.applied_to_null(op.value), span)
             try:
                 result = arithmetic(a, b, span)
             except OverflowError:
@@ -835,7 +836,7 @@ class CompiledProgram:
 def _update_path(current: Value, path: Sequence[tuple[PathStep, Value]], value: Value) -> Value:
     (step, index), rest = path[0], path[1:]
     if current is None:
-        raise GppRuntimeError("R0002", "assignment into a `null` value", step.span)
+        raise GppRuntimeError(R0002.assignment_into_null(), step.span)
     if step.field is not None:
         assert isinstance(current, CompoundValue)
         inner = current.get(step.field)
@@ -850,9 +851,7 @@ def check_domain(value: Value, t: Type, span: Span) -> None:
     """Domain membership of a computed value, checked when it is stored (SEMANTICS §2.4)."""
     if isinstance(t, DomainType) and value is not None and not _member(value, t):
         shown = ", ".join(show(v) for v in t.values[:10])
-        raise GppRuntimeError(
-            "R0004", f"`{show(value)}` is not in domain `{t.name}`", span, (f"`{t.name}` = {{{shown}}}",)
-        )
+        raise GppRuntimeError(R0004.not_in_domain(show(value), t.name), span, (f"`{t.name}` = {{{shown}}}",))
     if isinstance(t, ListType) and isinstance(value, tuple) and isinstance(t.element, DomainType):
         for v in value:
             check_domain(v, t.element, span)
@@ -929,15 +928,15 @@ def _index(i: Value, n: int, span: Span) -> int:
     if isinstance(i, float) and i.is_integer():
         i = int(i)
     if not isinstance(i, int) or isinstance(i, bool):
-        raise GppRuntimeError("R0003", f"list index `{show(i)}` is not a whole number", span)
+        raise GppRuntimeError(R0003.not_whole(show(i)), span)
     if not 0 <= i < n:
-        raise GppRuntimeError("R0003", f"list index {i} is out of range (the list has {n} elements)", span)
+        raise GppRuntimeError(R0003.out_of_range(i, n), span)
     return i
 
 
 def _element(v: Value, i: Value, span: Span) -> Value:
     if v is None:
-        raise GppRuntimeError("R0002", "indexing `null`", span)
+        raise GppRuntimeError(R0002.indexing_null(), span)
     assert isinstance(v, tuple)
     return v[_index(i, len(v), span)]
 
@@ -956,7 +955,7 @@ def _mul(a: Value, b: Value, span: Span) -> Value:
 
 def _div(a: Value, b: Value, span: Span) -> Value:
     if b == 0:
-        raise GppRuntimeError("R0001", "division by zero", span)
+        raise GppRuntimeError(R0001.division_by_zero(), span)
     return a / b  # type: ignore[operator]
 
 
@@ -964,9 +963,9 @@ def _mod(a: Value, b: Value, span: Span) -> Value:
     # Whole-valued floats (`16 / 2` is 8.0) count as whole numbers, as list indexes do.
     a, b = _whole(a), _whole(b)
     if not isinstance(a, int) or not isinstance(b, int):
-        raise GppRuntimeError("R0001", f"`%` needs whole numbers, got {show(a)} and {show(b)}", span)
+        raise GppRuntimeError(R0001.modulo_not_whole(show(a), show(b)), span)
     if b == 0:
-        raise GppRuntimeError("R0001", "modulo by zero", span)
+        raise GppRuntimeError(R0001.modulo_by_zero(), span)
     return a % b
 
 
@@ -983,22 +982,22 @@ def _operand(v: Value) -> str:
 def _pow(a: Value, b: Value, span: Span) -> Value:
     assert isinstance(a, int | float) and isinstance(b, int | float)
     if a == 0 and b < 0:
-        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span)
+        raise GppRuntimeError(R0001.power_divides_by_zero(_operand(a), show(b)), span)
     if isinstance(a, int) and isinstance(b, int) and b >= 0:
         if abs(a) > 1 and b * math.log2(abs(a)) > _MAX_POWER_BITS:
-            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,))
+            raise GppRuntimeError(R0001.power_too_large(_operand(a), show(b)), span, (RANGE_TEXT,))
         power: int = a**b
         if not -MAX_WHOLE <= power <= MAX_WHOLE:
-            raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,))
+            raise GppRuntimeError(R0001.power_too_large(_operand(a), show(b)), span, (RANGE_TEXT,))
         return power
     try:
         return math.pow(a, b)
     except ZeroDivisionError:
-        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` divides by zero", span) from None
+        raise GppRuntimeError(R0001.power_divides_by_zero(_operand(a), show(b)), span) from None
     except OverflowError:
-        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is too large", span, (RANGE_TEXT,)) from None
+        raise GppRuntimeError(R0001.power_too_large(_operand(a), show(b)), span, (RANGE_TEXT,)) from None
     except ValueError:
-        raise GppRuntimeError("R0001", f"`{_operand(a)} ** {show(b)}` is not a real number", span) from None
+        raise GppRuntimeError(R0001.power_not_real(_operand(a), show(b)), span) from None
 
 
 # Whole-number powers beyond this many bits are beyond the range of numbers (MAX_WHOLE has 1024
@@ -1028,18 +1027,18 @@ def _is_number(v: Value) -> bool:
 
 def _too_large(op: Op, span: Span) -> GppRuntimeError:
     """A result beyond the range of numbers (docs/semantics.md, "Numbers")."""
-    return GppRuntimeError("R0001", f"the result of `{op.value}` is too large for a number", span, (RANGE_TEXT,))
+    return GppRuntimeError(R0001.too_large(op.value), span, (RANGE_TEXT,))
 
 
 def _internal(span: Span, message: str) -> GppRuntimeError:
-    return GppRuntimeError("R0099", f"internal: {message} (the program should not have passed the checker)", span)
+    return GppRuntimeError(R0099.unchecked(message), span)
 
 
 class _NoContext:
     """Initial values are literals: they never call the platform."""
 
     def exog_function(self, name: str, args: dict[str, Value], return_type: Type, span: Span) -> Value:
-        raise GppRuntimeError("R0099", "an initial value cannot call an exogenous function", span)
+        raise GppRuntimeError(R0099.exog_in_initial_value(), span)
 
     def now(self) -> float:
         return 0.0

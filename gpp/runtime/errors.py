@@ -7,20 +7,20 @@ from gpp.base.source import Span
 
 
 class GppRuntimeError(Exception):
-    """A runtime error with its code (R0xxx) and the span of the expression or statement."""
+    """A runtime error with its message (code and text, from gpp.codes) and the span of the
+    expression or statement."""
 
     def __init__(
         self,
-        code: str,
-        message: str,
+        message: diag.Message,
         span: Span | None,
         notes: tuple[str, ...] = (),
         label: str = "",
         secondary: tuple[diag.Label, ...] = (),
     ) -> None:
-        super().__init__(message)
-        self.code = code
-        self.message = message
+        super().__init__(message.text)
+        self.code = message.code
+        self.message = message.text
         self.span = span
         self.notes = notes
         self.label = label
@@ -31,7 +31,9 @@ class GppRuntimeError(Exception):
         span = self.span if self.span is not None else fallback
         if span is None:
             return None
-        return diag.error(self.code, self.message, span, self.label, secondary=self.secondary, notes=self.notes)
+        return diag.error(
+            diag.Message(self.code, self.message), span, self.label, secondary=self.secondary, notes=self.notes
+        )
 
 
 class Terminated(KeyboardInterrupt):

@@ -23,6 +23,7 @@ from typing import assert_never
 import gpp.runtime.events as ev
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0099
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
@@ -111,11 +112,11 @@ class _ExecContext:
         if self.result[0]:
             return self.result[1]
         if self.explaining:
-            raise GppRuntimeError("R0007", "not asked while explaining a wait", span)
+            raise GppRuntimeError(R0007.not_asked_explaining(), span)
         try:
             return self.platform.exog_function(name, args, return_type, self.activity)
         except PlatformError as e:
-            raise GppRuntimeError("R0007", f"exogenous function `{name}` failed: {e}", span) from None
+            raise GppRuntimeError(R0007.exog_function_failed(name, e), span) from None
 
     def now(self) -> float:
         return self.platform.now()
@@ -240,8 +241,7 @@ class Executor:
         except RecursionError:
             self.fail(
                 GppRuntimeError(
-                    "R0012",
-                    "the program nests procedure or function calls too deeply",
+                    R0012.calls(),
                     _head_span(prog) if prog is not None else None,
                     ("a recursion without an end, or one deeper than the interpreter's stack allows",),
                     label="while executing this statement",
@@ -257,8 +257,7 @@ class Executor:
                 raise
             self.fail(
                 GppRuntimeError(
-                    "R0099",
-                    f"internal error: {type(e).__name__}: {e}",
+                    R0099.internal(e),
                     self.entry_span(),
                     (
                         "this is a bug in gpp (or in the platform); please report it with the program",
@@ -299,11 +298,9 @@ class Executor:
     def stop_at_wall_timeout(self, prog: Prog, started: float) -> None:
         self.result.status = RunStatus.TIMEOUT
         span = _head_span(prog) or self.entry_span()
-        assert span is not None
+        assert span is not None and self.wall_timeout is not None
         d = diag.error(
-            "R0013",
-            f"the run reached its timeout of {self.wall_timeout:g} s of wall-clock time "
-            f"(platform time: {self.platform.now():g} s)",
+            R0013.wall_clock(self.wall_timeout, self.platform.now()),
             span,
             "running here",
             notes=[
@@ -377,7 +374,7 @@ class Executor:
             with raised_recursion_limit():
                 value = body(Env(self.state, {}, self.ctx))
         except RecursionError:
-            raise GppRuntimeError("R0012", "`postcond()` nests function calls too deeply", symbol.span) from None
+            raise GppRuntimeError(R0012.postcond(), symbol.span) from None
         self.result.postcond = value is True
         return self.result.postcond
 
@@ -494,8 +491,7 @@ class Executor:
         notes.append("the rest of the `solve`'s program is not executed: the run goes on after the `solve`")
         self.result.diagnostics.append(
             diag.warning(
-                "R0014",
-                f"the plan of this `solve` stops at its horizon of {h} with the program unfinished",
+                R0014.unfinished(h),
                 stmt.span,
                 "planned only up to its horizon",
                 notes=notes,
@@ -529,8 +525,7 @@ class Executor:
         status = self.acts.status(g)
         if status is not None and status.terminal:
             raise GppRuntimeError(
-                "R0009",
-                f"`{g.text}` is started again before its previous activity was ended",
+                R0009.started_again(g.text),
                 span,
                 ("`end(...)`, `finish(...)` or `fail(...)` consumes an activity that has terminated",),
             )
@@ -559,7 +554,7 @@ class Executor:
         try:
             self.platform.start(activity)
         except PlatformError as e:
-            raise GppRuntimeError("R0007", f"the platform cannot start `{g.text}`: {e}", span) from None
+            raise GppRuntimeError(R0007.cannot_start(g.text, e), span) from None
         self.accepted.add(activity.id)
 
     def end(self, step: EndStep) -> None:
@@ -668,17 +663,15 @@ class Executor:
         if why is None:
             span = self.entry_span()
             assert span is not None
-            return diag.error("R0011", BLOCKED + "nothing can make a step", span, notes=[final_note])
+            return diag.error(R0011.no_step(), span, notes=[final_note])
         return dataclasses.replace(why, notes=(*why.notes, final_note))
 
     def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
         waiting = why_blocked(self.sem, prog, self.state, self.acts)
         span = waiting.span if waiting is not None else self.entry_span()
-        assert span is not None
+        assert span is not None and self.timeout is not None
         notes = [f"it waits here: {waiting.message.removeprefix(BLOCKED)}", *waiting.notes] if waiting else []
-        return diag.error(
-            "R0013", f"the run reached its timeout of {self.timeout:g} s", span, "waiting here", notes=notes
-        )
+        return diag.error(R0013.timeout(self.timeout), span, "waiting here", notes=notes)
 
 
 # A program that wakes up this many times in a row at the time its condition named, and still

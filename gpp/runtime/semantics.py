@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Protocol, TypeAlias, assert_never
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.codes import R0002, R0005, R0006, R0008, R0010
 from gpp.model.symbols import SymbolKind
 from gpp.model.types import DomainType, ListType
 from gpp.runtime.compiled import (
@@ -377,7 +378,7 @@ class Semantics:
         params, body = self.program.procedure(name)
         if body is None:
             symbol = self.model.globals[name]
-            raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", symbol.span)
+            raise GppRuntimeError(R0008.procedure(name), symbol.span)
         return Code(body, Frame(tuple(zip(params, args, strict=True))))
 
     # ---------------------------------------------------------------- final
@@ -591,8 +592,7 @@ class Semantics:
         if self.planner is None:
             kind = "solve" if isinstance(s, ast.Solve) else "search"
             raise GppRuntimeError(
-                "R0010",
-                f"`{kind}` cannot plan: this run has no planner",
+                R0010.no_planner(kind),
                 s.span,
                 ("the executor runs `solve` and `search` with the planner it is given (`gpp run` gives it one)",),
             )
@@ -638,7 +638,7 @@ class Semantics:
     def procedure_body(self, s: ast.CallStmt, name: str, state: State, frame: Frame) -> tuple[ast.Statement, Frame]:
         params, body = self.program.procedure(name)
         if body is None:
-            raise GppRuntimeError("R0008", f"procedure `{name}` is declared but never defined", s.span)
+            raise GppRuntimeError(R0008.procedure(name), s.span)
         call = s.call
         assert isinstance(call, ast.Call)
         env = self.env(state, frame)
@@ -706,10 +706,10 @@ class Semantics:
         target = self.program.target(s.target)
         current = self.program.expr(s.target)(env)
         if current is None:
-            raise GppRuntimeError("R0002", f"`{s.op.value}` on a `null` list", s.target.span)
+            raise GppRuntimeError(R0002.null_list(s.op.value), s.target.span)
         assert isinstance(current, tuple)
         if s.op in (ast.ListOp.POP_BACK, ast.ListOp.POP_FRONT) and not current:
-            raise GppRuntimeError("R0006", f"`{s.op.value}` on an empty list", s.span)
+            raise GppRuntimeError(R0006.empty(s.op.value), s.span)
         if s.op is ast.ListOp.PUSH_BACK or s.op is ast.ListOp.PUSH_FRONT:
             assert s.value is not None
             element = self.program.expr(s.value)(env)
@@ -786,8 +786,7 @@ class Semantics:
                         f".{p}" if isinstance(p, str) else f"[{p}]" for p in max(path, other_path, key=len)
                     )
                     raise GppRuntimeError(
-                        "R0005",
-                        f"`{g.text}` assigns {where} two different values",
+                        R0005.conflict(g.text, where),
                         effect.span,
                         label=f"gives {show(value)}",
                         secondary=(diag.Label(other_span, f"gives {show(other_value)}"),),

@@ -14,6 +14,7 @@ from typing import Any, TypeVar
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
+from gpp.codes import E0020, E0021
 from gpp.syntax import ast
 from gpp.syntax.fast import SpanTwin, fast_constructor, make_span
 from gpp.syntax.lexer import Token, number_value, unescape_string
@@ -183,8 +184,7 @@ class AstBuilder:
                 word = ast.SECTION_KINDS[type(s)].value
                 self.diagnostics.append(
                     diag.error(
-                        "E0020",
-                        f"section `{word}:` appears twice",
+                        E0020.twice(word),
                         s.keyword,
                         "second section",
                         secondary=[diag.Label(first.keyword, "first given here")],
@@ -295,8 +295,7 @@ class AstBuilder:
             if first is not None:
                 self.diagnostics.append(
                     diag.error(
-                        "E0021",
-                        f"`{keyword.value}` handler given twice",
+                        E0021.twice(keyword.value),
                         self.tspan(keyword),
                         "second handler",
                         secondary=[diag.Label(self.tspan(first[0]), "first given here")],

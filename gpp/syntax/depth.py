@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.codes import E0014
 from gpp.syntax import ast
 from gpp.syntax.lexer import Token
 from gpp.syntax.walk import children
@@ -86,8 +87,7 @@ def nesting_error(node: ast.Node) -> diag.Diagnostic:
     line_end = text.find("\n", span.start, span.end)
     at = Span(span.source, span.start, span.end if line_end < 0 else line_end)
     return diag.error(
-        "E0014",
-        f"this {_what(node) or 'declaration'} nests more than {MAX_NESTING} levels deep",
+        E0014.too_deep(_what(node) or "declaration", MAX_NESTING),
         at,
         f"more than {MAX_NESTING} levels deep",
         notes=_NOTES,
@@ -98,8 +98,7 @@ def nesting_error(node: ast.Node) -> diag.Diagnostic:
 def too_deep_error(at: Span) -> diag.Diagnostic:
     """E0014 where the parser found more than MAX_OPEN constructs open."""
     return diag.error(
-        "E0014",
-        f"this declaration nests more than {MAX_NESTING} levels deep",
+        E0014.too_deep("declaration", MAX_NESTING),
         at,
         f"more than {MAX_OPEN} brackets, operators and statements open here",
         notes=_NOTES,

@@ -27,6 +27,7 @@ from collections.abc import Iterator
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
+from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045
 from gpp.syntax.lexer import Token
 
 SIGIL_TYPES = {
@@ -203,15 +204,14 @@ class _Rewriter:
         more = len(edits) - 1
         self.diagnostics.append(
             diag.error(
-                "E0040",
-                f"`{first.value}` before a name is the legacy way of writing a type",
+                E0040.sigil(first.value),
                 self.span(first.start, first.end),
                 "legacy type sigil",
                 notes=[
                     "golog++ writes the type as a word: `%` is `number`, `?` `bool`, `$` `string`, `§` `symbol`"
                     + (f"; {more} more sigil{'s' if more > 1 else ''} in this file" if more else "")
                 ],
-                help="write the type names instead (`gpp explain E0040`)",
+                help=f"write the type names instead (`gpp explain {E0040.code}`)",
                 fix=diag.Fix("write the types as words", edits, diag.Applicability.SAFE),
             )
         )
@@ -303,11 +303,10 @@ class _Rewriter:
         quoted = f'"{name.value}"'
         self.diagnostics.append(
             diag.error(
-                "E0041",
-                f"the mapped name `{name.value}` is not quoted",
+                E0041.unquoted(name.value),
                 self.span(name.start, name.end),
                 "legacy unquoted mapping name",
-                help=f"write it as a string: `{quoted}` (`gpp explain E0041`)",
+                help=f"write it as a string: `{quoted}` (`gpp explain {E0041.code}`)",
                 fix=diag.Fix(
                     f"quote `{name.value}`", (self.edit(name.start, name.end, quoted),), diag.Applicability.SAFE
                 ),
@@ -328,12 +327,11 @@ class _Rewriter:
         if fluent is None or fluent_type is None or not out[declaration_start:]:
             self.diagnostics.append(
                 diag.error(
-                    "E0042",
-                    "`senses:` without `= ...` is legacy golog++",
+                    E0042.senses(),
                     where,
                     "no value to assign",
                     help="assign the fluent an exogenous function of its type: `senses: f() = sensed_f();` "
-                    "(`gpp explain E0042`)",
+                    f"(`gpp explain {E0042.code}`)",
                 )
             )
             # Drop the section: the fluent is not sensed, and nothing else is reported.
@@ -349,8 +347,7 @@ class _Rewriter:
         declaration = f"{type_text} exog_function {function}();\n"
         self.diagnostics.append(
             diag.error(
-                "E0042",
-                "`senses:` without `= ...` is legacy golog++",
+                E0042.senses(),
                 where,
                 "no value to assign",
                 notes=[
@@ -358,7 +355,7 @@ class _Rewriter:
                     "action's result, whatever its name"
                 ],
                 help=f"write `senses: {self.modern_text(where.start, where.end)} = {function}();` and declare "
-                f"`{declaration.strip()}` (`gpp explain E0042`)",
+                f"`{declaration.strip()}` (`gpp explain {E0042.code}`)",
                 fix=diag.Fix(
                     f"assign the result of a new exogenous function `{function}`",
                     (
@@ -457,12 +454,11 @@ class _Rewriter:
             fix = diag.Fix("type the parameters with their domains", tuple(edits), diag.Applicability.SAFE)
         self.diagnostics.append(
             diag.error(
-                "E0043",
-                "a `domain:` section is legacy golog++",
+                E0043.domain_section(),
                 section,
                 "legacy parameter domains",
                 help="give the parameter the domain as its type, `action go(Room r)`, and remove the section "
-                "(`gpp explain E0043`)",
+                f"(`gpp explain {E0043.code}`)",
                 fix=fix,
             )
         )
@@ -476,12 +472,11 @@ class _Rewriter:
         if converted is None:
             self.diagnostics.append(
                 diag.error(
-                    "E0044",
-                    f"function `{name}` has a block body, which is legacy golog++",
+                    E0044.block_body(name),
                     self.span(brace.start, brace.end),
                     "legacy function body",
                     help="a function is `= expression`: write its `return` values as one expression, choosing "
-                    "with `if (c) a else b` (`gpp explain E0044`)",
+                    f"with `if (c) a else b` (`gpp explain {E0044.code}`)",
                 )
             )
             return [_synthetic("EQ", "=", brace.start, brace.end), _synthetic("NULL", "null", brace.end)]
@@ -489,11 +484,10 @@ class _Rewriter:
         self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
-                "E0044",
-                f"function `{name}` has a block body, which is legacy golog++",
+                E0044.block_body(name),
                 self.span(brace.start, brace.end),
                 "legacy function body",
-                help=f"write `= {text}` (`gpp explain E0044`)",
+                help=f"write `= {text}` (`gpp explain {E0044.code}`)",
                 fix=diag.Fix(
                     "write the body as one expression",
                     (self.edit(whole.start, whole.end, f"= {text}"),),
@@ -569,12 +563,11 @@ class _Rewriter:
         self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
-                "E0045",
-                f"exogenous function `{name}` has a body, which is legacy golog++",
+                E0045.body(name),
                 self.span(brace.start, brace.end),
                 "legacy body",
                 notes=["an exogenous function is answered by the platform: it is declared, never defined"],
-                help="end the declaration with `;` (`gpp explain E0045`)",
+                help=f"end the declaration with `;` (`gpp explain {E0045.code}`)",
                 fix=diag.Fix("remove the body", (self.edit(whole.start, whole.end, ";"),), diag.Applicability.SAFE),
             )
         )

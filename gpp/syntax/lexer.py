@@ -25,6 +25,7 @@ from functools import lru_cache
 
 from gpp.base.numbers import RANGE_TEXT, literal_value
 from gpp.base.source import Source, Span
+from gpp.codes import E0001, E0002, E0003, E0004, E0005, Message
 
 
 class Token:
@@ -174,8 +175,7 @@ def _join(pieces: tuple[Piece, ...]) -> list[Token]:
 class LexError:
     """A lexical problem, turned into a diagnostic by the parser."""
 
-    code: str
-    message: str
+    message: Message
     start: int
     end: int
     label: str = ""
@@ -398,7 +398,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             value = text[start:pos]
             ttype = "NUMBER"
             if number_value(value) is None:
-                errors.append(LexError("E0004", "number literal is too large", start, pos, RANGE_TEXT))
+                errors.append(LexError(E0004.too_large(), start, pos, RANGE_TEXT))
         elif kind == _SECTION:
             value = text[start:pos]
             ttype = SECTION_WORDS[value.rstrip(":").rstrip()]
@@ -410,7 +410,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
         elif kind == _UNDERSCORE_NAME:
             value = text[start:pos]
             ttype = "NAME"
-            errors.append(LexError("E0003", "a name cannot start with '_'", start, pos, "names start with a letter"))
+            errors.append(LexError(E0003.underscore_name(), start, pos, "names start with a letter"))
         elif kind == _WIDE_NAME:
             # Letters beyond ASCII: one error per distinct name, and the name stays a name so
             # that its declaration and its uses still fit together.
@@ -426,24 +426,20 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
             value = text[start:pos]
             ttype = "SIGIL"  # legacy `?function`, `$domain`, `§room`: gpp.syntax.legacy rewrites it
         elif kind == _OPEN_COMMENT:
-            errors.append(LexError("E0002", "unterminated block comment", start, start + 2, "comment opened here"))
+            errors.append(LexError(E0002.comment(), start, start + 2, "comment opened here"))
             break
         elif kind == _OPEN_STRING:
-            errors.append(
-                LexError("E0002", "unterminated string literal", start, start + 1, "no closing '\"' on this line")
-            )
+            errors.append(LexError(E0002.string(), start, start + 1, "no closing '\"' on this line"))
             # Read the rest of the line as the string so that parsing can go on.
             ttype = "STRING"
             value = text[start:pos] + '"'
         else:
             last = errors[-1] if errors else None
-            if last is not None and last.code == "E0001" and last.end == start:
+            if last is not None and last.message.code == E0001.code and last.end == start:
                 # A run of stray characters is one problem, not one per character.
-                errors[-1] = LexError("E0001", "unexpected characters", last.start, pos, "not valid here")
+                errors[-1] = LexError(E0001.unexpected_characters(), last.start, pos, "not valid here")
             else:
-                errors.append(
-                    LexError("E0001", f"unexpected character {text[start:pos]!r}", start, pos, "not valid here")
-                )
+                errors.append(LexError(E0001.unexpected_character(text[start:pos]), start, pos, "not valid here"))
             continue
         append(Token(ttype, value, start, pos))
     return tokens, errors
@@ -452,8 +448,7 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
 def _non_ascii_name(name: str, start: int, end: int) -> LexError:
     ascii_name = ascii_spelling(name)
     return LexError(
-        "E0005",
-        f"the name `{name}` has letters outside ASCII",
+        E0005.non_ascii(name),
         start,
         end,
         "names are written with the letters a-z, A-Z, digits and `_`",

@@ -24,6 +24,7 @@ from pathlib import Path
 from gpp.base import diagnostics as diag
 from gpp.base.resources import stdlib_dir
 from gpp.base.source import NotText, Source, Span, decode_text
+from gpp.codes import E0006, E0030, E0031
 from gpp.syntax import ast
 from gpp.syntax.incremental import Reparsed, reparse
 from gpp.syntax.lexer import Token, Tokens
@@ -221,7 +222,7 @@ class _Loader:
         if not_text is not None:
             source = Source(text, display_path(resolved), str(resolved))
             at = Span(source, not_text.offset, min(not_text.offset + 1, len(source.text)))
-            self.result.diagnostics.append(_not_text_error("this is", source, not_text, at))
+            self.result.diagnostics.append(_not_text_error(None, source, not_text, at))
             self.skip(resolved, source)
             return
         self.visit(resolved, text, [])
@@ -256,8 +257,7 @@ class _Loader:
         if target is None:
             self.result.diagnostics.append(
                 diag.error(
-                    "E0030",
-                    f"cannot find included file `{name}`",
+                    E0030.not_found(name),
                     decl.path.span,
                     "no such file",
                     notes=[f"looked in {display_path(c.parent)}/" for c in candidates],
@@ -269,8 +269,7 @@ class _Loader:
             cycle = [*in_chain[in_chain.index(target) :], target]
             self.result.diagnostics.append(
                 diag.error(
-                    "E0031",
-                    "include cycle: " + " -> ".join(display_path(p) for p in cycle),
+                    E0031.cycle([display_path(p) for p in cycle]),
                     decl.path.span,
                     "includes a file that is already being included",
                     secondary=[diag.Label(inc.path.span, "included from here") for p, inc in chain if p in cycle],
@@ -282,13 +281,11 @@ class _Loader:
         try:
             text, not_text = self.read(target)
         except OSError as e:
-            self.result.diagnostics.append(
-                diag.error("E0030", f"cannot read included file `{name}`: {e.strerror}", decl.path.span)
-            )
+            self.result.diagnostics.append(diag.error(E0030.unreadable(name, e.strerror), decl.path.span))
             return None
         if not_text is not None:
             source = Source(text, display_path(target), str(target))
-            error = _not_text_error(f"included file `{name}` is", source, not_text, decl.path.span)
+            error = _not_text_error(name, source, not_text, decl.path.span)
             self.result.diagnostics.append(error)
             self.skip(target, source)
             return target
@@ -296,12 +293,12 @@ class _Loader:
         return target
 
 
-def _not_text_error(subject: str, source: Source, not_text: NotText, at: Span) -> diag.Diagnostic:
+def _not_text_error(included: str | None, source: Source, not_text: NotText, at: Span) -> diag.Diagnostic:
     """E0006 for a file that is not text, reported at `at` (the bad byte, or an `#include`)."""
     line, col = source.line_col(not_text.offset)
+    what = not_text.describe()
     return diag.error(
-        "E0006",
-        f"{subject} not a UTF-8 text file: {not_text.describe()} at line {line}, column {col}",
+        E0006.not_text(what, line, col) if included is None else E0006.included_not_text(included, what, line, col),
         at,
         "not UTF-8 text",
         notes=[] if at.source is source else [f"the included file is {source.path}"],

@@ -21,6 +21,7 @@ from typing import Any
 from gpp.base import diagnostics as diag
 from gpp.base.perf import paused_gc
 from gpp.base.source import Source, Span
+from gpp.codes import E0010, E0011, E0012, E0013
 from gpp.syntax import ast
 from gpp.syntax.build import AstBuilder
 from gpp.syntax.depth import MAX_OPEN, limit_nesting, too_deep_error
@@ -55,7 +56,7 @@ def parse(source: Source) -> ParseResult:
         parser.quiet_after_lex_errors([e.start for e in lex_errors if e.dropped])
         program, too_deep = limit_nesting(parser.run(), tokens)
     diagnostics = [
-        diag.error(e.code, e.message, Span(source, e.start, e.end), e.label, help=e.help or None) for e in lex_errors
+        diag.error(e.message, Span(source, e.start, e.end), e.label, help=e.help or None) for e in lex_errors
     ]
     diagnostics.extend(legacy_errors)
     diagnostics.extend(parser.diagnostics)
@@ -552,8 +553,7 @@ class _Parser:
             self.report(
                 i,
                 diag.error(
-                    "E0013",
-                    f"`{tok.value}` is a reserved word and cannot be used as a name",
+                    E0013.reserved(tok.value),
                     self.span(tok),
                     "reserved word",
                     help=f"choose another name, such as `{tok.value}_`",
@@ -711,8 +711,7 @@ class _Parser:
         self.report(
             i,
             diag.error(
-                "E0012",
-                f"unexpected end of file, expected {describe_expected(expected, self.sets)}",
+                E0012.unexpected_eof(describe_expected(expected, self.sets)),
                 self.span(self.tokens[i]),
                 "the file ends here",
                 secondary=secondary,
@@ -795,11 +794,9 @@ class _Parser:
             self.simulate(ss, ["SEMI", tok.type], reduced)
             semi_context = self.sets.semi_context
             what = next((semi_context[r] for r in reduced if r in semi_context), None)
-            message = f"expected `;` after this {what}" if what else "expected `;`"
-            code = "E0011"
+            message = E0011.missing_after(what)
         else:
-            message = f"expected {text}, found {describe_found(tok)}"
-            code = "E0010"
+            message = E0010.expected(text, describe_found(tok))
             opener = self.innermost_unclosed(i)
             if opener is not None and _CLOSERS.get(opener.type) == inserted:
                 secondary.append(diag.Label(self.span(opener), f"to close this `{opener.value}`"))
@@ -811,7 +808,6 @@ class _Parser:
         self.report(
             i,
             diag.error(
-                code,
                 message,
                 at,
                 f"add {text} here",
@@ -827,8 +823,7 @@ class _Parser:
         self.report(
             i,
             diag.error(
-                "E0010",
-                f"expected {describe_expected(expected, self.sets)}, found {describe_found(tok)}",
+                E0010.expected(describe_expected(expected, self.sets), describe_found(tok)),
                 self.span(tok),
                 "unexpected token",
                 secondary=[diag.Label(Span(self.source, prev.end, prev.end), "the statement before is not finished")],
@@ -843,19 +838,19 @@ class _Parser:
         fix = None
         remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),), diag.Applicability.SAFE)
         if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE" and prev.value:
-            message = "unexpected `;` after `}`"
+            message = E0010.semicolon_after_brace()
             help = "remove this `;`: a statement or declaration that ends with `}` takes no `;`"
             fix = remove
         elif tok.type == "SEMI" and "$END" in expected:
-            message = "unexpected `;` after a declaration"
+            message = E0010.semicolon_after_declaration()
             help = "remove this `;`: a function body is an expression and takes no `;`"
             fix = remove
         elif tok.type == "SEMI" and prev is not None and prev.type == "SEMI":
-            message = "unexpected `;`"
+            message = E0010.semicolon()
             help = "remove this `;`: there is no empty statement (write `{}` for one that does nothing)"
             fix = remove
         else:
-            message = f"expected {describe_expected(expected, self.sets)}, found {describe_found(tok)}"
+            message = E0010.expected(describe_expected(expected, self.sets), describe_found(tok))
             if tok.type == "EQ" and "CMP_OP" in expected:
                 help = help or "to compare two values write `==`"
             if deleting and help is None:
@@ -865,7 +860,6 @@ class _Parser:
         self.report(
             i,
             diag.error(
-                "E0010",
                 message,
                 self.span(tok),
                 "unexpected " + ("token" if tok.type != "$END" else "end of file"),
