@@ -785,6 +785,27 @@ def test_hover_on_an_include_shows_the_file_and_its_header_comment(tmp_path: Pat
     assert h.contents.value == f"`{(tmp_path / 'sub.gpp').resolve()}`\n\nsub.gpp — helpers.\n\nMore."
 
 
+def test_hover_on_a_code_in_an_allow_comment_shows_its_explanation(tmp_path: Path) -> None:
+    from gpp import codes
+
+    doc = Doc.check(
+        "number fluent count() { initially: () = 0; }\n"
+        "procedure main() { count() = 1; } // gpp: allow W0101, busy-wait -- reason\n",
+        tmp_path / "m.gpp",
+    )
+    h = F.hover(doc.result, doc.path, doc.at("W0101", delta=2))
+    assert h is not None and isinstance(h.contents, types.MarkupContent) and h.range is not None
+    info = codes.lookup("W0101")
+    assert info is not None
+    assert h.contents.value == f"**W0101** `{info.name}`: {info.summary}\n\n{info.explanation}"
+    assert rng(h.range) == doc.rng("W0101", length=5)
+    by_name = F.hover(doc.result, doc.path, doc.at("busy-wait"))
+    assert by_name is not None and isinstance(by_name.contents, types.MarkupContent)
+    assert by_name.contents.value.startswith("**W0115** `busy-wait`: ")
+    # The free comment after the codes is not a code.
+    assert F.hover(doc.result, doc.path, doc.at("reason")) is None
+
+
 def test_inlay_hint_for_a_domain_element_named_like_the_parameter(tmp_path: Path) -> None:
     # Only a variable of the parameter's name makes the hint redundant, not an element.
     doc = Doc.check(

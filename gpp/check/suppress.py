@@ -196,21 +196,42 @@ def _parse(source: Source, start: int, end: int, code_before: int, next_token: i
     else:
         return None  # a comment at the end of the file, above nothing: no suppression
     s = _Suppression(source, Span(source, start, end), removal, kind, first, last)
-    at = m.end()
+    for span in _entry_spans(source, m.end(), end):
+        name = text[span.start : span.end]
+        info = codes.lookup(name)
+        s.entries.append(_Entry(name, span, info.code if info is not None and info.is_lint else None))
+    return s
+
+
+def _entry_spans(source: Source, at: int, end: int) -> Iterator[Span]:
+    """The spans of the comma-separated codes or names of a suppression, from `at` (after
+    `gpp: allow`) to the comment's `end`."""
+    text = source.text
     while True:
         entry = _ENTRY.match(text, at, end)
         if entry is None:
-            break
-        name = entry.group(1)
-        info = codes.lookup(name)
-        code = info.code if info is not None and info.is_lint else None
-        s.entries.append(_Entry(name, Span(source, entry.start(1), entry.end(1)), code))
+            return
+        yield Span(source, entry.start(1), entry.end(1))
         at = entry.end()
         comma = _SEPARATOR.match(text, at, end)
         if comma is None:
-            break
+            return
         at = comma.end()
-    return s
+
+
+def suppressed_code_at(source: Source, offset: int) -> tuple[Span, str] | None:
+    """The code or name written at `offset` in a `// gpp: allow` comment, with its span (for
+    the language server's hover, which explains it), or None."""
+    text = source.text
+    line_start = text.rfind("\n", 0, offset) + 1
+    line_end = _line_end(text, offset)
+    m = _SUPPRESSION.search(text, line_start, line_end)
+    if m is None:
+        return None
+    for span in _entry_spans(source, m.end(), line_end):
+        if span.start <= offset <= span.end:
+            return span, text[span.start : span.end]
+    return None
 
 
 def _line_end(text: str, at: int) -> int:

@@ -7,7 +7,10 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from gpp import codes
+from gpp.base.source import Span
 from gpp.check import CheckResult
+from gpp.check.suppress import suppressed_code_at
 from gpp.model.model import Model
 from gpp.model.symbols import GLOBAL_KINDS, Symbol, SymbolKind
 from gpp.model.types import DomainType, Sym, show_value
@@ -32,6 +35,9 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         return None
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
+        allowed = suppressed_code_at(doc.source, offset)
+        if allowed is not None:
+            return _explain(*allowed)
         included = included_at(doc, offset)
         if included is None:
             return None
@@ -43,6 +49,18 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=describe(result, ref.symbol)),
         range=lsp_range(ref.span),
     )
+
+
+def _explain(span: Span, written: str) -> types.Hover | None:
+    """A code or lint name in a `// gpp: allow` comment: its summary and the explanation that
+    `gpp explain` prints (the same file, gpp/codes/explain/CODE.md)."""
+    info = codes.lookup(written)
+    if info is None:
+        return None
+    text = f"**{info.code}** `{info.name}`: {info.summary}"
+    if info.explanation:
+        text += "\n\n" + info.explanation
+    return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text), range=lsp_range(span))
 
 
 def describe(result: CheckResult, symbol: Symbol) -> str:
