@@ -1,6 +1,6 @@
 """How fast the code model and type check are, against another revision, in one process.
 
-    python bench/model_speed.py [--baseline REV] [--lines 1000 10000] [--runs 15]
+    python bench/model_speed.py [--baseline REV (default HEAD)] [--lines 1000 10000] [--runs 15]
 
 Copies gpp/model of the baseline revision (`git show REV:gpp/model/...`) into a temporary
 package, so that both builders run in this process on the same parsed files, interleaved
@@ -40,9 +40,9 @@ from gpp.model.build import build_model  # noqa: E402
 from gpp.syntax.loader import LoadResult, load  # noqa: E402
 
 BASELINE_PACKAGE = "gpp_model_baseline"
-# The last revision before the code model was made faster (bench/model_speed.py was written
-# with the speed-up).
-BEFORE = "92d0a15"
+# The oldest revision whose gpp/model runs on this tree's other packages: the diagnostic
+# messages moved into gpp/codes there (older models call the diagnostics API of their time).
+OLDEST = "cfdeb36"
 
 
 def baseline_builder(revision: str, into: Path) -> ModuleType:
@@ -73,7 +73,9 @@ def compare(loaded: LoadResult, old_build: Callable[..., object]) -> bool:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
-        "--baseline", default=BEFORE, help=f"git revision to compare with (default: {BEFORE}, before the speed-up)"
+        "--baseline",
+        default="HEAD",
+        help=f"git revision to compare with (default: HEAD, i.e. what the uncommitted change does; {OLDEST} or later)",
     )
     parser.add_argument("--lines", type=int, nargs="+", default=[1000, 10000])
     parser.add_argument("--runs", type=int, default=15)
@@ -83,6 +85,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             old = baseline_builder(args.baseline, Path(tmp))
         except (OSError, subprocess.CalledProcessError) as e:
             print(f"model_speed: cannot read gpp/model of revision {args.baseline} with git: {e}", file=sys.stderr)
+            return 2
+        except Exception as e:  # an older model imports modules or names this tree no longer has
+            print(
+                f"model_speed: gpp/model of revision {args.baseline} does not load beside this tree "
+                f"({type(e).__name__}: {e}); compare with {OLDEST} or a later revision",
+                file=sys.stderr,
+            )
             return 2
         print(f"load average: {os.getloadavg()[0]:.2f}; best / median of {args.runs} runs, interleaved")
         print(f"{'lines':>7} {'baseline ms':>16} {'this tree ms':>16} {'speed-up':>9} {'per pair':>9}  same model")
