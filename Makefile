@@ -38,7 +38,7 @@ typecheck: $(VENV)/.installed-dev
 pytest: $(VENV)/.installed-dev
 	$(BIN)/pytest
 
-# The trace viewer's browser test (tests/test_traceview_browser.py) opens the page in Debian's
+# The trace viewer's browser test (tests/traceview/test_traceview_browser.py) opens the page in Debian's
 # chromium. As root with apt-get (CI, a fresh machine) it is installed when missing; otherwise
 # the test is skipped and says why.
 browser:
