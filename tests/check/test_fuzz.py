@@ -30,13 +30,15 @@ from bench.fuzz import FUZZ_PATH, VOCABULARY, check_diagnostic, mutate, pieces
 from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_text
 from gpp.report.text import render_text
+from tests.support.budget import examples
+from tests.support.cli import Result, run
 
 ROOT = Path(__file__).resolve().parents[2]
 # The token-level mutations and the vocabulary are those of `make fuzz` (bench/fuzz.py).
 
 PROGRAMS = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
 
-FUZZ = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = settings(max_examples=examples(500), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 # ---------------------------------------------------------------- the property
 
@@ -105,7 +107,7 @@ def test_heavily_mutated_program_never_crashes_the_checker(name: str, rnd: rando
     assert_checks_cleanly(mutate(PIECES[name], rnd, 25))
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 @given(name=st.sampled_from(sorted(PIECES)), data=st.data())
 def test_every_prefix_of_a_program_checks_cleanly(name: str, data: st.DataObject) -> None:
     text = "".join(PIECES[name])
@@ -231,19 +233,11 @@ def test_goal_conjunction_of_three_hundred_conditions_checks_cleanly() -> None:
 # ---------------------------------------------------------------- (c) the real CLI
 
 
-def run_check(*files: Path, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", "check", "--color", "never", *(str(f) for f in files)],
-        cwd=cwd,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+def run_check(*files: Path, cwd: Path) -> Result:
+    return run("check", "--color", "never", *(str(f) for f in files), cwd=cwd)
 
 
-def assert_clean_exit(proc: subprocess.CompletedProcess[str]) -> None:
+def assert_clean_exit(proc: Result) -> None:
     report = f"exit {proc.returncode}\nstdout:\n{proc.stdout[-3000:]}\nstderr:\n{proc.stderr[-3000:]}"
     assert proc.returncode in (0, 1), report
     assert "Traceback" not in proc.stderr, report

@@ -27,6 +27,7 @@ from gpp.check.session import Session
 from gpp.syntax import ast
 from gpp.syntax.loader import load
 from gpp.syntax.parser import parse
+from tests.support.budget import examples
 from tests.support.lint_triggers import TRIGGERS
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -164,7 +165,9 @@ def edit_sequence(draw: st.DrawFn) -> tuple[Path, list[str]]:
     return path, texts
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=examples(60), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
 @given(edit_sequence())
 def test_a_session_lints_as_a_check_from_scratch_after_any_edits(case: tuple[Path, list[str]]) -> None:
     path, texts = case

@@ -35,6 +35,7 @@ from gpp.report.text import diagnostic_to_json
 from gpp.syntax import ast
 from gpp.syntax.loader import load
 from gpp.syntax.printer import format_program
+from tests.support.budget import examples
 from tests.support.golden import recorded
 from tests.support.lint_triggers import TRIGGERS
 from tests.support.pathological import FAMILIES
@@ -156,7 +157,9 @@ def all_lints(program: lints._Program) -> list[diag.Diagnostic]:
     return [d for lint in lints.LINTS.values() for d in lint(program)]
 
 
-@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=examples(80), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
 @given(programs)
 def test_random_programs_get_the_same_lints_from_the_index(program: ast.Program) -> None:
     path = ROOT / "random.gpp"

@@ -9,9 +9,6 @@ at most 30 times as long (linear is 8, quadratic 64), the best of three runs eac
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -22,6 +19,7 @@ from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
 from gpp.syntax.depth import MAX_NESTING, MAX_OPEN
 from gpp.syntax.parser import parse_text
+from tests.support.cli import Result, run
 from tests.support.pathological import FAMILIES
 
 
@@ -129,11 +127,8 @@ def test_a_program_over_the_limit_does_not_run(tmp_path: Path) -> None:
 # ---------------------------------------------------------------- the command line, 1 MB
 
 
-def gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120
-    )
+def gpp(*args: str, cwd: Path) -> Result:
+    return run(*args, cwd=cwd)
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,5 @@
-"""End-to-end tests of the `gpp` command, run as a real process (`python -m gpp ...`)."""
+"""End-to-end tests of the `gpp` command, through its entry point in this process, and as a real
+process where a process is what is tested: exit code 3, start-up imports, the console script."""
 
 from __future__ import annotations
 
@@ -11,22 +12,14 @@ from pathlib import Path
 import pytest
 
 import gpp
+from tests.support.cli import Result, run
 
 GOOD = "number fluent x() { initially: () = 0; }\nprocedure main() {\n  x() = 1;\n}\n"
 MISSING_SEMICOLON = "procedure main() {\n    x() = 1\n}\n"
 
 
-def run_gpp(*args: str, cwd: Path, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
-    full_env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    full_env.update(env or {})
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args],
-        cwd=cwd,
-        env=full_env,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+def run_gpp(*args: str, cwd: Path, env: dict[str, str] | None = None) -> Result:
+    return run(*args, cwd=cwd, env=env)
 
 
 @pytest.fixture

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import os
 import pathlib
-import subprocess
-import sys
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -27,6 +25,7 @@ from gpp.base.diagnostics import Diagnostic, Severity
 from gpp.check import CheckResult, check_program, check_text
 from gpp.codes import CODES
 from gpp.report.text import render_text
+from tests.support.cli import run
 
 GOLDEN_DIR = Path(__file__).parents[1] / "golden" / "check"
 UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"
@@ -991,15 +990,7 @@ def test_four_independent_mistakes_are_all_reported_with_suggestions_and_nothing
 
 def test_four_independent_mistakes_through_the_cli(tmp_path: Path) -> None:
     (tmp_path / "agent.gpp").write_text(FOUR_MISTAKES)
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    proc = subprocess.run(
-        [sys.executable, "-m", "gpp", "check", "agent.gpp"],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    proc = run("check", "agent.gpp", cwd=tmp_path)
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert "Traceback" not in proc.stderr
     out = proc.stdout + proc.stderr

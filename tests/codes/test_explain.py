@@ -3,10 +3,7 @@ does what it says, and the registry and the sources agree on which codes exist."
 
 from __future__ import annotations
 
-import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,6 +12,7 @@ from gpp.check import check_paths, merged_diagnostics
 from gpp.codes import CODES, RUN_TIME_WARNINGS, close_matches, lints, lookup
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
+from tests.support.cli import Result, run
 
 REPO = Path(__file__).resolve().parents[2]
 CODE_PATTERN = re.compile(r"\b[EWR]\d{4}\b")
@@ -22,11 +20,8 @@ CODE_PATTERN = re.compile(r"\b[EWR]\d{4}\b")
 INTERNAL_ERROR = "R0099"
 
 
-def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=60
-    )
+def run_gpp(*args: str, cwd: Path) -> Result:
+    return run(*args, cwd=cwd)
 
 
 def example_blocks(explanation: str) -> list[str]:

@@ -30,6 +30,7 @@ from gpp.base.source import Source
 from gpp.check import CheckResult, check_program
 from gpp.syntax.format import format_text
 from lsp import features
+from tests.support.budget import examples
 from tests.support.lsp_client import (
     CONFIG,
     SERVER,
@@ -712,7 +713,7 @@ async def test_random_edits_never_break_the_server(client: LanguageClient, works
         asyncio.run_coroutine_threadsafe(coro, loop).result(timeout=120)
 
     @settings(
-        max_examples=25,
+        max_examples=examples(25),
         deadline=None,
         derandomize=True,
         database=None,

@@ -17,6 +17,7 @@ import lsp.features as F
 from gpp.check import CheckResult, check_program
 from gpp.syntax.loader import ParsedFile, load
 from lsp.features.common import comments
+from tests.support.budget import examples
 
 ROOT = Path(__file__).resolve().parents[2]
 PROGRAMS = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
@@ -114,7 +115,9 @@ def damaged_programs(draw: st.DrawFn) -> tuple[Path, str]:
     return path, text
 
 
-@settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=examples(50), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
 @given(damaged_programs(), st.data())
 def test_no_feature_raises_on_damaged_programs(damaged: tuple[Path, str], data: st.DataObject) -> None:
     path, text = damaged
@@ -160,7 +163,7 @@ COMMENTED = """\
 string fluent s() { initially: () = "// not /* a comment"; } //tail"""
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 @given(
     st.sampled_from([COMMENTED, *(p.read_text(encoding="utf-8") for p in PROGRAMS[:6])]),
     st.lists(st.tuples(st.floats(0, 1), st.sampled_from([*DAMAGE, "/", "*/", "/*/", "///", '"//"'])), max_size=4),

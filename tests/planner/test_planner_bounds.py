@@ -24,6 +24,7 @@ from gpp.planner.bounds import PER_STEP, STEPS_TO_GOAL, analyse, solve_bound
 from gpp.planner.dp import solve_plan
 from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.runtime.errors import GppRuntimeError
+from tests.support.budget import examples
 from tests.support.planner_worlds import (
     PROPERTY,
     Case,
@@ -165,7 +166,7 @@ def risky_cases(draw: st.DrawFn) -> Case:
 
 
 @given(st.one_of(cases(), goal_cases(), switch_cases(), tight_cases(), risky_cases()))
-@settings(PROPERTY, max_examples=150)
+@settings(PROPERTY, max_examples=examples(150))
 def test_pruning_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
     pb = case.problem()
     assert pb.solve is not None

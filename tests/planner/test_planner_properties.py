@@ -29,6 +29,7 @@ from gpp.planner.result import PolicyStep
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import Prog
 from gpp.runtime.state import Activities, State
+from tests.support.budget import examples
 from tests.support.planner_worlds import (
     PROPERTY,
     Case,
@@ -55,14 +56,14 @@ from tests.support.planner_worlds import (
 
 
 @given(st.one_of(cases(), looping_cases(), staggered_cases()))
-@settings(PROPERTY, max_examples=1000)
+@settings(PROPERTY, max_examples=examples(1000))
 def test_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
     pb = case.problem()
     assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))
 
 
 @given(cases(max_horizon=5))
-@settings(PROPERTY, max_examples=700)
+@settings(PROPERTY, max_examples=examples(700))
 def test_every_policy_is_executable_ends_the_program_or_the_horizon_and_is_worth_its_value(case: Case) -> None:
     pb = case.problem()
     plan = attempt(pb, "production")
@@ -88,7 +89,7 @@ def option_values(pb: PlanningProblem, p: Prog, s: State, a: Activities, h: int)
 
 
 @given(cases(max_horizon=3))
-@settings(PROPERTY, max_examples=300)
+@settings(PROPERTY, max_examples=examples(300))
 def test_the_policy_takes_the_first_best_option_at_every_step(case: Case) -> None:
     pb = case.problem()
     plan = attempt(pb, "reference")
@@ -118,7 +119,7 @@ def test_the_policy_takes_the_first_best_option_at_every_step(case: Case) -> Non
 
 
 @given(cases(max_horizon=4, min_horizon=0), st.integers(1, 2))
-@settings(PROPERTY, max_examples=500)
+@settings(PROPERTY, max_examples=examples(500))
 def test_raising_the_horizon_never_lowers_the_value_of_a_plan_that_ends_the_program(case: Case, more: int) -> None:
     pb = case.problem()
     low = attempt(pb, "production")
@@ -186,7 +187,7 @@ number function reward() = if (goal()) {win} else {step}
 
 
 @given(blocks_worlds())
-@settings(PROPERTY, max_examples=30)
+@settings(PROPERTY, max_examples=examples(30))
 def test_production_planner_returns_exactly_the_reference_result_on_larger_blocks_worlds(case: Case) -> None:
     pb = case.problem()
     assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))
@@ -217,7 +218,7 @@ def plain_search(pb: PlanningProblem) -> tuple[PolicyStep, ...] | None:
 
 
 @given(cases(max_horizon=0, min_horizon=0))
-@settings(PROPERTY, max_examples=800)
+@settings(PROPERTY, max_examples=examples(800))
 def test_search_finds_an_executable_complete_execution_exactly_when_one_exists(case: Case) -> None:
     pb = case.problem()
     try:

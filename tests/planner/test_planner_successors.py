@@ -26,6 +26,7 @@ from gpp.runtime.semantics import EMPTY_FRAME, DoStep, Prog, Semantics
 from gpp.runtime.state import Activities, State
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
+from tests.support.budget import examples
 from tests.support.planner_worlds import PROPERTY, Case, cases, looping_cases, staggered_cases
 
 # Configurations compared per program (breadth-first from the start).
@@ -99,7 +100,7 @@ def closure_reward(pb: PlanningProblem) -> Callable[[State], float]:
 
 
 @given(st.one_of(cases(max_horizon=1), looping_cases(max_horizon=1), staggered_cases(max_horizon=1)))
-@settings(PROPERTY, max_examples=120)
+@settings(PROPERTY, max_examples=examples(120))
 def test_specialised_final_and_trans_equal_the_semantics_on_every_reached_configuration(case: Case) -> None:
     check_case(case)
 

@@ -4,8 +4,6 @@ the depth-first step bound error pointing to it."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from collections import deque
 from pathlib import Path
 
@@ -18,6 +16,8 @@ from gpp.planner.search import ITERATIVE_DEEPENING, STRATEGIES
 from gpp.runtime.errors import GppRuntimeError
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
+from tests.support.budget import examples
+from tests.support.cli import run
 from tests.support.planner_worlds import PROPERTY, Case, cases, final_reachable, replay
 
 COUNTER = """
@@ -94,7 +94,7 @@ def shortest(pb: PlanningProblem) -> int | None:
 
 
 @given(cases(max_horizon=0, min_horizon=0))
-@settings(PROPERTY, max_examples=60)
+@settings(PROPERTY, max_examples=examples(60))
 def test_iterative_deepening_finds_an_executable_shortest_execution_exactly_when_one_exists(case: Case) -> None:
     pb = case.problem()
     try:
@@ -113,14 +113,10 @@ def test_gpp_run_takes_the_strategy_and_rejects_an_unknown_one(tmp_path: Path) -
     program = tmp_path / "agent.gpp"
     program.write_text(COUNTER + "procedure main() { search while (n() < 10) choose { inc(); jump(); } }\n")
     trace = tmp_path / "trace.jsonl"
-    run = [sys.executable, "-m", "gpp", "run", "--quiet", "--trace", str(trace)]
-    result = subprocess.run(
-        [*run, "--search-strategy", ITERATIVE_DEEPENING, str(program)], capture_output=True, text=True, timeout=60
-    )
+    options = ["run", "--quiet", "--trace", str(trace)]
+    result = run(*options, "--search-strategy", ITERATIVE_DEEPENING, str(program))
     assert result.returncode == 0, result.stderr
     assert '"policy": ["jump()"]' in trace.read_text()
-    result = subprocess.run(
-        [*run, "--search-strategy", "widest", str(program)], capture_output=True, text=True, timeout=60
-    )
+    result = run(*options, "--search-strategy", "widest", str(program))
     assert result.returncode == 2
     assert f"--search-strategy must be one of {', '.join(STRATEGIES)}, not `widest`" in result.stderr

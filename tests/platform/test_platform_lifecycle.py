@@ -5,8 +5,6 @@ platform to acknowledge the cancellation of what still runs."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -24,6 +22,7 @@ from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunStatus
 from gpp.runtime.trace import Trace
 from gpp.syntax.directives import directives
+from tests.support.cli import Result, run
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -115,10 +114,8 @@ def test_an_unknown_platform_has_a_did_you_mean() -> None:
 # ---------------------------------------------------------------- the CLI
 
 
-def gpp(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False
-    )
+def gpp(*args: str, cwd: Path = ROOT) -> Result:
+    return run(*args, cwd=cwd)
 
 
 def test_run_honours_the_world_directive_without_platform() -> None:

@@ -9,9 +9,6 @@ temporary project); `gpp new`, `gpp test -j` and `--fix` also run as real proces
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -21,6 +18,7 @@ from typer.testing import CliRunner, Result
 from gpp.check import check_text
 from gpp.cli.app import app
 from gpp.project.config import ConfigError, config_for, find_config_file, load_config, project_files
+from tests.support import cli
 
 # Line 5 has a misspelled symbol with one close name (a safe fix); `idle` is unused.
 AGENT = """\
@@ -37,11 +35,8 @@ def gpp(*args: str) -> Result:
     return CliRunner().invoke(app, list(args))
 
 
-def gpp_process(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120
-    )
+def gpp_process(*args: str, cwd: Path) -> cli.Result:
+    return cli.run_process(*args, cwd=cwd)
 
 
 def write(folder: Path, files: dict[str, str]) -> None:

@@ -5,9 +5,6 @@ unknown ones), with positions, rules and relative URIs."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +15,7 @@ from gpp.base.diagnostics import Diagnostic
 from gpp.check import check_paths, check_program, merged_diagnostics
 from gpp.codes import CODES
 from gpp.report.sarif import render_sarif, to_sarif
+from tests.support.cli import Result, run
 
 # ---------------------------------------------------------------- a small structural schema
 
@@ -448,11 +446,8 @@ def test_render_sarif_is_json_with_a_final_newline(project: Path) -> None:
 # ---------------------------------------------------------------- gpp check --format sarif
 
 
-def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=60
-    )
+def run_gpp(*args: str, cwd: Path) -> Result:
+    return run(*args, cwd=cwd)
 
 
 def test_cli_writes_sarif(project: Path) -> None:

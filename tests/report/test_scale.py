@@ -9,9 +9,6 @@ file that is not UTF-8 text (NUL bytes, invalid UTF-8) gets one E0006, also thro
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -19,6 +16,7 @@ from gpp.base.diagnostics import Diagnostic, Edit, Fix, Label, error
 from gpp.base.source import Source, Span, decode_text
 from gpp.check import check_program
 from gpp.report.text import limit_diagnostics, render_plain, render_text
+from tests.support.cli import Result, run
 
 # One line of 818 characters: `oops` at character 405, `c` at 813.
 LONG = "x = " + "a + " * 100 + "oops + " + "b + " * 100 + "c;\n"
@@ -36,11 +34,8 @@ def span_of(source: Source, needle: str, width: int | None = None) -> Span:
 HELP = "  = help: gpp reads programs as UTF-8 text: convert the file to UTF-8, or check that it is the right file\n"
 
 
-def run_gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120
-    )
+def run_gpp(*args: str, cwd: Path) -> Result:
+    return run(*args, cwd=cwd)
 
 
 # ---------------------------------------------------------------- long lines

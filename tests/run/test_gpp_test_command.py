@@ -3,19 +3,15 @@ chosen per program (sim for programs with a `// world:` line, dummy for the othe
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 from pathlib import Path
+
+from tests.support.cli import Result, run
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def gpp(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=300
-    )
+def gpp(*args: str, cwd: Path = ROOT) -> Result:
+    return run(*args, cwd=cwd)
 
 
 def test_every_example_passes_on_its_platform() -> None:

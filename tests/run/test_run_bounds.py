@@ -13,14 +13,14 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.cli import Result, run
+
 ROOT = Path(__file__).resolve().parents[2]
 LOOP = "number fluent n() { initially: () = 0; }\nprocedure main() { while (true) n() = n() + 1; }\n"
 
 
-def gpp(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False
-    )
+def gpp(*args: str, cwd: Path = ROOT) -> Result:
+    return run(*args, cwd=cwd)
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "nan", "inf"])

@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -14,6 +12,7 @@ from gpp.report.text import render_text
 from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import encode
 from gpp.runtime.executor import RunStatus
+from tests.support.cli import run
 
 ROOT = Path(__file__).resolve().parents[2]
 PROGRAMS_DIR = ROOT / "tests" / "programs"
@@ -64,14 +63,11 @@ def test_scenario_named_by_a_program_exists(path: Path) -> None:
 
 
 def _has_gpp_test() -> bool:
-    done = subprocess.run([sys.executable, "-m", "gpp", "--help"], capture_output=True, text=True, cwd=ROOT)
-    return " test " in done.stdout
+    return " test " in run("--help", cwd=ROOT).stdout
 
 
 @pytest.mark.skipif(not _has_gpp_test(), reason="`gpp test` is not available yet")
 def test_gpp_test_passes_on_the_conformance_programs() -> None:
-    done = subprocess.run(
-        [sys.executable, "-m", "gpp", "test", "tests/programs"], capture_output=True, text=True, cwd=ROOT
-    )
+    done = run("test", "tests/programs", cwd=ROOT)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "Traceback" not in done.stderr

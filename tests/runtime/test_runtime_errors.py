@@ -41,6 +41,7 @@ from gpp.runtime.events import (
 )
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.trace import Trace
+from tests.support.cli import run
 
 ROOT = Path(__file__).resolve().parents[2]
 ERRORS_DIR = ROOT / "tests" / "runtime_errors"
@@ -165,20 +166,13 @@ def test_no_runtime_error_prints_a_traceback() -> None:
 
 
 def _has_gpp_run() -> bool:
-    done = subprocess.run([sys.executable, "-m", "gpp", "--help"], capture_output=True, text=True, cwd=ROOT)
-    return " run " in done.stdout
+    return " run " in run("--help", cwd=ROOT).stdout
 
 
 @pytest.mark.skipif(not _has_gpp_run(), reason="`gpp run` is not available yet")
 @pytest.mark.parametrize("name", ["division_by_zero", "blocked_precondition", "runaway_recursion"])
 def test_gpp_run_reports_a_runtime_error_without_a_traceback(name: str) -> None:
-    done = subprocess.run(
-        [sys.executable, "-m", "gpp", "run", f"tests/runtime_errors/{name}.gpp"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=60,
-    )
+    done = run("run", f"tests/runtime_errors/{name}.gpp", cwd=ROOT)
     assert done.returncode != 0
     assert "Traceback" not in done.stdout + done.stderr
     assert expectation(ERRORS_DIR / f"{name}.gpp").code in done.stdout + done.stderr

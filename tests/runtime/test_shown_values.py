@@ -5,10 +5,7 @@ event whose effect fails is named in the diagnostic and in the trace."""
 from __future__ import annotations
 
 import json
-import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -19,6 +16,7 @@ from gpp.model.types import NUMBER, Sym
 from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.values import CompoundValue, Value, show, show_json, to_json
 from gpp.traceview.model import show_value
+from tests.support.cli import Result, run
 
 SHOWN: list[tuple[Value, str]] = [
     (True, "true"),
@@ -89,11 +87,8 @@ args = [false, { x = 0, y = 0 }, 0]
 PYTHON_ISMS = re.compile(r"\bTrue\b|\bFalse\b|\bNone\b|\{'|\['|'\]|'symbol'|'compound'")
 
 
-def gpp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=60
-    )
+def gpp(*args: str, cwd: Path) -> Result:
+    return run(*args, cwd=cwd)
 
 
 def in_process(capsys: pytest.CaptureFixture[str], *args: str) -> str:

@@ -32,6 +32,7 @@ from gpp.runtime.events import (
 )
 from gpp.runtime.executor import RunStatus
 from gpp.runtime.state import ActivityStatus
+from tests.support.budget import examples
 
 ROOT = Path(__file__).resolve().parents[2]
 PROGRAMS = ROOT / "tests" / "programs"
@@ -260,7 +261,7 @@ def _event(kind: str, cls: type[EventBase]) -> st.SearchStrategy[EventBase]:
 EVENTS: st.SearchStrategy[EventBase] = st.one_of([_event(kind, cls) for kind, cls in EVENT_TYPES.items()])
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=examples(300), deadline=None)
 @given(EVENTS)
 def test_every_event_round_trips_through_its_json_line(event: EventBase) -> None:
     line = encode(event)
@@ -270,7 +271,7 @@ def test_every_event_round_trips_through_its_json_line(event: EventBase) -> None
     assert list(json.loads(line))[:2] == ["t", "event"]
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=examples(300), deadline=None)
 @given(EVENTS)
 def test_every_event_encodes_to_a_valid_record(validator: jsonschema.Draft202012Validator, event: EventBase) -> None:
     record = to_json_dict(event)

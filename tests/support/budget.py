@@ -1,7 +1,10 @@
 """Hypothesis budgets. The profile, chosen by GPP_HYPOTHESIS, sets how many examples a property
 test runs: `ci` (`make test`) as many as hypothesis runs by default, `dev` (the default, for
 `make quick` and a local loop) about a tenth. A test that needs more or fewer than the others
-says how many it runs under `ci` with `examples(n)`, which the profile scales."""
+says how many it runs under `ci` with `examples(n)`, which the profile scales.
+
+Neither profile has a deadline: how long one example takes depends on the machine's load
+(tests never assert times), and a run with `-n auto` shares the cores."""
 
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ VARIABLE = "GPP_HYPOTHESIS"
 def load_profile() -> str:
     """Register the profiles and load the one GPP_HYPOTHESIS names (`dev` when unset)."""
     for name, count in PROFILES.items():
-        settings.register_profile(name, max_examples=count)
+        settings.register_profile(name, max_examples=count, deadline=None)
     name = os.environ.get(VARIABLE) or "dev"
     if name not in PROFILES:
         raise ValueError(f"{VARIABLE}={name!r}: the hypothesis profiles are {', '.join(PROFILES)}")

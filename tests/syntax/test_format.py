@@ -8,11 +8,8 @@ parses to the same tree, keeps every comment in order, and is formatted already.
 
 from __future__ import annotations
 
-import os
 import random
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -27,6 +24,8 @@ from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
+from tests.support.budget import examples
+from tests.support.cli import Result, run
 from tests.support.syntax_trees import programs
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -259,7 +258,7 @@ def sprinkle(text: str, rnd: random.Random, count: int) -> str:
 
 
 SOURCES = [p.read_text(encoding="utf-8") for p in REPO_PROGRAMS] + [generate_program(70, seed=s) for s in (1, 2)]
-PROPERTY = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+PROPERTY = settings(max_examples=examples(40), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 @PROPERTY
@@ -279,11 +278,8 @@ def test_generated_tree_with_sprinkled_comments_formats_faithfully(
 # ---------------------------------------------------------------- gpp fmt
 
 
-def run_gpp(*args: str, cwd: Path, stdin: str | None = None) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
-    return subprocess.run(
-        [sys.executable, "-m", "gpp", *args], cwd=cwd, env=env, input=stdin, capture_output=True, text=True, timeout=60
-    )
+def run_gpp(*args: str, cwd: Path, stdin: str | None = None) -> Result:
+    return run(*args, cwd=cwd, input=stdin)
 
 
 UGLY = "procedure main() {a(); // first\n b();}\n"

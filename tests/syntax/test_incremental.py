@@ -27,6 +27,7 @@ from gpp.syntax.incremental import fragment_text, relocate
 from gpp.syntax.lexer import Token, Tokens
 from gpp.syntax.loader import ParseCache
 from gpp.syntax.parser import ParseResult, parse
+from tests.support.budget import examples
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -152,7 +153,7 @@ def edit_sequence(draw: st.DrawFn) -> list[str]:
     return texts
 
 
-@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(edit_sequence())
 def test_incremental_parse_equals_full_parse(texts: list[str]) -> None:
     cache = ParseCache()
@@ -187,7 +188,9 @@ def assert_same_tokens(got: Tokens, want: list[Token]) -> None:
     assert fields(got.as_list()) == fields(want)
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=examples(25), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
 @given(edit_sequence())
 def test_tokens_read_after_later_edits_are_those_of_a_full_parse(texts: list[str]) -> None:
     """The cache's parses are kept and their tokens read only once every edit is made (a

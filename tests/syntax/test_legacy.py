@@ -14,6 +14,7 @@ from gpp.base import diagnostics as diag
 from gpp.check import check_paths, merged_diagnostics
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.executor import RunStatus
+from tests.support.cli import Result, run
 
 LEGACY = Path(__file__).resolve().parents[1] / "legacy"
 
@@ -148,15 +149,12 @@ def test_damaged_legacy_files_give_diagnostics_and_fixes_that_do_not_overlap(tmp
 
 
 def test_gpp_check_fix_upgrades_legacy_programs(tmp_path: Path) -> None:
-    import subprocess
-    import sys
 
     for name in ("forms.gpp", "forms.toml", "sigils.gpp"):
         shutil.copy(LEGACY / name, tmp_path / name)
 
-    def gpp(*args: str) -> subprocess.CompletedProcess[str]:
-        command = [sys.executable, "-m", "gpp", *args]
-        return subprocess.run(command, cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    def gpp(*args: str) -> Result:
+        return run(*args, cwd=tmp_path)
 
     before = gpp("check", "--format", "concise", "forms.gpp", "sigils.gpp")
     assert before.returncode == 1

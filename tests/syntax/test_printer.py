@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from gpp.syntax import ast
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_expr, format_number, format_program, format_stmt, format_string
+from tests.support.budget import examples
 from tests.support.syntax_trees import (
     NAMES,
     RESERVED,
@@ -37,7 +38,7 @@ from tests.support.syntax_trees import (
 )
 
 SETTINGS = settings(
-    max_examples=300,
+    max_examples=examples(300),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )

@@ -8,8 +8,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import subprocess
-import sys
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -39,6 +37,7 @@ from gpp.runtime.events import (
 from gpp.traceview.html import embed_json, html_page
 from gpp.traceview.model import build_model, load_trace, split_action
 from gpp.traceview.perfetto import chrome_trace
+from tests.support.cli import run
 
 ROOT = Path(__file__).resolve().parents[2]
 GOLDEN = ROOT / "tests" / "golden" / "traceview"
@@ -574,17 +573,9 @@ def test_outputs_default_to_next_to_the_trace(capsys: pytest.CaptureFixture[str]
 
 
 def test_the_real_command_never_shows_a_traceback(tmp_path: Path) -> None:
-    """End to end, as a process: bad input gives one line and exit code 2 or 1."""
+    """End to end, through the entry point: bad input gives one line and exit code 2 or 1."""
     (tmp_path / "bad.jsonl").write_text('{"t": 0, "event": "start"}\n', encoding="utf-8")
-    env = {k: v for k, v in os.environ.items() if k not in ("GPP_DEBUG", "NO_COLOR", "FORCE_COLOR")}
     for args, code in ((["missing.jsonl"], 2), (["bad.jsonl"], 1)):
-        result = subprocess.run(
-            [sys.executable, "-m", "gpp", "trace", "summary", *args],
-            cwd=tmp_path,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=60,
-        )
+        result = run("trace", "summary", *args, cwd=tmp_path)
         assert result.returncode == code
         assert result.stdout == "" and len(result.stderr.splitlines()) == 1 and "Traceback" not in result.stderr
