@@ -1,12 +1,13 @@
-"""The ros2 platform across processes (random ROS domain, discovery on localhost only): a
-server that dies during a goal, Ctrl-C and SIGTERM of a running agent (goals cancelled, no
-abort at exit), and the papers' blocksworld robot (examples/ros2) against `--platform sim`."""
+"""The ros2 platform across processes (a random ROS domain of each test worker's own, discovery
+on localhost only): a server that dies during a goal, Ctrl-C and SIGTERM of a running agent
+(goals cancelled, no abort at exit), and the papers' blocksworld robot (examples/ros2) against
+`--platform sim`."""
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
-import random
 import shutil
 import signal
 import subprocess
@@ -18,6 +19,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+
+from tests.support.workers import ros_domain
 
 pytest.importorskip("rclpy")
 
@@ -77,8 +80,9 @@ def stop(process: subprocess.Popen[str]) -> None:
 
 @pytest.fixture
 def domain(monkeypatch: pytest.MonkeyPatch) -> int:
-    """A random ROS domain, discovery on localhost only (also for the agent in this process)."""
-    number = random.randint(1, 100)
+    """A random ROS domain no other test worker uses, discovery on localhost only (also for the
+    agent in this process)."""
+    number = ros_domain()
     monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     monkeypatch.setenv("ROS_DOMAIN_ID", str(number))
     return number
@@ -180,9 +184,13 @@ def robot_interfaces() -> list[str]:
     if missing is not None:
         pytest.skip(f"building the robot's ROS 2 interfaces needs cmake, a compiler and Python.h: {missing}")
     base = getattr(sys, "_base_executable", sys.executable)
-    result = subprocess.run(
-        ["make", "-s", "ros-interfaces", f"PYTHON={base}"], cwd=ROOT, capture_output=True, text=True, timeout=1200
-    )
+    (ROOT / "build").mkdir(exist_ok=True)
+    # One build at a time: parallel test workers (-n) wait for the first, then find it built.
+    with open(ROOT / "build" / ".ros-interfaces.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        result = subprocess.run(
+            ["make", "-s", "ros-interfaces", f"PYTHON={base}"], cwd=ROOT, capture_output=True, text=True, timeout=1200
+        )
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     [site] = list(INTERFACES.glob("lib/python*/site-packages"))
     return [str(site)]
