@@ -310,6 +310,7 @@ def test_include_path_that_is_too_long_is_an_include_error() -> None:
 # ---------------------------------------------------------------- bench/fuzz.py, on a small budget
 
 
+@pytest.mark.slow
 def test_the_fuzzers_of_make_fuzz_find_no_internal_error_in_a_few_seconds(tmp_path: Path) -> None:
     # `make fuzz` runs bench/fuzz.py on 100,000 inputs; here the same fuzzers run for 4 seconds.
     proc = subprocess.run(

@@ -157,6 +157,7 @@ def all_lints(program: lints._Program) -> list[diag.Diagnostic]:
     return [d for lint in lints.LINTS.values() for d in lint(program)]
 
 
+@pytest.mark.slow
 @settings(
     max_examples=examples(80), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
 )

@@ -29,6 +29,7 @@ def check_time(text: str) -> float:
     return time.perf_counter() - start
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 def test_checking_time_grows_linearly(family: str) -> None:
     generate, n = FAMILIES[family]
@@ -147,6 +148,7 @@ def expected_line() -> int:
     return 1 + (MAX_OPEN - 3) // 5 + 1
 
 
+@pytest.mark.slow
 def test_cli_check_rejects_a_megabyte_of_nesting_with_e0014(megabyte: Path) -> None:
     proc = gpp("check", "--color", "never", megabyte.name, cwd=megabyte.parent)
     assert proc.returncode == 1, proc.stderr
@@ -155,6 +157,7 @@ def test_cli_check_rejects_a_megabyte_of_nesting_with_e0014(megabyte: Path) -> N
     assert f"--> {megabyte.name}:{expected_line()}:" in proc.stdout
 
 
+@pytest.mark.slow
 def test_cli_check_sarif_rejects_a_megabyte_of_nesting(megabyte: Path) -> None:
     proc = gpp("check", "--format", "sarif", megabyte.name, cwd=megabyte.parent)
     assert proc.returncode == 1, proc.stderr
@@ -164,6 +167,7 @@ def test_cli_check_sarif_rejects_a_megabyte_of_nesting(megabyte: Path) -> None:
     assert (result["ruleId"], region["startLine"]) == ("E0014", expected_line())
 
 
+@pytest.mark.slow
 def test_cli_run_rejects_a_megabyte_of_nesting(megabyte: Path) -> None:
     proc = gpp("run", megabyte.name, cwd=megabyte.parent)
     assert proc.returncode == 1, proc.stderr

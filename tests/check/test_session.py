@@ -235,6 +235,7 @@ def test_the_garbage_of_a_round_waits_for_the_collection_after_the_rounds(collec
     assert gc.isenabled() and gc.get_freeze_count() > 0  # the rest is frozen again
 
 
+@pytest.mark.slow
 def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(collector: GcPolicy) -> None:
     collector.min_rounds, collector.max_rounds = 2, 3
     refs = []
@@ -249,6 +250,7 @@ def test_a_collection_is_pending_after_min_rounds_and_due_after_max_rounds(colle
     assert collector.freed >= 3  # (the three cycles, and whatever else the test process left)
 
 
+@pytest.mark.slow
 def test_collections_that_find_little_garbage_are_made_rarer(collector: GcPolicy) -> None:
     collector.first_min_rounds = collector.min_rounds = 2
     gc.collect()
@@ -279,6 +281,7 @@ def _heap() -> int:
     return len(gc.get_objects()) + gc.get_freeze_count()
 
 
+@pytest.mark.slow
 def test_a_long_session_does_not_grow_the_heap(collector: GcPolicy, tmp_path: Path) -> None:
     """A burst of rounds, none collected: each round's check replaces the last one's, which
     dies by reference counting, frozen or not."""

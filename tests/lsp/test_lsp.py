@@ -365,6 +365,7 @@ async def _profile_session(client: LanguageClient, profile: str, folder: Path) -
     await client.shutdown_session()  # type: ignore[attr-defined]
 
 
+@pytest.mark.slow
 @in_module_loop
 async def test_neovim_over_stdio(tmp_path: Path) -> None:
     c = make_client()
@@ -372,6 +373,7 @@ async def test_neovim_over_stdio(tmp_path: Path) -> None:
     await _profile_session(c, "neovim", tmp_path)
 
 
+@pytest.mark.slow
 @in_module_loop
 async def test_the_timeline_names_each_round_and_its_steps(tmp_path: Path) -> None:
     timeline = tmp_path / "timeline.txt"
@@ -412,6 +414,7 @@ async def test_the_timeline_names_each_round_and_its_steps(tmp_path: Path) -> No
     ), lines
 
 
+@pytest.mark.slow
 def test_the_server_reads_stdin_from_a_file_too(tmp_path: Path) -> None:
     """stdin from a regular file (no pipe for the event loop to watch): pygls' own reader."""
 
@@ -433,6 +436,7 @@ def test_the_server_reads_stdin_from_a_file_too(tmp_path: Path) -> None:
     assert answers[0]["result"]["serverInfo"] == {"name": "gpp", "version": gpp.__version__}
 
 
+@pytest.mark.slow
 @in_module_loop
 async def test_visual_studio_code_over_tcp_on_loopback(tmp_path: Path) -> None:
     bad = subprocess.run([*SERVER, "--tcp", "0.0.0.0:2087"], capture_output=True, text=True, timeout=60)

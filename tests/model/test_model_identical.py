@@ -19,6 +19,8 @@ import json
 import random
 from pathlib import Path
 
+import pytest
+
 from bench.fuzz import Generator
 from bench.genprog import generate_program
 from gpp.base.source import Source
@@ -108,6 +110,7 @@ def _actual() -> dict[str, dict[str, object]]:
     return {name: _fingerprint_of(path, text)[0] for name, (path, text) in _cases().items()}
 
 
+@pytest.mark.slow
 def test_model_and_diagnostics_are_as_recorded() -> None:
     actual = _actual()
     expected = json.loads(recorded(GOLDEN, json.dumps(actual, indent=1, sort_keys=True) + "\n"))

@@ -120,6 +120,7 @@ def test_five_block_tower_is_reversed_by_the_optimal_five_moves() -> None:
     assert started(outcome) == expected
 
 
+@pytest.mark.slow
 def test_production_expands_over_1000_times_fewer_nodes_than_the_reference_on_the_five_block_tower() -> None:
     result = check_text((EXAMPLES / "tower5.gpp").read_text(encoding="utf-8"), lint=False)
     pb = first_solve(result.model)
@@ -292,6 +293,7 @@ def test_a_loop_whose_body_may_skip_every_costed_step_is_an_error() -> None:
         assert caught.value.span.text.startswith("while (n() < 2)")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("planner", ["production", "reference"])
 def test_a_recursion_without_costed_step_is_an_error_not_a_crash(planner: str) -> None:
     world = COUNTER_WORLD + "procedure deeper() { test(true); deeper(); test(true); }\n"

@@ -11,6 +11,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from bench.planner import tower_program as tower
 from gpp.check import check_text
 from gpp.planner.dp import Progress, solve_plan
@@ -36,6 +38,7 @@ def test_progress_reports_nodes_configurations_best_value_and_time_as_planning_g
     assert best.index(96.0) == best.count(None)
 
 
+@pytest.mark.slow
 def test_ctrl_c_while_planning_stops_gpp_run_with_exit_code_130_and_a_complete_trace(tmp_path: Path) -> None:
     program = tmp_path / "tower.gpp"
     # Two copies of the loop: no goal-loop bound, so branch and bound (gpp.planner.bounds)

@@ -21,6 +21,7 @@ What is checked (SEMANTICS §5, §6):
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -55,6 +56,7 @@ from tests.support.planner_worlds import (
 # ---------------------------------------------------------------- solve
 
 
+@pytest.mark.slow
 @given(st.one_of(cases(), looping_cases(), staggered_cases()))
 @settings(PROPERTY, max_examples=examples(1000))
 def test_production_planner_returns_exactly_the_reference_result(case: Case) -> None:
@@ -62,6 +64,7 @@ def test_production_planner_returns_exactly_the_reference_result(case: Case) -> 
     assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))
 
 
+@pytest.mark.slow
 @given(cases(max_horizon=5))
 @settings(PROPERTY, max_examples=examples(700))
 def test_every_policy_is_executable_ends_the_program_or_the_horizon_and_is_worth_its_value(case: Case) -> None:
@@ -118,6 +121,7 @@ def test_the_policy_takes_the_first_best_option_at_every_step(case: Case) -> Non
             p, h = after, h - step.cost
 
 
+@pytest.mark.slow
 @given(cases(max_horizon=4, min_horizon=0), st.integers(1, 2))
 @settings(PROPERTY, max_examples=examples(500))
 def test_raising_the_horizon_never_lowers_the_value_of_a_plan_that_ends_the_program(case: Case, more: int) -> None:
@@ -217,6 +221,7 @@ def plain_search(pb: PlanningProblem) -> tuple[PolicyStep, ...] | None:
     return tuple(found) if found is not None else None
 
 
+@pytest.mark.slow
 @given(cases(max_horizon=0, min_horizon=0))
 @settings(PROPERTY, max_examples=examples(800))
 def test_search_finds_an_executable_complete_execution_exactly_when_one_exists(case: Case) -> None:

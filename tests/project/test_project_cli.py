@@ -558,6 +558,7 @@ def test_junit_xml(suite: Path) -> None:
     assert (skipped.tag, skipped.get("message")) == ("skipped", "no `procedure main()`")
 
 
+@pytest.mark.slow
 def test_configured_test_paths_and_parallel_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     write(
@@ -604,6 +605,7 @@ def test_explain_list_lists_every_code(here: Path) -> None:
     assert gpp("explain").exit_code == 2
 
 
+@pytest.mark.slow
 def test_gpp_new_makes_a_project_that_checks_and_tests_cleanly(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     made = gpp_process("new", "courier", cwd=tmp_path)

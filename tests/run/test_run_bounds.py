@@ -47,6 +47,7 @@ def test_outputs_that_cannot_be_written_are_usage_errors_before_the_run(args: li
     assert "finished" not in result.stdout  # nothing ran
 
 
+@pytest.mark.slow
 def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
     (tmp_path / "loop.gpp").write_text(LOOP, encoding="utf-8")
     (tmp_path / "fine.gpp").write_text("procedure main() { }\n", encoding="utf-8")
@@ -58,6 +59,7 @@ def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
     assert "timeout" in result.stdout
 
 
+@pytest.mark.slow
 def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: Path) -> None:
     trace = tmp_path / "run.jsonl"
     process = subprocess.Popen(
@@ -93,6 +95,7 @@ def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: P
     assert "Traceback" not in err
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(os.name != "posix", reason="signals")
 def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
     process = subprocess.Popen(

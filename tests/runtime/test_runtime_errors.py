@@ -142,6 +142,7 @@ def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path
     assert isinstance(records[-1], FinishEvent) and records[-1].status == expected.status
 
 
+@pytest.mark.slow
 def test_no_runtime_error_prints_a_traceback() -> None:
     script = (
         "import sys\n"

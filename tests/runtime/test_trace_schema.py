@@ -135,6 +135,7 @@ def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
     yield "interrupted", trace
 
 
+@pytest.mark.slow
 def test_every_record_of_real_traces_is_valid(validator: jsonschema.Draft202012Validator, tmp_path: Path) -> None:
     seen: set[str] = set()
     for name, trace in _runs(tmp_path):

@@ -25,6 +25,7 @@ def parsed() -> dict[str, tuple[str, dict[str, Any]]]:
     return dumps(parse)
 
 
+@pytest.mark.slow
 def test_the_corpus_has_well_formed_and_broken_programs_of_every_kind() -> None:
     codes: set[str] = set()
     clean = 0
@@ -37,6 +38,7 @@ def test_the_corpus_has_well_formed_and_broken_programs_of_every_kind() -> None:
     assert {"E0001", "E0002", "E0004", "E0005", "E0010", "E0011", "E0012", "E0014", "E0020", "E0040"} <= codes
 
 
+@pytest.mark.slow
 def test_every_program_of_the_corpus_parses_as_pinned() -> None:
     pinned: dict[str, str] = json.loads(FINGERPRINTS.read_text(encoding="utf-8"))
     found = fingerprints(parsed())

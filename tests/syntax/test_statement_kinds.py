@@ -12,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 
 # Every function that handles each statement kind (docs/design.md, "Adding a statement kind").
@@ -58,6 +60,7 @@ def _site(copy: Path, file: str, line: int) -> str:
     return f"{file}:{max(inside)[1]}" if inside else f"{file}:<module>"
 
 
+@pytest.mark.slow
 def test_a_new_statement_kind_makes_mypy_name_every_dispatch(tmp_path: Path) -> None:
     copy = tmp_path / "copy"
     shutil.copytree(ROOT / "gpp", copy / "gpp", ignore=shutil.ignore_patterns("__pycache__", "_data"))

@@ -31,6 +31,9 @@ ROOT = Path(__file__).resolve().parents[3]
 HERE = Path(__file__).resolve().parent
 INTERFACES = ROOT / "build" / "ros-interfaces"
 
+# Processes that start ROS 2 nodes, and a CMake build: `make quick` leaves them out.
+pytestmark = pytest.mark.slow
+
 COUNT = """
 action count(number n) {
 mapping:

@@ -203,6 +203,7 @@ bool function postcond() = where() == table
     assert second.status == "failed" and "bad result" in (second.reason or "") and "floor" in (second.reason or "")
 
 
+@pytest.mark.slow
 def test_a_lost_goal_request_is_sent_again_and_the_late_duplicate_cancelled(ros: Any, tmp_path: Path) -> None:
     from std_msgs.msg import String
 
@@ -238,6 +239,7 @@ procedure main() { count(-6); test(heard() == "done"); }
     assert ros.cancelled == [-6]  # the first goal, accepted late, was not left running
 
 
+@pytest.mark.slow
 def test_goal_requests_never_answered_fail(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-5); }\n", '["/fib"]\nack_timeout = 0.3\n'))
     [update] = updates(outcome)
@@ -246,6 +248,7 @@ def test_goal_requests_never_answered_fail(ros: Any, tmp_path: Path) -> None:
     )
 
 
+@pytest.mark.slow
 def test_a_slow_service_times_out(ros: Any, tmp_path: Path) -> None:
     program = """
 action poke() { mapping: "/slow : std_srvs/srv/Trigger" {} }
