@@ -45,7 +45,8 @@ from tests.support.lsp_client import (
 
 ROOT = Path(__file__).resolve().parents[2]
 
-# The async tests share the module's server, so they run in the module's event loop.
+# The async tests share the module's server, so they run in the module's event loop (and in
+# order, in one test worker: some use documents earlier ones opened; see --dist in pyproject.toml).
 in_module_loop = pytest.mark.asyncio(loop_scope="module")
 
 INIT: dict[str, types.InitializeResult] = {}
