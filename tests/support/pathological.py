@@ -1,6 +1,5 @@
 """Pathological programs: families of programs of a size n (deep nesting, long chains, unclosed
-brackets, many declarations or errors), each with the n it is checked at (8n stays within the
-nesting limit)."""
+brackets, many declarations or errors), each with the n it is checked at."""
 
 from __future__ import annotations
 
