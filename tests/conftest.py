@@ -1,6 +1,6 @@
-"""Fixtures and settings of every test: the hypothesis profile (tests.support.budget, before any
-test module builds its settings), the `slow` marker's meaning, and `gpp`, the command line run
-in this process (tests.support.cli)."""
+"""What every test has: the hypothesis profile GPP_HYPOTHESIS names (tests.support.budget,
+loaded before any test module builds its settings) and the fixture `gpp`, the command line run
+in this process (tests.support.cli). The `slow` marker is declared in pyproject.toml."""
 
 from __future__ import annotations
 

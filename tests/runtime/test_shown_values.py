@@ -11,7 +11,6 @@ from pathlib import Path
 import pytest
 
 import gpp as gpp_package
-from gpp.cli.main import main
 from gpp.model.types import NUMBER, Sym
 from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.values import CompoundValue, Value, show, show_json, to_json
@@ -93,11 +92,9 @@ def gpp(*args: str, cwd: Path) -> Result:
 
 def in_process(capsys: pytest.CaptureFixture[str], *args: str) -> str:
     """The standard output of a gpp command run in this process (it must succeed)."""
-    capsys.readouterr()
-    with pytest.raises(SystemExit) as stopped:
-        main(list(args))
-    assert stopped.value.code == 0
-    return capsys.readouterr().out
+    result = run(*args)
+    assert result.returncode == 0, result.stderr
+    return result.stdout
 
 
 def test_the_run_log_the_trace_and_its_views_show_golog_values(

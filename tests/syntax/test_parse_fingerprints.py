@@ -1,8 +1,8 @@
 """The parser's results on a fixed corpus stay those pinned in tests/golden/parse_fingerprints.json.
 
 Every token, node, span and diagnostic (code, message, labels, help, fix) of about 300
-programs, well-formed and broken (see tests/support/parse_corpus.py), is compared through a digest per
-program: a faster parser must find exactly what the parser before it found.
+programs, well-formed and broken (see tests/support/parse_corpus.py), is compared through a
+digest per program: a faster parser must find exactly what the parser before it found.
 """
 
 from __future__ import annotations

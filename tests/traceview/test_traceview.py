@@ -14,7 +14,6 @@ from typing import Any
 
 import pytest
 
-from gpp.cli.main import main
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import (
     AssignEvent,
@@ -57,13 +56,8 @@ def check_golden(name: str, actual: str) -> None:
 
 def gpp(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
     """Run the `gpp` command in-process as its console script does: (exit code, stdout, stderr)."""
-    code = 0
-    try:
-        main(list(args))
-    except SystemExit as e:
-        code = e.code if isinstance(e.code, int) else 1
-    out, err = capsys.readouterr()
-    return code, out, err
+    result = run(*args)
+    return result.returncode, result.stdout, result.stderr
 
 
 def write_trace(path: Path, events: list[TraceEvent]) -> Path:
