@@ -1,9 +1,10 @@
-# The two set-up commands of the README: `make run` and `make test`.
+# The two set-up commands of the README: `make run` and `make test`; `make quick` is the
+# development loop.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck pytest browser bench pathological fuzz clean ros-interfaces ros-robot ros-run
+.PHONY: run test quick lint typecheck pytest browser bench pathological fuzz clean ros-interfaces ros-robot ros-run
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -35,10 +36,19 @@ lint: $(VENV)/.installed-dev
 typecheck: $(VENV)/.installed-dev
 	$(BIN)/mypy --strict gpp lsp
 
+# Every test, slow ones included, with the `ci` hypothesis budgets (tests/support/budget.py), on
+# two workers (pytest-xdist); the 20 slowest are listed at the end.
 pytest: $(VENV)/.installed-dev
-	$(BIN)/pytest
+	GPP_HYPOTHESIS=ci $(BIN)/pytest -n 2 --durations=20
 
-# The trace viewer's browser test (tests/test_traceview_browser.py) opens the page in Debian's
+# The one-minute loop: ruff, then the tests not marked slow with the `dev` hypothesis budgets (a
+# tenth), on every core, stopping at the first failure. One package's tests: `pytest tests/planner`.
+quick: $(VENV)/.installed-dev
+	$(BIN)/ruff check gpp lsp tests bench
+	$(BIN)/ruff format --check gpp lsp tests bench
+	GPP_HYPOTHESIS=dev $(BIN)/pytest -m "not slow" -n auto -x
+
+# The trace viewer's browser test (tests/traceview/test_traceview_browser.py) opens the page in Debian's
 # chromium. As root with apt-get (CI, a fresh machine) it is installed when missing; otherwise
 # the test is skipped and says why.
 browser:

@@ -8,7 +8,7 @@ package, so that both builders run in this process on the same parsed files, int
 and the median CPU time of each, the ratio of the best times and the median of the ratios of
 each pair of runs (one of each, one after the other: the steadier figure while the load of the
 machine changes), and checks that both give the same model and diagnostics
-(tests/model_fingerprint.py describes them completely). Times vary with the load of the
+(tests/support/model_fingerprint.py describes them completely). Times vary with the load of the
 machine; the ratios are what to read.
 """
 
@@ -29,15 +29,14 @@ from types import ModuleType
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-sys.path.append(str(ROOT / "tests"))
 
 from genprog import generate_program  # noqa: E402
-from model_fingerprint import describe  # noqa: E402
 from revision import modules_at, python_files_at  # noqa: E402
 
 from gpp.base.perf import with_deep_stack  # noqa: E402
 from gpp.model.build import build_model  # noqa: E402
 from gpp.syntax.loader import LoadResult, load  # noqa: E402
+from tests.support.model_fingerprint import describe  # noqa: E402
 
 BASELINE_PACKAGE = "gpp_model_baseline"
 # The oldest revision whose gpp/model runs on this tree's other packages: the diagnostic

@@ -4,7 +4,7 @@ Run: .venv/bin/python bench/parse_compare.py [--ref main] [--runs N] [--no-check
 
 The revision's syntax modules (lexer, parser, builder, tables, legacy rewriter, depth limit)
 are loaded under another package name, beside this tree's, so both parse in the same process.
-The check parses every .gpp file of the repository and the corpus of tests/parse_corpus.py
+The check parses every .gpp file of the repository and the corpus of tests/support/parse_corpus.py
 with both and compares everything they return (tokens, trees with spans, diagnostics). The
 timing alternates the two parsers on the bench programs of bench/genprog.py and prints the
 best of N for each, with their ratio and the load average.
@@ -22,14 +22,14 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from genprog import generate_program, nested_expression_program
-from parse_corpus import corpus, dump
 from revision import modules_at
 
 from gpp.base.source import Source
 from gpp.syntax.parser import parse
+from tests.support.parse_corpus import corpus, dump
 
 ROOT = Path(__file__).resolve().parent.parent
 # The modules of gpp.syntax that make up the parser (the others, such as the tree, are shared).

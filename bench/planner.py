@@ -12,7 +12,7 @@ CPU seconds and the ratios. The reference is exponential: it is stopped after --
 and then shown as ">N" with the time it had taken so far, and the ratio as ">=" the budget over
 the production's nodes: a lower bound, never an invented number. With --count the exact number
 of nodes the reference would expand is counted as well (by a memoised count that
-tests/test_planner.py checks against the reference's own count), for towers of up to five
+tests/planner/test_planner.py checks against the reference's own count), for towers of up to five
 blocks. Times are CPU seconds of this process (the machine may be shared), best of one run.
 
 --targets times the production planner on the three target problems (five blocks solve(10),

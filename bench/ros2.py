@@ -28,7 +28,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "OFF"
 os.environ.setdefault("ROS_LOG_DIR", tempfile.mkdtemp(prefix="gpp-ros-log-"))
-sys.path.insert(0, str(ROOT / "tests" / "ros2"))
+sys.path.insert(0, str(ROOT / "tests" / "platform" / "ros2"))
 
 try:
     import rclpy

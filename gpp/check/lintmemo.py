@@ -6,7 +6,7 @@ top-level declaration of the root file, its kind, text, start and the *local* li
 The next check with the same environment takes the warnings of every unchanged declaration
 over, relocated, and runs the local lints only over the others (`run_lints_split`); the
 *global* lints run over the whole program. Anything it cannot reuse is linted as `run_lints`
-lints it, and the result is exactly `run_lints`'s (tests/test_lint_reuse.py). The local and
+lints it, and the result is exactly `run_lints`'s (tests/check/test_lint_reuse.py). The local and
 global lints, and why reuse is exact: docs/design.md, "Lint reuse".
 """
 

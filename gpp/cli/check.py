@@ -4,7 +4,7 @@ files and settings, `--fix` and `--diff`, and the shared handling of a bad confi
 This command is started by editors and CI on every save, so it is kept cheap to start: its
 options are parsed with argparse and nothing is imported that a check does not use (no typer,
 no rich unless colour is asked for, no interpreter, planner or platform). gpp.cli hands it the
-arguments after `check`; tests/test_cli.py checks the modules a check imports.
+arguments after `check`; tests/cli/test_cli.py checks the modules a check imports.
 """
 
 from __future__ import annotations

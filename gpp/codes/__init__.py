@@ -9,7 +9,7 @@ takes the values the text shows and returns a `Message` (code and text) for `dia
 its literal: it calls a message, or reads `E0204.code`.
 
 `gpp explain CODE` prints the code's explanation, gpp/codes/explain/CODE.md: what the problem
-is, an example of it and the fix (examples are indented by 4 spaces; tests/test_explain.py checks
+is, an example of it and the fix (examples are indented by 4 spaces; tests/codes/test_explain.py checks
 that each one does what it says). docs/codes.md (`python -m lsp.codes_doc`) and the language
 server's link for a code show the same text. Codes are stable: a code keeps its meaning forever;
 retired codes are not reused.

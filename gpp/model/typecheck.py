@@ -287,7 +287,7 @@ class TypeChecker(Regrouper):
         # By table first: a `match` tries its class patterns one after another (about 0.1 µs
         # each, 1.5 µs to reach the last). The `match` is the general path, for a kind the
         # table lacks; it ends in `assert_never`, so a new statement kind makes mypy name this
-        # place (tests/test_statement_kinds.py).
+        # place (tests/syntax/test_statement_kinds.py).
         check = _STMT_KINDS.get(s.__class__)
         if check is not None:
             check(self, s)

@@ -5,18 +5,18 @@ faster, and a test holds the two equal:
   `span_lines`): a span or a node is made as an instance of the twin of its class (same base,
   same slots, so the same layout), its slots set by plain assignment, then given its real
   class by setting `__class__`. Plain version: `Span(source, start, end)`, `cls(**fields)`.
-  Held equal by tests/test_parse_fingerprints.py (the fingerprints of every parse, and
+  Held equal by tests/syntax/test_parse_fingerprints.py (the fingerprints of every parse, and
   test_a_fast_constructor_makes_the_node_the_dataclass_makes);
 * generated walkers (`CHILDREN`, `PUSH_CHILDREN`, `LEAVES`): per node class, on first use, a
   function that lists its children, written from the field annotations as `dataclasses`
   writes methods, so that visiting a node costs one call. Plain version: testing the value of
   every dataclass field (`_nodes_in`, also the fallback for an annotation that mixes nodes
-  with other values). Held equal by tests/test_walk.py
+  with other values). Held equal by tests/syntax/test_walk.py
   (test_children_and_walk_agree_with_the_fields);
 * relocators (`relocators`, `relocate`): per node class, generated code that copies a node
   with every span moved by a delta into another source, made of the statements of the fast
   constructors. Plain version: parsing the moved text again. Held equal by
-  tests/test_incremental.py (test_relocate_*, which compare with that parse, and the
+  tests/syntax/test_incremental.py (test_relocate_*, which compare with that parse, and the
   re-parse tests).
 
 gpp.syntax.build, gpp.syntax.walk and gpp.syntax.incremental use them; no other module of the

@@ -24,10 +24,10 @@ The switch: `gpp.planner.dp.solve_plan(..., generate=False)` (`successors_of(sem
 plans with the closures alone, no generated source. `GPP_DUMP_CODE=1` prints the generated
 source as it is built.
 
-The tests that keep the forms equal: tests/test_planner_successors.py (closures and generated
+The tests that keep the forms equal: tests/planner/test_planner_successors.py (closures and generated
 functions against `Semantics.final`/`trans`/`apply` on every configuration reachable in random
 programs, errors included, and a planning with and without generated source),
-tests/test_compile_cache.py (compiled source reused, constants per build), and
-tests/test_planner.py and tests/test_planner_properties.py (the production planner against
+tests/runtime/test_compile_cache.py (compiled source reused, constants per build), and
+tests/planner/test_planner.py and tests/planner/test_planner_properties.py (the production planner against
 gpp.planner.reference, which runs the semantics itself).
 """

@@ -16,7 +16,7 @@ and the successors it returns are put in their place, continued the same way.
 
 The order of evaluation is the closures' (and so the semantics'): alternatives in textual
 order, for a sequence first the successors of its head, then `final` of its head and the
-successors of the rest. tests/test_planner_successors.py compares the generated functions
+successors of the rest. tests/planner/test_planner_successors.py compares the generated functions
 with `Semantics.trans` on random programs.
 """
 

@@ -1,0 +1,323 @@
+"""End-to-end tests of the `gpp` command, through its entry point in this process, and as a real
+process where a process is what is tested: exit code 3, start-up imports, the console script."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import gpp
+from tests.support.cli import Result, run
+
+GOOD = "number fluent x() { initially: () = 0; }\nprocedure main() {\n  x() = 1;\n}\n"
+MISSING_SEMICOLON = "procedure main() {\n    x() = 1\n}\n"
+
+
+def run_gpp(*args: str, cwd: Path, env: dict[str, str] | None = None) -> Result:
+    return run(*args, cwd=cwd, env=env)
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    (tmp_path / "good.gpp").write_text(GOOD)
+    (tmp_path / "bad.gpp").write_text(MISSING_SEMICOLON)
+    return tmp_path
+
+
+def test_version(tmp_path: Path) -> None:
+    result = run_gpp("--version", cwd=tmp_path)
+    assert result.returncode == 0
+    assert result.stdout == f"gpp {gpp.__version__}\n"
+
+
+def test_help_lists_check(tmp_path: Path) -> None:
+    result = run_gpp("--help", cwd=tmp_path)
+    assert result.returncode == 0
+    assert "check" in result.stdout
+
+
+def test_check_clean_file_exits_0(project: Path) -> None:
+    result = run_gpp("check", "good.gpp", cwd=project)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "no problems found\n", "")
+
+
+def test_check_file_with_errors_exits_1(project: Path) -> None:
+    result = run_gpp("check", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    lines = result.stdout.splitlines()
+    assert lines[0] == "error[E0011]: expected `;` after this statement"
+    assert lines[1] == " --> bad.gpp:2:12"
+    assert lines[-1] == "error: 1 error"
+
+
+def test_check_orders_diagnostics_by_file_and_position(project: Path) -> None:
+    (project / "worse.gpp").write_text("procedure main() {\n  a() = 1\n  b() = 2\n}\n")
+    result = run_gpp("check", "worse.gpp", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    locations = [line.strip() for line in result.stdout.splitlines() if line.lstrip().startswith("-->")]
+    assert locations == ["--> bad.gpp:2:12", "--> worse.gpp:2:10", "--> worse.gpp:3:10"]
+    assert result.stdout.endswith("error: 3 errors\n")
+
+
+def test_check_reports_missing_include(project: Path) -> None:
+    (project / "inc.gpp").write_text('#include "nowhere.gpp"\nprocedure main() {\n}\n')
+    result = run_gpp("check", "inc.gpp", cwd=project)
+    assert result.returncode == 1
+    assert " --> inc.gpp:1:10" in result.stdout
+
+
+def test_json_output_points_right_after_the_previous_token(project: Path) -> None:
+    result = run_gpp("check", "--format", "json", "bad.gpp", cwd=project)
+    assert result.returncode == 1
+    report = json.loads(result.stdout)
+    assert report["version"] == 1
+    assert report["summary"] == {"errors": 1, "warnings": 0}
+    [item] = report["diagnostics"]
+    assert item["code"] == "E0011"
+    assert item["file"] == "bad.gpp"
+    line_text = MISSING_SEMICOLON.splitlines()[1]
+    assert (item["line"], item["column"]) == (2, line_text.index("1") + 2)
+    assert item["offset"] == MISSING_SEMICOLON.index("1") + 1
+    assert item["fix"]["edits"][0]["text"] == ";"
+
+
+def test_json_output_for_a_clean_file(project: Path) -> None:
+    result = run_gpp("check", "--format", "json", "good.gpp", cwd=project)
+    assert result.returncode == 0
+    assert json.loads(result.stdout)["diagnostics"] == []
+
+
+def test_missing_file_is_a_usage_error(project: Path) -> None:
+    result = run_gpp("check", "good.gpp", "missing.gpp", cwd=project)
+    assert result.returncode == 2
+    assert result.stderr == "error: cannot read 'missing.gpp': No such file or directory\n"
+    assert result.stdout == ""
+
+
+def test_a_directory_is_searched_for_programs(project: Path) -> None:
+    result = run_gpp("check", "--format", "concise", ".", cwd=project)
+    assert result.returncode == 1
+    files = {line.split(":")[0] for line in result.stdout.splitlines() if ":" in line and not line.startswith("[")}
+    assert files == {"bad.gpp"}
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["check", "--format", "xml", "good.gpp"], ["check", "--color", "sometimes", "good.gpp"], ["nope"]],
+)
+def test_bad_usage_exits_2(project: Path, args: list[str]) -> None:
+    result = run_gpp(*args, cwd=project)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+
+
+def test_colour_follows_the_color_option(project: Path) -> None:
+    assert "\x1b[" in run_gpp("check", "--color", "always", "bad.gpp", cwd=project).stdout
+    assert "\x1b[" not in run_gpp("check", "--color", "never", "bad.gpp", cwd=project).stdout
+    # auto: a pipe is not a terminal, and NO_COLOR wins over FORCE_COLOR.
+    assert "\x1b[" not in run_gpp("check", "bad.gpp", cwd=project).stdout
+    assert "\x1b[" in run_gpp("check", "bad.gpp", cwd=project, env={"FORCE_COLOR": "1"}).stdout
+    assert "\x1b[" not in run_gpp("check", "bad.gpp", cwd=project, env={"NO_COLOR": "1", "FORCE_COLOR": "1"}).stdout
+
+
+def test_coloured_and_plain_output_have_the_same_text(project: Path) -> None:
+    import re
+
+    coloured = run_gpp("check", "--color", "always", "bad.gpp", cwd=project).stdout
+    plain = run_gpp("check", "--color", "never", "bad.gpp", cwd=project).stdout
+    assert re.sub(r"\x1b\[[0-9;]*m", "", coloured) == plain
+
+
+INTERNAL_ERROR_SCRIPT = """
+import sys
+import gpp.syntax.loader
+
+def broken_load(*args, **kwargs):
+    raise RuntimeError("boom")
+
+gpp.syntax.loader.load = broken_load
+from gpp.cli.main import main
+main(sys.argv[1:])
+"""
+
+
+def test_internal_error_is_short_and_exits_3(project: Path) -> None:
+    command = [sys.executable, "-c", INTERNAL_ERROR_SCRIPT, "check", "good.gpp"]
+    env = {k: v for k, v in os.environ.items() if k != "GPP_DEBUG"}
+    result = subprocess.run(command, cwd=project, env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 3
+    assert result.stderr.startswith("internal error: RuntimeError: boom\n")
+    assert "GPP_DEBUG=1" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_gpp_debug_shows_the_traceback(project: Path) -> None:
+    command = [sys.executable, "-c", INTERNAL_ERROR_SCRIPT, "check", "good.gpp"]
+    env = {**os.environ, "GPP_DEBUG": "1"}
+    result = subprocess.run(command, cwd=project, env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode not in (0, 3)
+    assert "RuntimeError: boom" in result.stderr
+    assert "Traceback" in result.stderr
+
+
+def imported_modules(args: list[str], cwd: Path) -> set[str]:
+    result = subprocess.run(
+        [sys.executable, "-X", "importtime", "-m", "gpp", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode in (0, 1), result.stderr
+    return {
+        line.split("|")[-1].strip()
+        for line in result.stderr.splitlines()
+        if line.startswith("import time:") and "|" in line
+    }
+
+
+# What `gpp check` must not import: its start-up time (bench/startup.py) is the time to import
+# what it does import. typer brings pydantic and click; the command line of a check is argparse.
+NOT_FOR_CHECK = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich", "typer", "pydantic", "click", "pygments"}
+NOT_FOR_CHECK_IN_GPP = ("gpp.runtime", "gpp.planner", "gpp.platform", "gpp.run.runner", "gpp.run.view", "gpp.traceview")
+
+
+def unneeded(modules: set[str]) -> set[str]:
+    return {m for m in modules if m.split(".")[0] in NOT_FOR_CHECK or m.startswith(NOT_FOR_CHECK_IN_GPP) or m == "lark"}
+
+
+@pytest.mark.parametrize("args", [["check", "bad.gpp"], ["check", "good.gpp"], ["check", "--no-lint", "good.gpp"]])
+def test_check_imports_only_what_it_needs(project: Path, args: list[str]) -> None:
+    modules = imported_modules(args, project)
+    assert {"gpp.syntax.parser", "gpp.model.typecheck", "gpp.cli.check"} <= modules  # the measurement works
+    assert unneeded(modules) == set()
+
+
+def test_other_commands_still_go_through_the_full_command_line(project: Path) -> None:
+    # the counterpart of the test above: the measurement would see typer if it were there
+    assert "typer" in imported_modules(["explain", "E0101"], project)
+
+
+def test_check_help_and_usage_errors(project: Path) -> None:
+    helped = run_gpp("check", "--help", cwd=project)
+    assert helped.returncode == 0
+    assert helped.stdout.startswith("usage: gpp check ")
+    assert "--deny-warnings" in helped.stdout
+    bad = run_gpp("check", "--format", "xml", "good.gpp", cwd=project)
+    assert bad.returncode == 2
+    assert bad.stderr.splitlines()[-1] == (
+        "error: argument --format: invalid choice: 'xml' (choose from 'text', 'concise', 'github', 'json', 'sarif')"
+    )
+    assert "check" in run_gpp("--help", cwd=project).stdout
+
+
+def test_installed_console_script_runs(tmp_path: Path) -> None:
+    script = Path(sys.executable).with_name("gpp")
+    if not script.exists():
+        pytest.skip("no gpp console script beside this interpreter")
+    result = subprocess.run([str(script), "--version"], capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout) == (0, f"gpp {gpp.__version__}\n")
+
+
+# ---------------------------------------------------------------- lint options
+
+UNUSED_FLUENT = "number fluent spare() { initially: () = 0; }\nprocedure main() { }\n"
+
+
+@pytest.fixture
+def linted(project: Path) -> Path:
+    (project / "warn.gpp").write_text(UNUSED_FLUENT)
+    (project / "both.gpp").write_text(UNUSED_FLUENT + "procedure other() { nowhere(); }\n")
+    return project
+
+
+def test_warnings_alone_exit_0_and_are_counted(linted: Path) -> None:
+    result = run_gpp("check", "warn.gpp", cwd=linted)
+    assert result.returncode == 0
+    assert result.stdout.splitlines()[0] == "warning[W0101]: fluent `spare` is never used"
+    assert result.stdout.endswith("\nwarning: 1 warning\n")
+
+
+def test_summary_counts_errors_and_warnings(linted: Path) -> None:
+    result = run_gpp("check", "both.gpp", cwd=linted)
+    assert result.returncode == 1
+    assert result.stdout.endswith("\nerror: 1 error, 2 warnings\n")
+
+
+def test_deny_warnings_turns_warnings_into_a_failure(linted: Path) -> None:
+    assert run_gpp("check", "--deny-warnings", "warn.gpp", cwd=linted).returncode == 1
+    assert run_gpp("check", "--deny-warnings", "good.gpp", cwd=linted).returncode == 0
+    assert run_gpp("check", "--deny-warnings", "--allow", "unused", "warn.gpp", cwd=linted).returncode == 0
+
+
+def test_no_lint_reports_errors_only(linted: Path) -> None:
+    result = run_gpp("check", "--no-lint", "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout) == (0, "no problems found\n")
+    both = run_gpp("check", "--no-lint", "both.gpp", cwd=linted)
+    assert both.returncode == 1
+    assert both.stdout.endswith("\nerror: 1 error\n")
+
+
+@pytest.mark.parametrize("allowed", ["W0101", "unused", "UNUSED", "w0101"])
+def test_allow_suppresses_a_lint(linted: Path, allowed: str) -> None:
+    result = run_gpp("check", "--allow", allowed, "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout) == (0, "no problems found\n")
+
+
+def test_allow_can_be_repeated(linted: Path) -> None:
+    (linted / "two.gpp").write_text("number fluent f(number n) { initially: (1) = 0; }\nprocedure main() { }\n")
+    assert "W0103" in run_gpp("check", "--allow", "unused", "two.gpp", cwd=linted).stdout
+    result = run_gpp("check", "--allow", "unused", "--allow", "W0103", "two.gpp", cwd=linted)
+    assert result.stdout == "no problems found\n"
+
+
+def test_allow_json_output_counts_only_what_is_reported(linted: Path) -> None:
+    report = json.loads(run_gpp("check", "--format", "json", "--allow", "unused", "both.gpp", cwd=linted).stdout)
+    assert report["summary"] == {"errors": 1, "warnings": 0}
+
+
+@pytest.mark.parametrize(
+    ("allowed", "message"),
+    [
+        ("unsed", "error: unknown lint `unsed`; did you mean `unused`?\n"),
+        ("E0101", "error: `E0101` is an error, not a lint: only lints can be allowed\n"),
+    ],
+)
+def test_allow_needs_a_lint(linted: Path, allowed: str, message: str) -> None:
+    result = run_gpp("check", "--allow", allowed, "warn.gpp", cwd=linted)
+    assert (result.returncode, result.stdout, result.stderr) == (2, "", message)
+
+
+def test_list_lints_needs_no_files(tmp_path: Path) -> None:
+    from gpp.codes import lints
+
+    result = run_gpp("check", "--list-lints", cwd=tmp_path)
+    assert result.returncode == 0
+    lines = result.stdout.splitlines()
+    assert lines[0].split() == ["code", "name", "summary"]
+    assert [line.split()[:2] for line in lines[1:]] == [[c.code, c.name] for c in lints()]
+    assert all(line.endswith(c.summary) for line, c in zip(lines[1:], lints(), strict=True))
+
+
+def test_check_without_files_explains_itself(tmp_path: Path) -> None:
+    result = run_gpp("check", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr == (
+        "error: no .gpp files found in the project (the working directory); give .gpp files or folders, "
+        "or --list-lints\n"
+    )
+
+
+def test_sarif_output_and_explain_do_not_import_heavy_packages(project: Path) -> None:
+    heavy = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich"}
+    modules = imported_modules(["check", "--format", "sarif", "good.gpp"], project)
+    assert "gpp.report.sarif" in modules
+    assert unneeded(modules) == set()
+    explain = imported_modules(["explain", "W0101"], project)
+    assert "gpp.codes" in explain
+    assert {m for m in explain if m.split(".")[0] in heavy or m.startswith("gpp.syntax")} == set()

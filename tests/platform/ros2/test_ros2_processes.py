@@ -1,0 +1,240 @@
+"""The ros2 platform across processes (a random ROS domain of each test worker's own, discovery
+on localhost only): a server that dies during a goal, Ctrl-C and SIGTERM of a running agent
+(goals cancelled, no abort at exit), and the papers' blocksworld robot (examples/ros2) against
+`--platform sim`."""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import sysconfig
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.support.workers import ros_domain
+
+pytest.importorskip("rclpy")
+
+from gpp.run.runner import RunOptions, run_program
+from gpp.runtime.events import PlanEvent, SenseEvent, UpdateEvent
+
+ROOT = Path(__file__).resolve().parents[3]
+HERE = Path(__file__).resolve().parent
+INTERFACES = ROOT / "build" / "ros-interfaces"
+
+# Processes that start ROS 2 nodes, and a CMake build: `make quick` leaves them out.
+pytestmark = pytest.mark.slow
+
+COUNT = """
+action count(number n) {
+mapping:
+    "/fib : test_msgs/action/Fibonacci" { order = n }
+}
+"""
+
+
+def ros_env(domain: int, extra_path: list[str] | None = None) -> dict[str, str]:
+    env = dict(os.environ)
+    env["ROS_DOMAIN_ID"] = str(domain)
+    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    paths = [*(extra_path or []), str(ROOT), str(HERE)]
+    if env.get("PYTHONPATH"):
+        paths.append(env["PYTHONPATH"])
+    env["PYTHONPATH"] = os.pathsep.join(paths)
+    return env
+
+
+def start(command: list[str], env: dict[str, str], ready: str, timeout: float = 60.0) -> subprocess.Popen[str]:
+    process = subprocess.Popen(
+        command, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    assert process.stdout is not None
+    deadline = time.monotonic() + timeout
+    line = ""
+    while time.monotonic() < deadline:
+        line = process.stdout.readline()
+        if ready in line or process.poll() is not None:
+            break
+    if ready not in line:
+        process.kill()
+        _, err = process.communicate(timeout=10)
+        pytest.fail(f"{command[-1]} did not start: {err[-2000:]}")
+    return process
+
+
+def stop(process: subprocess.Popen[str]) -> None:
+    if process.poll() is None:
+        process.send_signal(signal.SIGTERM)
+        try:
+            process.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.communicate(timeout=10)
+
+
+@pytest.fixture
+def domain(monkeypatch: pytest.MonkeyPatch) -> int:
+    """A random ROS domain no other test worker uses, discovery on localhost only (also for the
+    agent in this process)."""
+    number = ros_domain()
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(number))
+    return number
+
+
+@pytest.fixture
+def servers(domain: int) -> Iterator[subprocess.Popen[str]]:
+    process = start([sys.executable, str(HERE / "ros2_servers.py")], ros_env(domain), "ready")
+    try:
+        yield process
+    finally:
+        stop(process)
+
+
+def trace_events(path: Path) -> list[dict[str, Any]]:
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+
+
+def test_a_server_process_that_dies_during_a_goal_fails_it(servers: subprocess.Popen[str], tmp_path: Path) -> None:
+    import threading
+
+    program = tmp_path / "agent.gpp"
+    program.write_text(COUNT + "procedure main() { count(5000); }\n")
+    killed: list[float] = []
+
+    def kill_soon() -> None:
+        # Once the goal runs (discovery can take seconds on a busy machine), and a little after.
+        assert servers.stdout is not None
+        for line in servers.stdout:
+            if line.startswith("goal 5000"):
+                break
+        time.sleep(0.5)
+        killed.append(time.monotonic())
+        servers.send_signal(signal.SIGTERM)
+
+    threading.Thread(target=kill_soon, daemon=True).start()
+    outcome = run_program(program, RunOptions(platform="ros2", timeout=30.0))
+    assert outcome.trace is not None
+    [update] = outcome.trace.of(UpdateEvent)
+    assert update.status == "failed" and "went away" in (update.reason or ""), update
+    assert killed and time.monotonic() - killed[0] < 10
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_an_interrupted_agent_cancels_its_goals_and_exits_cleanly(
+    servers: subprocess.Popen[str], domain: int, tmp_path: Path, sig: signal.Signals
+) -> None:
+    program = tmp_path / "agent.gpp"
+    program.write_text(COUNT + "procedure main() { count(5000); }\n")
+    trace = tmp_path / "trace.jsonl"
+    agent = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
+        env=ros_env(domain),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not any(e.get("event") == "start" for e in trace_events(trace)) and time.monotonic() < deadline:
+            assert agent.poll() is None, agent.communicate(timeout=10)
+            time.sleep(0.05)
+        time.sleep(0.5)  # the goal is on the server
+        agent.send_signal(sig)
+        _, err = agent.communicate(timeout=30)
+    finally:
+        if agent.poll() is None:
+            agent.kill()
+            agent.communicate(timeout=10)
+    assert agent.returncode not in (134, -6), err
+    assert "terminate called" not in err and "Traceback" not in err, err
+    ends = [e for e in trace_events(trace) if e.get("event") == "update"]
+    assert [(e["action"], e["status"]) for e in ends] == [("count(5000)", "cancelled")], err
+
+
+# ---------------------------------------------------------------- the papers' robot
+
+
+def _toolchain_missing() -> str | None:
+    for tool in ("cmake", "make"):
+        if shutil.which(tool) is None:
+            return f"`{tool}` is not installed"
+    if shutil.which("cc") is None and shutil.which("gcc") is None:
+        return "no C compiler (cc or gcc)"
+    if shutil.which("c++") is None and shutil.which("g++") is None:
+        return "no C++ compiler (c++ or g++)"
+    if not (Path(sysconfig.get_paths()["include"]) / "Python.h").exists():
+        return "the Python headers (Python.h) are not installed"
+    return None
+
+
+@pytest.fixture(scope="module")
+def robot_interfaces() -> list[str]:
+    """The robot's interface package, built with CMake from the wheels (`make ros-interfaces`,
+    kept in build/ between runs); skipped where the build tools are missing."""
+    missing = _toolchain_missing()
+    if missing is not None:
+        pytest.skip(f"building the robot's ROS 2 interfaces needs cmake, a compiler and Python.h: {missing}")
+    base = getattr(sys, "_base_executable", sys.executable)
+    (ROOT / "build").mkdir(exist_ok=True)
+    # One build at a time: parallel test workers (-n) wait for the first, then find it built.
+    with open(ROOT / "build" / ".ros-interfaces.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        result = subprocess.run(
+            ["make", "-s", "ros-interfaces", f"PYTHON={base}"], cwd=ROOT, capture_output=True, text=True, timeout=1200
+        )
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    [site] = list(INTERFACES.glob("lib/python*/site-packages"))
+    return [str(site)]
+
+
+def test_the_robot_interfaces_build_without_colcon(robot_interfaces: list[str]) -> None:
+    env = ros_env(0, robot_interfaces)
+    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
+    script = (
+        "from gpp_robot_interfaces.action import Stack, GetBlockPose, NavigateToFrame, GripperHome\n"
+        "from gpp_robot_interfaces.msg import Battery\n"
+        "print(sorted(Stack.Goal.get_fields_and_field_types()), list(GetBlockPose.Result.get_fields_and_field_types()))"
+    )
+    result = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "['block', 'location'] ['location']"
+
+
+def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str], domain: int, tmp_path: Path) -> None:
+    example = ROOT / "examples" / "blocksworld.gpp"
+    on_sim = run_program(example, RunOptions(platform="sim"))
+    assert on_sim.ok and on_sim.trace is not None
+    env = ros_env(domain, robot_interfaces)
+    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
+    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
+    trace = tmp_path / "trace.jsonl"
+    try:
+        agent = subprocess.run(
+            [sys.executable, "-m", "gpp", "run", str(example), "--platform", "ros2", "--trace", str(trace)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+    finally:
+        stop(robot)
+    assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
+    events = trace_events(trace)
+    plans = [tuple(e["policy"]) for e in events if e.get("event") == "plan"]
+    sensed = {e["fluent"]: e["value"] for e in events if e.get("event") == "sense"}
+    assert plans[0] == on_sim.trace.of(PlanEvent)[0].policy
+    assert sensed == {s.fluent: s.value for s in on_sim.trace.of(SenseEvent)}
+    finals = [(e["action"], e["status"]) for e in events if e.get("event") == "update"]
+    assert finals == [(u.action, u.status) for u in on_sim.trace.of(UpdateEvent)]

@@ -1,0 +1,156 @@
+"""Runs a robot programmer can trust: bounded in time, stopped cleanly by SIGTERM, and no option
+or output path silently ignored."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from tests.support.cli import Result, run
+
+ROOT = Path(__file__).resolve().parents[2]
+LOOP = "number fluent n() { initially: () = 0; }\nprocedure main() { while (true) n() = n() + 1; }\n"
+
+
+def gpp(*args: str, cwd: Path = ROOT) -> Result:
+    return run(*args, cwd=cwd)
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf"])
+@pytest.mark.parametrize("command", ["run", "test"])
+def test_a_timeout_must_be_positive(command: str, value: str) -> None:
+    result = gpp(command, "examples/durative.gpp", f"--timeout={value}")
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "--timeout must be a number of seconds greater than 0" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--trace", "missing/t.jsonl"], "--trace: the folder 'missing' does not exist"),
+        (["--trace", "examples"], "--trace: 'examples' is a folder, not a file"),
+        (["-p", "sim", "--record", "missing/run.gif"], "option `record` of platform `sim`: the folder 'missing'"),
+        (["-p", "sim", "--snapshot", "examples"], "option `snapshot` of platform `sim`: 'examples' is a folder"),
+    ],
+)
+def test_outputs_that_cannot_be_written_are_usage_errors_before_the_run(args: list[str], message: str) -> None:
+    result = gpp("run", "-q", "examples/blocksworld.gpp", *args)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert message in result.stderr
+    assert "finished" not in result.stdout  # nothing ran
+
+
+@pytest.mark.slow
+def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
+    (tmp_path / "loop.gpp").write_text(LOOP, encoding="utf-8")
+    (tmp_path / "fine.gpp").write_text("procedure main() { }\n", encoding="utf-8")
+    started = time.perf_counter()
+    result = gpp("test", "--timeout", "1", str(tmp_path))
+    assert time.perf_counter() - started < 60
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "1 passed, 1 failed" in result.stdout
+    assert "timeout" in result.stdout
+
+
+@pytest.mark.slow
+def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: Path) -> None:
+    trace = tmp_path / "run.jsonl"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime", "--trace", str(trace)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        # Wait until an activity runs on the platform.
+        while time.monotonic() < deadline:
+            if trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8"):
+                break
+            time.sleep(0.05)
+        else:
+            pytest.fail("no activity started")
+        time.sleep(0.3)
+        process.send_signal(signal.SIGTERM)
+        out, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 143, out + err
+    records = [json.loads(line) for line in trace.read_text(encoding="utf-8").splitlines()]
+    assert records[-1]["event"] == "finish" and records[-1]["status"] == "interrupted"
+    errors = [r for r in records if r["event"] == "error"]
+    assert errors[0]["message"] == "terminated (SIGTERM)"
+    cancelled = [r["id"] for r in records if r["event"] == "cancel"]
+    acknowledged = [r["id"] for r in records if r["event"] == "update" and r["status"] == "cancelled"]
+    assert cancelled and acknowledged == cancelled
+    assert "Traceback" not in err
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(os.name != "posix", reason="signals")
+def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        time.sleep(3)
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 130, out + err
+
+
+# ---------------------------------------------------------------- parameters of main
+
+PARAMS = """symbol domain Room = {hall, kitchen}
+number fluent x() { initially: () = 0; }
+Room fluent at() { initially: () = hall; }
+bool fluent flag() { initially: () = false; }
+list[number] fluent l() { initially: () = list[number] []; }
+procedure main(number n, Room r, bool b, list[number] xs) { x() = n; at() = r; flag() = b; l() = xs; }
+bool function postcond() = x() == 3 & at() == kitchen & flag() & length(l()) == 2
+"""
+
+
+def test_main_takes_its_parameters_from_arg(tmp_path: Path) -> None:
+    (tmp_path / "p.gpp").write_text(PARAMS, encoding="utf-8")
+    args = ["--arg", "n=3", "--arg", "r=kitchen", "--arg", "b=true", "--arg", "xs=[1, 2]"]
+    result = gpp("run", "-q", "p.gpp", *args, cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "postcond()         holds" in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ([], "`main(number n, Room r, bool b, list[number] xs)` needs a value for `n`: give it with --arg n=VALUE"),
+        (["--arg", "xz=3"], "`main` has no parameter `xz`; did you mean `xs`? (it takes n, r, b, xs)"),
+        (["--arg", "n=abc"], '--arg n: expected a number, got "abc"'),
+        (
+            ["--arg", "n=1", "--arg", "r=attic", "--arg", "b=true", "--arg", "xs=[]"],
+            "--arg r: attic is not in domain `Room`",
+        ),
+        (["--arg", "n"], "--arg takes KEY=VALUE, not 'n'"),
+    ],
+)
+def test_parameters_of_main_that_do_not_fit_are_usage_errors(tmp_path: Path, args: list[str], message: str) -> None:
+    (tmp_path / "p.gpp").write_text(PARAMS, encoding="utf-8")
+    result = gpp("run", "-q", "p.gpp", *args, cwd=tmp_path)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert message in result.stderr
+    assert "internal error" not in result.stdout + result.stderr
