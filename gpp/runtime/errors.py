@@ -32,7 +32,3 @@ class GppRuntimeError(Exception):
         if span is None:
             return None
         return diag.error(self.code, self.message, span, self.label, secondary=self.secondary, notes=self.notes)
-
-
-class Terminated(KeyboardInterrupt):
-    """The process was asked to stop (SIGTERM): handled like Ctrl-C, reported as terminated."""

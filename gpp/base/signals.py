@@ -1,0 +1,68 @@
+"""How gpp stops on a signal, one design for every command (docs/design.md, Signals).
+
+The entry point (gpp.cli.main) calls `install()` before it imports anything else: SIGINT
+(Ctrl-C) raises KeyboardInterrupt and SIGTERM raises `Terminated` (a KeyboardInterrupt), so
+every clean-up that Ctrl-C runs (a run cancels its activities and finishes its trace) runs
+for SIGTERM too. Each handler also records the signal, and the entry point ends the process
+by that record, not by the exception: 130 with "interrupted", 143 with "terminated (SIGTERM)".
+A library that catches the KeyboardInterrupt on the way (the CLI library turns it into exit
+code 130) cannot make SIGTERM look like Ctrl-C. Nothing else installs a handler.
+"""
+
+from __future__ import annotations
+
+import signal
+from types import FrameType
+
+EXIT_INTERRUPTED = 128 + signal.SIGINT  # 130, as shells report a process ended by SIGINT
+EXIT_TERMINATED = 128 + signal.SIGTERM  # 143
+
+_received: signal.Signals | None = None
+
+
+class Terminated(KeyboardInterrupt):
+    """The process was asked to stop (SIGTERM): handled like Ctrl-C, reported as terminated."""
+
+
+def install() -> None:
+    """Handle SIGINT and SIGTERM as described above (in the main thread only, as Python allows)."""
+    signal.signal(signal.SIGINT, _handle)
+    signal.signal(signal.SIGTERM, _handle)
+
+
+def _handle(signum: int, frame: FrameType | None) -> None:
+    global _received
+    _received = signal.Signals(signum)
+    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+
+
+def received() -> signal.Signals | None:
+    """The signal that asked the process to stop, if one did."""
+    return _received
+
+
+def is_termination(e: KeyboardInterrupt | None = None) -> bool:
+    """Whether an interruption (or the recorded signal) is SIGTERM."""
+    return isinstance(e, Terminated) or _received is signal.SIGTERM
+
+
+def message(e: KeyboardInterrupt | None = None) -> str:
+    """The one line that says why the process stopped."""
+    return "terminated (SIGTERM)" if is_termination(e) else "interrupted"
+
+
+def exit_code(e: KeyboardInterrupt | None = None) -> int:
+    """The exit code of a process stopped by an interruption or the recorded signal."""
+    return EXIT_TERMINATED if is_termination(e) else EXIT_INTERRUPTED
+
+
+def ignore() -> None:
+    """Ignore further signals: the process is ending and says why."""
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
+
+
+def end_at_once_on_sigterm() -> None:
+    """SIGTERM ends the process at once, by the signal (for a command with nothing to finish,
+    such as the language server, which an editor stops with SIGTERM)."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
