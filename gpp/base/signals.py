@@ -1,7 +1,7 @@
 """How gpp stops on a signal, one design for every command (docs/design.md, Signals).
 
 The entry point (gpp.cli.main) calls `install()` before it imports anything else: SIGINT
-(Ctrl-C) raises KeyboardInterrupt and SIGTERM raises `Terminated` (a KeyboardInterrupt), so
+(Ctrl-C) raises `Interrupted` and SIGTERM raises `Terminated`, both KeyboardInterrupts, so
 every clean-up that Ctrl-C runs (a run cancels its activities and finishes its trace) runs
 for SIGTERM too. Each handler also records the signal, and the entry point ends the process
 by that record, not by the exception: 130 with "interrupted", 143 with "terminated (SIGTERM)".
@@ -20,6 +20,12 @@ EXIT_TERMINATED = 128 + signal.SIGTERM  # 143
 _received: signal.Signals | None = None
 
 
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (SIGINT). A subclass, not KeyboardInterrupt itself: CPython 3.11 marks the process
+    to end by SIGINT at exit when a KeyboardInterrupt (that very class) passes through `exec` of
+    a string (dataclasses and gpp's generated code use it), even one the entry point handles."""
+
+
 class Terminated(KeyboardInterrupt):
     """The process was asked to stop (SIGTERM): handled like Ctrl-C, reported as terminated."""
 
@@ -33,7 +39,7 @@ def install() -> None:
 def _handle(signum: int, frame: FrameType | None) -> None:
     global _received
     _received = signal.Signals(signum)
-    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+    raise Terminated if signum == signal.SIGTERM else Interrupted
 
 
 def received() -> signal.Signals | None:
