@@ -464,6 +464,30 @@ def test_a_signal_at_any_moment_ends_the_process_in_one_way(project: Path, signu
         assert trace.exists()
 
 
+DROPPED = """
+import signal, time, weakref
+from gpp.base import signals
+signals.install()
+class Thing: ...
+thing = Thing()
+# Python drops an exception raised in a weak reference's callback (the import system runs
+# one after every import): the signal's handler raises the interruption there.
+ref = weakref.ref(thing, lambda _: signal.raise_signal(signal.SIGTERM))
+try:
+    del thing
+    time.sleep(5)
+    print("went on")
+except signals.Terminated:
+    print("raised again")
+"""
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="raised again by SIGALRM")
+def test_an_interruption_python_drops_is_raised_again(tmp_path: Path) -> None:
+    result = subprocess.run([sys.executable, "-c", DROPPED], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "raised again\n", "")
+
+
 # ---------------------------------------------------------------- pipes
 
 

@@ -6,13 +6,17 @@ every clean-up that Ctrl-C runs (a run cancels its activities and finishes its t
 for SIGTERM too. Each handler also records the signal, and the entry point ends the process
 by that record, not by the exception: 130 with "interrupted", 143 with "terminated (SIGTERM)".
 A library that catches the KeyboardInterrupt on the way (the CLI library turns it into exit
-code 130) cannot make SIGTERM look like Ctrl-C. Nothing else installs a handler.
+code 130) cannot make SIGTERM look like Ctrl-C, and an interruption that Python drops (raised
+in a `__del__` or a weak reference's callback) is raised again. Nothing else installs a
+handler.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 from types import FrameType
+from typing import Any
 
 EXIT_INTERRUPTED = 128 + signal.SIGINT  # 130, as shells report a process ended by SIGINT
 EXIT_TERMINATED = 128 + signal.SIGTERM  # 143
@@ -34,6 +38,23 @@ def install() -> None:
     """Handle SIGINT and SIGTERM as described above (in the main thread only, as Python allows)."""
     signal.signal(signal.SIGINT, _handle)
     signal.signal(signal.SIGTERM, _handle)
+    sys.unraisablehook = _unraisable
+
+
+def _unraisable(unraisable: Any) -> None:
+    """An exception Python had to drop (one raised in a `__del__`, or in a weak reference's
+    callback, which the import system runs after every import). When it is the interruption,
+    it is raised again a millisecond later, where the program goes on (by SIGALRM: raising it
+    from here would drop it again), and nothing is printed."""
+    if isinstance(unraisable.exc_value, Interrupted | Terminated) and hasattr(signal, "setitimer"):
+        signal.signal(signal.SIGALRM, _again)
+        signal.setitimer(signal.ITIMER_REAL, 0.001)
+        return
+    sys.__unraisablehook__(unraisable)
+
+
+def _again(signum: int, frame: FrameType | None) -> None:
+    raise Terminated if _received is signal.SIGTERM else Interrupted
 
 
 def _handle(signum: int, frame: FrameType | None) -> None:
@@ -66,6 +87,8 @@ def ignore() -> None:
     """Ignore further signals: the process is ending and says why."""
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, signal.SIG_IGN)
+    if hasattr(signal, "setitimer"):
+        signal.setitimer(signal.ITIMER_REAL, 0)  # an interruption raised again (`_unraisable`)
 
 
 def end_at_once_on_sigterm() -> None:
