@@ -73,7 +73,10 @@ def platform_flags(*, single_run: bool) -> list[inspect.Parameter]:
             name,
             inspect.Parameter.KEYWORD_ONLY,
             default=False if kind is bool else None,
-            annotation=Annotated[kind, typer.Option(f"--{name}", help=" ".join(helps), show_default=False)],
+            annotation=Annotated[
+                kind,
+                typer.Option(f"--{name}", help=" ".join(helps), show_default=False, rich_help_panel="Platform flags"),
+            ],
         )
         for name, (kind, helps) in found.items()
     ]
