@@ -393,9 +393,16 @@ def test_the_platform_flags_come_from_the_platforms_declarations() -> None:
         ),
     ],
 )
-def test_a_flag_the_platform_does_not_take_is_a_usage_error(project: Path, args: list[str], message: str) -> None:
-    result = run_gpp(*args, cwd=project)
-    assert (result.returncode, result.stdout, result.stderr) == (2, "", message)
+def test_a_flag_the_platform_does_not_take_is_a_usage_error(
+    project: Path, monkeypatch: pytest.MonkeyPatch, args: list[str], message: str
+) -> None:
+    from typer.testing import CliRunner
+
+    from gpp.cli.app import app
+
+    monkeypatch.chdir(project)
+    result = CliRunner().invoke(app, args)
+    assert (result.exit_code, result.stdout, result.stderr) == (2, "", message)
 
 
 # ---------------------------------------------------------------- signals
