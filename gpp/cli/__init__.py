@@ -1,2 +1,3 @@
-"""The `gpp` command line: `main` dispatches, `common` holds what the commands share, one
-module per command."""
+"""The `gpp` command line: `main` (the entry point) dispatches, `app` builds the typer app with
+the commands, one module per command registers itself, `common` holds what the commands share.
+Imports go one way: main, app, the commands, common."""

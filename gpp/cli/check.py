@@ -1,29 +1,30 @@
 """`gpp check`: parse and type-check programs and report every problem; also the project's
-files and settings, `--fix` and `--diff`, and the shared handling of a bad configuration file.
+files and settings, `--fix` and `--diff`.
 
-This command is started by editors and CI on every save, so it is kept cheap to start: its
-options are parsed with argparse and nothing is imported that a check does not use (no typer,
-no rich unless colour is asked for, no interpreter, planner or platform). gpp.cli hands it the
-arguments after `check`; tests/cli/test_cli.py checks the modules a check imports.
+Editors and CI start this command on every save, so it stays cheap to start: nothing is
+imported that a check does not use (no rich unless colour is asked for, no interpreter,
+planner or platform); tests/cli/test_cli.py checks the modules a check imports.
 """
 
 from __future__ import annotations
 
-import argparse
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Annotated
+
+import typer
 
 from gpp.cli.common import (
     EXIT_OK,
     EXIT_PROBLEMS,
-    EXIT_USAGE,
     ColorMode,
     OutputFormat,
     did_you_mean,
     emit_diagnostics,
+    files_to_check,
+    load_config,
     require_readable,
     usage_error,
 )
@@ -32,125 +33,92 @@ if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
     from gpp.check import CheckResult
     from gpp.check.fixes import Checker
-    from gpp.project.config import Config, ConfigError
-
-DESCRIPTION = (
-    "Parse PATHs and everything they include, and report the problems found. Settings come from the "
-    "nearest gpp.toml or pyproject.toml [tool.gpp] (see `gpp config`)."
-)
+    from gpp.project.config import Config
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # type: ignore[override]  # argparse's is NoReturn too
-        self.print_usage()
-        usage_error(message)
+def register(app: typer.Typer) -> None:
+    app.command(name="check")(check)
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="gpp check", description=DESCRIPTION)
-    parser.add_argument(
-        "files",
-        nargs="*",
-        type=Path,
-        metavar="PATH",
-        help="the .gpp files or folders (searched for *.gpp) to check, with their includes "
-        "(default: the project's `paths`, else the working directory)",
-    )
-    parser.add_argument(
-        "--format",
-        dest="output_format",
-        choices=[f.value for f in OutputFormat],
-        default=OutputFormat.TEXT.value,
-        help="write diagnostics as text, a line each (concise), GitHub annotations, one JSON document, or SARIF 2.1.0",
-    )
-    parser.add_argument(
-        "--color",
-        choices=[c.value for c in ColorMode],
-        default=ColorMode.AUTO.value,
-        help="colour the text output: auto (when a terminal), always, never",
-    )
-    parser.add_argument("--no-lint", action="store_true", help="report errors only, no lint warnings")
-    parser.add_argument(
-        "--allow",
-        action="append",
-        metavar="LINT",
-        default=[],
-        help="do not report this lint (a code such as W0101, or its name); repeatable",
-    )
-    parser.add_argument("--deny-warnings", action="store_true", help="exit with status 1 when there are warnings, too")
-    parser.add_argument("--list-lints", action="store_true", help="list the lints and exit")
-    parser.add_argument(
-        "--max-diagnostics",
-        type=_count,
-        metavar="N",
-        help="text output: show at most N diagnostics of one code in one file and count the rest in one line "
-        "(default 50); 0 shows all",
-    )
-    parser.add_argument(
-        "--fix", action="store_true", help="apply every safe fix to the files, then report what remains"
-    )
-    parser.add_argument(
-        "--diff", action="store_true", help="show the safe fixes as a unified diff without writing (exit 1 if any)"
-    )
-    return parser
+def check(
+    files: Annotated[
+        list[Path] | None,
+        typer.Argument(
+            metavar="PATH",
+            help="The .gpp files or folders (searched for *.gpp) to check, with their includes "
+            "(default: the project's `paths`, else the working directory).",
+            show_default=False,
+        ),
+    ] = None,
+    output_format: Annotated[
+        OutputFormat,
+        typer.Option(
+            "--format",
+            help="Write diagnostics as text, a line each (concise), GitHub annotations, one JSON document, "
+            "or SARIF 2.1.0.",
+        ),
+    ] = OutputFormat.TEXT,
+    color: Annotated[
+        ColorMode, typer.Option("--color", help="Colour the text output: auto (when a terminal), always, never.")
+    ] = ColorMode.AUTO,
+    no_lint: Annotated[bool, typer.Option("--no-lint", help="Report errors only, no lint warnings.")] = False,
+    allow: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--allow",
+            metavar="LINT",
+            help="Do not report this lint (a code such as W0101, or its name); repeatable.",
+            show_default=False,
+        ),
+    ] = None,
+    deny_warnings: Annotated[
+        bool, typer.Option("--deny-warnings", help="Exit with status 1 when there are warnings, too.")
+    ] = False,
+    list_lints: Annotated[bool, typer.Option("--list-lints", help="List the lints and exit.")] = False,
+    max_diagnostics: Annotated[
+        int | None,
+        typer.Option(
+            "--max-diagnostics",
+            metavar="N",
+            help="Text output: show at most N diagnostics of one code in one file and count the rest in one "
+            "line (default 50); 0 shows all.",
+            show_default=False,
+        ),
+    ] = None,
+    fix: Annotated[
+        bool, typer.Option("--fix", help="Apply every safe fix to the files, then report what remains.")
+    ] = False,
+    diff: Annotated[
+        bool,
+        typer.Option("--diff", help="Show the safe fixes as a unified diff without writing (exit 1 if any)."),
+    ] = False,
+) -> None:
+    """Parse PATHs and everything they include, and report the problems found.
 
+    Settings come from the nearest gpp.toml, or the tool.gpp table of pyproject.toml (see
+    `gpp config`).
 
-def check(argv: Sequence[str]) -> int:
-    """Run `gpp check` with the arguments after `check`; the exit code."""
-    options = _parser().parse_args(list(argv))
-    if options.list_lints:
+    Exit code 0 when there are no errors (and no warnings with --deny-warnings), 1 otherwise,
+    2 for a usage error."""
+    if list_lints:
         _print_lints()
-        return EXIT_OK
-    allowed = [_lint_code(a) for a in options.allow]
-    return run_check(
-        options.files,
-        OutputFormat(options.output_format),
-        ColorMode(options.color),
-        lint=not options.no_lint,
-        allowed=allowed,
-        deny_warnings=options.deny_warnings,
-        fix=options.fix,
-        diff=options.diff,
-        max_diagnostics=options.max_diagnostics,
+        raise typer.Exit(EXIT_OK)
+    if max_diagnostics is not None and max_diagnostics < 0:
+        usage_error(f"--max-diagnostics takes a whole number of 0 or more, not {max_diagnostics}")
+    allowed = [_lint_code(a) for a in allow or []]
+    raise typer.Exit(
+        run_check(
+            files or [],
+            output_format,
+            color,
+            lint=not no_lint,
+            allowed=allowed,
+            deny_warnings=deny_warnings,
+            fix=fix,
+            diff=diff,
+            max_diagnostics=max_diagnostics,
+        )
     )
-
-
-def config_error(e: ConfigError) -> NoReturn:
-    """A bad configuration file: its diagnostic on stderr, exit status 2."""
-    from gpp.report.text import render_text
-
-    sys.stderr.write(render_text([e.diagnostic], summary=False))
-    raise SystemExit(EXIT_USAGE)
-
-
-def load_config(start: Path) -> Config:
-    """The settings for a file or folder (a bad configuration file ends the command)."""
-    from gpp.project.config import ConfigError, config_for
-
-    try:
-        return config_for(start)
-    except ConfigError as e:
-        config_error(e)
-
-
-def files_to_check(given: Sequence[Path], hint: str = "") -> list[Path]:
-    """The files `gpp check` and `gpp fmt` work on (gpp.project.config.project_files): each file given,
-    the .gpp files under each folder given, or with no PATH the project's `paths`. A path that
-    does not exist, a bad configuration file or no .gpp file at all end the command (exit 2;
-    `hint` is added to the last message)."""
-    from gpp.project.config import ConfigError, project_files
-
-    for path in given:
-        if not path.exists():
-            usage_error(f"cannot read '{path}': No such file or directory")
-    try:
-        files = project_files(given)
-    except ConfigError as e:
-        config_error(e)
-    if not files:
-        where = ", ".join(f"'{p}'" for p in given) if given else "the project (the working directory)"
-        usage_error(f"no .gpp files found in {where}{hint}")
-    return files
 
 
 def run_check(
@@ -292,13 +260,6 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
 
 def _problems(n: int) -> str:
     return f"{n} problem" + ("" if n == 1 else "s")
-
-
-def _count(text: str) -> int:
-    """A number of diagnostics: a whole number, 0 or more (argparse reports anything else)."""
-    if not text.isdigit():
-        raise argparse.ArgumentTypeError(f"expected a whole number of 0 or more, not `{text}`")
-    return int(text)
 
 
 def _lint_code(code_or_name: str) -> str:

@@ -1,10 +1,13 @@
-"""What the commands of `gpp` share: exit codes, output formats and colour, usage errors, and
-writing diagnostics.
+"""What the commands of `gpp` share: exit codes, output formats and colour, usage errors, the
+project's settings and files, and writing diagnostics.
 
-Adding a command (`run`, `test`, `lsp`, ...): write a function decorated with
-`@app.command()` in gpp.cli.app (or register it from a module of its own, as gpp.cli.run
-does), import its machinery inside the function, report problems through `emit_diagnostics`,
-user mistakes through `usage_error`, and end with `raise typer.Exit(code)`.
+Adding a command: write a module gpp/cli/NAME.py with the command as a typer function and a
+`register(app)` that adds it, and name the module in gpp.cli.app.COMMANDS. Import only typer,
+this module and the standard library at the top; import the command's machinery inside the
+function (start-up time, tests/cli/test_cli.py). Report problems through `emit_diagnostics`, user
+mistakes through `usage_error`, and end with `raise typer.Exit(code)`. This module imports
+neither typer nor anything of gpp at the top: the entry point imports it before the CLI
+library.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from typing import TYPE_CHECKING, NoReturn
 
 if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
+    from gpp.project.config import Config, ConfigError
 
 EXIT_OK = 0
 EXIT_PROBLEMS = 1
@@ -65,6 +69,44 @@ def require_readable(path: Path) -> None:
 def usage_error(message: str) -> NoReturn:
     print(f"error: {message}", file=sys.stderr)
     raise SystemExit(EXIT_USAGE)
+
+
+def config_error(e: ConfigError) -> NoReturn:
+    """A bad configuration file: its diagnostic on stderr, exit status 2."""
+    from gpp.report.text import render_text
+
+    sys.stderr.write(render_text([e.diagnostic], summary=False))
+    raise SystemExit(EXIT_USAGE)
+
+
+def load_config(start: Path) -> Config:
+    """The settings for a file or folder (a bad configuration file ends the command)."""
+    from gpp.project.config import ConfigError, config_for
+
+    try:
+        return config_for(start)
+    except ConfigError as e:
+        config_error(e)
+
+
+def files_to_check(given: Sequence[Path], hint: str = "") -> list[Path]:
+    """The files `gpp check` and `gpp fmt` work on (gpp.project.config.project_files): each file given,
+    the .gpp files under each folder given, or with no PATH the project's `paths`. A path that
+    does not exist, a bad configuration file or no .gpp file at all end the command (exit 2;
+    `hint` is added to the last message)."""
+    from gpp.project.config import ConfigError, project_files
+
+    for path in given:
+        if not path.exists():
+            usage_error(f"cannot read '{path}': No such file or directory")
+    try:
+        files = project_files(given)
+    except ConfigError as e:
+        config_error(e)
+    if not files:
+        where = ", ".join(f"'{p}'" for p in given) if given else "the project (the working directory)"
+        usage_error(f"no .gpp files found in {where}{hint}")
+    return files
 
 
 def use_color(mode: ColorMode, stream: object = None) -> bool:

@@ -1,5 +1,5 @@
 """`gpp fmt`: format golog++ files in place, check that they are formatted, or show the diff.
-Registered on the app by gpp.cli; the formatting itself is gpp.syntax.format.
+Registered on the app by gpp.cli.app; the formatting itself is gpp.syntax.format.
 
 Exit codes as for every command: 0 done (or everything already formatted), 1 files that would
 change under --check/--diff, or files with syntax errors (those are left unchanged and their
@@ -39,15 +39,13 @@ def fmt(
     ] = False,
 ) -> None:
     """Format golog++ files in the canonical layout, keeping their comments."""
-    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, usage_error
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, files_to_check, usage_error
 
     paths = paths or []
     if any(str(p) == STDIN for p in paths):
         if len(paths) > 1:
             usage_error("`-` (standard input) cannot be combined with other paths")
         raise typer.Exit(_format_stdin(check, diff))
-    from gpp.cli.check import files_to_check
-
     files = files_to_check(paths)
     # Every file is read before any is written: an unreadable one stops the command early.
     texts = [(path, _read(path)) for path in files]

@@ -1,5 +1,5 @@
 """`gpp config` (the project's settings, resolved) and `gpp new` (a starter project).
-Registered on the app by gpp.cli."""
+Registered on the app by gpp.cli.app."""
 
 from __future__ import annotations
 
@@ -22,10 +22,9 @@ def config_command(
         ),
     ] = None,
 ) -> None:
-    """Show the settings that apply to PATH and the file they come from (gpp.toml, or
-    [tool.gpp] in pyproject.toml, the nearest going up)."""
-    from gpp.cli.check import load_config
-    from gpp.cli.common import EXIT_OK, usage_error
+    """Show the settings that apply to PATH and the file they come from (gpp.toml, or the
+    tool.gpp table of pyproject.toml, the nearest going up)."""
+    from gpp.cli.common import EXIT_OK, load_config, usage_error
     from gpp.project.config import describe
 
     start = path if path is not None else Path.cwd()

@@ -1,16 +1,24 @@
-"""`gpp run` and `gpp test`: the commands users run most. Registered on the app by gpp.cli.
+"""`gpp run` and `gpp test`: the commands users run most. Registered on the app by gpp.cli.app.
 
-Like the rest of the CLI, everything heavy (the interpreter, rich, the platforms) is imported
-inside the commands, so `gpp check` does not pay for it.
+The flags of the platforms' options (`--world`, `--scenario`, ...) are not named here: they
+are built from the declarations in gpp.platform.options, and a flag that the chosen platform
+does not take is a usage error. Everything heavy (the interpreter, rich, the platforms) is
+imported inside the commands.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import sys
+import typing
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
+
+from gpp.cli.common import usage_error
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
@@ -35,32 +43,89 @@ PlatformOptOption = Annotated[
         help="An option of the platform (repeatable); an unknown key is an error that lists the platform's options.",
     ),
 ]
-ScenarioOption = Annotated[
-    Path | None,
-    typer.Option("--scenario", help="Dummy platform: a TOML file scripting outcomes and events (-o scenario=F)."),
-]
-SeedOption = Annotated[
-    int | None,
-    typer.Option("--seed", help="Seed for random outcomes and simulated faults (default: 1, or the world's)."),
-]
-RandomOption = Annotated[
-    bool, typer.Option("--random", help="Dummy platform: random durations, exog events and answers (seeded).")
-]
 TimeoutOption = Annotated[
     float | None,
     typer.Option("--timeout", help="Stop a run after this much platform time, or wall-clock time (seconds)."),
 ]
-WorldOption = Annotated[
-    str | None,
-    typer.Option("--world", help="Sim platform: a world name from stdlib/worlds or a TOML file (-o world=W)."),
-]
+
+Command = TypeVar("Command", bound=Callable[..., None])
+
+
+def platform_flags(*, single_run: bool) -> list[inspect.Parameter]:
+    """The flags of the built-in platforms' options that have one (gpp.platform.options), as
+    keyword parameters of a typer command: one per option name, with the help of each platform
+    that takes it. `single_run`: also those only `gpp run` offers."""
+    from gpp.platform.options import BUILTIN, flag_of
+
+    found: dict[str, tuple[object, list[str]]] = {}
+    for platform, declared in BUILTIN.items():
+        hints = typing.get_type_hints(declared.options)
+        for f in dataclasses.fields(declared.options):
+            flag = flag_of(f)
+            if flag is None or (flag.single_run and not single_run):
+                continue
+            kind, helps = found.setdefault(f.name, (hints[f.name], []))
+            if kind != hints[f.name]:
+                raise TypeError(f"option `{f.name}` has two types: {kind} and {hints[f.name]}")
+            helps.append(f"{platform.capitalize()} platform: {f.metadata['help']}.")
+    return [
+        inspect.Parameter(
+            name,
+            inspect.Parameter.KEYWORD_ONLY,
+            default=False if kind is bool else None,
+            annotation=Annotated[
+                kind,
+                typer.Option(f"--{name}", help=" ".join(helps), show_default=False, rich_help_panel="Platform flags"),
+            ],
+        )
+        for name, (kind, helps) in found.items()
+    ]
+
+
+_OWN_SIGNATURES: dict[Callable[..., Any], inspect.Signature] = {}
+
+
+def with_platform_flags(*, single_run: bool) -> Callable[[Command], Command]:
+    """A command whose `**flags` are the platform flags (`platform_flags`) for typer."""
+
+    def add(command: Command) -> Command:
+        # The command's own signature, also when an app was built before in this process.
+        signature = _OWN_SIGNATURES.setdefault(command, inspect.signature(command, eval_str=True))
+        fixed = [p for p in signature.parameters.values() if p.kind is not inspect.Parameter.VAR_KEYWORD]
+        flags = platform_flags(single_run=single_run)
+        clash = {p.name for p in fixed} & {p.name for p in flags}
+        if clash:
+            raise TypeError(f"{command.__name__}: platform flags named like its own options: {sorted(clash)}")
+        command.__signature__ = signature.replace(parameters=[*fixed, *flags])  # type: ignore[attr-defined]
+        return command
+
+    return add
+
+
+def given_flags(flags: dict[str, Any]) -> dict[str, str | int | float | bool | Path]:
+    """The platform flags given on the command line (not None, not False)."""
+    return {name: value for name, value in flags.items() if value is not None and value is not False}
+
+
+def check_flags(given: dict[str, Any], platform: str) -> None:
+    """A flag for an option that `platform` does not take is a usage error (never ignored)."""
+    from gpp.platform import options_of
+    from gpp.platform.base import PlatformError
+    from gpp.platform.options import BUILTIN
+
+    try:
+        takes = {f.name for f in dataclasses.fields(options_of(platform))}
+    except PlatformError:
+        return  # an unknown or missing platform: the run says so
+    for name in given:
+        if name not in takes:
+            owners = [p for p, d in BUILTIN.items() if name in {f.name for f in dataclasses.fields(d.options)}]
+            usage_error(f"--{name} is an option of platform {' and '.join(owners)}, not of `{platform}`")
 
 
 def key_values(pairs: list[str] | None, option: str) -> dict[str, str]:
     """`KEY=VALUE` pairs of a repeatable option; a malformed pair or a key given twice is a
     usage error."""
-    from gpp.cli.common import usage_error
-
     found: dict[str, str] = {}
     for pair in pairs or []:
         key, sep, value = pair.partition("=")
@@ -73,25 +138,19 @@ def key_values(pairs: list[str] | None, option: str) -> dict[str, str]:
     return found
 
 
-def platform_options(pairs: list[str] | None, **shorthand: object) -> dict[str, str | int | float | bool | Path]:
-    """The platform options from `--platform-opt KEY=VALUE` pairs and the shorthand flags (those
-    given: not None, not False). A malformed pair, or a key given twice, is a usage error."""
-    from gpp.cli.common import usage_error
-
+def platform_options(
+    pairs: list[str] | None, flags: dict[str, str | int | float | bool | Path]
+) -> dict[str, str | int | float | bool | Path]:
+    """The platform options from `--platform-opt KEY=VALUE` pairs and the flags given. A
+    malformed pair, or a key given twice, is a usage error."""
     options: dict[str, str | int | float | bool | Path] = dict(key_values(pairs, "--platform-opt"))
-    for name, given in shorthand.items():
-        if given is None or given is False:
-            continue
+    for name, value in flags.items():
         if name in options:
             usage_error(f"platform option `{name}` is given twice (--{name} and --platform-opt {name}=...)")
-        assert isinstance(given, str | int | float | bool | Path)
-        options[name] = given
+        options[name] = value
     return options
 
 
-# Exit codes of a run stopped from outside, as shells report a process ended by the signal.
-EXIT_INTERRUPTED = 130  # Ctrl-C (SIGINT)
-EXIT_TERMINATED = 143  # SIGTERM
 # `gpp test` bounds each program's wall-clock time by this many seconds unless --timeout is given,
 # so that a suite with an endless loop finishes.
 DEFAULT_TEST_TIMEOUT = 120.0
@@ -101,15 +160,13 @@ def check_timeout(timeout: float | None) -> None:
     """A timeout must be a positive number of seconds (a usage error otherwise)."""
     import math
 
-    from gpp.cli.common import usage_error
-
     if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
         usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
 
 
 def register(app: typer.Typer) -> None:
-    app.command()(run)
-    app.command(name="test")(test_command)
+    app.command(name="run")(with_platform_flags(single_run=True)(run))
+    app.command(name="test")(with_platform_flags(single_run=False)(test_command))
 
 
 def run(
@@ -125,17 +182,8 @@ def run(
             "or a list or compound as JSON.",
         ),
     ] = None,
-    scenario: ScenarioOption = None,
-    seed: SeedOption = None,
-    random: RandomOption = False,
     trace: Annotated[Path | None, typer.Option("--trace", help="Write the run's trace (JSON lines) here.")] = None,
     timeout: TimeoutOption = None,
-    world: WorldOption = None,
-    record: Annotated[Path | None, typer.Option("--record", help="Sim platform: write an animated GIF.")] = None,
-    snapshot: Annotated[
-        Path | None, typer.Option("--snapshot", help="Sim platform: write the last frame (PNG).")
-    ] = None,
-    realtime: Annotated[bool, typer.Option("--realtime", help="Pace platform time to wall time.")] = False,
     profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
     search_strategy: Annotated[
         str,
@@ -149,19 +197,21 @@ def run(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No live view or event lines; only the summary.")
     ] = False,
+    **flags: Any,
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
 
-    Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise."""
-    from gpp.cli.check import load_config
+    Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise, 130 on Ctrl-C,
+    143 on SIGTERM."""
+    from gpp.base import signals
     from gpp.cli.common import (
         EXIT_OK,
         EXIT_PROBLEMS,
         ColorMode,
         OutputFormat,
         emit_diagnostics,
+        load_config,
         require_readable,
-        usage_error,
         use_color,
     )
     from gpp.run.runner import RunOptions, RunSetupError, platform_for, run_program
@@ -191,19 +241,14 @@ def run(
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
     chosen = platform_for(platform or config.run_platform, checked, file)
-    world = world or _configured_world(config.run_world, chosen, platform_opt, checked, file)
+    given = given_flags(flags)
+    check_flags(given, chosen)
+    if "world" not in given:
+        world = _configured_world(config.run_world, chosen, platform_opt, checked, file)
+        given.update({"world": world} if world is not None else {})
     options = RunOptions(
         platform=chosen,
-        platform_options=platform_options(
-            platform_opt,
-            scenario=scenario,
-            seed=seed,
-            random=random,
-            world=world,
-            record=record,
-            snapshot=snapshot,
-            realtime=realtime,
-        ),
+        platform_options=platform_options(platform_opt, given),
         timeout=timeout,
         trace=trace,
         args=key_values(arg, "--arg"),
@@ -233,7 +278,7 @@ def run(
 
     print("\n".join(summary_lines(outcome)))
     if outcome.result is not None and outcome.result.status.value == "interrupted":
-        raise typer.Exit(EXIT_TERMINATED if outcome.result.terminated else EXIT_INTERRUPTED)
+        raise typer.Exit(signals.EXIT_TERMINATED if outcome.result.terminated else signals.EXIT_INTERRUPTED)
     raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
 
 
@@ -247,9 +292,6 @@ def test_command(
     ] = None,
     platform: PlatformOption = None,
     platform_opt: PlatformOptOption = None,
-    scenario: ScenarioOption = None,
-    seed: SeedOption = None,
-    random: RandomOption = False,
     timeout: Annotated[
         float | None,
         typer.Option(
@@ -258,7 +300,6 @@ def test_command(
             f"(default: the project's test timeout, else {DEFAULT_TEST_TIMEOUT:g} s of wall-clock time).",
         ),
     ] = None,
-    world: WorldOption = None,
     keyword: Annotated[
         str | None,
         typer.Option(
@@ -270,17 +311,20 @@ def test_command(
         Path | None, typer.Option("--junitxml", metavar="FILE", help="Write the results as JUnit XML.")
     ] = None,
     jobs: Annotated[int, typer.Option("-j", "--jobs", metavar="N", help="Run N programs at once, in processes.")] = 1,
+    **flags: Any,
 ) -> None:
     """Run every program's `main()` and check its `postcond()`; a table of the results.
 
-    Exit code 0 when every program passes, 1 when one fails, 2 when interrupted or misused,
-    5 when no program was selected (as pytest)."""
-    from gpp.cli.check import load_config
-    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, usage_error
+    Exit code 0 when every program passes, 1 when one fails, 2 when misused, 5 when no program
+    was selected (as pytest), 130 on Ctrl-C, 143 on SIGTERM."""
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, load_config
     from gpp.run.runner import RunOptions
     from gpp.run.testing import SelectionError, discover, run_all, selector
 
     check_timeout(timeout)
+    given = given_flags(flags)
+    if platform is not None:
+        check_flags(given, platform)
     if jobs < 1:
         usage_error(f"-j takes a number of processes of at least 1, not {jobs}")
     config = load_config(paths[0] if paths else Path.cwd())
@@ -308,18 +352,14 @@ def test_command(
     timeout = timeout if timeout is not None else config.test_timeout
     options = RunOptions(
         platform=platform,
-        platform_options=platform_options(platform_opt, scenario=scenario, seed=seed, random=random, world=world),
+        platform_options=platform_options(platform_opt, given),
         timeout=timeout,
         wall_timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
         include_dirs=config.include,
         allow=config.disabled_lints(),
     )
-    try:
-        named = [_shown(p) for p in targets if not p.is_dir()]
-        cases = run_all(files, options, jobs=jobs, stop_at_first_failure=exitfirst, named=named)
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        raise typer.Exit(EXIT_USAGE) from None
+    named = [_shown(p) for p in targets if not p.is_dir()]
+    cases = run_all(files, options, jobs=jobs, stop_at_first_failure=exitfirst, named=named)
     _print_results(cases, platform)
     if junitxml is not None:
         from gpp.run.testing import junit_xml

@@ -1,5 +1,5 @@
 """`gpp trace summary|html|perfetto`: look at a run's trace (written by `gpp run --trace`).
-Registered on the app by gpp.cli.
+Registered on the app by gpp.cli.app.
 
 Exit codes as for every command: 0 done, 1 the file is not a valid trace (not JSON lines, a
 record that does not decode, no records), 2 usage errors (a missing or unreadable file, an

@@ -40,6 +40,7 @@ from gpp.platform.base import (
     RunFacts,
     parse_options,
 )
+from gpp.platform.options import BUILTIN, DummyOptions
 from gpp.platform.values import ConversionError, show_plain, to_value
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import CompoundValue, Value, show
@@ -228,18 +229,10 @@ def _check_keys(entry: Mapping[str, Any], section: str, at: str) -> None:
         raise ScenarioError(f"{at}: unknown key(s) {', '.join(sorted(unknown))} (known: {known})")
 
 
-@dataclass(frozen=True)
-class DummyOptions:
-    scenario: Path | None = field(
-        default=None, metadata={"help": "a TOML file scripting outcomes and events (default: the `// scenario:` line)"}
-    )
-    seed: int | None = field(default=None, metadata={"help": "seed for --random (default: 1)"})
-    random: bool = field(default=False, metadata={"help": "random durations, exogenous events and answers"})
-
-
 class DummyPlatform(Platform):
     name = "dummy"
     virtual_time = True
+    selected_by = BUILTIN["dummy"].selected_by
     Options = DummyOptions
 
     def __init__(

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from gpp import __version__
 from gpp.base import diagnostics as diag
+from gpp.base import signals
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.check import CheckResult, check_program
@@ -128,10 +129,11 @@ def run_program(
     entry_args = entry_arguments(check.model.globals[options.entry], options.args)
     platform = make_platform(options, check, path)
     outcome.platform = platform.name
-    trace = Trace(options.trace, listeners)
-    outcome.trace = trace
+    trace: Trace | None = None
     try:
-        trace.emit(_header(path, platform))
+        header = _header(path, platform)
+        trace = outcome.trace = Trace(options.trace, listeners)
+        trace.emit(header)
         from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
 
@@ -172,9 +174,26 @@ def run_program(
                     outcome.diagnostics.append(d)
                 result.postcond = False
         return outcome
+    except KeyboardInterrupt as e:  # outside the executor's loop, which finishes the trace itself
+        if trace is not None:
+            _finish_interrupted(trace, header, platform, e)
+        raise
     finally:
         platform.close()
-        trace.close()
+        if trace is not None:
+            trace.close()
+
+
+def _finish_interrupted(trace: Trace, header: HeaderEvent, platform: Platform, e: KeyboardInterrupt) -> None:
+    """End the trace of a run interrupted before or after the executor ran: the header if it is
+    missing, then an `error` and the one `finish` record, unless the executor wrote them."""
+    if any(isinstance(r, FinishEvent) for r in trace.records):
+        return
+    if not trace.records:
+        trace.emit(header)
+    now = platform.now()
+    trace.emit(ErrorEvent(t=now, message=signals.message(e)))
+    trace.emit(FinishEvent(t=now, status=RunStatus.INTERRUPTED.value, actions=0, failures=0, exog_events=0))
 
 
 def entry_arguments(procedure: Symbol, given: Mapping[str, object]) -> tuple[Value, ...]:

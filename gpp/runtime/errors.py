@@ -34,7 +34,3 @@ class GppRuntimeError(Exception):
         return diag.error(
             diag.Message(self.code, self.message), span, self.label, secondary=self.secondary, notes=self.notes
         )
-
-
-class Terminated(KeyboardInterrupt):
-    """The process was asked to stop (SIGTERM): handled like Ctrl-C, reported as terminated."""

@@ -22,6 +22,7 @@ from typing import assert_never
 
 import gpp.runtime.events as ev
 from gpp.base import diagnostics as diag
+from gpp.base import signals
 from gpp.base.source import Span
 from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0099
 from gpp.model.types import Type
@@ -34,7 +35,7 @@ from gpp.runtime.contract import (
     PlatformError,
     PlatformPort,
 )
-from gpp.runtime.errors import GppRuntimeError, Terminated
+from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
@@ -249,8 +250,8 @@ class Executor:
             )
         except KeyboardInterrupt as e:
             result.status = RunStatus.INTERRUPTED
-            result.terminated = isinstance(e, Terminated)
-            message = "terminated (SIGTERM)" if result.terminated else "interrupted"
+            result.terminated = signals.is_termination(e)
+            message = signals.message(e)
             self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message=message))
         except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
             if os.environ.get("GPP_DEBUG") == "1":

@@ -1,12 +1,15 @@
 """End-to-end tests of the `gpp` command, through its entry point in this process, and as a real
-process where a process is what is tested: exit code 3, start-up imports, the console script."""
+process where a process is what is tested: exit code 3, start-up imports, signals, pipes, the
+console script."""
 
 from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -165,53 +168,76 @@ def test_gpp_debug_shows_the_traceback(project: Path) -> None:
     assert "Traceback" in result.stderr
 
 
+# The command as `python -m gpp` runs it, and at its exit the names of the modules it imported.
+LIST_MODULES = (
+    "import atexit, sys\n"
+    "atexit.register(lambda: sys.stderr.write('modules: ' + ' '.join(sorted(sys.modules)) + '\\n'))\n"
+    "from gpp.cli.main import main\n"
+    "main()\n"
+)
+
+
 def imported_modules(args: list[str], cwd: Path) -> set[str]:
     result = subprocess.run(
-        [sys.executable, "-X", "importtime", "-m", "gpp", *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=60,
+        [sys.executable, "-c", LIST_MODULES, *args], cwd=cwd, capture_output=True, text=True, timeout=60
     )
     assert result.returncode in (0, 1), result.stderr
-    return {
-        line.split("|")[-1].strip()
-        for line in result.stderr.splitlines()
-        if line.startswith("import time:") and "|" in line
-    }
+    [line] = [line for line in result.stderr.splitlines() if line.startswith("modules: ")]
+    return set(line.removeprefix("modules: ").split())
 
 
 # What `gpp check` must not import: its start-up time (bench/startup.py) is the time to import
-# what it does import. typer brings pydantic and click; the command line of a check is argparse.
-NOT_FOR_CHECK = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich", "typer", "pydantic", "click", "pygments"}
-NOT_FOR_CHECK_IN_GPP = ("gpp.runtime", "gpp.planner", "gpp.platform", "gpp.run.runner", "gpp.run.view", "gpp.traceview")
+# what it does import. typer converts its option values without pydantic (gpp.cli.coercion).
+NOT_FOR_CHECK = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich", "pydantic", "pygments", "rclpy"}
+NOT_FOR_CHECK_IN_GPP = ("gpp.runtime", "gpp.planner", "gpp.platform", "gpp.run", "gpp.traceview", "lsp")
+# Nor the modules of the other commands: the entry point builds the app with one command.
+OTHER_COMMANDS = ("gpp.cli.run", "gpp.cli.trace", "gpp.cli.fmt", "gpp.cli.project", "gpp.cli.explain", "gpp.cli.lsp")
 
 
 def unneeded(modules: set[str]) -> set[str]:
-    return {m for m in modules if m.split(".")[0] in NOT_FOR_CHECK or m.startswith(NOT_FOR_CHECK_IN_GPP) or m == "lark"}
+    return {
+        m
+        for m in modules
+        if m.split(".")[0] in NOT_FOR_CHECK or m.startswith(NOT_FOR_CHECK_IN_GPP) or m == "lark" or m in OTHER_COMMANDS
+    }
 
 
 @pytest.mark.parametrize("args", [["check", "bad.gpp"], ["check", "good.gpp"], ["check", "--no-lint", "good.gpp"]])
 def test_check_imports_only_what_it_needs(project: Path, args: list[str]) -> None:
     modules = imported_modules(args, project)
-    assert {"gpp.syntax.parser", "gpp.model.typecheck", "gpp.cli.check"} <= modules  # the measurement works
+    assert {"gpp.syntax.parser", "gpp.model.typecheck", "gpp.cli.check", "typer"} <= modules  # the measurement works
     assert unneeded(modules) == set()
 
 
-def test_other_commands_still_go_through_the_full_command_line(project: Path) -> None:
-    # the counterpart of the test above: the measurement would see typer if it were there
-    assert "typer" in imported_modules(["explain", "E0101"], project)
+# What `gpp run` on the dummy must not import: the other platforms and what they need.
+NOT_FOR_A_DUMMY_RUN = ("gpp.platform.sim", "gpp.platform.ros2", "pymunk", "PIL", "rclpy", "pydantic", "lsp", "pygls")
+
+
+@pytest.mark.parametrize(
+    ("header", "args"),
+    [("", ["--platform", "dummy"]), ("", []), ("// scenario: s.toml\n", [])],
+    ids=["named", "chosen", "with-directive"],
+)
+def test_a_dummy_run_imports_no_other_platform(project: Path, header: str, args: list[str]) -> None:
+    (project / "s.toml").write_text("")
+    (project / "run.gpp").write_text(header + GOOD)
+    modules = imported_modules(["run", "-q", *args, "run.gpp"], project)
+    assert {"gpp.platform.dummy", "gpp.runtime.executor", "gpp.cli.run"} <= modules  # the measurement works
+    assert {m for m in modules if m.startswith(NOT_FOR_A_DUMMY_RUN)} == set()
 
 
 def test_check_help_and_usage_errors(project: Path) -> None:
     helped = run_gpp("check", "--help", cwd=project)
     assert helped.returncode == 0
-    assert helped.stdout.startswith("usage: gpp check ")
+    assert "Usage: gpp check [OPTIONS] [PATH]..." in helped.stdout
     assert "--deny-warnings" in helped.stdout
     bad = run_gpp("check", "--format", "xml", "good.gpp", cwd=project)
-    assert bad.returncode == 2
-    assert bad.stderr.splitlines()[-1] == (
-        "error: argument --format: invalid choice: 'xml' (choose from 'text', 'concise', 'github', 'json', 'sarif')"
+    assert (bad.returncode, bad.stdout) == (2, "")
+    assert "'xml' is not one of 'text', 'concise'," in bad.stderr
+    negative = run_gpp("check", "--max-diagnostics", "-1", "good.gpp", cwd=project)
+    assert (negative.returncode, negative.stderr) == (
+        2,
+        "error: --max-diagnostics takes a whole number of 0 or more, not -1\n",
     )
     assert "check" in run_gpp("--help", cwd=project).stdout
 
@@ -314,10 +340,168 @@ def test_check_without_files_explains_itself(tmp_path: Path) -> None:
 
 
 def test_sarif_output_and_explain_do_not_import_heavy_packages(project: Path) -> None:
-    heavy = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich"}
+    heavy = {"pygls", "lsprotocol", "pymunk", "PIL", "hypothesis", "rich", "pydantic"}
     modules = imported_modules(["check", "--format", "sarif", "good.gpp"], project)
     assert "gpp.report.sarif" in modules
     assert unneeded(modules) == set()
     explain = imported_modules(["explain", "W0101"], project)
     assert "gpp.codes" in explain
     assert {m for m in explain if m.split(".")[0] in heavy or m.startswith("gpp.syntax")} == set()
+
+
+# ---------------------------------------------------------------- platform flags
+
+
+def test_the_platform_flags_come_from_the_platforms_declarations() -> None:
+    from gpp.cli.run import platform_flags
+    from gpp.platform.dummy import DummyPlatform
+    from gpp.platform.options import BUILTIN
+    from gpp.platform.sim import SimPlatform
+
+    run_flags = [p.name for p in platform_flags(single_run=True)]
+    assert run_flags == ["scenario", "seed", "random", "world", "record", "snapshot", "realtime"]
+    assert [p.name for p in platform_flags(single_run=False)] == ["scenario", "seed", "random", "world"]
+    for name, cls in (("dummy", DummyPlatform), ("sim", SimPlatform)):
+        assert (cls.Options, cls.selected_by) == (BUILTIN[name].options, BUILTIN[name].selected_by)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["run", "-q", "--world", "rescue", "good.gpp"],
+            "error: --world is an option of platform sim, not of `dummy`\n",
+        ),
+        (
+            ["run", "-q", "-p", "dummy", "--realtime", "good.gpp"],
+            "error: --realtime is an option of platform sim, not of `dummy`\n",
+        ),
+        (
+            ["run", "-q", "-p", "sim", "--random", "good.gpp"],
+            "error: --random is an option of platform dummy, not of `sim`\n",
+        ),
+        (
+            ["test", "-p", "sim", "--scenario", "s.toml", "good.gpp"],
+            "error: --scenario is an option of platform dummy, not of `sim`\n",
+        ),
+    ],
+)
+def test_a_flag_the_platform_does_not_take_is_a_usage_error(
+    project: Path, monkeypatch: pytest.MonkeyPatch, args: list[str], message: str
+) -> None:
+    from typer.testing import CliRunner
+
+    from gpp.cli.app import app
+
+    monkeypatch.chdir(project)
+    result = CliRunner().invoke(app, args)
+    assert (result.exit_code, result.stdout, result.stderr) == (2, "", message)
+
+
+# ---------------------------------------------------------------- signals
+
+ENDLESS = "number fluent n() { initially: () = 0; }\nprocedure main() { while (true) n() = n() + 1; }\n"
+MESSAGES = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
+
+
+def _catches_sigterm(pid: int) -> bool:
+    """Whether the process handles SIGTERM (/proc/PID/status: its mask of caught signals)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    caught = next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:"))
+    return bool(int(caught, 16) & (1 << (signal.SIGTERM - 1)))
+
+
+def _interrupt(project: Path, signum: int, delay: float | None) -> tuple[subprocess.Popen[str], str, str, Path]:
+    """Start an endless `gpp run` with a trace and send it the signal `delay` seconds after its
+    entry point installed its handlers (None: once the run has stepped)."""
+    (project / "endless.gpp").write_text(ENDLESS)
+    trace = project / "endless.jsonl"
+    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "run", "-q", "--trace", str(trace), "endless.gpp"],
+        cwd=project,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not _catches_sigterm(process.pid):
+            assert process.poll() is None and time.monotonic() < deadline, "no handler installed"
+            time.sleep(0.001)
+        if delay is None:
+            while not (trace.exists() and '"event": "assign"' in trace.read_text()):
+                assert process.poll() is None and time.monotonic() < deadline, "the run does not step"
+                time.sleep(0.01)
+        else:
+            time.sleep(delay)
+        process.send_signal(signum)
+        out, err = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    return process, out, err, trace
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc/PID/status")
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize("delay", [0.0, 0.02, 0.05, 0.1, 0.2, None], ids=lambda d: "running" if d is None else f"{d}s")
+def test_a_signal_at_any_moment_ends_the_process_in_one_way(project: Path, signum: int, delay: float | None) -> None:
+    process, _, err, trace = _interrupt(project, signum, delay)
+    assert (process.returncode, err) == (128 + signum, MESSAGES[signal.Signals(signum)] + "\n")
+    if trace.exists():  # the run opened its trace: it ends with its one finish record
+        records = [json.loads(line) for line in trace.read_text().splitlines()]
+        assert records[0]["event"] == "header"
+        assert [r["event"] for r in records].count("finish") == 1
+        assert records[-1]["event"] == "finish" and records[-1]["status"] == "interrupted"
+        assert records[-2] == {**records[-2], "event": "error", "message": MESSAGES[signal.Signals(signum)]}
+    if delay is None:
+        assert trace.exists()
+
+
+DROPPED = """
+import signal, time, weakref
+from gpp.base import signals
+signals.install()
+class Thing: ...
+thing = Thing()
+# Python drops an exception raised in a weak reference's callback (the import system runs
+# one after every import): the signal's handler raises the interruption there.
+ref = weakref.ref(thing, lambda _: signal.raise_signal(signal.SIGTERM))
+try:
+    del thing
+    time.sleep(5)
+    print("went on")
+except signals.Terminated:
+    print("raised again")
+"""
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="raised again by SIGALRM")
+def test_an_interruption_python_drops_is_raised_again(tmp_path: Path) -> None:
+    result = subprocess.run([sys.executable, "-c", DROPPED], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "raised again\n", "")
+
+
+# ---------------------------------------------------------------- pipes
+
+
+def test_a_reader_that_goes_away_ends_the_output_quietly(project: Path) -> None:
+    (project / "many.gpp").write_text("procedure main() {\n" + "    x() = 1\n" * 5000 + "}\n")
+    process = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "check", "--max-diagnostics", "0", "many.gpp"],
+        cwd=project,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.read(100)
+    process.stdout.close()  # as `gpp check ... | head -c 100`
+    err = process.stderr.read().decode()
+    assert process.wait(timeout=60) == 1
+    assert err == ""

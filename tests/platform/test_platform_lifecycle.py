@@ -132,7 +132,7 @@ def test_platform_opt_pairs_reach_the_platform() -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--world", "rescue"], "platform `dummy` has no option `world`"),
+        (["--world", "rescue"], "--world is an option of platform sim, not of `dummy`"),
         (["-o", "wrold=rescue", "-p", "sim"], "platform `sim` has no option `wrold`; did you mean `world`?"),
         (["-o", "seed=abc"], "option `seed` of platform `dummy` must be a whole number, not 'abc'"),
         (["-o", "seed"], "--platform-opt takes KEY=VALUE, not 'seed'"),

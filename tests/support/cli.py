@@ -6,7 +6,7 @@ In this process, `run` gives the command what a process would have: its own stan
 (text, UTF-8, not a terminal; 80 columns unless COLUMNS says otherwise), the working directory
 `cwd`, the environment without the colour and debug switches plus `env`. It puts back what a
 command changes for the whole process: the streams, the working directory, the environment,
-the SIGINT/SIGTERM handlers, the recursion limit, and the root logger's handlers and level.
+the SIGINT/SIGTERM/SIGALRM handlers, the unraisable hook, the recursion limit, and the root logger's handlers and level.
 
 Use a real process only for what needs one: start-up (what a command imports), signals, exit
 code 3 of an internal error, pipes, `python -m gpp` and the console script.
@@ -63,7 +63,8 @@ def run(
     streams = sys.stdin, sys.stdout, sys.stderr
     old_cwd = os.getcwd()
     old_environ = dict(os.environ)
-    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM)}
+    unraisable_hook = sys.unraisablehook
     recursion_limit = sys.getrecursionlimit()
     root = logging.getLogger()
     log_handlers, log_level = list(root.handlers), root.level
@@ -88,6 +89,7 @@ def run(
         os.environ.update(old_environ)
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
+        sys.unraisablehook = unraisable_hook
         sys.setrecursionlimit(recursion_limit)
         root.handlers[:] = log_handlers
         root.setLevel(log_level)

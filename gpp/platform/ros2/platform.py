@@ -23,15 +23,11 @@ install the ROS packages) where they are missing.
 
 from __future__ import annotations
 
-import contextlib
 import logging
-import signal
 import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
-from types import FrameType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from gpp.base.suggest import did_you_mean
@@ -48,6 +44,7 @@ from gpp.platform.base import (
     ProgramInterface,
     parse_options,
 )
+from gpp.platform.options import BUILTIN, Ros2Options
 from gpp.platform.ros2.binding import (
     Binding,
     BindingError,
@@ -68,20 +65,6 @@ if TYPE_CHECKING:
 log = logging.getLogger("gpp.platform.ros2")
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
-
-
-@dataclass(frozen=True)
-class Ros2Options:
-    binding: Path | None = field(
-        default=None,
-        metadata={"help": "the binding file (default: the `// ros2:` line, else NAME.ros2.toml beside NAME.gpp)"},
-    )
-    domain_id: int | None = field(default=None, metadata={"help": "ROS domain id (default: $ROS_DOMAIN_ID, else 0)"})
-    server_timeout: float | None = field(
-        default=None, metadata={"help": "s to wait for a server to appear (default: the binding file's, else 5)"}
-    )
-    node_name: str = field(default="gpp_agent", metadata={"help": "the name of the agent's ROS node"})
-    log_level: str = field(default="warn", metadata={"help": "rclpy's log level (debug, info, warn, error)"})
 
 
 @dataclass
@@ -114,7 +97,7 @@ class Source:
 class Ros2Platform(Platform):
     name = "ros2"
     virtual_time = False
-    selected_by = "ros2"
+    selected_by = BUILTIN["ros2"].selected_by
     Options = Ros2Options
     # For tests: the rclpy Context that a new platform joins (None: its own).
     shared_context: ClassVar[Any] = None
@@ -143,7 +126,6 @@ class Ros2Platform(Platform):
         self._lock = threading.Lock()
         self._results: dict[int, Value] = {}
         self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
-        self._old_sigterm: Any = None
         self.exog_received = 0
 
     @classmethod
@@ -227,7 +209,6 @@ class Ros2Platform(Platform):
         except Exception as e:
             return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
         bridge.watchers.append(self._watch_topics)
-        self._handle_sigterm()
         return []
 
     def _subscribe_all(self) -> None:
@@ -304,17 +285,6 @@ class Ros2Platform(Platform):
                 continue
             self.exog_received += 1
             self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
-
-    def _handle_sigterm(self) -> None:
-        """SIGTERM stops the run as Ctrl-C does (goals cancelled, node shut down), not at once."""
-        if threading.current_thread() is not threading.main_thread():
-            return
-
-        def interrupt(signum: int, frame: FrameType | None) -> None:
-            raise KeyboardInterrupt
-
-        with contextlib.suppress(ValueError, OSError):
-            self._old_sigterm = signal.signal(signal.SIGTERM, interrupt)
 
     # ---------------------------------------------------------------- the contract
 
@@ -480,10 +450,6 @@ class Ros2Platform(Platform):
         return running or bool(self.topics)
 
     def close(self) -> None:
-        if self._old_sigterm is not None:
-            with contextlib.suppress(ValueError, OSError):
-                signal.signal(signal.SIGTERM, self._old_sigterm)
-            self._old_sigterm = None
         if self.bridge is not None:
             self.bridge.close()
 

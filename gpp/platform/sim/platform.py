@@ -17,7 +17,7 @@ import itertools
 import random
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
@@ -36,6 +36,7 @@ from gpp.platform.base import (
     RunFacts,
     parse_options,
 )
+from gpp.platform.options import BUILTIN, SimOptions
 from gpp.platform.sim.navigation import Happening, MapScene
 from gpp.platform.sim.services import SERVICES, check_interface, event_args
 from gpp.platform.sim.task import Outcome, Task, fail
@@ -75,24 +76,12 @@ class SimStats:
         return self.sim_time / self.wall_time if self.wall_time > 0 else 0.0
 
 
-@dataclass(frozen=True)
-class SimOptions:
-    world: str | None = field(
-        default=None,
-        metadata={"help": "a world name from stdlib/worlds or a TOML file (default: the `// world:` line)"},
-    )
-    seed: int | None = field(default=None, metadata={"help": "seed for simulated faults (default: the world's)"})
-    record: Path | None = field(default=None, metadata={"help": "write an animated GIF of the run here"})
-    snapshot: Path | None = field(default=None, metadata={"help": "write the last frame (PNG) here"})
-    realtime: bool = field(default=False, metadata={"help": "pace sim time to wall time"})
-
-
 class SimPlatform(Platform):
     """A world of pymunk scenes on virtual time; see the module docstring."""
 
     name = "sim"
     virtual_time = True
-    selected_by = "world"
+    selected_by = BUILTIN["sim"].selected_by
     Options = SimOptions
     # The statistics of the last closed run (for bench/sim.py).
     last_run: ClassVar[SimStats | None] = None
