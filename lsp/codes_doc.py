@@ -10,11 +10,11 @@ directory once per version and points there.
 
 from __future__ import annotations
 
-import os
 from functools import cache
 from pathlib import Path
 
 from gpp import __version__, codes
+from gpp.base.resources import cache_dir, write_cache_file
 
 _CHECKOUT_PAGE = Path(__file__).resolve().parent.parent / "docs" / "codes.md"
 
@@ -42,17 +42,10 @@ def codes_markdown() -> str:
 def _page() -> Path | None:
     if _CHECKOUT_PAGE.is_file():
         return _CHECKOUT_PAGE
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "gpp"
-    page = base / f"codes-{__version__}.md"
-    try:
-        if not page.is_file():
-            base.mkdir(parents=True, exist_ok=True)
-            tmp = page.with_suffix(f".{os.getpid()}.tmp")
-            tmp.write_text(codes_markdown(), encoding="utf-8")
-            tmp.replace(page)
-    except OSError:
-        return None
-    return page
+    page = cache_dir() / f"codes-{__version__}.md"
+    if not page.is_file():
+        write_cache_file(page, codes_markdown().encode("utf-8"))
+    return page if page.is_file() else None
 
 
 def code_url(code: str) -> str | None:

@@ -6,6 +6,8 @@ installed wheel carries them inside the package (gpp/_data/). Both layouts are s
 
 from __future__ import annotations
 
+import os
+import tempfile
 from functools import cache
 from pathlib import Path
 
@@ -22,6 +24,26 @@ def _find(name: str) -> Path:
         if candidate.exists():
             return candidate
     raise InstallationError(f"gpp installation is incomplete: no {name}/ beside the package")
+
+
+def cache_dir() -> Path:
+    """gpp's folder in the user's cache directory (`$XDG_CACHE_HOME/gpp`, else `~/.cache/gpp`):
+    the parser tables, the generated code of the syntax tree's classes, the codes page."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "gpp"
+
+
+def write_cache_file(path: Path, data: bytes) -> None:
+    """Write a cache file atomically (a reader never sees half of it); a cache that cannot be
+    written (a read-only home) is left alone: it only costs the time to build it again."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-")
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except OSError:
+        pass
 
 
 @cache

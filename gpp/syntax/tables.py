@@ -9,15 +9,12 @@ from __future__ import annotations
 
 import hashlib
 import marshal
-import os
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
-from pathlib import Path
 from typing import Any
 
-from gpp.base.resources import grammar_path
+from gpp.base.resources import cache_dir, grammar_path, write_cache_file
 
 _FORMAT = 4  # bump when the layout of the cached tables changes
 
@@ -44,11 +41,6 @@ class Tables:
     rules: list[Rule]
     # shift/reduce conflicts lark resolved as shift: (terminal, rule text)
     conflicts: list[tuple[str, str]]
-
-
-def _cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "gpp"
 
 
 def build_tables(grammar: str) -> Tables:
@@ -196,18 +188,11 @@ def load_tables() -> Tables:
     """
     grammar = grammar_path().read_text(encoding="utf-8")
     key = hashlib.sha256(f"{_FORMAT}|{grammar}".encode()).hexdigest()[:20]
-    path = _cache_dir() / f"tables-{key}.marshal"
+    path = cache_dir() / f"tables-{key}.marshal"
     try:
         return _from_plain(marshal.loads(path.read_bytes()))
     except (OSError, ValueError, EOFError, TypeError):
         pass
     tables = build_tables(grammar)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tables-")
-        with os.fdopen(fd, "wb") as f:
-            f.write(marshal.dumps(_to_plain(tables)))
-        os.replace(tmp, path)
-    except OSError:
-        pass  # a read-only home only costs the build time on every start
+    write_cache_file(path, marshal.dumps(_to_plain(tables)))
     return tables
