@@ -16,7 +16,7 @@ import typer
 
 from gpp import __version__
 from gpp.cli import coercion
-from gpp.cli.common import EXIT_OK
+from gpp.cli.common import APP_SETTINGS, EXIT_OK
 
 # Command -> the module that defines it, in the order `gpp --help` lists them.
 COMMANDS: dict[str, str] = {
@@ -51,14 +51,7 @@ def _root(
 
 def make_app(command: str | None = None) -> typer.Typer:
     """The app with the given command, or with every command."""
-    app = typer.Typer(
-        name="gpp",
-        help="A toolchain for the golog++ agent language.",
-        no_args_is_help=True,
-        add_completion=False,
-        pretty_exceptions_enable=False,
-        context_settings={"help_option_names": ["-h", "--help"]},
-    )
+    app = typer.Typer(name="gpp", help="A toolchain for the golog++ agent language.", **APP_SETTINGS)
     app.callback()(_root)
     modules = [COMMANDS[command]] if command in COMMANDS else list(dict.fromkeys(COMMANDS.values()))
     for name in modules:

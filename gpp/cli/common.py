@@ -17,11 +17,19 @@ import sys
 from collections.abc import Sequence
 from enum import StrEnum
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
     from gpp.project.config import Config, ConfigError
+
+# The settings of every typer app of gpp (the root one and `gpp trace`'s).
+APP_SETTINGS: dict[str, Any] = {
+    "no_args_is_help": True,
+    "add_completion": False,
+    "pretty_exceptions_enable": False,
+    "context_settings": {"help_option_names": ["-h", "--help"]},
+}
 
 EXIT_OK = 0
 EXIT_PROBLEMS = 1

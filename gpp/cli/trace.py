@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING, Annotated, NoReturn
 
 import typer
 
+from gpp.cli.common import APP_SETTINGS
+
 if TYPE_CHECKING:
     from gpp.traceview.model import RunModel
 
@@ -26,10 +28,7 @@ PIPE_WIDTH = 100
 trace_app = typer.Typer(
     name="trace",
     help="Look at a run's trace (`gpp run --trace run.jsonl`): a terminal summary, an HTML page, Perfetto JSON.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
+    **APP_SETTINGS,
 )
 
 
