@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
 from pathlib import Path
 
 
@@ -13,4 +15,19 @@ def output_problem(path: Path) -> str | None:
     parent = path.parent
     if not parent.is_dir():
         return f"the folder '{parent}' does not exist"
+    return None
+
+
+def overwritten_input(output: Path, inputs: Iterable[tuple[Path, str]]) -> str | None:
+    """What writing `output` would overwrite of the `inputs` (each a path and what it is: "the
+    program", "the scenario file"), as "'agent.gpp' is the program", or None. The same file
+    under another name (a link, `./x`, an absolute path) counts."""
+    if not output.is_file():
+        return None
+    for path, what in inputs:
+        try:
+            if os.path.samefile(output, path):
+                return f"'{output}' is {what}"
+        except OSError:
+            continue
     return None

@@ -102,6 +102,45 @@ def with_platform_flags(*, single_run: bool) -> Callable[[Command], Command]:
     return add
 
 
+def refuse_overwriting_inputs(
+    trace: Path | None,
+    platform: str,
+    options: dict[str, str | int | float | bool | Path],
+    checked: CheckResult,
+    program: Path,
+) -> None:
+    """A file the run would write (the trace, a platform's outputs such as `--record`) that is
+    one the run reads (the program, a file it includes, a file a directive or an option names)
+    is a usage error: a typo must not overwrite the program with its trace."""
+    from gpp.base.paths import overwritten_input
+    from gpp.platform import options_of
+    from gpp.platform.base import PlatformError
+    from gpp.platform.options import is_output
+    from gpp.run.runner import program_directives
+
+    try:
+        outputs = {f.name for f in dataclasses.fields(options_of(platform)) if is_output(f)}
+    except PlatformError:
+        outputs = set()  # an unknown platform: the run says so
+    inputs: list[tuple[Path, str]] = [(program, "the program")]
+    inputs += [(f.path, "a file the program includes") for f in checked.loaded.files]
+    inputs += [
+        (program.parent / value, f"the file of its `// {key}:` line")
+        for key, value in program_directives(checked, program).items()
+    ]
+    inputs += [
+        (Path(str(value)), f"the file of option `{name}`")
+        for name, value in options.items()
+        if name not in outputs and isinstance(value, str | Path)
+    ]
+    written = [("--trace", trace)] if trace is not None else []
+    written += [(f"option `{name}`", Path(str(options[name]))) for name in sorted(outputs & options.keys())]
+    for what, path in written:
+        problem = overwritten_input(path, inputs)
+        if problem is not None:
+            usage_error(f"{what}: {problem}; writing there would overwrite it")
+
+
 def given_flags(flags: dict[str, Any]) -> dict[str, str | int | float | bool | Path]:
     """The platform flags given on the command line (not None, not False)."""
     return {name: value for name, value in flags.items() if value is not None and value is not False}
@@ -246,9 +285,11 @@ def run(
     if "world" not in given:
         world = _configured_world(config.run_world, chosen, platform_opt, checked, file)
         given.update({"world": world} if world is not None else {})
+    chosen_options = platform_options(platform_opt, given)
+    refuse_overwriting_inputs(trace, chosen, chosen_options, checked, file)
     options = RunOptions(
         platform=chosen,
-        platform_options=platform_options(platform_opt, given),
+        platform_options=chosen_options,
         timeout=timeout,
         trace=trace,
         args=key_values(arg, "--arg"),

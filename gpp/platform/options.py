@@ -25,9 +25,14 @@ class Flag:
     single_run: bool = False
 
 
-def about(help: str, flag: Flag | None = None) -> dict[str, Any]:
-    """The metadata of an option: its help, and its flag if it has one."""
-    return {"help": help, "flag": flag}
+def about(help: str, flag: Flag | None = None, *, output: bool = False) -> dict[str, Any]:
+    """The metadata of an option: its help, its flag if it has one, and whether it names a file
+    the platform writes (`output`; any other option naming a file is something it reads)."""
+    return {"help": help, "flag": flag, "output": output}
+
+
+def is_output(f: dataclasses.Field[Any]) -> bool:
+    return bool(f.metadata.get("output"))
 
 
 def flag_of(f: dataclasses.Field[Any]) -> Flag | None:
@@ -53,10 +58,10 @@ class SimOptions:
     )
     seed: int | None = field(default=None, metadata=about("seed for simulated faults (default: the world's)", Flag()))
     record: Path | None = field(
-        default=None, metadata=about("write an animated GIF of the run here", Flag(single_run=True))
+        default=None, metadata=about("write an animated GIF of the run here", Flag(single_run=True), output=True)
     )
     snapshot: Path | None = field(
-        default=None, metadata=about("write the last frame (PNG) here", Flag(single_run=True))
+        default=None, metadata=about("write the last frame (PNG) here", Flag(single_run=True), output=True)
     )
     realtime: bool = field(default=False, metadata=about("pace sim time to wall time", Flag(single_run=True)))
 

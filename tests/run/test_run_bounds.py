@@ -47,6 +47,55 @@ def test_outputs_that_cannot_be_written_are_usage_errors_before_the_run(args: li
     assert "finished" not in result.stdout  # nothing ran
 
 
+def inputs_project(tmp_path: Path) -> dict[str, bytes]:
+    """An agent with an include and a scenario (by its directive), and a world file: what a run
+    reads, by name, with its bytes."""
+    files = {
+        "agent.gpp": b'// scenario: events.toml\n#include "lib.gpp"\nprocedure main() { go(); }\n',
+        "lib.gpp": b"action go() { }\n",
+        "events.toml": b"",
+        "other.toml": b"",
+        "sub/agent2.gpp": b"procedure main() { }\n",
+    }
+    for name, data in files.items():
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_bytes(data)
+    return files
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--trace", "agent.gpp"], "--trace: 'agent.gpp' is the program; writing there would overwrite it"),
+        (["--trace", "./sub/../agent.gpp"], "is the program; writing there would overwrite it"),
+        (["--trace", "lib.gpp"], "--trace: 'lib.gpp' is a file the program includes"),
+        (["--trace", "events.toml"], "--trace: 'events.toml' is the file of its `// scenario:` line"),
+        (
+            ["--scenario", "other.toml", "--trace", "other.toml"],
+            "--trace: 'other.toml' is the file of option `scenario`",
+        ),
+        (["-p", "sim", "--record", "lib.gpp"], "option `record`: 'lib.gpp' is a file the program includes"),
+    ],
+)
+def test_a_run_refuses_to_write_over_a_file_it_reads(tmp_path: Path, args: list[str], message: str) -> None:
+    files = inputs_project(tmp_path)
+    if "--scenario" in args:  # the scenario given as an option instead of the directive
+        (tmp_path / "agent.gpp").write_bytes(files["agent.gpp"].split(b"\n", 1)[1])
+        files["agent.gpp"] = (tmp_path / "agent.gpp").read_bytes()
+    result = gpp("run", "-q", "agent.gpp", *args, cwd=tmp_path)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert message in result.stderr
+    assert {name: (tmp_path / name).read_bytes() for name in files} == files  # nothing was written
+
+
+def test_a_trace_may_replace_an_older_trace(tmp_path: Path) -> None:
+    inputs_project(tmp_path)
+    (tmp_path / "run.jsonl").write_text("old\n", encoding="utf-8")
+    result = gpp("run", "-q", "agent.gpp", "--trace", "run.jsonl", cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert (tmp_path / "run.jsonl").read_text(encoding="utf-8").startswith("{")
+
+
 @pytest.mark.slow
 def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
     (tmp_path / "loop.gpp").write_text(LOOP, encoding="utf-8")
