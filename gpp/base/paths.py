@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -31,3 +32,31 @@ def overwritten_input(output: Path, inputs: Iterable[tuple[Path, str]]) -> str |
         except OSError:
             continue
     return None
+
+
+def write_problem(path: Path) -> str | None:
+    """Why `write_atomically` could not replace the existing file `path` (it is read-only, or
+    its folder takes no new file), or None: checked for every file before any is written."""
+    if not os.access(path, os.W_OK):
+        return f"cannot write '{path}': it is read-only"
+    try:
+        fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        os.close(fd)
+        os.unlink(temporary)
+    except OSError as e:
+        return f"cannot write '{path}': {e.strerror or e}"
+    return None
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Replace the file's text in one step: written to a temporary file beside it, then renamed
+    over it (keeping its permissions), so a reader never sees half a file."""
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
+            out.write(text)
+        os.chmod(temporary, path.stat().st_mode & 0o7777)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

@@ -5,14 +5,12 @@ A round checks every program (with the texts fixed so far), takes each safe fix
 changed), applies the ones that do not overlap, and checks again; fixing a name can reveal the
 next problem, and of two overlapping fixes the second waits for the next round. It stops when a
 round has nothing to apply, after `MAX_ROUNDS` at most. Nothing is written here: the caller
-writes the new texts (`write_atomically`) or shows them (`unified_diff`).
+writes the new texts (`gpp.base.paths.write_atomically`) or shows them (`unified_diff`).
 """
 
 from __future__ import annotations
 
 import difflib
-import os
-import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -112,17 +110,3 @@ def unified_diff(outcome: FixOutcome) -> str:
         for line in difflib.unified_diff(before, after, f"a/{shown}", f"b/{shown}"):
             parts.append(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")
     return "".join(parts)
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Replace the file's text in one step: written to a temporary file beside it, then renamed
-    over it (keeping its permissions), so a reader never sees half a file."""
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
-            out.write(text)
-        os.chmod(temporary, path.stat().st_mode & 0o7777)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise

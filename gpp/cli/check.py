@@ -239,8 +239,10 @@ def _plan(paths: Sequence[Path], configs: dict[Path, Config]) -> _Plan:
 def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[CheckResult], str]:
     """Fix in memory; write the files (`write`) or print the diff and exit (1 when it is not
     empty). The final check, and the line that says what was fixed."""
+    from gpp.base.paths import write_atomically, write_problem
+    from gpp.syntax.loader import display_path
     from gpp.check import merged_diagnostics
-    from gpp.check.fixes import fix_programs, unified_diff, write_atomically
+    from gpp.check.fixes import fix_programs, unified_diff
 
     outcome = fix_programs(paths, checker)
     changed = outcome.changed()
@@ -250,8 +252,14 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
         sys.stdout.flush()
         print(f"would fix {_problems(outcome.applied)} in {files}", file=sys.stderr)
         raise SystemExit(EXIT_PROBLEMS if changed else EXIT_OK)
+    problems = [write_problem(Path(display_path(path))) for path in changed]
+    if any(problems):
+        usage_error("; ".join(p for p in problems if p is not None) + ": no file was changed")
     for path in changed:
-        write_atomically(path, outcome.fixed[path])
+        try:
+            write_atomically(path, outcome.fixed[path])
+        except OSError as e:  # a full disk: this file stays as it was, the others are fixed
+            usage_error(f"cannot write '{display_path(path)}': {e.strerror or e} (it was left as it was)")
     remaining = len(merged_diagnostics(outcome.results))
     if not outcome.applied:
         return outcome.results, f"nothing to fix, {_problems(remaining)} remaining"

@@ -39,7 +39,7 @@ def fmt(
     ] = False,
 ) -> None:
     """Format golog++ files in the canonical layout, keeping their comments."""
-    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, files_to_check, usage_error
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, files_to_check, usage_error
 
     paths = paths or []
     if any(str(p) == STDIN for p in paths):
@@ -47,30 +47,37 @@ def fmt(
             usage_error("`-` (standard input) cannot be combined with other paths")
         raise typer.Exit(_format_stdin(check, diff))
     files = files_to_check(paths)
-    # Every file is read before any is written: an unreadable one stops the command early.
+    # Every file is read and formatted, and every file to change is checked to be writable,
+    # before any is written: an unreadable or unwritable one stops the command with nothing changed.
     texts = [(path, _read(path)) for path in files]
-    changed: list[Path] = []
+    changed: list[tuple[Path, str]] = []
     failed = 0
     for path, text in texts:
         formatted = _format(text, str(path))
         if formatted is None:
             failed += 1
         elif formatted != text:
-            changed.append(path)
+            changed.append((path, formatted))
             if diff:
                 sys.stdout.writelines(_diff(text, formatted, str(path)))
             if check:
                 print(f"would reformat: {path}")
-            if not (check or diff):
-                _write(path, formatted)
+    unwritten: list[Path] = []
+    if not (check or diff):
+        _require_writable([path for path, _ in changed])
+        unwritten = [path for path, formatted in changed if not _write(path, formatted)]
     unchanged = len(files) - len(changed) - failed
     if check or diff:
         summary = [f"{_count(len(changed), 'file')} would be reformatted", f"{unchanged} already formatted"]
     else:
-        summary = [f"{_count(len(changed), 'file')} reformatted", f"{unchanged} left unchanged"]
+        summary = [f"{_count(len(changed) - len(unwritten), 'file')} reformatted", f"{unchanged} left unchanged"]
     if failed:
         summary.append(f"{_count(failed, 'file')} with syntax errors left unchanged")
+    if unwritten:
+        summary.append(f"{_count(len(unwritten), 'file')} could not be written (left as they were)")
     print(", ".join(summary), file=sys.stderr if diff else sys.stdout)
+    if unwritten:
+        raise typer.Exit(EXIT_USAGE)
     raise typer.Exit(EXIT_PROBLEMS if failed or ((check or diff) and changed) else EXIT_OK)
 
 
@@ -113,13 +120,27 @@ def _read(path: Path) -> str:
         usage_error(f"cannot read '{path}': it is not UTF-8 text")
 
 
-def _write(path: Path, text: str) -> None:
+def _require_writable(paths: list[Path]) -> None:
+    """A usage error naming every file that could not be written, before any is."""
+    from gpp.base.paths import write_problem
     from gpp.cli.common import usage_error
 
+    problems = [problem for problem in map(write_problem, paths) if problem is not None]
+    if problems:
+        usage_error("; ".join(problems) + ": no file was changed")
+
+
+def _write(path: Path, text: str) -> bool:
+    """Replace the file's text atomically (a full disk leaves it as it was); False, after saying
+    why on stderr, when it could not be written."""
+    from gpp.base.paths import write_atomically
+
     try:
-        path.write_bytes(text.encode("utf-8"))
+        write_atomically(path, text)
     except OSError as e:
-        usage_error(f"cannot write '{path}': {e.strerror or e}")
+        print(f"error: cannot write '{path}': {e.strerror or e}", file=sys.stderr)
+        return False
+    return True
 
 
 def _diff(before: str, after: str, name: str) -> list[str]:

@@ -18,7 +18,7 @@ from typer.testing import CliRunner, Result
 from gpp.check import check_text
 from gpp.cli.app import app
 from gpp.project.config import ConfigError, config_for, find_config_file, load_config, project_files
-from tests.support import cli
+from tests.support import cli, disks
 
 # Line 5 has a misspelled symbol with one close name (a safe fix); `idle` is unused.
 AGENT = """\
@@ -385,6 +385,24 @@ def test_fix_writes_every_safe_fix_and_a_second_run_changes_nothing(
     assert (again.exit_code, again.stdout) == (0, "no problems found\nnothing to fix, 0 problems remaining\n")
     assert (tmp_path / "agent.gpp").read_text() == FIXED
     assert gpp("check", "--diff").exit_code == 0
+
+
+def test_fix_writes_nothing_when_a_file_cannot_be_written(tmp_path: Path) -> None:
+    (tmp_path / "agent.gpp").write_text(SEVERAL_FIXES)
+    with disks.immutable(tmp_path / "agent.gpp"):
+        result = cli.run("check", "--fix", "agent.gpp", cwd=tmp_path)
+    assert (result.returncode, result.stdout) == (2, "")
+    assert result.stderr == "error: cannot write 'agent.gpp': it is read-only: no file was changed\n"
+    assert (tmp_path / "agent.gpp").read_text() == SEVERAL_FIXES
+
+
+def test_fix_on_a_full_disk_says_it_cannot_write_and_leaves_the_file(tmp_path: Path) -> None:
+    with disks.full_disk(tmp_path / "disk", {"agent.gpp": SEVERAL_FIXES}) as disk:
+        result = cli.run("check", "--fix", "agent.gpp", cwd=disk)
+        assert result.returncode == 2
+        assert result.stderr == ("error: cannot write 'agent.gpp': No space left on device (it was left as it was)\n")
+        assert (disk / "agent.gpp").read_text() == SEVERAL_FIXES
+        assert sorted(p.name for p in disk.iterdir()) == ["agent.gpp", "filler"]
 
 
 def test_fix_reports_what_remains(here: Path) -> None:

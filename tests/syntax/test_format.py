@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import random
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -24,6 +25,7 @@ from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
+from tests.support import disks
 from tests.support.budget import examples
 from tests.support.cli import Result, run
 from tests.support.syntax_trees import programs
@@ -351,6 +353,38 @@ def test_fmt_unreadable_files_are_usage_errors(project: Path) -> None:
     assert (binary.returncode, binary.stderr) == (2, "error: cannot read 'latin1.gpp': it is not UTF-8 text\n")
     # Nothing is written when a file cannot be read.
     assert (project / "ugly.gpp").read_text() == UGLY
+
+
+@pytest.fixture
+def immutable(project: Path) -> Iterator[Path]:
+    """sub/pretty.gpp made ugly and immutable."""
+    path = project / "sub" / "pretty.gpp"
+    path.write_text(UGLY)
+    with disks.immutable(path):
+        yield path
+
+
+def test_fmt_writes_nothing_when_a_file_cannot_be_written(project: Path, immutable: Path) -> None:
+    (project / "last.gpp").write_text(UGLY)
+    result = run_gpp("fmt", "ugly.gpp", "sub/pretty.gpp", "last.gpp", cwd=project)
+    assert (result.returncode, result.stdout) == (2, "")
+    assert result.stderr == "error: cannot write 'sub/pretty.gpp': it is read-only: no file was changed\n"
+    assert [(project / name).read_text() for name in ("ugly.gpp", "sub/pretty.gpp", "last.gpp")] == [UGLY] * 3
+
+
+@pytest.fixture
+def full_disk(tmp_path: Path) -> Iterator[Path]:
+    with disks.full_disk(tmp_path / "disk", {"ugly.gpp": UGLY}) as disk:
+        yield disk
+
+
+def test_fmt_on_a_full_disk_leaves_the_file_as_it_was(full_disk: Path) -> None:
+    result = run_gpp("fmt", "ugly.gpp", cwd=full_disk)
+    assert result.returncode == 2
+    assert result.stderr == "error: cannot write 'ugly.gpp': No space left on device\n"
+    assert result.stdout == "0 files reformatted, 0 left unchanged, 1 file could not be written (left as they were)\n"
+    assert (full_disk / "ugly.gpp").read_text() == UGLY
+    assert sorted(p.name for p in full_disk.iterdir()) == ["filler", "ugly.gpp"]  # no temporary file left
 
 
 def test_fmt_stdin_cannot_be_combined_with_files(project: Path) -> None:
