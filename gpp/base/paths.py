@@ -3,9 +3,31 @@
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
+
+_KINDS = {
+    stat.S_IFIFO: "a named pipe (FIFO)",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFDIR: "a folder",
+}
+
+
+def input_problem(path: Path, *, folder: bool = False) -> str | None:
+    """Why `path` cannot be read as a program or data file (missing, a link that loops, not a
+    regular file: reading a FIFO would wait for ever, a device would never end), or None. A
+    folder is fine where `folder` is."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        return f"cannot read '{path}': {e.strerror or e}"
+    if stat.S_ISREG(mode) or (folder and stat.S_ISDIR(mode)):
+        return None
+    return f"cannot read '{path}': it is {_KINDS.get(stat.S_IFMT(mode), 'not a regular file')}, not a file"
 
 
 def output_problem(path: Path) -> str | None:

@@ -240,9 +240,9 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
     """Fix in memory; write the files (`write`) or print the diff and exit (1 when it is not
     empty). The final check, and the line that says what was fixed."""
     from gpp.base.paths import write_atomically, write_problem
-    from gpp.syntax.loader import display_path
     from gpp.check import merged_diagnostics
     from gpp.check.fixes import fix_programs, unified_diff
+    from gpp.syntax.loader import display_path
 
     outcome = fix_programs(paths, checker)
     changed = outcome.changed()

@@ -67,6 +67,12 @@ def did_you_mean(candidates: Sequence[str]) -> str:
 
 
 def require_readable(path: Path) -> None:
+    """A usage error unless `path` is a regular file this process may read."""
+    from gpp.base.paths import input_problem
+
+    problem = input_problem(path)
+    if problem is not None:
+        usage_error(problem)
     try:
         with path.open("rb"):
             pass
@@ -102,11 +108,13 @@ def files_to_check(given: Sequence[Path], hint: str = "") -> list[Path]:
     the .gpp files under each folder given, or with no PATH the project's `paths`. A path that
     does not exist, a bad configuration file or no .gpp file at all end the command (exit 2;
     `hint` is added to the last message)."""
+    from gpp.base.paths import input_problem
     from gpp.project.config import ConfigError, project_files
 
     for path in given:
-        if not path.exists():
-            usage_error(f"cannot read '{path}': No such file or directory")
+        problem = input_problem(path, folder=True)
+        if problem is not None:
+            usage_error(problem)
     try:
         files = project_files(given)
     except ConfigError as e:

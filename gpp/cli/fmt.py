@@ -110,8 +110,9 @@ def _format(text: str, path: str) -> str | None:
 
 
 def _read(path: Path) -> str:
-    from gpp.cli.common import usage_error
+    from gpp.cli.common import require_readable, usage_error
 
+    require_readable(path)
     try:
         return path.read_bytes().decode("utf-8")
     except OSError as e:

@@ -368,11 +368,14 @@ def test_command(
         check_flags(given, platform)
     if jobs < 1:
         usage_error(f"-j takes a number of processes of at least 1, not {jobs}")
+    from gpp.base.paths import input_problem
+
     config = load_config(paths[0] if paths else Path.cwd())
     targets = paths or list(config.test_paths)
     for p in targets:
-        if not p.exists():
-            usage_error(f"no such file or folder: '{p}'")
+        problem = input_problem(p, folder=True)
+        if problem is not None:
+            usage_error(problem)
     if junitxml is not None:
         from gpp.base.paths import output_problem
 

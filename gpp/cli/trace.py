@@ -53,9 +53,13 @@ def _fail(message: str, code: int) -> NoReturn:
 def _load(path: Path) -> RunModel:
     """The run in a trace file, or a one-line error (exit 2 when the file cannot be read, 1
     when it is not a valid trace)."""
+    from gpp.base.paths import input_problem
     from gpp.cli.common import EXIT_PROBLEMS, EXIT_USAGE
     from gpp.traceview.model import TraceReadError, build_run_model, load_trace
 
+    problem = input_problem(path)
+    if problem is not None:
+        _fail(problem, EXIT_USAGE)
     try:
         loaded = load_trace(path)
     except TraceReadError as e:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import fnmatch
 import math
+import os
 import re
 import tomllib
 from collections.abc import Callable, Iterable, Sequence
@@ -76,7 +77,10 @@ class Config:
 def find_config_file(start: Path) -> Path | None:
     """The nearest `gpp.toml`, or `pyproject.toml` with a `[tool.gpp]` table, from `start` (a file
     or a folder) upwards."""
-    folder = start.resolve()
+    try:
+        folder = start.resolve()
+    except RuntimeError:  # a symbolic link that loops: its folder is where it is written
+        folder = Path(os.path.abspath(start))
     if not folder.is_dir():
         folder = folder.parent
     for candidate in (folder, *folder.parents):
