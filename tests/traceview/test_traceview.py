@@ -433,7 +433,7 @@ def test_bad_input_is_one_line_and_an_exit_code(
 
 
 def test_a_directory_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    expected = f"error: cannot read '{tmp_path}': it is a directory\n"
+    expected = f"error: cannot read '{tmp_path}': it is a folder, not a file\n"
     assert gpp(capsys, "trace", "summary", str(tmp_path)) == (2, "", expected)
 
 
