@@ -72,6 +72,13 @@ class Ros2Options:
         default=None, metadata=about("s to wait for a server to appear (default: the binding file's, else 5)")
     )
     node_name: str = field(default="gpp_agent", metadata=about("the name of the agent's ROS node"))
+    discovery_timeout: float | None = field(
+        default=None,
+        metadata=about(
+            "s to wait before the run for the names mapped without a type to appear, so that their mappings are "
+            "checked first (default: the binding file's, else 3)"
+        ),
+    )
     log_level: str = field(default="warn", metadata=about("rclpy's log level (debug, info, warn, error)"))
 
 
