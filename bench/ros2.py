@@ -9,6 +9,10 @@ Prints
 * goal round trip: `start` of a trivial action (test_msgs Fibonacci, order 1) until its
   final update is queued (send -> accepted -> result), median and 90th percentile;
 * service round trip: the same for a service (std_srvs SetBool);
+* first goal, typed and untyped: on a platform just attached (a new node, the mapping checked),
+  its first goal from `start` to the final update, the mapping naming its type
+  (`"/fib : test_msgs/action/Fibonacci"`) or not (`"/fib"`: the type came from the graph at
+  attach and is kept), median of 10 platforms;
 * exogenous messages per second: a burst of std_msgs Int32 messages published into a running
   program whose exogenous action counts them, from the first publish until the program has
   applied the last one.
@@ -113,6 +117,33 @@ def round_trips(context: Context, action: str, args: dict[str, object], n: int) 
     return times
 
 
+def first_goals(context: Context, mapped: str, repeat: int = 10) -> list[float]:
+    """The first goal of each of `repeat` platforms just attached, with `count` mapped to
+    `mapped` (a ROS name, with or without its type)."""
+    program = PROGRAM.replace("MESSAGES", "1").replace('"/fib : test_msgs/action/Fibonacci"', f'"{mapped}"')
+    iface = interface(program)
+    times: list[float] = []
+    for i in range(repeat):
+        platform = Ros2Platform(context=context)
+        try:
+            assert not platform.attach(iface)  # type: ignore[arg-type]
+            args: dict[str, object] = {"order": 1}
+            activity = Activity(i + 1, GroundAction("count", (1,)), mapped, args)  # type: ignore[arg-type]
+            started = time.perf_counter()
+            platform.start(activity)
+            update = None
+            while update is None:
+                assert platform.queue.wait(5.0), "no answer within 5 s"
+                for _, event in platform.queue.drain():
+                    if isinstance(event, ActivityUpdate):
+                        update = event
+            times.append(time.perf_counter() - started)
+            assert update.status.value == "final", update
+        finally:
+            platform.close()
+    return times
+
+
 def exog_rate(robot: TestRobot, messages: int) -> float:
     from std_msgs.msg import Int32
 
@@ -161,6 +192,9 @@ def main() -> None:
         goals = round_trips(context, "count", {"order": 1}, args.goals)
         print(f"  goal round trip             {ms(goals)} ({args.goals} goals)")
         print(f"  service round trip          {ms(round_trips(context, 'switch', {'data': True}, args.goals))}")
+        typed = first_goals(context, "/fib : test_msgs/action/Fibonacci")
+        print(f"  first goal, typed           {ms(typed)} (10 platforms)")
+        print(f"  first goal, untyped         {ms(first_goals(context, '/fib'))} (10 platforms)")
         print(f"  exogenous messages          {exog_rate(robot, args.messages):,.0f} per s ({args.messages} messages)")
     finally:
         Ros2Platform.shared_context = None

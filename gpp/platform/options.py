@@ -85,15 +85,22 @@ class Ros2Options:
 @dataclass(frozen=True)
 class Declaration:
     """A built-in platform: its class as `module:Class`, the `// key:` directive that selects
-    it, and its options."""
+    it, its options, and its check of a program without running it."""
 
     target: str
     options: type[Any]
     selected_by: str | None = None
+    # Its check of a program without running it, as `module:function` (gpp.platform.static).
+    static_check: str | None = None
 
 
 BUILTIN: dict[str, Declaration] = {
     "dummy": Declaration("gpp.platform.dummy:DummyPlatform", DummyOptions),
     "sim": Declaration("gpp.platform.sim:SimPlatform", SimOptions, selected_by="world"),
-    "ros2": Declaration("gpp.platform.ros2:Ros2Platform", Ros2Options, selected_by="ros2"),
+    "ros2": Declaration(
+        "gpp.platform.ros2:Ros2Platform",
+        Ros2Options,
+        selected_by="ros2",
+        static_check="gpp.platform.ros2.static:check",
+    ),
 }
