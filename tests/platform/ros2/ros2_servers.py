@@ -43,9 +43,13 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPol
 class TestRobot:
     __test__ = False
 
-    def __init__(self, context: Context, name: str = "test_robot", announce: bool = False) -> None:
+    def __init__(
+        self, context: Context, name: str = "test_robot", announce: bool = False, result_timeout: int = 10
+    ) -> None:
         # announce: print `request ORDER` when a /fib goal request arrives and `goal ORDER` when
         # the goal starts (for a parent process to wait on, or to see that none came).
+        # result_timeout: s /fib keeps a finished goal (rclpy's default, 10); the goals it keeps
+        # slow the next ones down, which a benchmark of many goals does not want.
         self.announce = announce
         self.node = rclpy.create_node(name, context=context, start_parameter_services=False)
         self.lock = threading.Lock()
@@ -65,6 +69,7 @@ class TestRobot:
             goal_callback=self._goal,
             cancel_callback=lambda _: CancelResponse.ACCEPT,
             callback_group=group,
+            result_timeout=result_timeout,
         )
         self.nested = ActionServer(node, NestedMessage, "/nested", execute_callback=self._nested, callback_group=group)
         node.create_service(BasicTypes, "/basic", lambda req, resp: _copy(req, resp), callback_group=group)
