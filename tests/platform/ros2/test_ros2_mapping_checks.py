@@ -266,8 +266,11 @@ def test_a_mistyped_field_in_an_untyped_mapping_stops_the_run_before_any_goal(
         'action count(number n) {\nmapping:\n    "/fib" { ordr = n }\n}\nprocedure main() { count(1); }\n'
     )
     trace = tmp_path / "trace.jsonl"
+    # Discovery across processes takes a moment, more on a busy machine: attach waits for it
+    # (generously here), so that the mapping is checked before the run starts.
+    command = [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)]
     agent = subprocess.run(
-        [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
+        [*command, "-o", "discovery_timeout=30"],
         env=ros_env(domain),
         capture_output=True,
         text=True,
