@@ -8,7 +8,19 @@ Prints
   an exogenous topic (node, spin thread, graph look-up, checks, subscription), best of 5;
 * goal round trip: `start` of a trivial action (test_msgs Fibonacci, order 1) until its
   final update is queued (send -> accepted -> result), median and 90th percentile;
+* goal round trip, typed and untyped: the same on two platforms at once, one whose mapping
+  names the type and one whose type came from the graph at attach (and is kept), their goals
+  alternating (the test server keeps every finished goal, which slows later goals: measured
+  one after the other, the second would seem slower);
+* goal round trip, typed and untyped: the same on two platforms at once, one whose mapping
+  names the type and one whose type came from the graph at attach (and is kept), their goals
+  alternating (the test server keeps every finished goal, which slows later goals: measured
+  one after the other, the second would seem slower);
 * service round trip: the same for a service (std_srvs SetBool);
+* first goal, typed and untyped: on a platform just attached (a new node, the mapping checked),
+  its first goal from `start` to the final update, the mapping naming its type
+  (`"/fib : test_msgs/action/Fibonacci"`) or not (`"/fib"`: the type came from the graph at
+  attach and is kept), median of 10 platforms;
 * exogenous messages per second: a burst of std_msgs Int32 messages published into a running
   program whose exogenous action counts them, from the first publish until the program has
   applied the last one.
@@ -48,6 +60,7 @@ from gpp.runtime.compiled import CompiledProgram  # noqa: E402
 from gpp.runtime.contract import program_interface  # noqa: E402
 from gpp.runtime.state import GroundAction  # noqa: E402
 
+FIB_TYPED = '"/fib : test_msgs/action/Fibonacci"'
 PROGRAM = """
 action count(number n) { mapping: "/fib : test_msgs/action/Fibonacci" { order = n } }
 action switch(bool on) { mapping: "/set_bool : std_srvs/srv/SetBool" { data = on } }
@@ -113,6 +126,62 @@ def round_trips(context: Context, action: str, args: dict[str, object], n: int) 
     return times
 
 
+def typed_and_untyped(context: Context, n: int) -> tuple[list[float], list[float]]:
+    """Goal round trips of `count` mapped with its type and without, alternating."""
+    program = PROGRAM.replace("MESSAGES", "1")
+    platforms = [Ros2Platform(context=context), Ros2Platform(context=context)]
+    times: tuple[list[float], list[float]] = ([], [])
+    try:
+        for platform, text in zip(platforms, (program, program.replace(FIB_TYPED, '"/fib"')), strict=True):
+            assert not platform.attach(interface(text))  # type: ignore[arg-type]
+        for i in range(2 * (n + 5)):
+            platform = platforms[i % 2]
+            args: dict[str, object] = {"order": 1}
+            activity = Activity(i + 1, GroundAction("count", (1,)), "", args)  # type: ignore[arg-type]
+            started = time.perf_counter()
+            platform.start(activity)
+            update = None
+            while update is None:
+                assert platform.queue.wait(5.0), "no answer within 5 s"
+                for _, event in platform.queue.drain():
+                    if isinstance(event, ActivityUpdate):
+                        update = event
+            assert update.status.value == "final", update
+            if i >= 10:  # the first goals include client creation
+                times[i % 2].append(time.perf_counter() - started)
+    finally:
+        for platform in platforms:
+            platform.close()
+    return times
+
+
+def first_goals(context: Context, mapped: str, repeat: int = 10) -> list[float]:
+    """The first goal of each of `repeat` platforms just attached, with `count` mapped to
+    `mapped` (a ROS name, with or without its type)."""
+    program = PROGRAM.replace("MESSAGES", "1").replace(FIB_TYPED, f'"{mapped}"')
+    iface = interface(program)
+    times: list[float] = []
+    for i in range(repeat):
+        platform = Ros2Platform(context=context)
+        try:
+            assert not platform.attach(iface)  # type: ignore[arg-type]
+            args: dict[str, object] = {"order": 1}
+            activity = Activity(i + 1, GroundAction("count", (1,)), mapped, args)  # type: ignore[arg-type]
+            started = time.perf_counter()
+            platform.start(activity)
+            update = None
+            while update is None:
+                assert platform.queue.wait(5.0), "no answer within 5 s"
+                for _, event in platform.queue.drain():
+                    if isinstance(event, ActivityUpdate):
+                        update = event
+            times.append(time.perf_counter() - started)
+            assert update.status.value == "final", update
+        finally:
+            platform.close()
+    return times
+
+
 def exog_rate(robot: TestRobot, messages: int) -> float:
     from std_msgs.msg import Int32
 
@@ -152,7 +221,7 @@ def main() -> None:
     rclpy.init(
         context=context, args=["--ros-args", "--log-level", "error"], signal_handler_options=SignalHandlerOptions.NO
     )
-    robot = TestRobot(context)
+    robot = TestRobot(context, result_timeout=1)  # finished goals kept 1 s: later goals are not slowed
     Ros2Platform.shared_context = context
     try:
         print("ros2 platform (in-process test servers, discovery off)")
@@ -160,7 +229,13 @@ def main() -> None:
         print(f"  start-up (create + attach)  first {first * 1000:.1f} ms, then {best * 1000:.1f} ms (best of 5)")
         goals = round_trips(context, "count", {"order": 1}, args.goals)
         print(f"  goal round trip             {ms(goals)} ({args.goals} goals)")
+        typed, untyped = typed_and_untyped(context, args.goals)
+        print(f"  goal round trip, typed      {ms(typed)} (alternating with the untyped one)")
+        print(f"  goal round trip, untyped    {ms(untyped)} (the type from the graph at attach, kept)")
         print(f"  service round trip          {ms(round_trips(context, 'switch', {'data': True}, args.goals))}")
+        typed = first_goals(context, "/fib : test_msgs/action/Fibonacci")
+        print(f"  first goal, typed           {ms(typed)} (10 platforms)")
+        print(f"  first goal, untyped         {ms(first_goals(context, '/fib'))} (10 platforms)")
         print(f"  exogenous messages          {exog_rate(robot, args.messages):,.0f} per s ({args.messages} messages)")
     finally:
         Ros2Platform.shared_context = None

@@ -42,6 +42,7 @@ from gpp.base import diagnostics as diag
 from gpp.check import CheckResult
 from gpp.check.session import AnalysisThread, Document, LspEdit, Session, diagnostics_in
 from gpp.codes import W0101, W0102
+from gpp.platform.static import static_diagnostics
 from lsp.codes_doc import code_url
 from lsp.gc_policy import GcPolicy
 from lsp.ranges import lsp_range
@@ -202,7 +203,7 @@ def _is_pipe(stream: BinaryIO) -> bool:
 class GppServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("gpp", __version__, protocol_cls=_Protocol)
-        self.session = Session()
+        self.session = Session(extra_checks=static_diagnostics)
         self.analysis = AnalysisThread("gpp-analysis")
         self.requests = AnalysisThread("gpp-requests")
         # The garbage collector waits while a round of checks runs (lsp.gc_policy.GcPolicy).

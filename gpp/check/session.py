@@ -31,7 +31,7 @@ from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from gpp.base import diagnostics as diag
 from gpp.base.perf import start_deep_stack_thread
@@ -40,6 +40,9 @@ from gpp.check import CheckResult, check_loaded
 from gpp.check.lintmemo import LintMemo
 from gpp.syntax.directives import directives
 from gpp.syntax.loader import ParseCache, include_candidates, load
+
+if TYPE_CHECKING:
+    from gpp.model.model import Model
 
 T = TypeVar("T")
 
@@ -103,10 +106,18 @@ class Session:
     """
 
     def __init__(
-        self, folders: Sequence[Path] = (), lint: bool = True, allow: Sequence[str] = (), reuse_lints: bool = True
+        self,
+        folders: Sequence[Path] = (),
+        lint: bool = True,
+        allow: Sequence[str] = (),
+        reuse_lints: bool = True,
+        extra_checks: Callable[[Model], list[diag.Diagnostic]] | None = None,
     ) -> None:
         self.cache = ParseCache()
         self.lint = lint
+        # Checks of a program without errors from the layers above (the language server passes
+        # the platforms' static checks, gpp.platform.static, which the checker does not import).
+        self.extra_checks = extra_checks
         # Whether a check reuses the lint warnings of the last one (gpp.check.lintmemo); off:
         # every check lints the whole program (to compare).
         self.reuse_lints = reuse_lints
@@ -287,6 +298,8 @@ class Session:
         # memo holds warnings and texts, not the last result: results do not chain).
         memo = (known[1].lint_memo if known is not None else None) or LintMemo()
         result = check_loaded(loaded, self.lint, allow, memo if self.reuse_lints else None)
+        if self.extra_checks is not None and not result.errors:
+            result.diagnostics.extend(self.extra_checks(result.model))
         self._checked[root] = (key, result)
         return result
 

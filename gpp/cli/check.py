@@ -3,7 +3,9 @@ files and settings, `--fix` and `--diff`.
 
 Editors and CI start this command on every save, so it stays cheap to start: nothing is
 imported that a check does not use (no rich unless colour is asked for, no interpreter,
-planner or platform); tests/cli/test_cli.py checks the modules a check imports.
+planner or platform: only the platforms' static checks, gpp.platform.static, which import
+more only for a program they have something to check in); tests/cli/test_cli.py checks the
+modules a check imports.
 """
 
 from __future__ import annotations
@@ -152,7 +154,13 @@ def run_check(
         config = configs.get(path) or load_config(path)
         allow = [*allowed, *config.disabled_lints()]
         roots = [path, *plan.libraries.get(path, ())]
-        return check_loaded(load(roots, overrides, config.include), lint, allow)
+        result = check_loaded(load(roots, overrides, config.include), lint, allow)
+        if not result.errors:
+            # What a platform would refuse of the mappings, where that needs no robot.
+            from gpp.platform.static import static_diagnostics
+
+            result.diagnostics.extend(static_diagnostics(result.model))
+        return result
 
     fixed = ""
     try:

@@ -77,21 +77,35 @@ class Ros2Options:
         default=None, metadata=about("s to wait for a server to appear (default: the binding file's, else 5)")
     )
     node_name: str = field(default="gpp_agent", metadata=about("the name of the agent's ROS node"))
+    discovery_timeout: float | None = field(
+        default=None,
+        metadata=about(
+            "s to wait before the run for the names mapped without a type to appear, so that their mappings are "
+            "checked first (default: the binding file's, else 3)"
+        ),
+    )
     log_level: str = field(default="warn", metadata=about("rclpy's log level (debug, info, warn, error)"))
 
 
 @dataclass(frozen=True)
 class Declaration:
     """A built-in platform: its class as `module:Class`, the `// key:` directive that selects
-    it, and its options."""
+    it, its options, and its check of a program without running it."""
 
     target: str
     options: type[Any]
     selected_by: str | None = None
+    # Its check of a program without running it, as `module:function` (gpp.platform.static).
+    static_check: str | None = None
 
 
 BUILTIN: dict[str, Declaration] = {
     "dummy": Declaration("gpp.platform.dummy:DummyPlatform", DummyOptions),
     "sim": Declaration("gpp.platform.sim:SimPlatform", SimOptions, selected_by="world"),
-    "ros2": Declaration("gpp.platform.ros2:Ros2Platform", Ros2Options, selected_by="ros2"),
+    "ros2": Declaration(
+        "gpp.platform.ros2:Ros2Platform",
+        Ros2Options,
+        selected_by="ros2",
+        static_check="gpp.platform.ros2.static:check",
+    ),
 }

@@ -17,13 +17,13 @@ from gpp.base import signals
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.check import CheckResult, check_program
-from gpp.codes import R0007, R0008
+from gpp.codes import R0008
 from gpp.model.symbols import Symbol
 from gpp.model.types import BOOL, NUMBER, STRING, SYMBOL, DomainType, Type
 from gpp.platform import choose_platform, platform_class
 from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
 from gpp.platform.values import ConversionError, to_value
-from gpp.runtime.contract import program_interface
+from gpp.runtime.contract import program_interface, unfit_error
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, HeaderEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
@@ -269,10 +269,6 @@ def _header(path: Path, platform: Platform) -> HeaderEvent:
 def _unfit(problem: Problem, platform: str, fallback: Span) -> diag.Diagnostic:
     """A problem found when the platform attached, as an error at the mapping (or data file
     entry) it is about."""
-    return diag.error(
-        R0007.unfit(problem.message),
-        problem.span or fallback,
-        problem.label,
-        notes=(*problem.notes, f"the program does not fit platform `{platform}`"),
-        help=problem.help,
-    )
+    found = unfit_error(problem, platform, fallback).diagnostic()
+    assert found is not None  # it has a span: the fallback's at least
+    return found

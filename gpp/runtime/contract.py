@@ -23,12 +23,16 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from gpp.base.source import Span
+from gpp.codes import R0007
+from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import Type
 from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.state import ActivityStatus, GroundAction
 from gpp.runtime.values import Value
 from gpp.syntax import ast
+from gpp.syntax.walk import walk
 
 
 class PlatformError(Exception):
@@ -69,7 +73,16 @@ class ExogOccurrence:
     args: tuple[Value, ...]
 
 
-Event = ActivityUpdate | ExogOccurrence
+@dataclass(frozen=True, slots=True)
+class PlatformFault:
+    """While the program runs, the platform found something about the program it cannot serve
+    (a mapping it could check only once the robot showed the mapped name's type): the run
+    stops with each problem as an error, as when the platform attaches."""
+
+    problems: tuple[Problem, ...]
+
+
+Event = ActivityUpdate | ExogOccurrence | PlatformFault
 
 
 class EventQueue:
@@ -166,7 +179,10 @@ class ActionBinding:
     params: tuple[Parameter, ...]
     mapped_name: str
     args: tuple[MappedArgument, ...]
-    # The type of the value a `senses:` section assigns, for an action that senses.
+    # For an action that senses: the type of the result that answers its `senses:` section,
+    # the return type of the exogenous function the section calls (`d() = nav("/nav").distance`
+    # is answered with a value of `nav`'s type, of which the section takes a field), or the
+    # sensed fluent's type when the section calls none.
     sensing: Type | None
     # The mapped name in the `mapping:` section, or the action's name when it has no mapping.
     span: Span
@@ -235,6 +251,19 @@ class Problem:
     help: str | None = None
 
 
+def unfit_error(problem: Problem, platform: str, fallback: Span | None) -> GppRuntimeError:
+    """A problem a platform found with the program (when it attached, or later: PlatformFault)
+    as the error that reports it: R0007 at the mapping (or data file entry) it is about, else
+    at `fallback`."""
+    return GppRuntimeError(
+        R0007.unfit(problem.message),
+        problem.span or fallback,
+        (*problem.notes, f"the program does not fit platform `{platform}`"),
+        problem.label,
+        help=problem.help,
+    )
+
+
 def program_interface(program: CompiledProgram) -> ProgramInterface:
     """The mapped actions, exogenous actions and exogenous functions of a program."""
     model = program.model
@@ -251,7 +280,7 @@ def program_interface(program: CompiledProgram) -> ProgramInterface:
             span = mapping.name.span if mapping is not None else symbol.span
             if symbol.kind is SymbolKind.ACTION:
                 args = _mapped_arguments(model.type_of, mapping, params, symbol.span)
-                sensing = info.senses.target.value_type if info.senses is not None else None
+                sensing = _sensed_type(model, info.decl, info.senses.target.value_type) if info.senses else None
                 actions[symbol.name] = ActionBinding(
                     symbol.name, params, info.mapped_name, args, sensing, span, mapping is not None
                 )
@@ -270,6 +299,23 @@ def program_interface(program: CompiledProgram) -> ProgramInterface:
             assert symbol.type is not None
             functions[symbol.name] = ExogFunctionSignature(symbol.name, _parameters(symbol), symbol.type, symbol.span)
     return ProgramInterface(actions, exogs, functions)
+
+
+def _sensed_type(model: Model, decl: ast.ActionDecl | None, assigned: Type) -> Type:
+    """The type of the result that answers an action's `senses:` section: the return type of
+    the first exogenous function the section calls, else the type of what it assigns."""
+    section = decl.section(ast.SensesSection) if decl is not None else None
+    if not isinstance(section, ast.SensesSection):
+        return assigned
+    calls = [
+        (n.span.start, s.type)
+        for n in walk(section.value)
+        if isinstance(n, ast.Call)
+        and (s := model.target(n)) is not None
+        and s.kind is SymbolKind.EXOG_FUNCTION
+        and s.type is not None
+    ]
+    return min(calls, key=lambda c: c[0])[1] if calls else assigned
 
 
 def _mapping(decl: ast.ActionDecl | None) -> ast.Mapping | None:

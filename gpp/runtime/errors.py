@@ -17,6 +17,7 @@ class GppRuntimeError(Exception):
         notes: tuple[str, ...] = (),
         label: str = "",
         secondary: tuple[diag.Label, ...] = (),
+        help: str | None = None,
     ) -> None:
         super().__init__(message.text)
         self.code = message.code
@@ -25,6 +26,7 @@ class GppRuntimeError(Exception):
         self.notes = notes
         self.label = label
         self.secondary = secondary
+        self.help = help
 
     def diagnostic(self, fallback: Span | None = None) -> diag.Diagnostic | None:
         """The diagnostic at the error's span (or at `fallback` when it has none)."""
@@ -32,5 +34,10 @@ class GppRuntimeError(Exception):
         if span is None:
             return None
         return diag.error(
-            diag.Message(self.code, self.message), span, self.label, secondary=self.secondary, notes=self.notes
+            diag.Message(self.code, self.message),
+            span,
+            self.label,
+            secondary=self.secondary,
+            notes=self.notes,
+            help=self.help,
         )

@@ -34,6 +34,8 @@ from gpp.runtime.contract import (
     ExogOccurrence,
     PlatformError,
     PlatformPort,
+    Problem,
+    unfit_error,
 )
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import PlanReport
@@ -169,6 +171,8 @@ class Executor:
         self.chasing = False
         self.result = RunResult(RunStatus.FINISHED)
         self._silent: dict[str, bool] = {}
+        # Problems with the program the platform reported while it runs (PlatformFault).
+        self.faults: list[Problem] = []
 
     # ---------------------------------------------------------------- the loop
 
@@ -186,6 +190,7 @@ class Executor:
             chased = 0
             while True:
                 self.drain()
+                self.stop_at_fault()
                 # Comparisons with the clock evaluated from here on say when to wake up.
                 self.ctx.wake = None
                 if self.sem.final(prog, self.state, self.acts):
@@ -385,8 +390,21 @@ class Executor:
         for t, event in self.platform.queue.drain():
             if isinstance(event, ActivityUpdate):
                 self.on_update(t, event)
-            else:
+            elif isinstance(event, ExogOccurrence):
                 self.on_exog(t, event)
+            else:
+                self.faults.extend(event.problems)
+
+    def stop_at_fault(self) -> None:
+        """Stop the run when the platform reported problems with the program (PlatformFault):
+        each is an error at the mapping it is about, as when the platform attached."""
+        if not self.faults:
+            return
+        errors = [unfit_error(p, self.platform.name, self.entry_span()) for p in self.faults]
+        self.faults.clear()
+        for e in errors[:-1]:
+            self.fail(e)
+        raise errors[-1]
 
     def on_update(self, t: float, update: ActivityUpdate) -> None:
         g = self.by_id.get(update.activity_id)

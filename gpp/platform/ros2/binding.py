@@ -30,7 +30,7 @@ class BindingError(Exception):
 
 
 _TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout")
-_DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout"})
+_DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout", "discovery_timeout"})
 _NAME_KEYS = frozenset({"type", *_TIMEOUTS, "stamp", "result", "qos"})
 _FUNCTION_KEYS = frozenset({"topic", "service", "field", "request", "timeout", "qos", "server_timeout"})
 _QOS_KEYS = frozenset({"reliability", "durability", "depth", "history"})
@@ -44,6 +44,7 @@ DEFAULT_SERVER_TIMEOUT = 5.0
 DEFAULT_ACK_TIMEOUT = 5.0
 DEFAULT_SERVICE_TIMEOUT = 10.0
 DEFAULT_FUNCTION_TIMEOUT = 2.0
+DEFAULT_DISCOVERY_TIMEOUT = 3.0
 
 
 @dataclass(frozen=True)
@@ -91,6 +92,8 @@ class Binding:
     ack_timeout: float = DEFAULT_ACK_TIMEOUT
     result_timeout: float | None = None  # actions; services default to DEFAULT_SERVICE_TIMEOUT
     timeout: float = DEFAULT_FUNCTION_TIMEOUT  # exogenous function calls
+    # s to wait at attach for the names mapped without a type to show up in the ROS graph
+    discovery_timeout: float = DEFAULT_DISCOVERY_TIMEOUT
     names: dict[str, NameEntry] = field(default_factory=dict)
     functions: dict[str, FunctionEntry] = field(default_factory=dict)
 
@@ -146,6 +149,8 @@ class Binding:
                         setattr(binding, t, _seconds(table[t], f"{at(key)} {t}", allow_zero=t == "result_timeout"))
                 if "timeout" in table:
                     binding.timeout = _seconds(table["timeout"], f"{at(key)} timeout")
+                if "discovery_timeout" in table:
+                    binding.discovery_timeout = _seconds(table["discovery_timeout"], f"{at(key)} discovery_timeout")
             elif key == "exog_function":
                 functions = _table(value, f"{where}: [exog_function]")
                 for fname, entry in functions.items():

@@ -79,6 +79,12 @@ class Job:
     ack_timeout: float = 5.0
     result_timeout: float | None = None
     qos: Qos | None = None
+    # The interface came from the graph: when no server of it answers, the graph is looked at
+    # again (its type may have changed).
+    from_graph: bool = False
+    # Called with a type the graph shows for the name: why the mapping does not fit it (then
+    # nothing is sent and the job fails), or None.
+    fits: Callable[[Interface], str | None] | None = None
     # state, touched only on the spin thread
     phase: str = "new"  # new, resolving, waiting, sent, running, ended
     deadline: float = math.inf
@@ -270,10 +276,16 @@ class Bridge:
                 )
             return
         try:
-            job.interface = load_interface(found[1])
+            interface = load_interface(found[1])
         except InterfaceError as e:
             self._fail(job, str(e))
             return
+        unfit = job.fits(interface) if job.fits is not None else None
+        if unfit is not None:
+            self._fail(job, f'"{job.name}" ({interface.name}): {unfit}')
+            return
+        job.interface = interface
+        job.from_graph = True
         self._prepare(job)
 
     def _prepare(self, job: Job) -> None:
@@ -320,9 +332,20 @@ class Bridge:
     def _wait_for_server(self, job: Job) -> None:
         if self._server_ready(job):
             self._send(job)
+        elif job.from_graph and self._type_changed(job):
+            job.interface = None
+            job.phase = "resolving"
+            self._resolve(job)
         elif self.now() >= job.deadline:
             what = "action server" if job.interface is not None and job.interface.kind == "action" else "service"
             self._fail(job, f'no {what} "{job.name}" became available within {job.server_timeout:g} s')
+
+    def _type_changed(self, job: Job) -> bool:
+        """Does the graph show another type for a job's name than the one it was resolved to
+        (no server of that type answers)?"""
+        assert job.interface is not None
+        found = self.graph_type(job.name)
+        return found is not None and found[1] != job.interface.name
 
     def _send(self, job: Job) -> None:
         assert job.interface is not None

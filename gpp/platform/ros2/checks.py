@@ -9,8 +9,12 @@ sensing action's result fits the sensed type. Each problem is located at the map
 from __future__ import annotations
 
 import re
+import time
+from collections.abc import Collection
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
+
+from rosidl_parser.definition import NamespacedType
 
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
@@ -45,40 +49,78 @@ class Target:
     binding: ActionBinding
     name: MappedName
     entry: NameEntry
+    # None until the graph shows the name's type; then the mapping is checked against it, and
+    # the type is kept (no graph look-up per goal) while a server of that type answers.
     interface: Interface | None = None
+    from_graph: bool = False
+    # The problems found when the mapping was checked against a type from the graph late.
+    unfit: tuple[Problem, ...] = ()
 
 
 class Graph:
-    """The names in the ROS graph when the program attaches (kind and type of each)."""
+    """The names in the ROS graph when the program attaches (kind and type of each). The names
+    in `wanted` (those mapped without a type) are waited for, at most `timeout` seconds:
+    discovery takes a moment after the agent's node starts, and a mapping is checked before the
+    run only if its type is known by then."""
 
-    def __init__(self, bridge: Bridge | None) -> None:
+    def __init__(self, bridge: Bridge | None, wanted: Collection[str] = (), timeout: float = 0.0) -> None:
         self.known: dict[str, tuple[str, str]] = {}
         if bridge is None:
             return
-        try:
-            self.known = bridge.call(self._snapshot, bridge, timeout=5.0)
-        except Exception:
-            self.known = {}
-
-    @staticmethod
-    def _snapshot(bridge: Bridge) -> dict[str, tuple[str, str]]:
-        from rclpy.action.graph import get_action_names_and_types
-
-        node = bridge.node
-        known: dict[str, tuple[str, str]] = {}
-        for name, types in node.get_topic_names_and_types():
-            if types and node.count_publishers(name) > 0:
-                known[name] = ("msg", types[0])
-        for name, types in node.get_service_names_and_types():
-            if types:
-                known[name] = ("srv", types[0])
-        for name, types in get_action_names_and_types(node):
-            if types:
-                known[name] = ("action", types[0])
-        return known
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                self.known = bridge.call(snapshot, bridge, timeout=5.0)
+            except Exception:
+                self.known = {}
+                return
+            if all(name in self.known for name in wanted) or time.monotonic() >= deadline:
+                return
+            time.sleep(DISCOVERY_POLL)
 
     def lookup(self, name: str) -> tuple[str, str] | None:
         return self.known.get(name)
+
+
+# s between two looks at the graph while waiting for names to be discovered
+DISCOVERY_POLL = 0.02
+
+
+def snapshot(bridge: Bridge) -> dict[str, tuple[str, str]]:
+    """Every name in the ROS graph now (on the spin thread): its kind (action, srv, or msg for
+    a topic with publishers) and type."""
+    from rclpy.action.graph import get_action_names_and_types
+
+    node = bridge.node
+    known: dict[str, tuple[str, str]] = {}
+    for name, types in node.get_topic_names_and_types():
+        if types and node.count_publishers(name) > 0:
+            known[name] = ("msg", types[0])
+    for name, types in node.get_service_names_and_types():
+        if types:
+            known[name] = ("srv", types[0])
+    for name, types in get_action_names_and_types(node):
+        if types:
+            known[name] = ("action", types[0])
+    return known
+
+
+def untyped_names(interface: ProgramInterface, b: Binding) -> set[str]:
+    """The ROS names the program maps without a type (in the mapping or the binding file):
+    their types come from the graph."""
+    names: set[str] = set()
+    mapped = [a.mapped_name for a in interface.actions.values()]
+    mapped += [e.mapped_name for e in interface.exog_actions.values()]
+    for text in mapped:
+        try:
+            name = parse_mapped(text)
+        except NameError_:
+            continue
+        entry = b.names.get(name.name)
+        if name.type is None and (entry is None or entry.type is None):
+            names.add(name.name)
+    names.update(f.source.name for f in b.functions.values() if f.source.type is None)
+    return names
 
 
 def _parse(mapped: str, span: Span, what: str) -> tuple[MappedName | None, list[Problem]]:
@@ -127,10 +169,20 @@ def action_target(binding: ActionBinding, b: Binding, graph: Graph) -> tuple[Tar
     if problems:
         return None, problems
     if type_name is None:
-        return Target(binding, name, entry), []  # looked up in the graph when it is first used
+        return Target(binding, name, entry), []  # checked once the graph shows its type
     iface, problems = _load(type_name, binding.span, what)
     if iface is None:
         return None, problems
+    from_graph = name.type is None and entry.type is None
+    return Target(binding, name, entry, iface, from_graph), action_problems(binding, name, entry, iface)
+
+
+def action_problems(binding: ActionBinding, name: MappedName, entry: NameEntry, iface: Interface) -> list[Problem]:
+    """What does not fit in an action's mapping (and its binding file entry) to interface
+    `iface`: keys that are no fields, values of the wrong type or out of range, stamps, the
+    sensed result."""
+    what = f"action `{binding.name}`"
+    problems: list[Problem] = []
     request = iface.request
     for arg in binding.args:
         try:
@@ -166,7 +218,7 @@ def action_target(binding: ActionBinding, b: Binding, graph: Graph) -> tuple[Tar
         problems.extend(_result_problems(what, name.name, iface, binding.sensing, entry.result, binding.span, where))
     elif entry.result is not None:
         problems.append(Problem(f'binding file: "{name.name}" result: `{binding.name}` senses nothing', where))
-    return Target(binding, name, entry, iface), problems
+    return problems
 
 
 def _result_problems(
@@ -186,11 +238,16 @@ def _result_problems(
     known = fields(response)
     if not known:
         return [Problem(f"{what} senses a value, but the {kind} of {iface.name} has no fields", span)]
-    if len(known) == 1 and not isinstance(base(sensing), CompoundType):
+    compound = base(sensing)
+    if len(known) == 1:
         ((field_name, t),) = known.items()
-        wrong = type_problem(t, sensing)
-        return [] if wrong is None else [Problem(f"{what}: the {kind} field `{field_name}`: {wrong}", span)]
-    if not isinstance(base(sensing), CompoundType):
+        if not isinstance(compound, CompoundType) or (
+            isinstance(t, NamespacedType) and field_name not in compound.fields
+        ):
+            # The one field is the sensed value (a message fills the compound).
+            wrong = type_problem(t, sensing)
+            return [] if wrong is None else [Problem(f"{what}: the {kind} field `{field_name}`: {wrong}", span)]
+    if not isinstance(compound, CompoundType):
         return [
             Problem(
                 f"{what} senses a {sensing}, but the {kind} of {iface.name} has {len(known)} fields "
@@ -221,25 +278,37 @@ def exog_route(
     iface, problems = _load(type_name, exog.span, what)
     if iface is None:
         return None, problems
+    problems = route_problems(exog, name.name, iface, routes)
+    if problems and iface.kind != "msg":
+        return None, problems
+    return (name.name, iface, routes), problems
+
+
+def route_problems(
+    exog: ExogActionBinding, name: str, iface: Interface, routes: list[tuple[str, str, Type]]
+) -> list[Problem]:
+    """What does not fit in an exogenous action's mapping to the topic's type `iface`."""
+    what = f"exogenous action `{exog.name}`"
     if iface.kind != "msg":
-        return None, [
+        return [
             Problem(
-                f'{what}: "{name.name}" is {_KIND_WORD[iface.kind]} ({iface.name}); exogenous actions come from '
+                f'{what}: "{name}" is {_KIND_WORD[iface.kind]} ({iface.name}); exogenous actions come from '
                 "topics (write `package/msg/Type`)",
                 exog.span,
             )
         ]
+    problems: list[Problem] = []
     for path, param, t in routes:
         span = exog.field_spans.get(path, exog.span)
         try:
             ft = field_at(iface.cls, path)
         except FieldError as e:
-            problems.append(Problem(f'{what}: "{name.name}" ({iface.name}): {e}', span, "no such field", help=e.hint))
+            problems.append(Problem(f'{what}: "{name}" ({iface.name}): {e}', span, "no such field", help=e.hint))
             continue
         wrong = type_problem(ft, t)
         if wrong is not None:
             problems.append(Problem(f"{what}: field `{path}` for parameter `{param}`: {wrong}", span))
-    return (name.name, iface, routes), problems
+    return problems
 
 
 def function_source(

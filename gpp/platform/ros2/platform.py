@@ -40,6 +40,7 @@ from gpp.platform.base import (
     Platform,
     PlatformConfig,
     PlatformError,
+    PlatformFault,
     Problem,
     ProgramInterface,
     parse_options,
@@ -63,6 +64,10 @@ if TYPE_CHECKING:
     from gpp.platform.ros2.interfaces import Interface
 
 log = logging.getLogger("gpp.platform.ros2")
+
+# s between two looks at the graph for the types of names mapped without one, not yet seen
+TARGET_LOOK = 0.1
+_UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
 
@@ -127,6 +132,7 @@ class Ros2Platform(Platform):
         self._results: dict[int, Value] = {}
         self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
         self.exog_received = 0
+        self._next_target_look = 0.0
 
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
@@ -142,6 +148,13 @@ class Ros2Platform(Platform):
             raise PlatformError(str(e)) from None
         if options.server_timeout is not None:
             binding.server_timeout = options.server_timeout
+        if options.discovery_timeout is not None:
+            if options.discovery_timeout <= 0:
+                raise PlatformError(
+                    f"option `discovery_timeout` of platform `ros2` must be a number of seconds > 0, "
+                    f"not {options.discovery_timeout:g}"
+                )
+            binding.discovery_timeout = options.discovery_timeout
         return cls(binding, None, options.domain_id, options.node_name, options.log_level)
 
     # ---------------------------------------------------------------- attach
@@ -158,7 +171,9 @@ class Ros2Platform(Platform):
             return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
         bridge = self.bridge
         self.t0 = bridge.t0
-        graph = checks.Graph(bridge)
+        # The names mapped without a type are checked against the types the graph shows: wait
+        # (bounded) for discovery to find them first.
+        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), self.binding.discovery_timeout)
         for name, binding in sorted(interface.actions.items()):
             target, found = checks.action_target(binding, self.binding, graph)
             problems.extend(found)
@@ -209,6 +224,7 @@ class Ros2Platform(Platform):
         except Exception as e:
             return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
         bridge.watchers.append(self._watch_topics)
+        bridge.watchers.append(self._watch_targets)
         return []
 
     def _subscribe_all(self) -> None:
@@ -243,6 +259,7 @@ class Ros2Platform(Platform):
     def _watch_topics(self, now: float) -> None:
         """On the spin thread: subscribe to topics whose type the graph did not know at attach
         once a publisher shows it."""
+        from gpp.platform.ros2.checks import route_problems
         from gpp.platform.ros2.interfaces import InterfaceError, load_interface
 
         assert self.bridge is not None
@@ -261,12 +278,59 @@ class Ros2Platform(Platform):
                     )
                 continue
             try:
-                topic.interface = load_interface(found[1])
+                interface = load_interface(found[1])
             except InterfaceError as e:
                 log.error("ros2: topic %s: %s", topic.name, e)
                 topic.next_try = float("inf")
                 continue
+            problems = [p for exog, routes in topic.routes for p in route_problems(exog, topic.name, interface, routes)]
+            if problems:
+                topic.next_try = float("inf")  # never subscribed: the run stops
+                self.queue.put(PlatformFault(tuple(problems)), self.now())
+                continue
+            topic.interface = interface
             self._subscribe(topic)
+
+    def _watch_targets(self, now: float) -> None:
+        """On the spin thread: check the mappings of the names whose type the graph did not show
+        at attach as soon as it does, whether a goal waits for them or not."""
+        if now < self._next_target_look:
+            return
+        self._next_target_look = now + TARGET_LOOK
+        waiting = [t for t in self.targets.values() if t.interface is None and not t.unfit]
+        if not waiting:
+            return
+        assert self.bridge is not None
+        for target in waiting:
+            found = self.bridge.graph_type(target.name.name)
+            if found is not None:
+                from gpp.platform.ros2.interfaces import InterfaceError, load_interface
+
+                try:
+                    interface = load_interface(found[1])
+                except InterfaceError:
+                    continue  # the goal that needs it fails with the reason
+                self._fits(target, interface)
+
+    def _fits(self, target: Target, interface: Interface) -> str | None:
+        """On the spin thread: why the mapping of `target` does not fit `interface`, a type the
+        graph showed after attach (None: it fits). Checked once per type: a fit is kept for the
+        next goals; problems stop the run (PlatformFault), and nothing is ever sent for that
+        mapping."""
+        from gpp.platform.ros2.checks import action_problems
+
+        if target.unfit:
+            return _UNFIT
+        if target.interface is not None and target.interface.name == interface.name:
+            return None
+        problems = action_problems(target.binding, target.name, target.entry, interface)
+        if problems:
+            target.unfit = tuple(problems)
+            self.queue.put(PlatformFault(target.unfit), self.now())
+            return _UNFIT
+        target.interface = interface
+        target.from_graph = True
+        return None
 
     def _message(self, topic: Topic, msg: Any) -> None:
         """On the spin thread: a message on a subscribed topic becomes the exogenous events
@@ -300,10 +364,14 @@ class Ros2Platform(Platform):
         entries = list(activity.args.items())
         name = target.name.name
         b = self.binding
-        service = target.interface is not None and target.interface.kind == "srv"
+        if target.unfit:
+            self._update(activity, ActivityStatus.FAILED, reason=f'"{name}": {_UNFIT}')
+            return
+        interface = target.interface  # None: resolved from the graph, and checked, first
+        service = interface is not None and interface.kind == "srv"
         job = Job(
             name,
-            target.interface,
+            interface,
             entries,
             lambda outcome: self._ended(activity, target, outcome),
             stamps=target.entry.stamp,
@@ -311,12 +379,14 @@ class Ros2Platform(Platform):
             ack_timeout=b.ack_timeout_for(name),
             result_timeout=b.result_timeout_for(name, service),
             qos=target.entry.qos,
+            from_graph=target.from_graph,
+            fits=lambda found: self._fits(target, found),
         )
-        if target.interface is not None:
+        if interface is not None:
             # Checked here, before anything is sent: an argument that does not fit ends the
             # activity failed at once.
             try:
-                make_message(target.interface.request, entries)
+                make_message(interface.request, entries)
             except FieldError as e:
                 self._update(activity, ActivityStatus.FAILED, reason=f'"{name}": {e}')
                 return
@@ -465,6 +535,13 @@ def sensed_value(plain: Any, t: Type, path: str | None) -> Value:
 
 
 def _unwrap(plain: Any, t: Type) -> Any:
-    if isinstance(plain, dict) and len(plain) == 1 and not isinstance(base(t), CompoundType):
-        return next(iter(plain.values()))
+    """A one-field result as that field's value, unless it is the compound `t` itself: `t` is
+    not a compound type, or the field is a message and not a field of `t` (a result `{pose:
+    {x, y}}` fills a compound `{x, y}`)."""
+    if not isinstance(plain, dict) or len(plain) != 1:
+        return plain
+    ((name, value),) = plain.items()
+    compound = base(t)
+    if not isinstance(compound, CompoundType) or (isinstance(value, dict) and name not in compound.fields):
+        return value
     return plain

@@ -11,7 +11,9 @@ Behaviours:
   -6 answer only the first goal request late (1.5 s); >= 1000 run until cancelled;
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
-  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s;
+  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s; `/get_plan`
+  (nav_msgs/srv/GetPlan, a response of one field that is a message): a path from the start to
+  the goal pose, in the goal's frame;
 * publishers `/events` (std_msgs/msg/String) and `/count` (std_msgs/msg/Int32), reliable and
   keeping every message until it is delivered.
 """
@@ -24,6 +26,7 @@ import time
 from typing import Any
 
 import rclpy
+from nav_msgs.srv import GetPlan
 from rclpy.action.server import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.context import Context
@@ -40,8 +43,13 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPol
 class TestRobot:
     __test__ = False
 
-    def __init__(self, context: Context, name: str = "test_robot", announce: bool = False) -> None:
-        # announce: print `goal ORDER` when a /fib goal starts (for a parent process to wait on).
+    def __init__(
+        self, context: Context, name: str = "test_robot", announce: bool = False, result_timeout: int = 10
+    ) -> None:
+        # announce: print `request ORDER` when a /fib goal request arrives and `goal ORDER` when
+        # the goal starts (for a parent process to wait on, or to see that none came).
+        # result_timeout: s /fib keeps a finished goal (rclpy's default, 10); the goals it keeps
+        # slow the next ones down, which a benchmark of many goals does not want.
         self.announce = announce
         self.node = rclpy.create_node(name, context=context, start_parameter_services=False)
         self.lock = threading.Lock()
@@ -61,11 +69,13 @@ class TestRobot:
             goal_callback=self._goal,
             cancel_callback=lambda _: CancelResponse.ACCEPT,
             callback_group=group,
+            result_timeout=result_timeout,
         )
         self.nested = ActionServer(node, NestedMessage, "/nested", execute_callback=self._nested, callback_group=group)
         node.create_service(BasicTypes, "/basic", lambda req, resp: _copy(req, resp), callback_group=group)
         node.create_service(SetBool, "/set_bool", self._set_bool, callback_group=group)
         node.create_service(Trigger, "/slow", self._slow, callback_group=group)
+        node.create_service(GetPlan, "/get_plan", self._get_plan, callback_group=group)
         self.events = node.create_publisher(String, "/events", KEEP_ALL)
         self.count = node.create_publisher(Int32, "/count", KEEP_ALL)
         self.executor = MultiThreadedExecutor(num_threads=4, context=context)
@@ -85,6 +95,8 @@ class TestRobot:
         with self.lock:
             self.requests.append(goal.order)
             first = self.requests.count(goal.order) == 1
+        if self.announce:
+            print(f"request {goal.order}", flush=True)
         if goal.order == -2:
             return GoalResponse.REJECT
         if goal.order == -5 or (goal.order == -6 and first):
@@ -140,6 +152,11 @@ class TestRobot:
     def _set_bool(self, request: Any, response: Any) -> Any:
         response.success = request.data
         response.message = "on" if request.data else "off"
+        return response
+
+    def _get_plan(self, request: Any, response: Any) -> Any:
+        response.plan.header.frame_id = request.goal.header.frame_id
+        response.plan.poses = [request.start, request.goal]
         return response
 
     def _slow(self, request: Any, response: Any) -> Any:

@@ -30,6 +30,7 @@ def test_a_binding_file_with_every_kind_of_entry(tmp_path: Path) -> None:
 [defaults]
 server_timeout = 2
 result_timeout = 60
+discovery_timeout = 1.5
 
 ["/navigate_to_pose"]
 type = "nav2_msgs/action/NavigateToPose"
@@ -51,13 +52,14 @@ timeout = 0.5
 """,
     )
     assert b.server_timeout == 2.0 and b.result_timeout_for("/x", service=False) == 60.0
+    assert b.discovery_timeout == 1.5 and Binding().discovery_timeout == 3.0
     nav = b.names["/navigate_to_pose"]
     assert nav.type == "nav2_msgs/action/NavigateToPose" and nav.stamp == ("pose.header.stamp",)
     assert b.ack_timeout_for("/navigate_to_pose") == 1.5 and b.ack_timeout_for("/other") == 5.0
     assert b.names["/scan"].qos is not None and b.names["/scan"].qos.reliability == "best_effort"
     assert b.functions["battery"].source.type == "sensor_msgs/msg/BatteryState"
     assert b.functions["block_on"].request == {"block": "b"} and b.functions["block_on"].timeout == 0.5
-    assert nav.span is not None and nav.span.line == 6
+    assert nav.span is not None and nav.span.line == 7
 
 
 def test_services_have_a_result_timeout_by_default_and_actions_none() -> None:
@@ -75,6 +77,7 @@ def test_services_have_a_result_timeout_by_default_and_actions_none() -> None:
         ),
         ("[defualts]\nserver_timeout = 3\n", ":1: [defualts]: unknown table `defualts`"),
         ('["/stack"]\nack_timeout = -1\n', "ack_timeout: expected a number of seconds > 0, not -1"),
+        ("[defaults]\ndiscovery_timeout = 0\n", "discovery_timeout: expected a number of seconds > 0, not 0"),
         ('["/scan"]\nqos = { reliability = "best-effort" }\n', "did you mean `best_effort`?"),
         ('["/x"]\nstamp = [1]\n', "stamp: expected a list of field paths"),
         ('[exog_function.f]\nfield = "x"\n', "give the source of `f`"),

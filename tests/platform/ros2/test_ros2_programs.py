@@ -168,7 +168,7 @@ def test_a_missing_server_fails_after_the_server_timeout(ros: Any, tmp_path: Pat
 
 def test_a_missing_name_without_a_type_fails_too(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace(FIB, '"/nowhere"') + "procedure main() { count(1); }\n"
-    outcome = ok(run(tmp_path, program, server_timeout="0.3"))
+    outcome = ok(run(tmp_path, program, server_timeout="0.3", discovery_timeout="0.3"))
     [update] = updates(outcome)
     assert update.status == "failed" and '"/nowhere" is not available' in (update.reason or "")
 
