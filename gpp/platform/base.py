@@ -36,6 +36,7 @@ from gpp.runtime.contract import (
     MappedArgument,
     Parameter,
     PlatformError,
+    PlatformNotice,
     Problem,
     ProgramInterface,
 )
@@ -57,6 +58,7 @@ __all__ = [
     "Platform",
     "PlatformConfig",
     "PlatformError",
+    "PlatformNotice",
     "Problem",
     "ProgramInterface",
     "RunFacts",

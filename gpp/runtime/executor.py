@@ -33,6 +33,7 @@ from gpp.runtime.contract import (
     ActivityUpdate,
     ExogOccurrence,
     PlatformError,
+    PlatformNotice,
     PlatformPort,
 )
 from gpp.runtime.errors import GppRuntimeError
@@ -385,8 +386,21 @@ class Executor:
         for t, event in self.platform.queue.drain():
             if isinstance(event, ActivityUpdate):
                 self.on_update(t, event)
+            elif isinstance(event, PlatformNotice):
+                self.on_notice(t, event)
             else:
                 self.on_exog(t, event)
+
+    def on_notice(self, t: float, notice: PlatformNotice) -> None:
+        g = self.by_id.get(notice.activity_id) if notice.activity_id is not None else None
+        self.trace.emit(
+            ev.NoticeEvent(
+                t=t,
+                message=notice.message,
+                action=g.text if g is not None else None,
+                id=notice.activity_id if g is not None else None,
+            )
+        )
 
     def on_update(self, t: float, update: ActivityUpdate) -> None:
         g = self.by_id.get(update.activity_id)
@@ -568,7 +582,7 @@ class Executor:
         if status is ActivityStatus.FINAL:
             info = self.program.action(g.name)
             if info.senses is not None and record is not None:
-                self.sense(g, record, info.senses)
+                self.sense(g, record, info.senses, now)
             updates = self.sem.effects(g, self.state)
             self.state = self.state.updated(updates, self.program.initial)
         unhandled = status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure
@@ -590,7 +604,9 @@ class Executor:
         self.records.pop(g, None)
         self.results.pop(g, None)
 
-    def sense(self, g: GroundAction, record: Activity, senses: object) -> None:
+    def sense(self, g: GroundAction, record: Activity, senses: object, now: float) -> None:
+        """Apply the `senses:` section of an activity that ended final; its record is stamped
+        `now`, the time of the `end` record that follows it."""
         from gpp.runtime.compiled import Effect
 
         assert isinstance(senses, Effect)
@@ -608,7 +624,7 @@ class Executor:
         self.state = self.state.updated(pending, self.program.initial)
         self.trace.emit(
             ev.SenseEvent(
-                t=self.platform.now(),
+                t=now,
                 action=g.text,
                 fluent=self.program.instance_text(slot),
                 value=ev.json_value(value),

@@ -24,6 +24,7 @@ install the ROS packages) where they are missing.
 from __future__ import annotations
 
 import logging
+import re
 import threading
 import time
 from collections.abc import Mapping
@@ -131,6 +132,7 @@ class Ros2Platform(Platform):
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
         options = parse_options(Ros2Options, config.options, cls.name)
+        check_options(options)
         try:
             import rclpy  # noqa: F401
         except ImportError:
@@ -452,6 +454,33 @@ class Ros2Platform(Platform):
     def close(self) -> None:
         if self.bridge is not None:
             self.bridge.close()
+
+
+# Fast DDS derives its ports from the domain id: above 232 they leave the port range.
+MAX_DOMAIN_ID = 232
+_NODE_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+LOG_LEVELS = ("debug", "info", "warn", "error", "fatal")
+
+
+def check_options(options: Ros2Options) -> None:
+    """Options rclpy or Fast DDS would refuse with an error of their own (or a traceback) are
+    refused here, each with one line (a usage error)."""
+    if options.domain_id is not None and not 0 <= options.domain_id <= MAX_DOMAIN_ID:
+        raise PlatformError(
+            f"option `domain_id` of platform `ros2` must be a whole number from 0 to {MAX_DOMAIN_ID}, "
+            f"not {options.domain_id}"
+        )
+    if not _NODE_NAME.match(options.node_name):
+        raise PlatformError(
+            f'option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting '
+            f'with a digit; no `/` or namespace), not "{options.node_name}"'
+        )
+    if options.log_level.lower() not in LOG_LEVELS:
+        hint = did_you_mean(options.log_level, LOG_LEVELS)
+        raise PlatformError(
+            f"option `log_level` of platform `ros2` must be one of {', '.join(LOG_LEVELS)}, "
+            f'not "{options.log_level}"' + (f"; {hint}" if hint else "")
+        )
 
 
 def sensed_value(plain: Any, t: Type, path: str | None) -> Value:
