@@ -77,6 +77,9 @@ class PlatformNotice:
 
     message: str
     activity_id: int | None = None
+    # The platform refused to stop the activity (its server refused the cancel): it still runs,
+    # and its end is reported when it comes.
+    cancel_refused: bool = False
 
 
 Event = ActivityUpdate | ExogOccurrence | PlatformNotice

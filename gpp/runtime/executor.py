@@ -161,6 +161,8 @@ class Executor:
         self.next_id = 1
         # Activities the platform took (its `start` returned): only these can be acknowledged.
         self.accepted: set[int] = set()
+        # Activities whose cancel the platform refused (they still run): not waited for at the end.
+        self.cancel_refused: set[int] = set()
         self.cancel_grace = CANCEL_GRACE
         # `solve` statements already warned about (R0014).
         self.warned: set[int] = set()
@@ -393,6 +395,8 @@ class Executor:
 
     def on_notice(self, t: float, notice: PlatformNotice) -> None:
         g = self.by_id.get(notice.activity_id) if notice.activity_id is not None else None
+        if notice.cancel_refused and notice.activity_id is not None:
+            self.cancel_refused.add(notice.activity_id)
         self.trace.emit(
             ev.NoticeEvent(
                 t=t,
@@ -634,7 +638,8 @@ class Executor:
 
     def stop_running_activities(self) -> None:
         """Preempt every activity still running, then wait (at most `cancel_grace` seconds of wall time)
-        for the platform to acknowledge each, so that the trace records how each ended."""
+        for the platform to acknowledge each, so that the trace records how each ended. One whose
+        cancel the platform refused is not waited for: it still runs, as its `notice` says."""
         stopping: list[GroundAction] = []
         for g in self.acts.running():
             record = self.records.get(g)
@@ -653,7 +658,11 @@ class Executor:
         while True:
             with contextlib.suppress(Exception):
                 self.drain()
-            open_ = [g for g in stopping if self.acts.status(g) is ActivityStatus.RUNNING]
+            open_ = [
+                g
+                for g in stopping
+                if self.acts.status(g) is ActivityStatus.RUNNING and self.records[g].id not in self.cancel_refused
+            ]
             left = deadline - time.monotonic()
             if not open_ or left <= 0:
                 break

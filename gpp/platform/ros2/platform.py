@@ -41,6 +41,7 @@ from gpp.platform.base import (
     Platform,
     PlatformConfig,
     PlatformError,
+    PlatformNotice,
     Problem,
     ProgramInterface,
     parse_options,
@@ -312,7 +313,10 @@ class Ros2Platform(Platform):
             server_timeout=b.server_timeout_for(name),
             ack_timeout=b.ack_timeout_for(name),
             result_timeout=b.result_timeout_for(name, service),
+            feedback_timeout=b.feedback_timeout_for(name),
+            resend=b.resend_for(name),
             qos=target.entry.qos,
+            notice=lambda message, cancel_refused: self._notice(activity, message, cancel_refused),
         )
         if target.interface is not None:
             # Checked here, before anything is sent: an argument that does not fit ends the
@@ -333,8 +337,13 @@ class Ros2Platform(Platform):
             return
         self.bridge.post(self.bridge.cancel, job)
 
+    def _notice(self, activity: Activity, message: str, cancel_refused: bool) -> None:
+        """On the spin thread: the program is told something about a running activity."""
+        self.queue.put(PlatformNotice(message, activity.id, cancel_refused), self.now())
+
     def _ended(self, activity: Activity, target: Target, outcome: Outcome) -> None:
-        """On the spin thread: a job ended; its activity's update is queued."""
+        """On the spin thread: a job ended; its activity's update is queued. Its result, if it
+        has one (also a failed goal's: Nav2's error_code), is the name's last result."""
         with self._lock:
             self._jobs.pop(activity.id, None)
         status, reason = outcome.status, outcome.reason
@@ -472,7 +481,7 @@ def check_options(options: Ros2Options) -> None:
         )
     if not _NODE_NAME.match(options.node_name):
         raise PlatformError(
-            f'option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting '
+            f"option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting "
             f'with a digit; no `/` or namespace), not "{options.node_name}"'
         )
     if options.log_level.lower() not in LOG_LEVELS:

@@ -9,6 +9,8 @@ Behaviours:
 * `/fib` (test_msgs/action/Fibonacci), chosen by `order`: >= 0 succeed with the sequence;
   -1 abort; -2 reject; -3 succeed after 0.3 s; -5 answer each goal request only after 1.5 s;
   -6 answer only the first goal request late (1.5 s); >= 1000 run until cancelled;
+  -10 run until cancelled, sending feedback every 0.1 s; -11 refuse to be cancelled and
+  succeed after 1 s; -12 send feedback for 0.3 s, then nothing until cancelled (stuck);
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
   success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s;
@@ -59,7 +61,7 @@ class TestRobot:
             "/fib",
             execute_callback=self._fib,
             goal_callback=self._goal,
-            cancel_callback=lambda _: CancelResponse.ACCEPT,
+            cancel_callback=self._cancel,
             callback_group=group,
         )
         self.nested = ActionServer(node, NestedMessage, "/nested", execute_callback=self._nested, callback_group=group)
@@ -91,6 +93,9 @@ class TestRobot:
             time.sleep(1.5)
         return GoalResponse.ACCEPT
 
+    def _cancel(self, handle: Any) -> CancelResponse:
+        return CancelResponse.REJECT if handle.request.order == -11 else CancelResponse.ACCEPT
+
     def _fib(self, handle: Any) -> Any:
         order = handle.request.order
         with self.lock:
@@ -103,16 +108,23 @@ class TestRobot:
             if order == -1:
                 handle.abort()
                 return Fibonacci.Result(sequence=[0])
-            if order >= 1000 or order in (-5, -6):
-                deadline = time.monotonic() + (30.0 if order >= 1000 else 0.3)
+            if order == -11:
+                time.sleep(1.0)
+                order = 2
+            if order >= 1000 or order in (-5, -6, -10, -12):
+                began = time.monotonic()
+                deadline = began + (0.3 if order in (-5, -6) else 30.0)
                 while time.monotonic() < deadline and not self.stopping.is_set():
+                    if order == -10 or (order == -12 and time.monotonic() - began < 0.3):
+                        handle.publish_feedback(Fibonacci.Feedback(sequence=[0]))
+                        time.sleep(0.09)
                     if handle.is_cancel_requested:
                         with self.lock:
                             self.cancelled.append(order)
                         handle.canceled()
                         return Fibonacci.Result(sequence=[1])
                     time.sleep(0.01)
-                if order >= 1000:
+                if order not in (-5, -6):
                     handle.abort()
                     return Fibonacci.Result()
                 order = 3

@@ -4,6 +4,7 @@ exogenous events from topics and exogenous functions, and the checks made at att
 
 from __future__ import annotations
 
+import json
 import threading
 import time
 from pathlib import Path
@@ -14,7 +15,7 @@ import pytest
 pytest.importorskip("rclpy")
 
 from gpp.run.runner import RunOptions, RunOutcome, run_program
-from gpp.runtime.events import SenseEvent, StartEvent, UpdateEvent
+from gpp.runtime.events import ABSENT, NoticeEvent, SenseEvent, StartEvent, UpdateEvent, encode, load_schema
 from gpp.runtime.executor import RunStatus
 
 FIB = '"/fib : test_msgs/action/Fibonacci"'
@@ -231,7 +232,7 @@ procedure main() { count(-6); test(heard() == "done"); }
 
     finisher = threading.Thread(target=finish)
     finisher.start()
-    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.5\n'))
+    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.5\nresend = true\n'))
     finisher.join(10)
     [update] = updates(outcome)
     assert update.status == "final"
@@ -240,12 +241,31 @@ procedure main() { count(-6); test(heard() == "done"); }
 
 
 @pytest.mark.slow
+@pytest.mark.fault
 def test_goal_requests_never_answered_fail(ros: Any, tmp_path: Path) -> None:
-    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-5); }\n", '["/fib"]\nack_timeout = 0.3\n'))
+    binding = '["/fib"]\nack_timeout = 0.3\nresend = true\n'
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-5); }\n", binding))
     [update] = updates(outcome)
     assert update.status == "failed" and "did not answer the goal request within 0.3 s (sent twice)" in (
         update.reason or ""
     )
+
+
+@pytest.mark.slow
+@pytest.mark.fault
+def test_a_goal_request_is_not_sent_again_unless_the_binding_says_so(ros: Any, tmp_path: Path) -> None:
+    """A goal need not be idempotent: by default, a goal request not answered within
+    ack_timeout fails the activity, and the goal, accepted late, is cancelled."""
+    # The program goes on while the late acceptance (1.5 s after the request) arrives.
+    program = '#include "time.gpp"\n' + COUNT + "procedure main() { count(-6); wait_for(2.5); }\n"
+    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.3\n'))
+    [update] = updates(outcome)
+    assert update.status == "failed"
+    assert (update.reason or "").endswith("did not answer the goal request within 0.3 s"), update.reason
+    deadline = time.monotonic() + 10
+    while -6 not in ros.cancelled and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.requests == [-6] and ros.cancelled == [-6]
 
 
 @pytest.mark.slow
@@ -274,6 +294,71 @@ def test_a_server_that_goes_away_during_a_goal_fails_it(ros: Any, tmp_path: Path
     killer.join(10)
     [update] = updates(outcome)
     assert update.status == "failed" and 'the action server "/fib" went away' in (update.reason or "")
+
+
+@pytest.mark.fault
+def test_a_goal_without_feedback_for_its_feedback_timeout_fails_and_is_cancelled(ros: Any, tmp_path: Path) -> None:
+    """-12 sends feedback for 0.3 s, then none: a stuck (or, across processes, dead) server."""
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-12); }\n", '["/fib"]\nfeedback_timeout = 0.5\n'))
+    [update] = updates(outcome)
+    assert update.status == "failed"
+    assert 'the action server "/fib" sent no feedback for 0.5 s (feedback_timeout)' in (update.reason or "")
+    deadline = time.monotonic() + 10
+    while -12 not in ros.cancelled and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.cancelled == [-12]
+
+
+def test_a_goal_that_sends_feedback_runs_past_its_feedback_timeout(ros: Any, tmp_path: Path) -> None:
+    program = COUNT + "procedure main() { start(count(-10)); wait_for(1.0); cancel(count(-10)); end(count(-10)); }\n"
+    outcome = ok(run(tmp_path, '#include "time.gpp"\n' + program, '["/fib"]\nfeedback_timeout = 0.4\n'))
+    assert [(u.action, u.status) for u in updates(outcome)] == [("count(-10)", "cancelled")]
+
+
+@pytest.mark.fault
+def test_an_aborted_goals_result_decides_what_the_program_does(ros: Any, tmp_path: Path) -> None:
+    """The result of an aborted goal is the name's last result: `on_fail` reads it."""
+    program = (
+        COUNT
+        + """
+string fluent handled() { initially: () = ""; }
+procedure main() {
+    during (count(-1)) {} on_fail {
+        if (length(result("/fib")) == 1 & result("/fib")[0] == 0) handled() = "aborted with [0]";
+        else handled() = "something else";
+    }
+}
+bool function postcond() = handled() == "aborted with [0]" & length(seq()) == 0
+"""
+    )
+    outcome = ok(run(tmp_path, program))
+    [update] = updates(outcome)
+    assert update.status == "failed" and update.result is ABSENT  # not sensed: the goal failed
+    assert update.reason == 'the action server "/fib" aborted the goal (its result: {sequence = [0]})'
+
+
+@pytest.mark.fault
+def test_a_cancel_the_server_refuses_is_reported_and_the_goal_still_tracked(ros: Any, tmp_path: Path) -> None:
+    program = COUNT + "procedure main() { start(count(-11)); cancel(count(-11)); end(count(-11)); }\n"
+    outcome = ok(run(tmp_path, program))
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.action == "count(-11)"
+    assert notice.message == 'the action server "/fib" refused to cancel the goal: it still runs'
+    [update] = updates(outcome)
+    assert update.status == "final" and update.result == [0, 1, 1]  # it ran to its end, and was tracked
+    assert update.t >= notice.t
+    jsonschema = pytest.importorskip("jsonschema")
+    jsonschema.Draft202012Validator(load_schema()).validate(json.loads(encode(notice)))
+
+
+@pytest.mark.fault
+def test_a_goal_still_running_at_the_end_whose_cancel_is_refused_is_not_waited_for(ros: Any, tmp_path: Path) -> None:
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { start(count(-11)); }\n"))
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert "refused to cancel the goal: it still runs" in notice.message
+    assert not [d for d in outcome.diagnostics if "did not acknowledge" in d.message]
 
 
 # ---------------------------------------------------------------- preemption and concurrency
