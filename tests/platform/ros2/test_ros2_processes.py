@@ -106,31 +106,79 @@ def trace_events(path: Path) -> list[dict[str, Any]]:
     return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
 
 
-def test_a_server_process_that_dies_during_a_goal_fails_it(servers: subprocess.Popen[str], tmp_path: Path) -> None:
+def kill_during_goal(
+    servers: subprocess.Popen[str], tmp_path: Path, order: int, sig: signal.Signals, binding: str = ""
+) -> tuple[UpdateEvent, float]:
+    """Run `count(order)` against the server process, send it `sig` once the goal runs (and a
+    little after); the activity's update and the seconds from the signal to the end of the run."""
     import threading
 
     program = tmp_path / "agent.gpp"
-    program.write_text(COUNT + "procedure main() { count(5000); }\n")
+    program.write_text(COUNT + f"procedure main() {{ count({order}); }}\n")
+    (tmp_path / "agent.ros2.toml").write_text(binding)
     killed: list[float] = []
 
     def kill_soon() -> None:
         # Once the goal runs (discovery can take seconds on a busy machine), and a little after.
         assert servers.stdout is not None
         for line in servers.stdout:
-            if line.startswith("goal 5000"):
+            if line.startswith(f"goal {order}"):
                 break
         time.sleep(0.5)
         killed.append(time.monotonic())
-        servers.send_signal(signal.SIGTERM)
+        servers.send_signal(sig)
 
     threading.Thread(target=kill_soon, daemon=True).start()
-    outcome = run_program(program, RunOptions(platform="ros2", timeout=30.0))
-    assert outcome.trace is not None
+    outcome = run_program(program, RunOptions(platform="ros2", timeout=60.0))
+    assert outcome.trace is not None and killed
     [update] = outcome.trace.of(UpdateEvent)
+    return update, time.monotonic() - killed[0]
+
+
+@pytest.mark.fault
+def test_a_server_process_that_exits_during_a_goal_fails_it(servers: subprocess.Popen[str], tmp_path: Path) -> None:
+    update, took = kill_during_goal(servers, tmp_path, 5000, signal.SIGTERM)
     assert update.status == "failed" and "went away" in (update.reason or ""), update
-    assert killed and time.monotonic() - killed[0] < 10
+    assert took < 10
 
 
+# Fast DDS keeps a participant killed outright for its lease, 20 s by default: the failures
+# below must come well before (bench/ros2.py measures how long they take).
+DEFAULT_LEASE = 20.0
+
+
+@pytest.fixture
+def short_lease_servers(domain: int) -> Iterator[subprocess.Popen[str]]:
+    """The test servers with the robot-side profile of examples/ros2 (a 1 s lease)."""
+    env = ros_env(domain)
+    env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(ROOT / "examples" / "ros2" / "fastdds_short_lease.xml")
+    process = start([sys.executable, str(HERE / "ros2_servers.py")], env, "ready")
+    try:
+        yield process
+    finally:
+        stop(process)
+
+
+@pytest.mark.fault
+def test_a_server_process_killed_during_a_goal_fails_it_within_its_lease(
+    short_lease_servers: subprocess.Popen[str], tmp_path: Path
+) -> None:
+    update, took = kill_during_goal(short_lease_servers, tmp_path, 5000, signal.SIGKILL)
+    assert update.status == "failed" and 'the action server "/fib" went away' in (update.reason or ""), update
+    assert took < DEFAULT_LEASE / 2
+
+
+@pytest.mark.fault
+def test_a_server_process_killed_during_a_goal_fails_it_by_its_feedback_timeout(
+    servers: subprocess.Popen[str], tmp_path: Path
+) -> None:
+    """No profile on the robot's side: the goal's feedback stops (-10 sends it every 0.1 s)."""
+    update, took = kill_during_goal(servers, tmp_path, -10, signal.SIGKILL, '["/fib"]\nfeedback_timeout = 0.5\n')
+    assert update.status == "failed" and "sent no feedback for 0.5 s" in (update.reason or ""), update
+    assert took < DEFAULT_LEASE / 2
+
+
+@pytest.mark.fault
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
 def test_an_interrupted_agent_cancels_its_goals_and_exits_cleanly(
     servers: subprocess.Popen[str], domain: int, tmp_path: Path, sig: signal.Signals

@@ -590,3 +590,43 @@ bool function postcond() = woke_at() >= 0.3 & woke_at() < 2
 """
     outcome = ok(run(tmp_path, program))
     assert outcome.result is not None and 0.3 <= outcome.result.platform_time < 2
+
+
+def test_trace_times_never_go_back(ros: Any, tmp_path: Path) -> None:
+    """A `sense` record is stamped with the time of its `end` (it was stamped after it)."""
+    program = COUNT + "procedure main() { count(3); count(4); }\n"
+    outcome = ok(run(tmp_path, program))
+    assert outcome.trace is not None
+    times = [e.t for e in outcome.trace.records]
+    assert len(outcome.trace.of(SenseEvent)) == 2
+    assert times == sorted(times), times
+
+
+# ---------------------------------------------------------------- options
+
+
+@pytest.mark.fault
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        ("domain_id=300", "error: option `domain_id` of platform `ros2` must be a whole number from 0 to 232, not 300"),
+        (
+            "node_name=robot1/gpp_agent",
+            "error: option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not "
+            'starting with a digit; no `/` or namespace), not "robot1/gpp_agent"',
+        ),
+        (
+            "log_level=warning",
+            'error: option `log_level` of platform `ros2` must be one of debug, info, warn, error, fatal, not "warning"; '
+            "did you mean `warn`?",
+        ),
+    ],
+)
+def test_options_ros_would_refuse_are_one_line_usage_errors(tmp_path: Path, option: str, message: str) -> None:
+    from tests.support.cli import run as gpp
+
+    program = tmp_path / "agent.gpp"
+    program.write_text(COUNT + "procedure main() { count(1); }\n", encoding="utf-8")
+    result = gpp("run", str(program), "--platform", "ros2", "-o", option)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.strip().splitlines() == [message], result.stderr
