@@ -617,8 +617,8 @@ def test_trace_times_never_go_back(ros: Any, tmp_path: Path) -> None:
         ),
         (
             "log_level=warning",
-            'error: option `log_level` of platform `ros2` must be one of debug, info, warn, error, fatal, not "warning"; '
-            "did you mean `warn`?",
+            "error: option `log_level` of platform `ros2` must be one of debug, info, warn, error, fatal, "
+            'not "warning"; did you mean `warn`?',
         ),
     ],
 )
