@@ -89,7 +89,7 @@ class Job:
     # with True: its server refused to cancel it); None: nobody listens
     notice: Callable[[str, bool], None] | None = None
     # state, touched only on the spin thread
-    phase: str = "new"  # new, resolving, waiting, sent, running, ended
+    phase: str = "new"  # new, resolving, waiting (for the server), matching (subscribers), sent, running, ended
     deadline: float = math.inf
     result_deadline: float = math.inf
     feedback_deadline: float = math.inf
@@ -304,12 +304,10 @@ class Bridge:
         kind = job.interface.kind
         key = (job.name, job.interface.name)
         if kind == "msg":
-            publisher = self._publishers.get(key)
-            if publisher is None:
-                publisher = self.node.create_publisher(job.interface.cls, job.name, qos_profile(job.qos, 10))
-                self._publishers[key] = publisher
-            publisher.publish(job.message)
-            self._end(job, Outcome(ActivityStatus.FINAL))
+            job.client = self.publisher(job.name, job.interface, job.qos)
+            job.phase = "matching"
+            job.deadline = self.now() + job.server_timeout
+            self._publish_when_matched(job)
             return
         if kind == "action":
             client = self._action_clients.get(key)
@@ -325,6 +323,34 @@ class Bridge:
         job.phase = "waiting"
         job.deadline = self.now() + job.server_timeout
         self._wait_for_server(job)
+
+    def publisher(self, name: str, interface: Interface, qos: Qos | None) -> Any:
+        """The agent's publisher of `name` (made once, on the spin thread)."""
+        key = (name, interface.name)
+        publisher = self._publishers.get(key)
+        if publisher is None:
+            publisher = self.node.create_publisher(interface.cls, name, qos_profile(qos, 10))
+            self._publishers[key] = publisher
+        return publisher
+
+    def unmatched(self, publisher: Any) -> bool:
+        """Does the graph show a subscriber of the publisher's topic that it has not matched yet
+        (a message published now would not reach it)?"""
+        return bool(publisher.get_subscription_count() < self.node.count_subscribers(publisher.topic_name))
+
+    def _publish_when_matched(self, job: Job) -> None:
+        """Publish once every subscriber the graph shows is matched (or server_timeout passed);
+        a message that reaches no subscriber is said (kept for a late joiner when the
+        publisher is transient local)."""
+        if self.unmatched(job.client) and self.now() < job.deadline:
+            return
+        matched = job.client.get_subscription_count()
+        job.client.publish(job.message)
+        if matched == 0 and job.notice is not None:
+            kept = job.qos is not None and job.qos.durability == "transient_local"
+            fate = "it is kept for a subscriber that joins later" if kept else "nobody received it"
+            job.notice(f'published on "{job.name}" with no subscriber matched: {fate}', False)
+        self._end(job, Outcome(ActivityStatus.FINAL))
 
     def _server_ready(self, job: Job) -> bool:
         assert job.interface is not None
@@ -437,6 +463,8 @@ class Bridge:
                 self._resolve(job)
             elif job.phase == "waiting":
                 self._wait_for_server(job)
+            elif job.phase == "matching":
+                self._publish_when_matched(job)
             elif job.phase == "sent" and now >= job.deadline:
                 if job.resend and job.attempts < 2:
                     log.warning(

@@ -66,6 +66,9 @@ if TYPE_CHECKING:
 
 log = logging.getLogger("gpp.platform.ros2")
 
+# s the attach waits for the subscribers of the topics the program publishes on to be matched.
+SUBSCRIBER_WAIT = 1.0
+
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
 
 
@@ -212,7 +215,27 @@ class Ros2Platform(Platform):
         except Exception as e:
             return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
         bridge.watchers.append(self._watch_topics)
+        self._wait_for_subscribers()
         return []
+
+    def _wait_for_subscribers(self) -> None:
+        """Make the publishers of the actions that publish now, and wait (at most
+        SUBSCRIBER_WAIT s) until each has a subscriber and has matched all those the graph
+        shows: a subscriber that is up before the run gets the first message."""
+        assert self.bridge is not None
+        bridge = self.bridge
+        publishers = [
+            bridge.call(bridge.publisher, t.name.name, t.interface, t.entry.qos, timeout=5.0)
+            for t in self.targets.values()
+            if t.interface is not None and t.interface.kind == "msg"
+        ]
+        deadline = time.monotonic() + SUBSCRIBER_WAIT
+        while publishers and time.monotonic() < deadline:
+            try:
+                publishers = [p for p in publishers if bridge.call(_waiting_for_subscriber, bridge, p, timeout=1.0)]
+            except TimeoutError:
+                break
+            time.sleep(0.02)
 
     def _subscribe_all(self) -> None:
         for topic in self.topics.values():
@@ -463,6 +486,11 @@ class Ros2Platform(Platform):
     def close(self) -> None:
         if self.bridge is not None:
             self.bridge.close()
+
+
+def _waiting_for_subscriber(bridge: Bridge, publisher: Any) -> bool:
+    """On the spin thread: has the publisher no subscriber, or one the graph shows unmatched?"""
+    return bool(publisher.get_subscription_count() == 0 or bridge.unmatched(publisher))
 
 
 # Fast DDS derives its ports from the domain id: above 232 they leave the port range.

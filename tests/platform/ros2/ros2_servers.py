@@ -14,6 +14,8 @@ Behaviours:
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
   success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s;
+* a subscription `/said` (std_msgs/msg/String): `heard` keeps what arrives (a process prints
+  `heard TEXT`);
 * publishers `/events` (std_msgs/msg/String) and `/count` (std_msgs/msg/Int32), reliable and
   keeping every message until it is delivered.
 """
@@ -70,6 +72,8 @@ class TestRobot:
         node.create_service(Trigger, "/slow", self._slow, callback_group=group)
         self.events = node.create_publisher(String, "/events", KEEP_ALL)
         self.count = node.create_publisher(Int32, "/count", KEEP_ALL)
+        self.heard: list[str] = []
+        node.create_subscription(String, "/said", self._said, 10, callback_group=group)
         self.executor = MultiThreadedExecutor(num_threads=4, context=context)
         self.executor.add_node(node)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -161,6 +165,12 @@ class TestRobot:
         return response
 
     # ---------------------------------------------------------------- topics
+
+    def _said(self, msg: Any) -> None:
+        with self.lock:
+            self.heard.append(msg.data)
+        if self.announce:
+            print(f"heard {msg.data}", flush=True)
 
     def wait_for_subscriber(self, publisher: Any, timeout: float = 5.0) -> None:
         deadline = time.monotonic() + timeout

@@ -71,14 +71,17 @@ def start(command: list[str], env: dict[str, str], ready: str, timeout: float = 
     return process
 
 
-def stop(process: subprocess.Popen[str]) -> None:
+def stop(process: subprocess.Popen[str]) -> str:
+    """Stop the process (SIGTERM, then SIGKILL after 10 s); what it wrote to stdout since last read."""
     if process.poll() is None:
         process.send_signal(signal.SIGTERM)
         try:
-            process.communicate(timeout=10)
+            out, _ = process.communicate(timeout=10)
         except subprocess.TimeoutExpired:
             process.kill()
-            process.communicate(timeout=10)
+            out, _ = process.communicate(timeout=10)
+        return out or ""
+    return ""
 
 
 @pytest.fixture
@@ -176,6 +179,20 @@ def test_a_server_process_killed_during_a_goal_fails_it_by_its_feedback_timeout(
     update, took = kill_during_goal(servers, tmp_path, -10, signal.SIGKILL, '["/fib"]\nfeedback_timeout = 0.5\n')
     assert update.status == "failed" and "sent no feedback for 0.5 s" in (update.reason or ""), update
     assert took < DEFAULT_LEASE / 2
+
+
+def test_the_first_message_reaches_a_subscriber_process_that_was_up_before_the_run(
+    servers: subprocess.Popen[str], tmp_path: Path
+) -> None:
+    program = tmp_path / "agent.gpp"
+    program.write_text(
+        'action say(string s) { mapping: "/said : std_msgs/msg/String" { data = s } }\n'
+        'procedure main() { say("first"); }\n'
+    )
+    outcome = run_program(program, RunOptions(platform="ros2", timeout=30.0))
+    assert outcome.ok and outcome.trace is not None
+    assert not [e for e in outcome.trace.records if e.EVENT == "notice"]
+    assert "heard first" in stop(servers).splitlines()
 
 
 @pytest.mark.fault

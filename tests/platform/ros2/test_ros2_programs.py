@@ -500,6 +500,84 @@ procedure main() { test(heard() == "hello"); }
     publisher.join(10)
 
 
+# ---------------------------------------------------------------- publishing
+
+SAY = """
+action say(string s) {
+mapping:
+    "/said : std_msgs/msg/String" { data = s }
+}
+"""
+
+
+def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the_run(ros: Any, tmp_path: Path) -> None:
+    outcome = ok(run(tmp_path, SAY + 'procedure main() { say("first"); say("second"); }\n'))
+    deadline = time.monotonic() + 5
+    while len(ros.heard) < 2 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.heard == ["first", "second"]
+    assert outcome.trace is not None and not outcome.trace.of(NoticeEvent)
+
+
+@pytest.mark.fault
+def test_a_message_published_with_no_subscriber_is_said_in_the_trace(ros: Any, tmp_path: Path) -> None:
+    program = SAY.replace("/said", "/nobody_listens") + 'procedure main() { say("lost"); }\n'
+    outcome = ok(run(tmp_path, program))
+    [update] = updates(outcome)
+    assert update.status == "final"
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.action == 'say("lost")'
+    assert notice.message == 'published on "/nobody_listens" with no subscriber matched: nobody received it'
+
+
+def test_a_transient_local_publisher_keeps_its_message_for_a_late_joiner(ros: Any, tmp_path: Path) -> None:
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    from gpp.platform.ros2.platform import SUBSCRIBER_WAIT
+
+    program = (
+        SAY.replace("/said", "/late")
+        + """
+string fluent heard() { initially: () = ""; }
+exog_action said(string what) {
+mapping:
+    "/events : std_msgs/msg/String" { data = what }
+effect:
+    heard() = what;
+}
+procedure main() { say("kept"); test(heard() == "done"); }
+"""
+    )
+    got: list[str] = []
+
+    def join_late() -> None:
+        deadline = time.monotonic() + 10
+        while ros.node.count_publishers("/late") == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        # The message is published before anyone subscribes: after the attach's wait for one.
+        time.sleep(SUBSCRIBER_WAIT + 0.5)
+        latched = QoSProfile(
+            depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+        )
+        ros.node.create_subscription(String, "/late", lambda m: got.append(m.data), latched)
+        while not got and time.monotonic() < deadline:
+            time.sleep(0.01)
+        ros.wait_for_subscriber(ros.events)
+        ros.events.publish(String(data="done"))
+
+    joiner = threading.Thread(target=join_late)
+    joiner.start()
+    binding = '["/late"]\nqos = { durability = "transient_local", depth = 1 }\n'
+    outcome = ok(run(tmp_path, program, binding))
+    joiner.join(15)
+    assert got == ["kept"]
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.message.endswith("with no subscriber matched: it is kept for a subscriber that joins later")
+
+
 # ---------------------------------------------------------------- checks at attach
 
 
