@@ -143,6 +143,7 @@ bool function postcond() = got() == "hello"
 # ---------------------------------------------------------------- failures
 
 
+@pytest.mark.fault
 def test_an_aborted_goal_fails_with_the_reason(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-1); }\n"))
     [update] = updates(outcome)
@@ -151,12 +152,14 @@ def test_an_aborted_goal_fails_with_the_reason(ros: Any, tmp_path: Path) -> None
     assert outcome.trace is not None and not outcome.trace.of(SenseEvent)
 
 
+@pytest.mark.fault
 def test_a_rejected_goal_fails(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-2); }\n"))
     [update] = updates(outcome)
     assert update.status == "failed" and "rejected the goal" in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_missing_server_fails_after_the_server_timeout(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace("/fib :", "/nowhere :") + "procedure main() { count(1); }\n"
     started = time.monotonic()
@@ -167,6 +170,7 @@ def test_a_missing_server_fails_after_the_server_timeout(ros: Any, tmp_path: Pat
     assert 'no action server "/nowhere" became available within 0.3 s' in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_missing_name_without_a_type_fails_too(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace(FIB, '"/nowhere"') + "procedure main() { count(1); }\n"
     outcome = ok(run(tmp_path, program, server_timeout="0.3"))
@@ -174,6 +178,7 @@ def test_a_missing_name_without_a_type_fails_too(ros: Any, tmp_path: Path) -> No
     assert update.status == "failed" and '"/nowhere" is not available' in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_arguments_that_do_not_fit_fail_before_anything_is_sent(ros: Any, tmp_path: Path) -> None:
     program = COUNT + "procedure main() { count(2.5); count(3000000000); }\n"
     outcome = ok(run(tmp_path, program))
@@ -184,6 +189,7 @@ def test_arguments_that_do_not_fit_fail_before_anything_is_sent(ros: Any, tmp_pa
     assert ros.requests == []
 
 
+@pytest.mark.fault
 def test_a_result_that_does_not_fit_the_sensed_type_fails(ros: Any, tmp_path: Path) -> None:
     program = """
 symbol domain Place = {table, shelf}
@@ -205,6 +211,7 @@ bool function postcond() = where() == table
 
 
 @pytest.mark.slow
+@pytest.mark.fault
 def test_a_lost_goal_request_is_sent_again_and_the_late_duplicate_cancelled(ros: Any, tmp_path: Path) -> None:
     from std_msgs.msg import String
 
@@ -269,6 +276,7 @@ def test_a_goal_request_is_not_sent_again_unless_the_binding_says_so(ros: Any, t
 
 
 @pytest.mark.slow
+@pytest.mark.fault
 def test_a_slow_service_times_out(ros: Any, tmp_path: Path) -> None:
     program = """
 action poke() { mapping: "/slow : std_srvs/srv/Trigger" {} }
@@ -281,6 +289,7 @@ procedure main() { poke(); }
     assert update.status == "failed" and "gave no result within 0.3 s" in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_server_that_goes_away_during_a_goal_fails_it(ros: Any, tmp_path: Path) -> None:
     def kill_soon() -> None:
         deadline = time.monotonic() + 10
@@ -581,6 +590,7 @@ procedure main() { say("kept"); test(heard() == "done"); }
 # ---------------------------------------------------------------- checks at attach
 
 
+@pytest.mark.fault
 def test_mapping_problems_are_reported_at_once_at_the_mapping(ros: Any, tmp_path: Path) -> None:
     program = """
 compound Where { number x, number yy }
@@ -649,6 +659,7 @@ def test_binding_entries_that_fit_no_mapping_are_reported(ros: Any, tmp_path: Pa
     assert any("declares no exogenous function `nope`" in m and line == 4 for m, _, line in found), found
 
 
+@pytest.mark.fault
 def test_a_run_starts_nothing_when_a_mapping_is_wrong(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace("order = n", "ordr = n") + "procedure main() { count(1); }\n"
     outcome = run(tmp_path, program)
