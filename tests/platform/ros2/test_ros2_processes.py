@@ -304,3 +304,59 @@ def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str]
     assert sensed == {s.fluent: s.value for s in on_sim.trace.of(SenseEvent)}
     finals = [(e["action"], e["status"]) for e in events if e.get("event") == "update"]
     assert finals == [(u.action, u.status) for u in on_sim.trace.of(UpdateEvent)]
+
+
+NAV2 = """
+compound NavResult { number error_code, string error_msg }
+NavResult exog_function nav_result(string name);
+symbol domain outcome = {arrived, outside_map, failed}
+outcome fluent how() { initially: () = null; }
+outcome fluent then() { initially: () = null; }
+
+action navigate(number x, number y) {
+mapping:
+    "/navigate_to_pose" { pose__header__frame_id = "map", pose__pose__position__x = x,
+                          pose__pose__position__y = y }
+}
+
+procedure go(number x, number y) {
+    during (navigate(x, y)) { how() = arrived; } on_fail {
+        if (nav_result("/navigate_to_pose").error_code == 9004) how() = outside_map;
+        else how() = failed;
+    }
+}
+
+procedure main() { go(50, 0); then() = how(); go(3, 4); }
+bool function postcond() = then() == outside_map & how() == arrived
+"""
+
+
+@pytest.mark.fault
+def test_a_nav2_style_error_code_decides_what_the_program_does(
+    robot_interfaces: list[str], domain: int, tmp_path: Path
+) -> None:
+    """The example robot's Nav2-shaped /navigate_to_pose aborts a goal outside its map with
+    error_code 9004 (GOAL_OUTSIDE_MAP); `on_fail` reads it."""
+    program = tmp_path / "agent.gpp"
+    program.write_text(NAV2)
+    env = ros_env(domain, robot_interfaces)
+    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
+    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
+    trace = tmp_path / "trace.jsonl"
+    try:
+        agent = subprocess.run(
+            [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+    finally:
+        stop(robot)
+    assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
+    assert "postcond()         holds" in agent.stdout, agent.stdout
+    failed = [e for e in trace_events(trace) if e.get("event") == "update" and e["status"] == "failed"]
+    assert [e["reason"] for e in failed] == [
+        'the action server "/navigate_to_pose" aborted the goal (its result: '
+        '{error_code = 9004, error_msg = "goal (50, 0) is outside the map"})'
+    ]
