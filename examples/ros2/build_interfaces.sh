@@ -1,17 +1,27 @@
 #!/usr/bin/env bash
-# Build the robot's interface package (gpp_robot_interfaces) with plain CMake, no colcon,
-# from the ROS 2 wheels of a Python environment.
+# Build a ROS 2 interface package (.msg/.srv/.action files, a CMakeLists.txt calling
+# rosidl_generate_interfaces, a package.xml) with plain CMake, no colcon, from the ROS 2 wheels
+# of a Python environment.
 #
-#   examples/ros2/build_interfaces.sh PYTHON PREFIX
+#   examples/ros2/build_interfaces.sh PYTHON PREFIX [PACKAGE]
 #
 # PYTHON: a Python whose environment has the build wheels (`make ros-interfaces` makes one in
-# build/ros-venv); PREFIX: where the package is installed. Use it with
+# build/ros-venv); PREFIX: where the package is installed (several packages can share one);
+# PACKAGE: the package's folder (default: the example robot's, gpp_robot_interfaces). With the
+# Makefile, one command builds a package of your own into build/ros-interfaces:
+#
+#   make ros-interfaces ROS_PACKAGE=path/to/my_robot_interfaces
+#
+# Its dependencies may be the message packages of gpp's [ros] extra (std_msgs, geometry_msgs,
+# nav_msgs, builtin_interfaces, action_msgs). Use the result with
 #   PYTHONPATH=PREFIX/lib/pythonX.Y/site-packages LD_LIBRARY_PATH=PREFIX/lib
 # Needs cmake, a C/C++ compiler and the Python headers.
 set -euo pipefail
 PYTHON=$1
 PREFIX=$(realpath -m "$2")
 HERE=$(cd "$(dirname "$0")" && pwd)
+PACKAGE=$(realpath "${3:-$HERE/gpp_robot_interfaces}")
+test -f "$PACKAGE/CMakeLists.txt" || { echo "$PACKAGE: no CMakeLists.txt (not an interface package)" >&2; exit 1; }
 VENV=$("$PYTHON" -c 'import sys; print(sys.prefix)')
 PYINC=$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')
 NPINC=$("$PYTHON" -c 'import numpy; print(numpy.get_include())')
@@ -32,7 +42,7 @@ export AMENT_PREFIX_PATH="$VENV"
 export PATH="$VENV/bin:$PATH"
 GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
-cmake -S "$HERE/gpp_robot_interfaces" -B "$BUILD" "${GEN[@]}" \
+cmake -S "$PACKAGE" -B "$BUILD" "${GEN[@]}" \
   -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_PREFIX_PATH="$VENV" -DCMAKE_BUILD_TYPE=Release \
   -DPython3_EXECUTABLE="$VENV/bin/python" -DBUILD_TESTING=OFF > "$BUILD/configure.log" 2>&1 \
   || { cat "$BUILD/configure.log"; exit 1; }

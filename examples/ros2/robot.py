@@ -7,6 +7,7 @@ It serves the robot's own ROS 2 interfaces (package gpp_robot_interfaces, built 
     /get_block_pose     action  GetBlockPose     block -> location
     /navigate_to_frame  action  NavigateToFrame  frame -> success, message
     /gripper_home       action  GripperHome
+    /navigate_to_pose   action  NavigateToPose   pose -> error_code, error_msg (Nav2's shape)
     /battery            topic   Battery          level (latched)
 
 Each goal becomes an activity of the sim's world (the same scenes and physics as
@@ -30,7 +31,7 @@ import time
 from typing import Any
 
 import rclpy
-from gpp_robot_interfaces.action import GetBlockPose, GripperHome, NavigateToFrame, Stack
+from gpp_robot_interfaces.action import GetBlockPose, GripperHome, NavigateToFrame, NavigateToPose, Stack
 from gpp_robot_interfaces.msg import Battery
 from rclpy.action.server import ActionServer, CancelResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -45,6 +46,13 @@ from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity
 from gpp.runtime.state import ActivityStatus
 from gpp.base.source import Source, Span
+
+# /navigate_to_pose drives the base on a square map of this half-width (m), at DRIVE_SPEED m/s
+# (times --speed), with feedback every FEEDBACK_PERIOD s; as Nav2 does, a goal it cannot reach
+# is aborted with an error code.
+MAP_HALF_WIDTH = 10.0
+DRIVE_SPEED = 2.0
+FEEDBACK_PERIOD = 0.1
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -129,7 +137,10 @@ class Robot:
             ActionServer(self.node, GetBlockPose, "/get_block_pose", execute_callback=self._pose, **accept),
             ActionServer(self.node, NavigateToFrame, "/navigate_to_frame", execute_callback=self._navigate, **accept),
             ActionServer(self.node, GripperHome, "/gripper_home", execute_callback=self._home, **accept),
+            ActionServer(self.node, NavigateToPose, "/navigate_to_pose", execute_callback=self._drive, **accept),
         ]
+        self.speed = speed
+        self.base = (0.0, 0.0)
         self.executor = MultiThreadedExecutor(num_threads=4, context=context)
         self.executor.add_node(self.node)
         self.thread = threading.Thread(target=self.executor.spin, name="ros", daemon=True)
@@ -164,6 +175,37 @@ class Robot:
         update = self.sim.run("/gripper_home", handle)
         self._end(handle, update)
         return GripperHome.Result()
+
+    def _drive(self, handle: Any) -> Any:
+        """Nav2's NavigateToPose, on an empty square map: a pose in another frame or off the map
+        is aborted with Nav2's kind of error code; otherwise the base drives there."""
+        result = NavigateToPose.Result
+        pose = handle.request.pose
+        x, y = pose.pose.position.x, pose.pose.position.y
+        if pose.header.frame_id != "map":
+            handle.abort()
+            return result(error_code=result.TF_ERROR, error_msg=f'no transform from "{pose.header.frame_id}" to "map"')
+        if max(abs(x), abs(y)) > MAP_HALF_WIDTH:
+            handle.abort()
+            return result(error_code=result.GOAL_OUTSIDE_MAP, error_msg=f"goal ({x:g}, {y:g}) is outside the map")
+        x0, y0 = self.base
+        distance = ((x - x0) ** 2 + (y - y0) ** 2) ** 0.5
+        took = distance / (DRIVE_SPEED * self.speed) if self.speed > 0 else 0.0
+        began = time.monotonic()
+        while (done := min(1.0, (time.monotonic() - began) / took) if took > 0 else 1.0) < 1.0:
+            if handle.is_cancel_requested:
+                self.base = (x0 + (x - x0) * done, y0 + (y - y0) * done)
+                handle.canceled()
+                return result(error_code=result.NONE)
+            feedback = NavigateToPose.Feedback(distance_remaining=distance * (1.0 - done))
+            feedback.current_pose.header.frame_id = "map"
+            feedback.current_pose.pose.position.x = x0 + (x - x0) * done
+            feedback.current_pose.pose.position.y = y0 + (y - y0) * done
+            handle.publish_feedback(feedback)
+            time.sleep(FEEDBACK_PERIOD)
+        self.base = (x, y)
+        handle.succeed()
+        return result(error_code=result.NONE)
 
     def close(self) -> None:
         self.sim.stop.set()

@@ -37,6 +37,7 @@ from gpp.runtime.contract import (
     Parameter,
     PlatformError,
     PlatformFault,
+    PlatformNotice,
     Problem,
     ProgramInterface,
 )
@@ -59,6 +60,7 @@ __all__ = [
     "PlatformConfig",
     "PlatformError",
     "PlatformFault",
+    "PlatformNotice",
     "Problem",
     "ProgramInterface",
     "RunFacts",

@@ -17,6 +17,7 @@ from gpp.runtime.events import (
     ExogEvent,
     FinishEvent,
     HeaderEvent,
+    NoticeEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -58,6 +59,8 @@ def describe(event: TraceEvent) -> str | None:
             return f"assign {event.fluent} = {show_json(event.value)}"
         case CancelEvent():
             return f"cancel {event.action}" + (f" ({event.reason})" if event.reason else "")
+        case NoticeEvent():
+            return "notice " + (f"{event.action}: " if event.action else "") + event.message
         case PlanEvent() | ReplanEvent():
             if not event.feasible:
                 return f"{event.EVENT:<6} no feasible plan ({event.nodes} nodes)"

@@ -16,6 +16,7 @@ scheduled happening; a real-time platform waits for the queue.
 
 from __future__ import annotations
 
+import math
 import threading
 from collections import deque
 from collections.abc import Mapping
@@ -82,7 +83,19 @@ class PlatformFault:
     problems: tuple[Problem, ...]
 
 
-Event = ActivityUpdate | ExogOccurrence | PlatformFault
+@dataclass(frozen=True, slots=True)
+class PlatformNotice:
+    """Something the program goes on without, for the trace: about an activity (its server
+    refused to cancel it, its message reached nobody) or, without an id, about the platform."""
+
+    message: str
+    activity_id: int | None = None
+    # The platform refused to stop the activity (its server refused the cancel): it still runs,
+    # and its end is reported when it comes.
+    cancel_refused: bool = False
+
+
+Event = ActivityUpdate | ExogOccurrence | PlatformFault | PlatformNotice
 
 
 class EventQueue:
@@ -91,10 +104,16 @@ class EventQueue:
     def __init__(self) -> None:
         self._items: deque[tuple[float, Event]] = deque()
         self._ready = threading.Condition()
+        self._latest = -math.inf
 
     def put(self, event: Event, time: float) -> None:
+        """Queue an event that happened at `time`. Events put by two threads are queued in the
+        order they are put, and so are their times: a time earlier than the last one queued
+        (taken by a thread that was overtaken) is raised to it, so that the trace's times
+        never go back."""
         with self._ready:
-            self._items.append((time, event))
+            self._latest = max(self._latest, time)
+            self._items.append((self._latest, event))
             self._ready.notify_all()
 
     def drain(self) -> list[tuple[float, Event]]:

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.2"
+TRACE_SCHEMA_VERSION: Final = "1.3"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -212,6 +212,19 @@ class SenseEvent(EventBase):
     silent: bool = field(default=False, metadata=_OPTIONAL)
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class NoticeEvent(EventBase):
+    """The platform says something the program goes on without: about an activity (its server
+    refused to cancel it and it still runs, its message reached no subscriber) or about the
+    platform itself."""
+
+    EVENT: ClassVar[str] = "notice"
+
+    message: str
+    action: str | None = field(default=None, metadata=_OPTIONAL)  # the activity it is about, if any
+    id: int | None = field(default=None, metadata=_OPTIONAL)
+
+
 # ---------------------------------------------------------------- the world
 
 
@@ -298,6 +311,7 @@ TraceEvent: TypeAlias = (
     | PlanEvent
     | ReplanEvent
     | CancelEvent
+    | NoticeEvent
     | WaitingEvent
     | BlockedEvent
     | ErrorEvent
@@ -317,6 +331,7 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         PlanEvent,
         ReplanEvent,
         CancelEvent,
+        NoticeEvent,
         WaitingEvent,
         BlockedEvent,
         ErrorEvent,
@@ -440,6 +455,7 @@ __all__ = [
     "FinishEvent",
     "HeaderEvent",
     "JsonValue",
+    "NoticeEvent",
     "PlanEvent",
     "ReplanEvent",
     "SenseEvent",

@@ -33,6 +33,7 @@ from gpp.runtime.contract import (
     ActivityUpdate,
     ExogOccurrence,
     PlatformError,
+    PlatformNotice,
     PlatformPort,
     Problem,
     unfit_error,
@@ -162,6 +163,8 @@ class Executor:
         self.next_id = 1
         # Activities the platform took (its `start` returned): only these can be acknowledged.
         self.accepted: set[int] = set()
+        # Activities whose cancel the platform refused (they still run): not waited for at the end.
+        self.cancel_refused: set[int] = set()
         self.cancel_grace = CANCEL_GRACE
         # `solve` statements already warned about (R0014).
         self.warned: set[int] = set()
@@ -390,6 +393,8 @@ class Executor:
         for t, event in self.platform.queue.drain():
             if isinstance(event, ActivityUpdate):
                 self.on_update(t, event)
+            elif isinstance(event, PlatformNotice):
+                self.on_notice(t, event)
             elif isinstance(event, ExogOccurrence):
                 self.on_exog(t, event)
             else:
@@ -405,6 +410,19 @@ class Executor:
         for e in errors[:-1]:
             self.fail(e)
         raise errors[-1]
+
+    def on_notice(self, t: float, notice: PlatformNotice) -> None:
+        g = self.by_id.get(notice.activity_id) if notice.activity_id is not None else None
+        if notice.cancel_refused and notice.activity_id is not None:
+            self.cancel_refused.add(notice.activity_id)
+        self.trace.emit(
+            ev.NoticeEvent(
+                t=t,
+                message=notice.message,
+                action=g.text if g is not None else None,
+                id=notice.activity_id if g is not None else None,
+            )
+        )
 
     def on_update(self, t: float, update: ActivityUpdate) -> None:
         g = self.by_id.get(update.activity_id)
@@ -586,7 +604,7 @@ class Executor:
         if status is ActivityStatus.FINAL:
             info = self.program.action(g.name)
             if info.senses is not None and record is not None:
-                self.sense(g, record, info.senses)
+                self.sense(g, record, info.senses, now)
             updates = self.sem.effects(g, self.state)
             self.state = self.state.updated(updates, self.program.initial)
         unhandled = status is ActivityStatus.FAILED and step.hook != "fail" and not step.handles_failure
@@ -608,7 +626,9 @@ class Executor:
         self.records.pop(g, None)
         self.results.pop(g, None)
 
-    def sense(self, g: GroundAction, record: Activity, senses: object) -> None:
+    def sense(self, g: GroundAction, record: Activity, senses: object, now: float) -> None:
+        """Apply the `senses:` section of an activity that ended final; its record is stamped
+        `now`, the time of the `end` record that follows it."""
         from gpp.runtime.compiled import Effect
 
         assert isinstance(senses, Effect)
@@ -626,7 +646,7 @@ class Executor:
         self.state = self.state.updated(pending, self.program.initial)
         self.trace.emit(
             ev.SenseEvent(
-                t=self.platform.now(),
+                t=now,
                 action=g.text,
                 fluent=self.program.instance_text(slot),
                 value=ev.json_value(value),
@@ -636,7 +656,8 @@ class Executor:
 
     def stop_running_activities(self) -> None:
         """Preempt every activity still running, then wait (at most `cancel_grace` seconds of wall time)
-        for the platform to acknowledge each, so that the trace records how each ended."""
+        for the platform to acknowledge each, so that the trace records how each ended. One whose
+        cancel the platform refused is not waited for: it still runs, as its `notice` says."""
         stopping: list[GroundAction] = []
         for g in self.acts.running():
             record = self.records.get(g)
@@ -655,7 +676,11 @@ class Executor:
         while True:
             with contextlib.suppress(Exception):
                 self.drain()
-            open_ = [g for g in stopping if self.acts.status(g) is ActivityStatus.RUNNING]
+            open_ = [
+                g
+                for g in stopping
+                if self.acts.status(g) is ActivityStatus.RUNNING and self.records[g].id not in self.cancel_refused
+            ]
             left = deadline - time.monotonic()
             if not open_ or left <= 0:
                 break

@@ -35,6 +35,7 @@ from gpp.runtime.events import (
     FinishEvent,
     HeaderEvent,
     JsonValue,
+    NoticeEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -333,7 +334,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
                     if waiting is not None:  # waiting on something else now
                         waits.append(Wait(waiting.t, event.t, waiting.statement, waiting.condition, waiting.at))
                     waiting = event
-            case HeaderEvent() | FinishEvent():
+            case HeaderEvent() | FinishEvent() | NoticeEvent():
                 pass
     if waiting is not None:
         waits.append(Wait(waiting.t, None, waiting.statement, waiting.condition, waiting.at))

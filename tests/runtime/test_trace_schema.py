@@ -99,6 +99,10 @@ def test_schema_enums_are_the_interpreters_values(schema: dict[str, Any]) -> Non
 # ---------------------------------------------------------------- real traces
 
 
+# Event kinds that the dummy and sim platforms never cause.
+ROBOT_ONLY = {"notice"}
+
+
 def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
     """Trace files of real runs: scenarios, sim, planning and re-planning, errors, blocked,
     interrupted, a program that does not fit its platform."""
@@ -148,8 +152,9 @@ def test_every_record_of_real_traces_is_valid(validator: jsonschema.Draft202012V
             seen.add(record["event"])
             assert encode(decode(line)) == line
         assert json.loads(lines[-1])["event"] == "finish", name
-    # Every kind of event appears in these traces.
-    assert seen == set(EVENT_TYPES)
+    # Every kind of event appears in these traces, but for those only a robot's platform
+    # writes (tests/platform/ros2 validates its `notice` records against the schema).
+    assert seen == set(EVENT_TYPES) - ROBOT_ONLY
 
 
 def test_the_schema_rejects_what_the_executor_never_writes(validator: jsonschema.Draft202012Validator) -> None:

@@ -29,9 +29,11 @@ class BindingError(Exception):
     """A binding file that cannot be used; the message says where (file:line) and why."""
 
 
-_TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout")
-_DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout", "discovery_timeout"})
-_NAME_KEYS = frozenset({"type", *_TIMEOUTS, "stamp", "result", "qos"})
+_TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout", "feedback_timeout")
+# Timeouts that may be 0 (no limit).
+_MAY_BE_ZERO = ("result_timeout", "feedback_timeout")
+_DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout", "resend", "discovery_timeout"})
+_NAME_KEYS = frozenset({"type", *_TIMEOUTS, "resend", "stamp", "result", "qos"})
 _FUNCTION_KEYS = frozenset({"topic", "service", "field", "request", "timeout", "qos", "server_timeout"})
 _QOS_KEYS = frozenset({"reliability", "durability", "depth", "history"})
 _QOS_WORDS = {
@@ -64,6 +66,8 @@ class NameEntry:
     server_timeout: float | None = None
     ack_timeout: float | None = None
     result_timeout: float | None = None
+    feedback_timeout: float | None = None
+    resend: bool | None = None
     stamp: tuple[str, ...] = ()
     result: str | None = None
     qos: Qos | None = None
@@ -91,6 +95,8 @@ class Binding:
     server_timeout: float = DEFAULT_SERVER_TIMEOUT
     ack_timeout: float = DEFAULT_ACK_TIMEOUT
     result_timeout: float | None = None  # actions; services default to DEFAULT_SERVICE_TIMEOUT
+    feedback_timeout: float | None = None  # actions: none by default
+    resend: bool = False  # a goal request not answered within ack_timeout is sent once more
     timeout: float = DEFAULT_FUNCTION_TIMEOUT  # exogenous function calls
     # s to wait at attach for the names mapped without a type to show up in the ROS graph
     discovery_timeout: float = DEFAULT_DISCOVERY_TIMEOUT
@@ -115,6 +121,16 @@ class Binding:
         if self.result_timeout is not None:
             return self.result_timeout or None
         return DEFAULT_SERVICE_TIMEOUT if service else None
+
+    def feedback_timeout_for(self, name: str) -> float | None:
+        e = self.names.get(name)
+        if e is not None and e.feedback_timeout is not None:
+            return e.feedback_timeout or None
+        return self.feedback_timeout or None
+
+    def resend_for(self, name: str) -> bool:
+        e = self.names.get(name)
+        return e.resend if e is not None and e.resend is not None else self.resend
 
     @classmethod
     def load(cls, path: Path) -> Binding:
@@ -146,7 +162,9 @@ class Binding:
                 _check_keys(table, _DEFAULT_KEYS, at(key))
                 for t in _TIMEOUTS:
                     if t in table:
-                        setattr(binding, t, _seconds(table[t], f"{at(key)} {t}", allow_zero=t == "result_timeout"))
+                        setattr(binding, t, _seconds(table[t], f"{at(key)} {t}", allow_zero=t in _MAY_BE_ZERO))
+                if "resend" in table:
+                    binding.resend = _flag(table["resend"], f"{at(key)} resend")
                 if "timeout" in table:
                     binding.timeout = _seconds(table["timeout"], f"{at(key)} timeout")
                 if "discovery_timeout" in table:
@@ -190,7 +208,9 @@ def _name_entry(name: str, table: Mapping[str, Any], at: str, span: Span | None)
         entry.type = _text(table["type"], f"{at} type")
     for t in _TIMEOUTS:
         if t in table:
-            setattr(entry, t, _seconds(table[t], f"{at} {t}", allow_zero=t == "result_timeout"))
+            setattr(entry, t, _seconds(table[t], f"{at} {t}", allow_zero=t in _MAY_BE_ZERO))
+    if "resend" in table:
+        entry.resend = _flag(table["resend"], f"{at} resend")
     if "stamp" in table:
         stamps = table["stamp"]
         if isinstance(stamps, str):
@@ -281,6 +301,12 @@ def _text(value: Any, at: str) -> str:
     if not isinstance(value, str) or not value.strip():
         raise BindingError(f"{at}: expected a non-empty string, not {show_plain(value)}")
     return value.strip()
+
+
+def _flag(value: Any, at: str) -> bool:
+    if not isinstance(value, bool):
+        raise BindingError(f"{at}: expected true or false, not {show_plain(value)}")
+    return value
 
 
 def _seconds(value: Any, at: str, allow_zero: bool = False) -> float:

@@ -29,6 +29,7 @@ from typing import Any
 
 import rclpy
 from action_msgs.msg import GoalStatus
+from action_msgs.srv import CancelGoal
 from rclpy.action.client import ActionClient
 from rclpy.action.graph import get_action_names_and_types
 from rclpy.context import Context
@@ -39,12 +40,13 @@ from rclpy.signals import SignalHandlerOptions
 from gpp.platform.ros2.binding import Qos
 from gpp.platform.ros2.interfaces import FieldError, Interface, InterfaceError, load_interface, make_message, to_plain
 from gpp.platform.ros2.interfaces import fill_fields as _fill
+from gpp.platform.values import show_plain
 from gpp.runtime.state import ActivityStatus
 
 log = logging.getLogger("gpp.platform.ros2")
 
 TICK = 0.02  # s between two checks of the jobs' deadlines
-LIVENESS = 0.5  # s between two checks that the server of a running goal is still there
+LIVENESS = 0.25  # s between two checks that the server of a running goal is still there
 RETRY_TYPE = 1.0  # s between two graph look-ups of a topic whose type is not known yet
 
 _STATUS = {
@@ -78,6 +80,10 @@ class Job:
     server_timeout: float = 5.0
     ack_timeout: float = 5.0
     result_timeout: float | None = None
+    # s a running goal may go without a feedback message (None: no limit)
+    feedback_timeout: float | None = None
+    # send the goal request once more when it is not answered within ack_timeout
+    resend: bool = False
     qos: Qos | None = None
     # The interface came from the graph: when no server of it answers, the graph is looked at
     # again (its type may have changed).
@@ -85,10 +91,14 @@ class Job:
     # Called with a type the graph shows for the name: why the mapping does not fit it (then
     # nothing is sent and the job fails), or None.
     fits: Callable[[Interface], str | None] | None = None
+    # what the program is told about the job while it goes on (a message that reached nobody;
+    # with True: its server refused to cancel it); None: nobody listens
+    notice: Callable[[str, bool], None] | None = None
     # state, touched only on the spin thread
-    phase: str = "new"  # new, resolving, waiting, sent, running, ended
+    phase: str = "new"  # new, resolving, waiting (for the server), matching (subscribers), sent, running, ended
     deadline: float = math.inf
     result_deadline: float = math.inf
+    feedback_deadline: float = math.inf
     next_check: float = 0.0
     attempts: int = 0
     cancel_requested: bool = False
@@ -248,10 +258,15 @@ class Bridge:
         self._end(job, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
 
     def _cancel_answered(self, job: Job, future: Any) -> None:
+        """A refused cancel leaves the goal running on its server: the job goes on tracking it
+        (its end is reported as it comes), and the program is told."""
         response = future.result()
-        if response is None or (response.return_code != 0 and job.phase != "ended"):
-            code = getattr(response, "return_code", "?")
-            log.warning("ros2: the server of %s refused to cancel the goal (return code %s)", job.name, code)
+        if job.phase == "ended" or response is None or not _refused(response, job.goal):
+            return  # cancelling, or the goal had ended already (its result tells how)
+        message = f'the action server "{job.name}" refused to cancel the goal: it still runs'
+        log.warning("ros2: %s", message)
+        if job.notice is not None:
+            job.notice(message, True)
 
     def _begin(self, job: Job) -> None:
         self.jobs.append(job)
@@ -301,12 +316,10 @@ class Bridge:
         kind = job.interface.kind
         key = (job.name, job.interface.name)
         if kind == "msg":
-            publisher = self._publishers.get(key)
-            if publisher is None:
-                publisher = self.node.create_publisher(job.interface.cls, job.name, qos_profile(job.qos, 10))
-                self._publishers[key] = publisher
-            publisher.publish(job.message)
-            self._end(job, Outcome(ActivityStatus.FINAL))
+            job.client = self.publisher(job.name, job.interface, job.qos)
+            job.phase = "matching"
+            job.deadline = self.now() + job.server_timeout
+            self._publish_when_matched(job)
             return
         if kind == "action":
             client = self._action_clients.get(key)
@@ -322,6 +335,34 @@ class Bridge:
         job.phase = "waiting"
         job.deadline = self.now() + job.server_timeout
         self._wait_for_server(job)
+
+    def publisher(self, name: str, interface: Interface, qos: Qos | None) -> Any:
+        """The agent's publisher of `name` (made once, on the spin thread)."""
+        key = (name, interface.name)
+        publisher = self._publishers.get(key)
+        if publisher is None:
+            publisher = self.node.create_publisher(interface.cls, name, qos_profile(qos, 10))
+            self._publishers[key] = publisher
+        return publisher
+
+    def unmatched(self, publisher: Any) -> bool:
+        """Does the graph show a subscriber of the publisher's topic that it has not matched yet
+        (a message published now would not reach it)?"""
+        return bool(publisher.get_subscription_count() < self.node.count_subscribers(publisher.topic_name))
+
+    def _publish_when_matched(self, job: Job) -> None:
+        """Publish once every subscriber the graph shows is matched (or server_timeout passed);
+        a message that reaches no subscriber is said (kept for a late joiner when the
+        publisher is transient local)."""
+        if self.unmatched(job.client) and self.now() < job.deadline:
+            return
+        matched = job.client.get_subscription_count()
+        job.client.publish(job.message)
+        if matched == 0 and job.notice is not None:
+            kept = job.qos is not None and job.qos.durability == "transient_local"
+            fate = "it is kept for a subscriber that joins later" if kept else "nobody received it"
+            job.notice(f'published on "{job.name}" with no subscriber matched: {fate}', False)
+        self._end(job, Outcome(ActivityStatus.FINAL))
 
     def _server_ready(self, job: Job) -> bool:
         assert job.interface is not None
@@ -354,7 +395,9 @@ class Bridge:
         if job.interface.kind == "action":
             job.phase = "sent"
             job.deadline = now + job.ack_timeout
-            future = job.client.send_goal_async(job.message)
+            future = job.client.send_goal_async(
+                job.message, feedback_callback=self._guarded(lambda _feedback: self._feedback(job))
+            )
             job.pending = future
             future.add_done_callback(self._guarded(lambda f: self._goal_answered(job, f)))
         else:
@@ -381,10 +424,15 @@ class Bridge:
         now = self.now()
         job.result_deadline = now + job.result_timeout if job.result_timeout else math.inf
         job.next_check = now + LIVENESS
+        job.feedback_deadline = now + job.feedback_timeout if job.feedback_timeout else math.inf
         result = handle.get_result_async()
         result.add_done_callback(self._guarded(lambda f: self._result(job, f)))
         if job.cancel_requested:
             self.cancel(job)
+
+    def _feedback(self, job: Job) -> None:
+        if job.phase == "running" and job.feedback_timeout:
+            job.feedback_deadline = self.now() + job.feedback_timeout
 
     def _result(self, job: Job, future: Any) -> None:
         if job.phase == "ended":
@@ -406,8 +454,14 @@ class Bridge:
             else:
                 self._fail(job, f'the action server "{job.name}" cancelled the goal')
         elif status == GoalStatus.STATUS_ABORTED:
-            partial = "" if isinstance(plain, _Malformed) else f" (its result: {_brief(plain)})"
-            self._fail(job, f'the action server "{job.name}" aborted the goal{partial}')
+            # The result of an aborted goal (Nav2's error_code and error_msg) goes with the
+            # failure: the program reads it as the name's last result.
+            reason = f'the action server "{job.name}" aborted the goal'
+            if isinstance(plain, _Malformed):
+                self._fail(job, reason)
+            else:
+                reason += f" (its result: {show_plain(plain)})"
+                self._end(job, Outcome(ActivityStatus.FAILED, plain, True, reason))
         else:
             self._fail(job, f'"{job.name}": the goal ended with unexpected status {_STATUS.get(status, status)}')
 
@@ -432,23 +486,33 @@ class Bridge:
                 self._resolve(job)
             elif job.phase == "waiting":
                 self._wait_for_server(job)
+            elif job.phase == "matching":
+                self._publish_when_matched(job)
             elif job.phase == "sent" and now >= job.deadline:
-                if job.attempts < 2:
+                if job.resend and job.attempts < 2:
                     log.warning(
                         "ros2: no answer to the goal for %s within %g s: sending it again", job.name, job.ack_timeout
                     )
                     self._send(job)
                 else:
+                    # A late acceptance of the request is cancelled (_goal_answered).
                     self._fail(
                         job,
                         f'the action server "{job.name}" did not answer the goal request within '
-                        f"{job.ack_timeout:g} s (sent twice)",
+                        f"{job.ack_timeout:g} s" + (" (sent twice)" if job.attempts > 1 else ""),
                     )
             elif job.phase == "running":
                 if now >= job.result_deadline:
                     if job.goal is not None:
                         job.goal.cancel_goal_async()
                     self._fail(job, f'"{job.name}" gave no result within {job.result_timeout:g} s')
+                elif now >= job.feedback_deadline:
+                    job.goal.cancel_goal_async()
+                    self._fail(
+                        job,
+                        f'the action server "{job.name}" sent no feedback for {job.feedback_timeout:g} s '
+                        "(feedback_timeout): it is taken for dead or stuck, and the goal was cancelled",
+                    )
                 elif now >= job.next_check:
                     job.next_check = now + LIVENESS
                     if not self._server_ready(job):
@@ -510,6 +574,18 @@ def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = (), kee
     )
 
 
+def _refused(response: Any, goal: Any) -> bool:
+    """Did the server refuse to cancel `goal`? rclcpp says so with ERROR_REJECTED; rclpy answers
+    ERROR_NONE and leaves the goal out of `goals_canceling`."""
+    code = response.return_code
+    if code == CancelGoal.Response.ERROR_REJECTED:
+        return True
+    ours = bytes(goal.goal_id.uuid)
+    return bool(code == CancelGoal.Response.ERROR_NONE) and all(
+        bytes(g.goal_id.uuid) != ours for g in response.goals_canceling
+    )
+
+
 @dataclass(frozen=True)
 class _Malformed:
     reason: str
@@ -519,12 +595,7 @@ def _plain_or_error(msg: Any) -> Any:
     try:
         return to_plain(msg)
     except Exception as e:
-        return _Malformed(f"{type(e).__name__}: {e}")
-
-
-def _brief(plain: Any, limit: int = 120) -> str:
-    text = repr(plain)
-    return text if len(text) <= limit else text[: limit - 3] + "..."
+        return _Malformed(f"it cannot be read ({e})")
 
 
 # Bridges still open when the interpreter exits are closed first: a thread still spinning at

@@ -24,6 +24,7 @@ install the ROS packages) where they are missing.
 from __future__ import annotations
 
 import logging
+import re
 import threading
 import time
 from collections.abc import Mapping
@@ -41,6 +42,7 @@ from gpp.platform.base import (
     PlatformConfig,
     PlatformError,
     PlatformFault,
+    PlatformNotice,
     Problem,
     ProgramInterface,
     parse_options,
@@ -68,6 +70,8 @@ log = logging.getLogger("gpp.platform.ros2")
 # s between two looks at the graph for the types of names mapped without one, not yet seen
 TARGET_LOOK = 0.1
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
+# s the attach waits for the subscribers of the topics the program publishes on to be matched.
+SUBSCRIBER_WAIT = 1.0
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
 
@@ -137,6 +141,7 @@ class Ros2Platform(Platform):
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
         options = parse_options(Ros2Options, config.options, cls.name)
+        check_options(options)
         try:
             import rclpy  # noqa: F401
         except ImportError:
@@ -225,7 +230,27 @@ class Ros2Platform(Platform):
             return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
         bridge.watchers.append(self._watch_topics)
         bridge.watchers.append(self._watch_targets)
+        self._wait_for_subscribers()
         return []
+
+    def _wait_for_subscribers(self) -> None:
+        """Make the publishers of the actions that publish now, and wait (at most
+        SUBSCRIBER_WAIT s) until each has a subscriber and has matched all those the graph
+        shows: a subscriber that is up before the run gets the first message."""
+        assert self.bridge is not None
+        bridge = self.bridge
+        publishers = [
+            bridge.call(bridge.publisher, t.name.name, t.interface, t.entry.qos, timeout=5.0)
+            for t in self.targets.values()
+            if t.interface is not None and t.interface.kind == "msg"
+        ]
+        deadline = time.monotonic() + SUBSCRIBER_WAIT
+        while publishers and time.monotonic() < deadline:
+            try:
+                publishers = [p for p in publishers if bridge.call(_waiting_for_subscriber, bridge, p, timeout=1.0)]
+            except TimeoutError:
+                break
+            time.sleep(0.02)
 
     def _subscribe_all(self) -> None:
         for topic in self.topics.values():
@@ -378,9 +403,12 @@ class Ros2Platform(Platform):
             server_timeout=b.server_timeout_for(name),
             ack_timeout=b.ack_timeout_for(name),
             result_timeout=b.result_timeout_for(name, service),
+            feedback_timeout=b.feedback_timeout_for(name),
+            resend=b.resend_for(name),
             qos=target.entry.qos,
             from_graph=target.from_graph,
             fits=lambda found: self._fits(target, found),
+            notice=lambda message, cancel_refused: self._notice(activity, message, cancel_refused),
         )
         if interface is not None:
             # Checked here, before anything is sent: an argument that does not fit ends the
@@ -401,8 +429,13 @@ class Ros2Platform(Platform):
             return
         self.bridge.post(self.bridge.cancel, job)
 
+    def _notice(self, activity: Activity, message: str, cancel_refused: bool) -> None:
+        """On the spin thread: the program is told something about a running activity."""
+        self.queue.put(PlatformNotice(message, activity.id, cancel_refused), self.now())
+
     def _ended(self, activity: Activity, target: Target, outcome: Outcome) -> None:
-        """On the spin thread: a job ended; its activity's update is queued."""
+        """On the spin thread: a job ended; its activity's update is queued. Its result, if it
+        has one (also a failed goal's: Nav2's error_code), is the name's last result."""
         with self._lock:
             self._jobs.pop(activity.id, None)
         status, reason = outcome.status, outcome.reason
@@ -522,6 +555,38 @@ class Ros2Platform(Platform):
     def close(self) -> None:
         if self.bridge is not None:
             self.bridge.close()
+
+
+def _waiting_for_subscriber(bridge: Bridge, publisher: Any) -> bool:
+    """On the spin thread: has the publisher no subscriber, or one the graph shows unmatched?"""
+    return bool(publisher.get_subscription_count() == 0 or bridge.unmatched(publisher))
+
+
+# Fast DDS derives its ports from the domain id: above 232 they leave the port range.
+MAX_DOMAIN_ID = 232
+_NODE_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+LOG_LEVELS = ("debug", "info", "warn", "error", "fatal")
+
+
+def check_options(options: Ros2Options) -> None:
+    """Options rclpy or Fast DDS would refuse with an error of their own (or a traceback) are
+    refused here, each with one line (a usage error)."""
+    if options.domain_id is not None and not 0 <= options.domain_id <= MAX_DOMAIN_ID:
+        raise PlatformError(
+            f"option `domain_id` of platform `ros2` must be a whole number from 0 to {MAX_DOMAIN_ID}, "
+            f"not {options.domain_id}"
+        )
+    if not _NODE_NAME.match(options.node_name):
+        raise PlatformError(
+            f"option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting "
+            f'with a digit; no `/` or namespace), not "{options.node_name}"'
+        )
+    if options.log_level.lower() not in LOG_LEVELS:
+        hint = did_you_mean(options.log_level, LOG_LEVELS)
+        raise PlatformError(
+            f"option `log_level` of platform `ros2` must be one of {', '.join(LOG_LEVELS)}, "
+            f'not "{options.log_level}"' + (f"; {hint}" if hint else "")
+        )
 
 
 def sensed_value(plain: Any, t: Type, path: str | None) -> Value:

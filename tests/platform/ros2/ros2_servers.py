@@ -9,11 +9,15 @@ Behaviours:
 * `/fib` (test_msgs/action/Fibonacci), chosen by `order`: >= 0 succeed with the sequence;
   -1 abort; -2 reject; -3 succeed after 0.3 s; -5 answer each goal request only after 1.5 s;
   -6 answer only the first goal request late (1.5 s); >= 1000 run until cancelled;
+  -10 run until cancelled, sending feedback every 0.1 s; -11 refuse to be cancelled and
+  succeed after 1 s; -12 send feedback for 0.3 s, then nothing until cancelled (stuck);
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
   success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s; `/get_plan`
   (nav_msgs/srv/GetPlan, a response of one field that is a message): a path from the start to
   the goal pose, in the goal's frame;
+* a subscription `/said` (std_msgs/msg/String): `heard` keeps what arrives (a process prints
+  `heard TEXT`);
 * publishers `/events` (std_msgs/msg/String) and `/count` (std_msgs/msg/Int32), reliable and
   keeping every message until it is delivered.
 """
@@ -67,7 +71,7 @@ class TestRobot:
             "/fib",
             execute_callback=self._fib,
             goal_callback=self._goal,
-            cancel_callback=lambda _: CancelResponse.ACCEPT,
+            cancel_callback=self._cancel,
             callback_group=group,
             result_timeout=result_timeout,
         )
@@ -78,6 +82,8 @@ class TestRobot:
         node.create_service(GetPlan, "/get_plan", self._get_plan, callback_group=group)
         self.events = node.create_publisher(String, "/events", KEEP_ALL)
         self.count = node.create_publisher(Int32, "/count", KEEP_ALL)
+        self.heard: list[str] = []
+        node.create_subscription(String, "/said", self._said, 10, callback_group=group)
         self.executor = MultiThreadedExecutor(num_threads=4, context=context)
         self.executor.add_node(node)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -103,6 +109,9 @@ class TestRobot:
             time.sleep(1.5)
         return GoalResponse.ACCEPT
 
+    def _cancel(self, handle: Any) -> CancelResponse:
+        return CancelResponse.REJECT if handle.request.order == -11 else CancelResponse.ACCEPT
+
     def _fib(self, handle: Any) -> Any:
         order = handle.request.order
         with self.lock:
@@ -115,16 +124,23 @@ class TestRobot:
             if order == -1:
                 handle.abort()
                 return Fibonacci.Result(sequence=[0])
-            if order >= 1000 or order in (-5, -6):
-                deadline = time.monotonic() + (30.0 if order >= 1000 else 0.3)
+            if order == -11:
+                time.sleep(1.0)
+                order = 2
+            if order >= 1000 or order in (-5, -6, -10, -12):
+                began = time.monotonic()
+                deadline = began + (0.3 if order in (-5, -6) else 30.0)
                 while time.monotonic() < deadline and not self.stopping.is_set():
+                    if order == -10 or (order == -12 and time.monotonic() - began < 0.3):
+                        handle.publish_feedback(Fibonacci.Feedback(sequence=[0]))
+                        time.sleep(0.09)
                     if handle.is_cancel_requested:
                         with self.lock:
                             self.cancelled.append(order)
                         handle.canceled()
                         return Fibonacci.Result(sequence=[1])
                     time.sleep(0.01)
-                if order >= 1000:
+                if order not in (-5, -6):
                     handle.abort()
                     return Fibonacci.Result()
                 order = 3
@@ -166,6 +182,12 @@ class TestRobot:
         return response
 
     # ---------------------------------------------------------------- topics
+
+    def _said(self, msg: Any) -> None:
+        with self.lock:
+            self.heard.append(msg.data)
+        if self.announce:
+            print(f"heard {msg.data}", flush=True)
 
     def wait_for_subscriber(self, publisher: Any, timeout: float = 5.0) -> None:
         deadline = time.monotonic() + timeout

@@ -62,6 +62,13 @@ timeout = 0.5
     assert nav.span is not None and nav.span.line == 7
 
 
+def test_goals_are_sent_once_and_have_no_feedback_timeout_unless_the_binding_says_so(tmp_path: Path) -> None:
+    assert Binding().resend_for("/a") is False and Binding().feedback_timeout_for("/a") is None
+    b = load(tmp_path, '[defaults]\nfeedback_timeout = 2\n["/nav"]\nresend = true\nfeedback_timeout = 0\n')
+    assert b.resend_for("/nav") and not b.resend_for("/other")
+    assert b.feedback_timeout_for("/nav") is None and b.feedback_timeout_for("/other") == 2.0
+
+
 def test_services_have_a_result_timeout_by_default_and_actions_none() -> None:
     b = Binding()
     assert b.result_timeout_for("/s", service=True) == 10.0
@@ -83,6 +90,8 @@ def test_services_have_a_result_timeout_by_default_and_actions_none() -> None:
         ('[exog_function.f]\nfield = "x"\n', "give the source of `f`"),
         ('[exog_function.f]\ntopic = "/t"\nrequest = { a = "b" }\n', "only a service source takes a request"),
         ('[exog_function.f]\nservice = "/s"\nrequest = { a = 1 }\n', "`a` must name a parameter of `f`"),
+        ('["/nav"]\nresend = "yes"\n', 'resend: expected true or false, not "yes"'),
+        ("[defaults]\nfeedback_timeout = -1\n", "feedback_timeout: expected a number of seconds >= 0 (0: no limit)"),
         ('["/a b"]\n', "is not a ROS 2 name"),
         ("x = ", "is not valid TOML"),
     ],

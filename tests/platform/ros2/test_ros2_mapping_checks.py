@@ -47,6 +47,7 @@ def finished(outcome: RunOutcome) -> RunOutcome:
 # ---------------------------------------------------------------- checked at attach
 
 
+@pytest.mark.fault
 def test_an_untyped_mapping_is_checked_at_attach(ros: Any, tmp_path: Path) -> None:
     program = """
 action count(number n) {
@@ -69,6 +70,7 @@ procedure main() { count(1); echo("x"); }
     assert ros.requests == []
 
 
+@pytest.mark.fault
 def test_a_name_that_appears_late_is_checked_before_its_first_goal(ros: Any, tmp_path: Path) -> None:
     """The name is not in the graph at attach (discovery_timeout passes): the goal waits for
     it; once the graph shows its type, the mapping is checked, found wrong, and the run stops
@@ -114,6 +116,7 @@ procedure main() { count(1); }
     assert update.status == "failed" and "nothing was sent" in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_topic_that_appears_late_is_checked_before_its_messages_become_events(ros: Any, tmp_path: Path) -> None:
     from std_msgs.msg import String
 
@@ -142,6 +145,7 @@ procedure main() { test(heard() == "hello"); }
     assert line == 5 and "`std_msgs/String` has no field `dat`" in message and hint == "did you mean `data`?"
 
 
+@pytest.mark.fault
 def test_a_name_never_discovered_waits_the_discovery_timeout_then_fails_its_goal(ros: Any, tmp_path: Path) -> None:
     program = 'action poke() { mapping: "/nowhere" {} }\nprocedure main() { poke(); }\n'
     started = time.monotonic()
@@ -253,6 +257,7 @@ procedure main() { count(5); }
 # ---------------------------------------------------------------- across processes
 
 
+@pytest.mark.fault
 @pytest.mark.slow
 def test_a_mistyped_field_in_an_untyped_mapping_stops_the_run_before_any_goal(
     servers: subprocess.Popen[str],  # noqa: F811

@@ -4,6 +4,7 @@ exogenous events from topics and exogenous functions, and the checks made at att
 
 from __future__ import annotations
 
+import json
 import threading
 import time
 from pathlib import Path
@@ -14,7 +15,7 @@ import pytest
 pytest.importorskip("rclpy")
 
 from gpp.run.runner import RunOptions, RunOutcome, run_program
-from gpp.runtime.events import SenseEvent, StartEvent, UpdateEvent
+from gpp.runtime.events import ABSENT, NoticeEvent, SenseEvent, StartEvent, UpdateEvent, encode, load_schema
 from gpp.runtime.executor import RunStatus
 
 FIB = '"/fib : test_msgs/action/Fibonacci"'
@@ -142,6 +143,7 @@ bool function postcond() = got() == "hello"
 # ---------------------------------------------------------------- failures
 
 
+@pytest.mark.fault
 def test_an_aborted_goal_fails_with_the_reason(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-1); }\n"))
     [update] = updates(outcome)
@@ -150,12 +152,14 @@ def test_an_aborted_goal_fails_with_the_reason(ros: Any, tmp_path: Path) -> None
     assert outcome.trace is not None and not outcome.trace.of(SenseEvent)
 
 
+@pytest.mark.fault
 def test_a_rejected_goal_fails(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-2); }\n"))
     [update] = updates(outcome)
     assert update.status == "failed" and "rejected the goal" in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_missing_server_fails_after_the_server_timeout(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace("/fib :", "/nowhere :") + "procedure main() { count(1); }\n"
     started = time.monotonic()
@@ -166,6 +170,7 @@ def test_a_missing_server_fails_after_the_server_timeout(ros: Any, tmp_path: Pat
     assert 'no action server "/nowhere" became available within 0.3 s' in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_missing_name_without_a_type_fails_too(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace(FIB, '"/nowhere"') + "procedure main() { count(1); }\n"
     outcome = ok(run(tmp_path, program, server_timeout="0.3", discovery_timeout="0.3"))
@@ -173,6 +178,7 @@ def test_a_missing_name_without_a_type_fails_too(ros: Any, tmp_path: Path) -> No
     assert update.status == "failed" and '"/nowhere" is not available' in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_arguments_that_do_not_fit_fail_before_anything_is_sent(ros: Any, tmp_path: Path) -> None:
     program = COUNT + "procedure main() { count(2.5); count(3000000000); }\n"
     outcome = ok(run(tmp_path, program))
@@ -183,6 +189,7 @@ def test_arguments_that_do_not_fit_fail_before_anything_is_sent(ros: Any, tmp_pa
     assert ros.requests == []
 
 
+@pytest.mark.fault
 def test_a_result_that_does_not_fit_the_sensed_type_fails(ros: Any, tmp_path: Path) -> None:
     program = """
 symbol domain Place = {table, shelf}
@@ -204,6 +211,7 @@ bool function postcond() = where() == table
 
 
 @pytest.mark.slow
+@pytest.mark.fault
 def test_a_lost_goal_request_is_sent_again_and_the_late_duplicate_cancelled(ros: Any, tmp_path: Path) -> None:
     from std_msgs.msg import String
 
@@ -231,7 +239,7 @@ procedure main() { count(-6); test(heard() == "done"); }
 
     finisher = threading.Thread(target=finish)
     finisher.start()
-    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.5\n'))
+    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.5\nresend = true\n'))
     finisher.join(10)
     [update] = updates(outcome)
     assert update.status == "final"
@@ -240,8 +248,10 @@ procedure main() { count(-6); test(heard() == "done"); }
 
 
 @pytest.mark.slow
+@pytest.mark.fault
 def test_goal_requests_never_answered_fail(ros: Any, tmp_path: Path) -> None:
-    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-5); }\n", '["/fib"]\nack_timeout = 0.3\n'))
+    binding = '["/fib"]\nack_timeout = 0.3\nresend = true\n'
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-5); }\n", binding))
     [update] = updates(outcome)
     assert update.status == "failed" and "did not answer the goal request within 0.3 s (sent twice)" in (
         update.reason or ""
@@ -249,6 +259,24 @@ def test_goal_requests_never_answered_fail(ros: Any, tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.fault
+def test_a_goal_request_is_not_sent_again_unless_the_binding_says_so(ros: Any, tmp_path: Path) -> None:
+    """A goal need not be idempotent: by default, a goal request not answered within
+    ack_timeout fails the activity, and the goal, accepted late, is cancelled."""
+    # The program goes on while the late acceptance (1.5 s after the request) arrives.
+    program = '#include "time.gpp"\n' + COUNT + "procedure main() { count(-6); wait_for(2.5); }\n"
+    outcome = ok(run(tmp_path, program, '["/fib"]\nack_timeout = 0.3\n'))
+    [update] = updates(outcome)
+    assert update.status == "failed"
+    assert (update.reason or "").endswith("did not answer the goal request within 0.3 s"), update.reason
+    deadline = time.monotonic() + 10
+    while -6 not in ros.cancelled and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.requests == [-6] and ros.cancelled == [-6]
+
+
+@pytest.mark.slow
+@pytest.mark.fault
 def test_a_slow_service_times_out(ros: Any, tmp_path: Path) -> None:
     program = """
 action poke() { mapping: "/slow : std_srvs/srv/Trigger" {} }
@@ -261,6 +289,7 @@ procedure main() { poke(); }
     assert update.status == "failed" and "gave no result within 0.3 s" in (update.reason or "")
 
 
+@pytest.mark.fault
 def test_a_server_that_goes_away_during_a_goal_fails_it(ros: Any, tmp_path: Path) -> None:
     def kill_soon() -> None:
         deadline = time.monotonic() + 10
@@ -274,6 +303,71 @@ def test_a_server_that_goes_away_during_a_goal_fails_it(ros: Any, tmp_path: Path
     killer.join(10)
     [update] = updates(outcome)
     assert update.status == "failed" and 'the action server "/fib" went away' in (update.reason or "")
+
+
+@pytest.mark.fault
+def test_a_goal_without_feedback_for_its_feedback_timeout_fails_and_is_cancelled(ros: Any, tmp_path: Path) -> None:
+    """-12 sends feedback for 0.3 s, then none: a stuck (or, across processes, dead) server."""
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { count(-12); }\n", '["/fib"]\nfeedback_timeout = 0.5\n'))
+    [update] = updates(outcome)
+    assert update.status == "failed"
+    assert 'the action server "/fib" sent no feedback for 0.5 s (feedback_timeout)' in (update.reason or "")
+    deadline = time.monotonic() + 10
+    while -12 not in ros.cancelled and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.cancelled == [-12]
+
+
+def test_a_goal_that_sends_feedback_runs_past_its_feedback_timeout(ros: Any, tmp_path: Path) -> None:
+    program = COUNT + "procedure main() { start(count(-10)); wait_for(1.0); cancel(count(-10)); end(count(-10)); }\n"
+    outcome = ok(run(tmp_path, '#include "time.gpp"\n' + program, '["/fib"]\nfeedback_timeout = 0.4\n'))
+    assert [(u.action, u.status) for u in updates(outcome)] == [("count(-10)", "cancelled")]
+
+
+@pytest.mark.fault
+def test_an_aborted_goals_result_decides_what_the_program_does(ros: Any, tmp_path: Path) -> None:
+    """The result of an aborted goal is the name's last result: `on_fail` reads it."""
+    program = (
+        COUNT
+        + """
+string fluent handled() { initially: () = ""; }
+procedure main() {
+    during (count(-1)) {} on_fail {
+        if (length(result("/fib")) == 1 & result("/fib")[0] == 0) handled() = "aborted with [0]";
+        else handled() = "something else";
+    }
+}
+bool function postcond() = handled() == "aborted with [0]" & length(seq()) == 0
+"""
+    )
+    outcome = ok(run(tmp_path, program))
+    [update] = updates(outcome)
+    assert update.status == "failed" and update.result is ABSENT  # not sensed: the goal failed
+    assert update.reason == 'the action server "/fib" aborted the goal (its result: {sequence = [0]})'
+
+
+@pytest.mark.fault
+def test_a_cancel_the_server_refuses_is_reported_and_the_goal_still_tracked(ros: Any, tmp_path: Path) -> None:
+    program = COUNT + "procedure main() { start(count(-11)); cancel(count(-11)); end(count(-11)); }\n"
+    outcome = ok(run(tmp_path, program))
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.action == "count(-11)"
+    assert notice.message == 'the action server "/fib" refused to cancel the goal: it still runs'
+    [update] = updates(outcome)
+    assert update.status == "final" and update.result == [0, 1, 1]  # it ran to its end, and was tracked
+    assert update.t >= notice.t
+    jsonschema = pytest.importorskip("jsonschema")
+    jsonschema.Draft202012Validator(load_schema()).validate(json.loads(encode(notice)))
+
+
+@pytest.mark.fault
+def test_a_goal_still_running_at_the_end_whose_cancel_is_refused_is_not_waited_for(ros: Any, tmp_path: Path) -> None:
+    outcome = ok(run(tmp_path, COUNT + "procedure main() { start(count(-11)); }\n"))
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert "refused to cancel the goal: it still runs" in notice.message
+    assert not [d for d in outcome.diagnostics if "did not acknowledge" in d.message]
 
 
 # ---------------------------------------------------------------- preemption and concurrency
@@ -415,9 +509,88 @@ procedure main() { test(heard() == "hello"); }
     publisher.join(10)
 
 
+# ---------------------------------------------------------------- publishing
+
+SAY = """
+action say(string s) {
+mapping:
+    "/said : std_msgs/msg/String" { data = s }
+}
+"""
+
+
+def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the_run(ros: Any, tmp_path: Path) -> None:
+    outcome = ok(run(tmp_path, SAY + 'procedure main() { say("first"); say("second"); }\n'))
+    deadline = time.monotonic() + 5
+    while len(ros.heard) < 2 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert ros.heard == ["first", "second"]
+    assert outcome.trace is not None and not outcome.trace.of(NoticeEvent)
+
+
+@pytest.mark.fault
+def test_a_message_published_with_no_subscriber_is_said_in_the_trace(ros: Any, tmp_path: Path) -> None:
+    program = SAY.replace("/said", "/nobody_listens") + 'procedure main() { say("lost"); }\n'
+    outcome = ok(run(tmp_path, program))
+    [update] = updates(outcome)
+    assert update.status == "final"
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.action == 'say("lost")'
+    assert notice.message == 'published on "/nobody_listens" with no subscriber matched: nobody received it'
+
+
+def test_a_transient_local_publisher_keeps_its_message_for_a_late_joiner(ros: Any, tmp_path: Path) -> None:
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    from gpp.platform.ros2.platform import SUBSCRIBER_WAIT
+
+    program = (
+        SAY.replace("/said", "/late")
+        + """
+string fluent heard() { initially: () = ""; }
+exog_action said(string what) {
+mapping:
+    "/events : std_msgs/msg/String" { data = what }
+effect:
+    heard() = what;
+}
+procedure main() { say("kept"); test(heard() == "done"); }
+"""
+    )
+    got: list[str] = []
+
+    def join_late() -> None:
+        deadline = time.monotonic() + 10
+        while ros.node.count_publishers("/late") == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        # The message is published before anyone subscribes: after the attach's wait for one.
+        time.sleep(SUBSCRIBER_WAIT + 0.5)
+        latched = QoSProfile(
+            depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+        )
+        ros.node.create_subscription(String, "/late", lambda m: got.append(m.data), latched)
+        while not got and time.monotonic() < deadline:
+            time.sleep(0.01)
+        ros.wait_for_subscriber(ros.events)
+        ros.events.publish(String(data="done"))
+
+    joiner = threading.Thread(target=join_late)
+    joiner.start()
+    binding = '["/late"]\nqos = { durability = "transient_local", depth = 1 }\n'
+    outcome = ok(run(tmp_path, program, binding))
+    joiner.join(15)
+    assert got == ["kept"]
+    assert outcome.trace is not None
+    [notice] = outcome.trace.of(NoticeEvent)
+    assert notice.message.endswith("with no subscriber matched: it is kept for a subscriber that joins later")
+
+
 # ---------------------------------------------------------------- checks at attach
 
 
+@pytest.mark.fault
 def test_mapping_problems_are_reported_at_once_at_the_mapping(ros: Any, tmp_path: Path) -> None:
     program = """
 compound Where { number x, number yy }
@@ -486,6 +659,7 @@ def test_binding_entries_that_fit_no_mapping_are_reported(ros: Any, tmp_path: Pa
     assert any("declares no exogenous function `nope`" in m and line == 4 for m, _, line in found), found
 
 
+@pytest.mark.fault
 def test_a_run_starts_nothing_when_a_mapping_is_wrong(ros: Any, tmp_path: Path) -> None:
     program = COUNT.replace("order = n", "ordr = n") + "procedure main() { count(1); }\n"
     outcome = run(tmp_path, program)
@@ -505,3 +679,43 @@ bool function postcond() = woke_at() >= 0.3 & woke_at() < 2
 """
     outcome = ok(run(tmp_path, program))
     assert outcome.result is not None and 0.3 <= outcome.result.platform_time < 2
+
+
+def test_trace_times_never_go_back(ros: Any, tmp_path: Path) -> None:
+    """A `sense` record is stamped with the time of its `end` (it was stamped after it)."""
+    program = COUNT + "procedure main() { count(3); count(4); }\n"
+    outcome = ok(run(tmp_path, program))
+    assert outcome.trace is not None
+    times = [e.t for e in outcome.trace.records]
+    assert len(outcome.trace.of(SenseEvent)) == 2
+    assert times == sorted(times), times
+
+
+# ---------------------------------------------------------------- options
+
+
+@pytest.mark.fault
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        ("domain_id=300", "error: option `domain_id` of platform `ros2` must be a whole number from 0 to 232, not 300"),
+        (
+            "node_name=robot1/gpp_agent",
+            "error: option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not "
+            'starting with a digit; no `/` or namespace), not "robot1/gpp_agent"',
+        ),
+        (
+            "log_level=warning",
+            "error: option `log_level` of platform `ros2` must be one of debug, info, warn, error, fatal, "
+            'not "warning"; did you mean `warn`?',
+        ),
+    ],
+)
+def test_options_ros_would_refuse_are_one_line_usage_errors(tmp_path: Path, option: str, message: str) -> None:
+    from tests.support.cli import run as gpp
+
+    program = tmp_path / "agent.gpp"
+    program.write_text(COUNT + "procedure main() { count(1); }\n", encoding="utf-8")
+    result = gpp("run", str(program), "--platform", "ros2", "-o", option)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.strip().splitlines() == [message], result.stderr

@@ -46,6 +46,7 @@ procedure main() { count(1); }
 ROS_MODULES = ("rclpy", "rosidl_parser", "test_msgs", "gpp.platform.ros2.checks", "gpp.platform.ros2.interfaces")
 
 
+@pytest.mark.fault
 def test_check_reports_a_typed_mapping_at_the_mapping(tmp_path: Path) -> None:
     pytest.importorskip("rclpy")
     (tmp_path / "agent.gpp").write_text(TYPED)
