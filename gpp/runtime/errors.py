@@ -34,3 +34,10 @@ class GppRuntimeError(Exception):
         return diag.error(
             diag.Message(self.code, self.message), span, self.label, secondary=self.secondary, notes=self.notes
         )
+
+
+class Unanswered(GppRuntimeError):
+    """An exogenous function has no current answer (the platform's NoAnswer). Online, the step
+    that evaluates it cannot be taken, as a false test, and the program waits for an answer;
+    where no step can be held back (an effect, a `senses:` section, planning) it stops the run
+    like any runtime error."""

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.2"
+TRACE_SCHEMA_VERSION: Final = "1.3"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -232,6 +232,32 @@ class ExogEvent(EventBase):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class DroppedEvent(EventBase):
+    """The platform dropped what came in for an exogenous action or function: a message whose
+    fields do not fit its parameters, or messages lost on the way (`count` of them)."""
+
+    EVENT: ClassVar[str] = "dropped"
+
+    source: str  # where it came from, e.g. a ROS topic
+    target: str  # the exogenous action or function it was for
+    reason: str
+    count: int = field(default=1, metadata=_OPTIONAL)  # written only when more than one
+    at: str | None  # source location of the mapping it is about
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class WarningEvent(EventBase):
+    """A warning during the run that stops nothing (R0015: the platform dropped a message that
+    does not fit, or warns about its setup)."""
+
+    EVENT: ClassVar[str] = "warning"
+
+    code: str
+    message: str
+    at: str | None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AssignEvent(EventBase):
     """The program assigned a fluent instance."""
 
@@ -302,6 +328,8 @@ TraceEvent: TypeAlias = (
     | BlockedEvent
     | ErrorEvent
     | FinishEvent
+    | DroppedEvent
+    | WarningEvent
 )
 
 EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
@@ -321,6 +349,8 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         BlockedEvent,
         ErrorEvent,
         FinishEvent,
+        DroppedEvent,
+        WarningEvent,
     )
 }
 

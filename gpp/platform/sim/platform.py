@@ -383,7 +383,7 @@ def run_action(
         for _, event in sim.queue.drain():
             if isinstance(event, ExogOccurrence):
                 events.append(event)
-            elif event.activity_id == activity.id:
+            elif isinstance(event, ActivityUpdate) and event.activity_id == activity.id:
                 return event, events
         if not sim.wait(deadline) and len(sim.queue) == 0:
             raise TimeoutError(f'"{mapped}" did not end by t = {sim.now():.2f} s')

@@ -373,7 +373,6 @@ bool function postcond() = seen() == "door opened" & answer() == "off"
     binding = """
 [exog_function.last_event]
 topic = "/events : std_msgs/msg/String"
-timeout = 5.0
 
 [exog_function.switched]
 service = "/set_bool : std_srvs/srv/SetBool"
