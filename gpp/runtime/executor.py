@@ -335,10 +335,10 @@ class Executor:
             self.ctx.explaining = False
         if why is not None and awaits_activity(why):
             return
-        unanswered = self.sem.unanswered
-        if unanswered is not None and unanswered.span is not None:
+        if self.sem.unanswered is not None:
             # It waits for an exogenous function's answer: that is the condition to show.
-            why = diag.error(diag.Message(unanswered.code, unanswered.message), unanswered.span)
+            unanswered, stmt = self.sem.unanswered
+            why = diag.error(diag.Message(unanswered.code, unanswered.message), stmt.span)
         span = why.span if why is not None else _head_span(prog)
         condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
         if why is not None and why.notes:

@@ -363,8 +363,9 @@ class Semantics:
         self._effect_plans: dict[GroundAction, _EffectPlan | None] = {}
         # `pick` values skipped because a precondition conjunct already rules them out.
         self.pruned_bindings = 0
-        # Online: the last exogenous function found without an answer (what a wait waits for).
-        self.unanswered: Unanswered | None = None
+        # Online: an exogenous function found without an answer, and the statement that reads
+        # it (what a wait waits for).
+        self.unanswered: tuple[Unanswered, ast.Statement] | None = None
 
     def forget(self) -> None:
         """Online, between two steps: what was remembered about the program's configurations
@@ -410,17 +411,18 @@ class Semantics:
                 try:
                     return self.final_code(p.stmt, p.frame, state, acts)
                 except Unanswered as e:
-                    return self.unanswered_(e)
+                    return self.unanswered_(e, p.stmt)
             case _:
                 assert_never(p)
 
-    def unanswered_(self, e: Unanswered) -> Literal[False]:
+    def unanswered_(self, e: Unanswered, stmt: ast.Statement) -> Literal[False]:
         """Online, a statement that reads an exogenous function without an answer can neither
-        step nor end (it waits for the answer); the last such reason is kept for the `waiting`
-        record. While planning, it is an error."""
+        step nor end (it waits for the answer); the first such statement and reason since the
+        last `forget` are kept for the `waiting` record. While planning, it is an error."""
         if self.planning:
             raise e
-        self.unanswered = e
+        if self.unanswered is None:
+            self.unanswered = (e, stmt)
         return False
 
     def final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
@@ -512,7 +514,7 @@ class Semantics:
                 try:
                     return self.trans_code(p.stmt, p.frame, state, acts, first)
                 except Unanswered as e:
-                    self.unanswered_(e)
+                    self.unanswered_(e, p.stmt)
                     return []
             case _:
                 assert_never(p)

@@ -8,7 +8,8 @@ prints `ready` once they serve.
 Behaviours:
 * `/fib` (test_msgs/action/Fibonacci), chosen by `order`: >= 0 succeed with the sequence;
   -1 abort; -2 reject; -3 succeed after 0.3 s; -5 answer each goal request only after 1.5 s;
-  -6 answer only the first goal request late (1.5 s); >= 1000 run until cancelled;
+  -6 answer only the first goal request late (1.5 s); -7 send feedback (the sequence so far,
+  growing by one) every 50 ms, 10 times, then succeed; >= 1000 run until cancelled;
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
   success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s;
@@ -119,6 +120,14 @@ class TestRobot:
             if order == -3:
                 time.sleep(0.3)
                 order = 5
+            if order == -7:
+                sequence = [0]
+                for _ in range(10):
+                    sequence.append(len(sequence))
+                    handle.publish_feedback(Fibonacci.Feedback(sequence=sequence))
+                    time.sleep(0.05)
+                handle.succeed()
+                return Fibonacci.Result(sequence=sequence)
             sequence = [0, 1]
             for _ in range(order - 1):
                 sequence.append(sequence[-1] + sequence[-2])
