@@ -12,7 +12,8 @@ Behaviours:
   growing by one) every 50 ms, 10 times, then succeed; >= 1000 run until cancelled;
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
-  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s;
+  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s; `/ticks`
+  (std_srvs/srv/Trigger): the number of calls so far, as the message ("1", "2", ...);
 * publishers `/events` (std_msgs/msg/String) and `/count` (std_msgs/msg/Int32), reliable and
   keeping every message until it is delivered.
 """
@@ -67,6 +68,8 @@ class TestRobot:
         node.create_service(BasicTypes, "/basic", lambda req, resp: _copy(req, resp), callback_group=group)
         node.create_service(SetBool, "/set_bool", self._set_bool, callback_group=group)
         node.create_service(Trigger, "/slow", self._slow, callback_group=group)
+        self.ticks = 0
+        node.create_service(Trigger, "/ticks", self._tick, callback_group=group)
         self.events = node.create_publisher(String, "/events", KEEP_ALL)
         self.count = node.create_publisher(Int32, "/count", KEEP_ALL)
         self.executor = MultiThreadedExecutor(num_threads=4, context=context)
@@ -155,6 +158,13 @@ class TestRobot:
         time.sleep(2.0)
         response.success = True
         response.message = "slow"
+        return response
+
+    def _tick(self, request: Any, response: Any) -> Any:
+        with self.lock:
+            self.ticks += 1
+            response.message = str(self.ticks)
+        response.success = True
         return response
 
     # ---------------------------------------------------------------- topics
