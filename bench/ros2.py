@@ -1,7 +1,7 @@
 """Speed of the ros2 platform against real ROS 2 nodes in this process (one context shared by
 the agent and the test servers, discovery off, so nothing leaves the machine).
 
-Run: .venv/bin/python bench/ros2.py [--goals N] [--messages N]
+Run: .venv/bin/python bench/ros2.py [--goals N] [--messages N] [--wakes N]
 
 Prints
 * start-up: creating the platform and attaching it to a program with an action, a service and
@@ -29,6 +29,9 @@ Prints
   is queued: with the robot-side profile examples/ros2/fastdds_short_lease.xml (1 s lease),
   and with `feedback_timeout = 0.5` against a server sending feedback every 0.1 s; median of
   --kills runs each (`--kill-default` also measures Fast DDS's default lease, 20 s).
+* exogenous function wake-up: a program waits in `test(battery() < level)` on an exogenous
+  function answered from a topic (no exogenous action); from publishing the message that makes
+  it true until the program resumes (its `waiting` record with `resumed`), median and p90.
 """
 
 from __future__ import annotations
@@ -67,6 +70,7 @@ from gpp.platform.ros2.binding import Binding  # noqa: E402
 from gpp.run.runner import RunOptions, run_program  # noqa: E402
 from gpp.runtime.compiled import CompiledProgram  # noqa: E402
 from gpp.runtime.contract import program_interface  # noqa: E402
+from gpp.runtime.events import TraceEvent, WaitingEvent  # noqa: E402
 from gpp.runtime.state import GroundAction  # noqa: E402
 
 FIB_TYPED = '"/fib : test_msgs/action/Fibonacci"'
@@ -265,6 +269,65 @@ def seconds(values: list[float]) -> str:
     )
 
 
+WAKE_PROGRAM = """
+number exog_function battery();
+number fluent level() { initially: () = LEVELS; }
+procedure main() {
+    while (level() > 0) {
+        test(battery() < level());
+        level() = level() - 1;
+    }
+}
+"""
+
+
+def wake_ups(robot: TestRobot, n: int) -> list[float]:
+    """Seconds from publishing the battery level that makes the waiting test true until the
+    program resumes, `n` times."""
+    from std_msgs.msg import Float64
+
+    battery = robot.node.create_publisher(Float64, "/battery", 10)
+    waiting = threading.Event()
+    resumed = threading.Event()
+    at: list[float] = []
+
+    def listen(event: TraceEvent) -> None:
+        if isinstance(event, WaitingEvent):
+            if event.resumed:
+                at.append(time.perf_counter())
+                resumed.set()
+            else:
+                waiting.set()
+
+    times: list[float] = []
+
+    def publish() -> None:
+        robot.wait_for_subscriber(battery)
+        for level in range(n, 0, -1):
+            assert waiting.wait(10.0), "the program does not wait"
+            waiting.clear()
+            resumed.clear()
+            time.sleep(0.005)  # it waits, with nothing else to do
+            sent = time.perf_counter()
+            battery.publish(Float64(data=level - 0.5))
+            assert resumed.wait(10.0), "the program did not resume"
+            times.append(at[-1] - sent)
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "wake.gpp"
+        path.write_text(WAKE_PROGRAM.replace("LEVELS", str(n)))
+        (Path(folder) / "wake.ros2.toml").write_text(
+            '[exog_function.battery]\ntopic = "/battery : std_msgs/msg/Float64"\n'
+        )
+        publisher = threading.Thread(target=publish)
+        publisher.start()
+        outcome = run_program(path, RunOptions(platform="ros2", timeout=120.0), listeners=[listen])
+        publisher.join(30)
+        assert outcome.ok, [d.message for d in outcome.diagnostics]
+    robot.node.destroy_publisher(battery)
+    return times
+
+
 def ms(values: list[float]) -> str:
     ordered = sorted(values)
     p90 = ordered[int(0.9 * (len(ordered) - 1))]
@@ -277,6 +340,7 @@ def main() -> None:
     parser.add_argument("--messages", type=int, default=5000)
     parser.add_argument("--kills", type=int, default=5)
     parser.add_argument("--kill-default", action="store_true", help="also kill -9 with Fast DDS's default lease")
+    parser.add_argument("--wakes", type=int, default=100)
     args = parser.parse_args()
     context = Context()
     rclpy.init(
@@ -298,6 +362,7 @@ def main() -> None:
         print(f"  first goal, typed           {ms(typed)} (10 platforms)")
         print(f"  first goal, untyped         {ms(first_goals(context, '/fib'))} (10 platforms)")
         print(f"  exogenous messages          {exog_rate(robot, args.messages):,.0f} per s ({args.messages} messages)")
+        print(f"  exog function wake-up       {ms(wake_ups(robot, args.wakes))} ({args.wakes} messages)")
     finally:
         Ros2Platform.shared_context = None
         robot.close()

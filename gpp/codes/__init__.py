@@ -61,6 +61,7 @@ from gpp.codes.r00 import (
     R0012,
     R0013,
     R0014,
+    R0015,
     R0099,
 )
 from gpp.codes.registry import Code, CodeInfo, Message
@@ -168,6 +169,7 @@ __all__ = [
     "R0012",
     "R0013",
     "R0014",
+    "R0015",
     "R0099",
     "RUN_TIME_WARNINGS",
     "W0101",

@@ -111,6 +111,11 @@ class R0007(Code, name="platform-failure", summary="the platform cannot do what 
         return Message(cls.code, f"exogenous function `{name}` failed: {error}")
 
     @classmethod
+    def no_answer(cls, name: str, why: object) -> Message:
+        """An exogenous function without a current answer (what a waiting program waits for)."""
+        return Message(cls.code, f"exogenous function `{name}` has no answer: {why}")
+
+    @classmethod
     def exog_function_offline(cls, name: str) -> Message:
         return Message(cls.code, f"exogenous function `{name}` cannot be asked offline")
 
@@ -239,6 +244,22 @@ class R0014(
         return Message(
             cls.code, f"the plan of this `solve` stops at its horizon of {horizon} with the program unfinished"
         )
+
+
+class R0015(
+    Code,
+    name="platform-warning",
+    summary="the platform dropped a message that does not fit the program, or warns about its setup",
+    run_time_warning=True,
+):
+    @classmethod
+    def dropped(cls, source: str, target: str, reason: str) -> Message:
+        return Message(cls.code, f"{source}: dropped for `{target}`: {reason}")
+
+    @classmethod
+    def platform(cls, platform: str, text: str) -> Message:
+        """A platform's own warning (its text)."""
+        return Message(cls.code, f"platform `{platform}`: {text}")
 
 
 class R0099(Code, name="internal-error", summary="a bug in gpp, not a problem of the program", registered=False):

@@ -12,6 +12,7 @@ from gpp.runtime.events import (
     AssignEvent,
     BlockedEvent,
     CancelEvent,
+    DroppedEvent,
     EndEvent,
     ErrorEvent,
     ExogEvent,
@@ -25,6 +26,7 @@ from gpp.runtime.events import (
     TraceEvent,
     UpdateEvent,
     WaitingEvent,
+    WarningEvent,
 )
 from gpp.runtime.values import show_json
 
@@ -71,6 +73,10 @@ def describe(event: TraceEvent) -> str | None:
             )
         case BlockedEvent() | ErrorEvent():
             return f"{event.EVENT:<6} {event.message}"
+        case WarningEvent():
+            return f"warn   {event.message}" + (f" at {event.at}" if event.at else "")
+        case DroppedEvent():
+            return None  # its first one is a warning, shown as such
         case FinishEvent():
             return f"finish {event.status}"
         case WaitingEvent():

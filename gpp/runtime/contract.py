@@ -8,8 +8,10 @@ attach, close) is `gpp.platform.base.Platform`.
 
 The executor asks a platform to start and preempt activities and to evaluate exogenous
 functions, and reads its clock. The platform reports back through one thread-safe EventQueue:
-activity updates (final / failed / cancelled, with an optional sensing result) and exogenous
-events. The executor drains the queue between program steps. When the program is blocked the
+activity updates (final / failed / cancelled, with an optional sensing result), exogenous
+events, changes of an exogenous function's answer (which wake a waiting program: it evaluates
+its conditions again), messages the platform dropped because they do not fit the program, and
+warnings. The executor drains the queue between program steps. When the program is blocked the
 executor calls `wait(deadline)`: a virtual-time platform advances its clock to its next
 scheduled happening; a real-time platform waits for the queue.
 """
@@ -38,6 +40,13 @@ from gpp.syntax.walk import walk
 
 class PlatformError(Exception):
     """A platform cannot do what it was asked (unknown mapped name, no connection, bad option...)."""
+
+
+class NoAnswer(PlatformError):
+    """An exogenous function has no current answer: no value has arrived yet, or the last one is
+    older than the function may be. Not an error of the run: the step that reads the function
+    cannot be taken (as a false test), and the platform reports an `ExogFunctionChanged` when
+    an answer arrives. The message says why (it is shown while the program waits)."""
 
 
 # ---------------------------------------------------------------- what crosses the contract
@@ -95,7 +104,49 @@ class PlatformNotice:
     cancel_refused: bool = False
 
 
-Event = ActivityUpdate | ExogOccurrence | PlatformFault | PlatformNotice
+@dataclass(frozen=True, slots=True)
+class ExogFunctionChanged:
+    """The answer of an exogenous function changed (a new message, a value that became too old):
+    a waiting program evaluates its conditions again. Nothing else happens; a change that is
+    still queued is not queued twice."""
+
+    function: str
+
+
+@dataclass(frozen=True, slots=True)
+class MessageDropped:
+    """The platform dropped what came in for an exogenous action or function (a message whose
+    fields do not fit the parameters, messages lost in transport): the run goes on, the trace
+    records it and the run warns (once per action) at `span`, the mapping it is about."""
+
+    source: str  # where it came from, e.g. the topic name
+    target: str  # the exogenous action or function it was for
+    reason: str
+    span: Span | None = None
+    help: str | None = None
+    count: int = 1  # how many messages
+
+
+@dataclass(frozen=True, slots=True)
+class PlatformWarning:
+    """Something the program should know that stops nothing (e.g. a publisher whose QoS can
+    lose messages): a warning at `span`."""
+
+    message: str
+    span: Span | None = None
+    label: str = ""
+    help: str | None = None
+
+
+Event = (
+    ActivityUpdate
+    | ExogOccurrence
+    | ExogFunctionChanged
+    | MessageDropped
+    | PlatformWarning
+    | PlatformFault
+    | PlatformNotice
+)
 
 
 class EventQueue:
@@ -105,6 +156,8 @@ class EventQueue:
         self._items: deque[tuple[float, Event]] = deque()
         self._ready = threading.Condition()
         self._latest = -math.inf
+        # Functions with an ExogFunctionChanged in the queue (one is enough).
+        self._changed: set[str] = set()
 
     def put(self, event: Event, time: float) -> None:
         """Queue an event that happened at `time`. Events put by two threads are queued in the
@@ -112,6 +165,10 @@ class EventQueue:
         (taken by a thread that was overtaken) is raised to it, so that the trace's times
         never go back."""
         with self._ready:
+            if isinstance(event, ExogFunctionChanged):
+                if event.function in self._changed:
+                    return
+                self._changed.add(event.function)
             self._latest = max(self._latest, time)
             self._items.append((self._latest, event))
             self._ready.notify_all()
@@ -120,6 +177,7 @@ class EventQueue:
         with self._ready:
             items = list(self._items)
             self._items.clear()
+            self._changed.clear()
         return items
 
     def wait(self, timeout: float | None) -> bool:
@@ -156,7 +214,8 @@ class PlatformPort(Protocol):
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
         """Evaluate an exogenous function; `activity` is set while a `senses:` section of that
-        activity is evaluated."""
+        activity is evaluated. Raises NoAnswer when there is no current answer (the program
+        waits for one), PlatformError when it cannot be asked at all."""
 
     def now(self) -> float:
         """The platform's clock, in seconds since the run began."""

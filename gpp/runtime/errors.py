@@ -41,3 +41,10 @@ class GppRuntimeError(Exception):
             notes=self.notes,
             help=self.help,
         )
+
+
+class Unanswered(GppRuntimeError):
+    """An exogenous function has no current answer (the platform's NoAnswer). Online, the step
+    that evaluates it cannot be taken, as a false test, and the program waits for an answer;
+    where no step can be held back (an effect, a `senses:` section, planning) it stops the run
+    like any runtime error."""

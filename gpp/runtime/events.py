@@ -245,6 +245,32 @@ class ExogEvent(EventBase):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class DroppedEvent(EventBase):
+    """The platform dropped what came in for an exogenous action or function: a message whose
+    fields do not fit its parameters, or messages lost on the way (`count` of them)."""
+
+    EVENT: ClassVar[str] = "dropped"
+
+    source: str  # where it came from, e.g. a ROS topic
+    target: str  # the exogenous action or function it was for
+    reason: str
+    count: int = field(default=1, metadata=_OPTIONAL)  # written only when more than one
+    at: str | None  # source location of the mapping it is about
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class WarningEvent(EventBase):
+    """A warning during the run that stops nothing (R0015: the platform dropped a message that
+    does not fit, or warns about its setup)."""
+
+    EVENT: ClassVar[str] = "warning"
+
+    code: str
+    message: str
+    at: str | None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AssignEvent(EventBase):
     """The program assigned a fluent instance."""
 
@@ -316,6 +342,8 @@ TraceEvent: TypeAlias = (
     | BlockedEvent
     | ErrorEvent
     | FinishEvent
+    | DroppedEvent
+    | WarningEvent
 )
 
 EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
@@ -336,6 +364,8 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         BlockedEvent,
         ErrorEvent,
         FinishEvent,
+        DroppedEvent,
+        WarningEvent,
     )
 }
 

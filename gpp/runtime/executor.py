@@ -24,21 +24,26 @@ import gpp.runtime.events as ev
 from gpp.base import diagnostics as diag
 from gpp.base import signals
 from gpp.base.source import Span
-from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0099
+from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
+    ExogFunctionChanged,
     ExogOccurrence,
+    MessageDropped,
+    NoAnswer,
     PlatformError,
+    PlatformFault,
     PlatformNotice,
     PlatformPort,
+    PlatformWarning,
     Problem,
     unfit_error,
 )
-from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.errors import GppRuntimeError, Unanswered
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
@@ -119,6 +124,8 @@ class _ExecContext:
             raise GppRuntimeError(R0007.not_asked_explaining(), span)
         try:
             return self.platform.exog_function(name, args, return_type, self.activity)
+        except NoAnswer as e:
+            raise Unanswered(R0007.no_answer(name, e), span) from None
         except PlatformError as e:
             raise GppRuntimeError(R0007.exog_function_failed(name, e), span) from None
 
@@ -176,6 +183,9 @@ class Executor:
         self._silent: dict[str, bool] = {}
         # Problems with the program the platform reported while it runs (PlatformFault).
         self.faults: list[Problem] = []
+        # Exogenous actions and functions already warned about (R0015), and warnings given.
+        self.warned_dropped: set[str] = set()
+        self.warned_platform: set[str] = set()
 
     # ---------------------------------------------------------------- the loop
 
@@ -194,6 +204,8 @@ class Executor:
             while True:
                 self.drain()
                 self.stop_at_fault()
+                # An exogenous function's answer may have changed since the last look.
+                self.sem.forget()
                 # Comparisons with the clock evaluated from here on say when to wake up.
                 self.ctx.wake = None
                 if self.sem.final(prog, self.state, self.acts):
@@ -332,6 +344,10 @@ class Executor:
             self.ctx.explaining = False
         if why is not None and awaits_activity(why):
             return
+        if self.sem.unanswered is not None:
+            # It waits for an exogenous function's answer: that is the condition to show.
+            unanswered, stmt = self.sem.unanswered
+            why = diag.error(diag.Message(unanswered.code, unanswered.message), stmt.span)
         span = why.span if why is not None else _head_span(prog)
         condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
         if why is not None and why.notes:
@@ -397,8 +413,16 @@ class Executor:
                 self.on_notice(t, event)
             elif isinstance(event, ExogOccurrence):
                 self.on_exog(t, event)
-            else:
+            elif isinstance(event, ExogFunctionChanged):
+                pass  # the program evaluates its conditions again: that is all
+            elif isinstance(event, MessageDropped):
+                self.on_dropped(t, event)
+            elif isinstance(event, PlatformWarning):
+                self.on_warning(t, event)
+            elif isinstance(event, PlatformFault):
                 self.faults.extend(event.problems)
+            else:
+                assert_never(event)
 
     def stop_at_fault(self) -> None:
         """Stop the run when the platform reported problems with the program (PlatformFault):
@@ -423,6 +447,42 @@ class Executor:
                 id=notice.activity_id if g is not None else None,
             )
         )
+
+    def on_dropped(self, t: float, dropped: MessageDropped) -> None:
+        """A `dropped` record for each; a warning (R0015) the first time for its target."""
+        self.trace.emit(
+            ev.DroppedEvent(
+                t=t,
+                source=dropped.source,
+                target=dropped.target,
+                reason=dropped.reason,
+                count=dropped.count,
+                at=_where(dropped.span),
+            )
+        )
+        if dropped.target in self.warned_dropped or dropped.span is None:
+            return
+        self.warned_dropped.add(dropped.target)
+        d = diag.warning(
+            R0015.dropped(dropped.source, dropped.target, dropped.reason),
+            dropped.span,
+            "what came in does not fit this",
+            notes=[f"at {t:.3f} s; the trace has a `dropped` record for each drop (this warning is given once)"],
+            help=dropped.help,
+        )
+        self.result.diagnostics.append(d)
+        self.trace.emit(ev.WarningEvent(t=t, code=d.code, message=d.message, at=_where(d.span)))
+
+    def on_warning(self, t: float, warning: PlatformWarning) -> None:
+        """A platform's warning (R0015), once per text."""
+        if warning.message in self.warned_platform:
+            return
+        self.warned_platform.add(warning.message)
+        message = R0015.platform(self.platform.name, warning.message)
+        if warning.span is not None:
+            d = diag.warning(message, warning.span, warning.label, help=warning.help)
+            self.result.diagnostics.append(d)
+        self.trace.emit(ev.WarningEvent(t=t, code=message.code, message=message.text, at=_where(warning.span)))
 
     def on_update(self, t: float, update: ActivityUpdate) -> None:
         g = self.by_id.get(update.activity_id)

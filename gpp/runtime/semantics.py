@@ -21,7 +21,7 @@ end in `assert_never`, as a match over `ast.Statement` does.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol, TypeAlias, assert_never
+from typing import TYPE_CHECKING, Literal, Protocol, TypeAlias, assert_never
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
@@ -39,7 +39,7 @@ from gpp.runtime.compiled import (
     domain_values,
     ground,
 )
-from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.errors import GppRuntimeError, Unanswered
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import CompoundValue, Value, same, show
@@ -363,6 +363,15 @@ class Semantics:
         self._effect_plans: dict[GroundAction, _EffectPlan | None] = {}
         # `pick` values skipped because a precondition conjunct already rules them out.
         self.pruned_bindings = 0
+        # Online: an exogenous function found without an answer, and the statement that reads
+        # it (what a wait waits for).
+        self.unanswered: tuple[Unanswered, ast.Statement] | None = None
+
+    def forget(self) -> None:
+        """Online, between two steps: what was remembered about the program's configurations
+        no longer holds when an exogenous function's answer may have changed."""
+        self._final_memo.clear()
+        self.unanswered = None
 
     def with_mode(self, planning: bool) -> Semantics:
         return Semantics(self.program, self.ctx, planning, self.planner)
@@ -399,9 +408,22 @@ class Semantics:
             case AwaitEnd() | DuringEnd():
                 return False
             case Code():
-                return self.final_code(p.stmt, p.frame, state, acts)
+                try:
+                    return self.final_code(p.stmt, p.frame, state, acts)
+                except Unanswered as e:
+                    return self.unanswered_(e, p.stmt)
             case _:
                 assert_never(p)
+
+    def unanswered_(self, e: Unanswered, stmt: ast.Statement) -> Literal[False]:
+        """Online, a statement that reads an exogenous function without an answer can neither
+        step nor end (it waits for the answer); the first such statement and reason since the
+        last `forget` are kept for the `waiting` record. While planning, it is an error."""
+        if self.planning:
+            raise e
+        if self.unanswered is None:
+            self.unanswered = (e, stmt)
+        return False
 
     def final_code(self, s: ast.Statement, frame: Frame, state: State, acts: Activities) -> bool:
         """`final` of the statement `s` with the bindings of `frame` (`final(Code(s, frame))`):
@@ -489,7 +511,11 @@ class Semantics:
             case Planned():
                 return p.session.successors(self, p, state, acts)
             case Code():
-                return self.trans_code(p.stmt, p.frame, state, acts, first)
+                try:
+                    return self.trans_code(p.stmt, p.frame, state, acts, first)
+                except Unanswered as e:
+                    self.unanswered_(e, p.stmt)
+                    return []
             case _:
                 assert_never(p)
 
@@ -543,7 +569,9 @@ class Semantics:
             case ast.Choose():
                 out: list[Successor] = []
                 for alternative in s.alternatives:
-                    out.extend(self.trans_code(alternative, frame, state, acts, first))
+                    # An alternative that waits for an exogenous function's answer cannot
+                    # step: the next one may (a guard against a missing or stale value).
+                    out.extend(self.trans(Code(alternative, frame), state, acts, first))
                     if first and out:
                         break
                 return out

@@ -108,7 +108,11 @@ def test_the_example_of_a_runtime_error_stops_the_run_and_the_fix_runs_to_its_en
     assert (status, errors) == (RunStatus.FINISHED.value, []), f"{code}: the fixed example does not run cleanly"
 
 
-@pytest.mark.parametrize("code", sorted(RUN_TIME_WARNINGS))
+# Run-time warnings whose examples need a robot: their test runs them on one.
+ON_A_ROBOT = {"R0015": "tests/platform/ros2/test_ros2_exog.py"}
+
+
+@pytest.mark.parametrize("code", sorted(set(RUN_TIME_WARNINGS) - set(ON_A_ROBOT)))
 def test_the_example_of_a_runtime_warning_warns_and_the_fix_does_not(code: str, tmp_path: Path) -> None:
     blocks = example_blocks(CODES[code].explanation)
     for block, folder, expected in ((blocks[0], "problem", [code]), (blocks[-1], "fixed", [])):

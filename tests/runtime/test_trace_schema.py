@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import unittest.mock
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -16,6 +17,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from gpp.platform.base import MessageDropped, PlatformConfig, PlatformWarning, Problem, ProgramInterface
+from gpp.platform.dummy import DummyPlatform
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import (
     ABSENT,
@@ -137,6 +140,23 @@ def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
     trace = tmp_path / "interrupted.jsonl"
     run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace), listeners=[ctrl_c])
     yield "interrupted", trace
+
+    # What a robot's platform reports about messages it dropped (tests/platform/ros2 makes
+    # these against real publishers): the dummy, reporting them as a robot would.
+    class Dropping(DummyPlatform):
+        def attach(self, interface: ProgramInterface) -> list[Problem]:
+            problems = super().attach(interface)
+            self.queue.put(MessageDropped("/events", "knock", "the message has no field `who`", None, None, 3), 0.0)
+            self.queue.put(PlatformWarning("a publisher can lose messages"), 0.0)
+            return problems
+
+    def dropping(options: RunOptions, check: Any, path: Path) -> DummyPlatform:
+        return Dropping.create(PlatformConfig(path))
+
+    trace = tmp_path / "dropped.jsonl"
+    with unittest.mock.patch("gpp.run.runner.make_platform", dropping):
+        run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace))
+    yield "dropped", trace
 
 
 @pytest.mark.slow

@@ -34,7 +34,20 @@ _TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout", "feedback_timeou
 _MAY_BE_ZERO = ("result_timeout", "feedback_timeout")
 _DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout", "resend", "discovery_timeout"})
 _NAME_KEYS = frozenset({"type", *_TIMEOUTS, "resend", "stamp", "result", "qos"})
-_FUNCTION_KEYS = frozenset({"topic", "service", "field", "request", "timeout", "qos", "server_timeout"})
+_FUNCTION_KEYS = frozenset(
+    {"topic", "service", "feedback", "field", "request", "timeout", "qos", "server_timeout"}
+    | {"max_age", "poll", "max_rate"}
+)
+# The keys that apply to one kind of source only.
+_FUNCTION_KEY_KINDS = {
+    "request": ("service",),
+    "timeout": ("service",),
+    "server_timeout": ("service",),
+    "poll": ("service",),
+    "qos": ("topic",),
+    "max_age": ("topic", "feedback"),
+    "max_rate": ("topic", "feedback"),
+}
 _QOS_KEYS = frozenset({"reliability", "durability", "depth", "history"})
 _QOS_WORDS = {
     "reliability": ("reliable", "best_effort"),
@@ -80,13 +93,19 @@ class FunctionEntry:
 
     function: str
     source: MappedName
-    kind: str  # "topic" or "service"
+    kind: str  # "topic", "service" or "feedback" (of the goals sent to an action)
     field: str | None = None
     request: dict[str, str] = dataclasses.field(default_factory=dict)
     timeout: float | None = None
     server_timeout: float | None = None
     qos: Qos | None = None
     span: Span | None = None
+    # Topic and feedback: the latest value is no answer once it is older than this (s).
+    max_age: float | None = None
+    # Topic and feedback: a waiting program is woken at most this many times a second.
+    max_rate: float | None = None
+    # Service: a waiting program asks again every `poll` seconds.
+    poll: float | None = None
 
 
 @dataclass
@@ -227,13 +246,18 @@ def _name_entry(name: str, table: Mapping[str, Any], at: str, span: Span | None)
 
 def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -> FunctionEntry:
     _check_keys(table, _FUNCTION_KEYS, at)
-    kinds = [k for k in ("topic", "service") if k in table]
+    kinds = [k for k in ("topic", "service", "feedback") if k in table]
     if len(kinds) != 1:
         raise BindingError(
-            f'{at}: give the source of `{name}`: `topic = "/name : package/msg/Type"` (its latest message) or '
-            '`service = "/name"` (a call each time)'
+            f'{at}: give the source of `{name}`: `topic = "/name : package/msg/Type"` (its latest message), '
+            '`service = "/name"` (a call each time) or `feedback = "/action"` (the latest feedback of the goal '
+            "running on a mapped action)"
         )
     kind = kinds[0]
+    for key, applies in _FUNCTION_KEY_KINDS.items():
+        if key in table and kind not in applies:
+            hint = "; a topic's value has a maximum age (`max_age`) instead" if key == "timeout" else ""
+            raise BindingError(f"{at} {key}: only a {' or '.join(applies)} source takes `{key}`{hint}")
     try:
         source = parse_mapped(_text(table[kind], f"{at} {kind}"))
     except NameError_ as e:
@@ -243,8 +267,6 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
         entry.field = _text(table["field"], f"{at} field")
     if "request" in table:
         request = _table(table["request"], f"{at} request")
-        if kind != "service":
-            raise BindingError(f"{at} request: only a service source takes a request")
         for k, v in request.items():
             if not isinstance(v, str) or not v:
                 raise BindingError(
@@ -256,9 +278,13 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
     if "server_timeout" in table:
         entry.server_timeout = _seconds(table["server_timeout"], f"{at} server_timeout")
     if "qos" in table:
-        if kind != "topic":
-            raise BindingError(f"{at} qos: only a topic source takes a qos")
         entry.qos = _qos(table["qos"], f"{at} qos")
+    if "max_age" in table:
+        entry.max_age = _seconds(table["max_age"], f"{at} max_age")
+    if "poll" in table:
+        entry.poll = _seconds(table["poll"], f"{at} poll")
+    if "max_rate" in table:
+        entry.max_rate = _per_second(table["max_rate"], f"{at} max_rate")
     return entry
 
 
@@ -314,6 +340,13 @@ def _seconds(value: Any, at: str, allow_zero: bool = False) -> float:
     if not ok or value < 0 or (value == 0 and not allow_zero):
         bound = ">= 0 (0: no limit)" if allow_zero else "> 0"
         raise BindingError(f"{at}: expected a number of seconds {bound}, not {show_plain(value)}")
+    return float(value)
+
+
+def _per_second(value: Any, at: str) -> float:
+    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    if not ok or value <= 0:
+        raise BindingError(f"{at}: expected a number of times a second > 0, not {show_plain(value)}")
     return float(value)
 
 

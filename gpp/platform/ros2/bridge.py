@@ -47,7 +47,6 @@ log = logging.getLogger("gpp.platform.ros2")
 
 TICK = 0.02  # s between two checks of the jobs' deadlines
 LIVENESS = 0.25  # s between two checks that the server of a running goal is still there
-RETRY_TYPE = 1.0  # s between two graph look-ups of a topic whose type is not known yet
 
 _STATUS = {
     GoalStatus.STATUS_UNKNOWN: "unknown",
@@ -94,6 +93,8 @@ class Job:
     # what the program is told about the job while it goes on (a message that reached nobody;
     # with True: its server refused to cancel it); None: nobody listens
     notice: Callable[[str, bool], None] | None = None
+    # Called (on the spin thread) with each feedback message of the goal, as plain data.
+    feedback: Callable[[Any], None] | None = None
     # state, touched only on the spin thread
     phase: str = "new"  # new, resolving, waiting (for the server), matching (subscribers), sent, running, ended
     deadline: float = math.inf
@@ -395,9 +396,14 @@ class Bridge:
         if job.interface.kind == "action":
             job.phase = "sent"
             job.deadline = now + job.ack_timeout
-            future = job.client.send_goal_async(
-                job.message, feedback_callback=self._guarded(lambda _feedback: self._feedback(job))
-            )
+            on_feedback = job.feedback
+
+            def feedback(message: Any) -> None:
+                self._feedback(job)
+                if on_feedback is not None:
+                    on_feedback(_plain_or_error(message.feedback))
+
+            future = job.client.send_goal_async(job.message, feedback_callback=self._guarded(feedback))
             job.pending = future
             future.add_done_callback(self._guarded(lambda f: self._goal_answered(job, f)))
         else:
@@ -538,13 +544,44 @@ class Bridge:
 
     # ---------------------------------------------------------------- topics
 
+    def topic_type(self, name: str) -> str | None:
+        """The type of topic `name` when a publisher of it is in the graph now (a cheap look-up,
+        made every tick for a topic whose type is not known yet)."""
+        if self.node.count_publishers(name) == 0:
+            return None
+        for n, types in self.node.get_topic_names_and_types():
+            if n == name and types:
+                return str(types[0])
+        return None
+
     def subscribe(
-        self, name: str, cls: Any, callback: Callable[[Any], None], qos: Qos | None, depth: int, keep_all: bool = False
+        self,
+        name: str,
+        cls: Any,
+        callback: Callable[[Any], None],
+        qos: Qos | None,
+        depth: int,
+        keep_all: bool = False,
+        lost: Callable[[int], None] | None = None,
     ) -> Any:
         """A subscription (call on the spin thread), with reliability and durability chosen from
-        the publishers already there unless `qos` says them."""
+        the publishers already there unless `qos` says them; `lost(n)` is called when the
+        middleware reports that n messages of a publisher never arrived."""
+        from rclpy.event_handler import SubscriptionEventCallbacks
+
         profile = qos_profile(qos, depth, self.node.get_publishers_info_by_topic(name), keep_all)
-        return self.node.create_subscription(cls, name, self._guarded(callback), profile)
+        events = None
+        if lost is not None:
+            report = lost
+            events = SubscriptionEventCallbacks(
+                message_lost=self._guarded(lambda info: report(int(info.total_count_change)))
+            )
+        return self.node.create_subscription(cls, name, self._guarded(callback), profile, event_callbacks=events)
+
+    def best_effort_publishers(self, name: str) -> int:
+        """How many publishers of topic `name` are best effort (they can lose messages)."""
+        publishers = self.node.get_publishers_info_by_topic(name)
+        return sum(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in publishers)
 
 
 def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = (), keep_all: bool = False) -> QoSProfile:
@@ -596,6 +633,11 @@ def _plain_or_error(msg: Any) -> Any:
         return to_plain(msg)
     except Exception as e:
         return _Malformed(f"it cannot be read ({e})")
+
+
+def is_malformed(plain: Any) -> bool:
+    """Is this what `_plain_or_error` gives for a message it could not convert?"""
+    return isinstance(plain, _Malformed)
 
 
 # Bridges still open when the interpreter exits are closed first: a thread still spinning at

@@ -311,20 +311,26 @@ def route_problems(
     return problems
 
 
+_SOURCE_KIND = {"topic": "msg", "service": "srv", "feedback": "action"}
+
+
 def function_source(
-    entry: FunctionEntry, signature: ExogFunctionSignature, graph: Graph
+    entry: FunctionEntry, signature: ExogFunctionSignature, graph: Graph, known: str | None = None
 ) -> tuple[Interface | None, list[Problem]]:
+    """The interface that answers an exogenous function, checked against it; `known`: its type
+    when the program's mappings say it (the action of a feedback source)."""
     what = f"binding file: [exog_function.{entry.function}]"
     span = entry.span
     problems: list[Problem] = []
-    type_name = entry.source.type
+    wanted = _SOURCE_KIND[entry.kind]
+    type_name = entry.source.type or known
     if type_name is None:
         found = graph.lookup(entry.source.name)
         if found is None:
             return None, [
                 Problem(
                     f'{what}: the type of "{entry.source.name}" is not known: write it after the name '
-                    f'("{entry.source.name} : package/{"msg" if entry.kind == "topic" else "srv"}/Type")',
+                    f'("{entry.source.name} : package/{wanted}/Type")',
                     span,
                 )
             ]
@@ -333,7 +339,6 @@ def function_source(
         iface = load_interface(type_name)
     except InterfaceError as e:
         return None, [Problem(f"{what}: {e}", span)]
-    wanted = "msg" if entry.kind == "topic" else "srv"
     if iface.kind != wanted:
         return None, [
             Problem(
@@ -342,11 +347,11 @@ def function_source(
             )
         ]
     params = {p.name: p.type for p in signature.params}
-    if entry.kind == "topic" and params:
+    if entry.kind != "service" and params:
         problems.append(
             Problem(
-                f"{what}: `{entry.function}` has parameters ({', '.join(params)}); a topic answers only a function "
-                "without parameters (use a service for one with parameters)",
+                f"{what}: `{entry.function}` has parameters ({', '.join(params)}); a {entry.kind} answers only a "
+                "function without parameters (use a service for one with parameters)",
                 span,
             )
         )
@@ -373,8 +378,8 @@ def function_source(
             wrong = type_problem(t, params[param])
             if wrong is not None:
                 problems.append(Problem(f"{what}: request field `{path}` for parameter `{param}`: {wrong}", span))
-    answer = iface.response if iface.kind == "srv" else iface.cls
-    kind = "response" if iface.kind == "srv" else "message"
+    answer = {"srv": iface.response, "action": getattr(iface.cls, "Feedback", None)}.get(iface.kind, iface.cls)
+    kind = {"srv": "response", "action": "feedback"}.get(iface.kind, "message")
     if entry.field is not None:
         try:
             t = field_at(answer, entry.field)
@@ -385,11 +390,11 @@ def function_source(
             if wrong is not None:
                 problems.append(Problem(f"{what}: field `{entry.field}`: {wrong}", span))
     else:
-        known = fields(answer)
-        if len(known) != 1 and not isinstance(base(signature.return_type), CompoundType):
+        answer_fields = fields(answer)
+        if len(answer_fields) != 1 and not isinstance(base(signature.return_type), CompoundType):
             problems.append(
                 Problem(
-                    f"{what}: the {kind} of {iface.name} has {len(known)} fields ({', '.join(known)}): "
+                    f"{what}: the {kind} of {iface.name} has {len(answer_fields)} fields ({', '.join(answer_fields)}): "
                     f'say which one answers `{entry.function}` with `field = "NAME"`',
                     span,
                 )

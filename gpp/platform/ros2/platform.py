@@ -10,8 +10,9 @@ robot"):
   fills a compound type with the same field names (or the binding file picks a field);
 * an exogenous action mapped to `"/topic : pkg/msg/Type" { field = param }` happens for each
   message on the topic;
-* exogenous functions are answered from the latest message on a topic or by a service call,
-  as the binding file declares.
+* exogenous functions are answered from the latest message on a topic, the latest feedback of
+  a goal or by a service call, as the binding file declares; a new message (feedback) wakes a
+  waiting program, and a value older than its `max_age` is no answer (the program waits).
 
 What the mapping cannot say (timeouts, QoS, time stamps, result fields, the sources of
 exogenous functions) is in the binding file (gpp.platform.ros2.binding). Every mapping whose
@@ -27,22 +28,27 @@ import logging
 import re
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
 from gpp.platform.base import (
     Activity,
     ActivityUpdate,
     ExogActionBinding,
+    ExogFunctionChanged,
     ExogOccurrence,
+    MessageDropped,
+    NoAnswer,
     Platform,
     PlatformConfig,
     PlatformError,
     PlatformFault,
     PlatformNotice,
+    PlatformWarning,
     Problem,
     ProgramInterface,
     parse_options,
@@ -86,21 +92,39 @@ class Topic:
     qos_entry: NameEntry | None = None
     subscription: Any = None
     warned: bool = False
-    next_try: float = 0.0
+    unusable: bool = False  # its type, found in the graph, cannot be imported
 
 
 @dataclass
 class Source:
-    """Where an exogenous function's answers come from."""
+    """Where an exogenous function's answers come from, and (topic, feedback) its latest value.
+    The value fields are written on the spin thread and read by the interpreter under `lock`."""
 
     entry: FunctionEntry
     signature_type: Type
     params: tuple[str, ...]
     interface: Interface | None = None
+    span: Span | None = None  # the function's declaration
     latest: Any = None
     has_latest: bool = False
+    received: float = 0.0  # platform time of the latest value
     subscription: Any = None
-    arrived: threading.Event = field(default_factory=threading.Event)
+    lock: threading.Lock = field(default_factory=threading.Lock)
+    # Wake-ups of a waiting program (spin thread only): the next allowed one, one held back,
+    # a stale value already reported, the next poll of a service.
+    next_wake: float = 0.0
+    wake_held: bool = False
+    stale_reported: bool = False
+    next_poll: float = 0.0
+
+    @property
+    def name(self) -> str:
+        return self.entry.function
+
+    @property
+    def watched(self) -> bool:
+        """Can its answer change without being asked (a message, feedback, a poll)?"""
+        return self.entry.kind != "service" or self.entry.poll is not None
 
 
 class Ros2Platform(Platform):
@@ -217,10 +241,18 @@ class Ros2Platform(Platform):
                     )
                 )
                 continue
-            source, found = checks.function_source(entry, signature, graph)
+            known = None
+            if entry.kind == "feedback":
+                known, found = self._feedback_type(entry)
+                problems.extend(found)
+                if found:
+                    continue
+            source, found = checks.function_source(entry, signature, graph, known)
             problems.extend(found)
             if source is not None:
-                self.sources[fname] = Source(entry, signature.return_type, signature.param_names, source)
+                self.sources[fname] = Source(
+                    entry, signature.return_type, signature.param_names, source, signature.span
+                )
         problems.extend(checks.unused_entries(self.binding, interface))
         if problems:
             return problems
@@ -230,6 +262,7 @@ class Ros2Platform(Platform):
             return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
         bridge.watchers.append(self._watch_topics)
         bridge.watchers.append(self._watch_targets)
+        bridge.watchers.append(self._watch_sources)
         self._wait_for_subscribers()
         return []
 
@@ -252,6 +285,26 @@ class Ros2Platform(Platform):
                 break
             time.sleep(0.02)
 
+    def _feedback_type(self, entry: FunctionEntry) -> tuple[str | None, list[Problem]]:
+        """The action type whose feedback answers `entry`: that of the program's mapping to
+        its action name (an error when no action is mapped to it)."""
+        name = entry.source.name
+        targets = [t for t in self.targets.values() if t.name.name == name]
+        if not targets:
+            mapped = sorted({t.name.name for t in self.targets.values()})
+            return None, [
+                Problem(
+                    f"binding file: [exog_function.{entry.function}] feedback: "
+                    f'no action of the program is mapped to "{name}"',
+                    entry.span,
+                    help=did_you_mean(name, mapped),
+                )
+            ]
+        for target in targets:
+            if target.interface is not None:
+                return target.interface.name, []
+        return entry.source.type, []
+
     def _subscribe_all(self) -> None:
         for topic in self.topics.values():
             if topic.interface is not None:
@@ -264,8 +317,22 @@ class Ros2Platform(Platform):
         assert self.bridge is not None and topic.interface is not None
         qos = topic.qos_entry.qos if topic.qos_entry is not None else None
         topic.subscription = self.bridge.subscribe(
-            topic.name, topic.interface.cls, lambda msg: self._message(topic, msg), qos, 1000, keep_all=True
+            topic.name,
+            topic.interface.cls,
+            lambda msg: self._message(topic, msg),
+            qos,
+            1000,
+            keep_all=True,
+            lost=lambda n: self._lost(topic, n),
         )
+        if (qos is None or qos.reliability is None) and self.bridge.best_effort_publishers(topic.name):
+            for exog, _ in topic.routes:
+                self._warn(
+                    f'topic "{topic.name}" has a best-effort publisher: a message it sends can be lost on the way '
+                    f"(each loss the middleware notices is a `dropped` record for `{exog.name}`)",
+                    exog.span,
+                    "its messages can be lost",
+                )
 
     def _subscribe_source(self, source: Source) -> None:
         assert self.bridge is not None and source.interface is not None
@@ -273,27 +340,62 @@ class Ros2Platform(Platform):
         def latest(msg: Any) -> None:
             from gpp.platform.ros2.interfaces import to_plain
 
-            source.latest = to_plain(msg)
-            source.has_latest = True
-            source.arrived.set()
+            self._arrived(source, to_plain(msg))
 
         source.subscription = self.bridge.subscribe(
             source.entry.source.name, source.interface.cls, latest, source.entry.qos, 1
         )
 
+    def _arrived(self, source: Source, plain: Any) -> None:
+        """On the spin thread: a new value (message, feedback) of a source; a waiting program
+        is woken (at most `max_rate` times a second)."""
+        now = self.now()
+        with source.lock:
+            source.latest = plain
+            source.has_latest = True
+            source.received = now
+        source.stale_reported = False
+        self._wake(source, now)
+
+    def _wake(self, source: Source, now: float) -> None:
+        rate = source.entry.max_rate
+        if rate is not None and now < source.next_wake:
+            source.wake_held = True  # the tick at `next_wake` wakes it, with the value then
+            return
+        source.wake_held = False
+        source.next_wake = now + 1.0 / rate if rate is not None else 0.0
+        self.queue.put(ExogFunctionChanged(source.name), now)
+
+    def _watch_sources(self, now: float) -> None:
+        """On the spin thread, every tick: held-back wake-ups, values that just became too old,
+        and polled services wake a waiting program."""
+        for source in self.sources.values():
+            entry = source.entry
+            if source.wake_held and now >= source.next_wake:
+                self._wake(source, now)
+            if entry.max_age is not None and not source.stale_reported:
+                with source.lock:
+                    stale = source.has_latest and now - source.received > entry.max_age
+                if stale:
+                    source.stale_reported = True
+                    self.queue.put(ExogFunctionChanged(source.name), now)
+            if entry.poll is not None and now >= source.next_poll:
+                source.next_poll = now + entry.poll
+                self.queue.put(ExogFunctionChanged(source.name), now)
+
     def _watch_topics(self, now: float) -> None:
-        """On the spin thread: subscribe to topics whose type the graph did not know at attach
-        once a publisher shows it."""
+        """On the spin thread, every tick: subscribe to a topic whose type was not known at
+        attach as soon as a publisher of it is in the graph. (rclpy 9 gives no graph event
+        to wait on; this look-up costs a few microseconds.)"""
         from gpp.platform.ros2.checks import route_problems
         from gpp.platform.ros2.interfaces import InterfaceError, load_interface
 
         assert self.bridge is not None
         for topic in self.topics.values():
-            if topic.subscription is not None or now < topic.next_try:
+            if topic.subscription is not None or topic.unusable:
                 continue
-            topic.next_try = now + 1.0
-            found = self.bridge.graph_type(topic.name)
-            if found is None or found[0] != "msg":
+            found = self.bridge.topic_type(topic.name)
+            if found is None:
                 if not topic.warned:
                     topic.warned = True
                     log.warning(
@@ -303,14 +405,15 @@ class Ros2Platform(Platform):
                     )
                 continue
             try:
-                interface = load_interface(found[1])
+                interface = load_interface(found)
             except InterfaceError as e:
-                log.error("ros2: topic %s: %s", topic.name, e)
-                topic.next_try = float("inf")
+                topic.unusable = True  # never subscribed: each exogenous action says why
+                for exog, _ in topic.routes:
+                    self.queue.put(MessageDropped(topic.name, exog.name, str(e), exog.span), self.now())
                 continue
             problems = [p for exog, routes in topic.routes for p in route_problems(exog, topic.name, interface, routes)]
             if problems:
-                topic.next_try = float("inf")  # never subscribed: the run stops
+                topic.unusable = True  # never subscribed: the run stops
                 self.queue.put(PlatformFault(tuple(problems)), self.now())
                 continue
             topic.interface = interface
@@ -359,21 +462,72 @@ class Ros2Platform(Platform):
 
     def _message(self, topic: Topic, msg: Any) -> None:
         """On the spin thread: a message on a subscribed topic becomes the exogenous events
-        mapped to it, queued in arrival order."""
+        mapped to it, queued in arrival order; one that does not fit an exogenous action is
+        dropped for it, with the reason."""
         from gpp.platform.ros2.interfaces import pick, to_plain
 
         plain = to_plain(msg)
         now = self.now()
         for exog, routes in topic.routes:
             args: list[Value] = []
-            try:
-                for path, _param, t in routes:
+            for path, param, t in routes:
+                try:
                     args.append(to_value(pick(plain, path), t))
-            except (KeyError, ConversionError) as e:
-                log.warning("ros2: a message on %s does not fit `%s` and is dropped: %s", topic.name, exog.name, e)
-                continue
-            self.exog_received += 1
-            self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
+                except KeyError:
+                    reason, help_ = self._no_field(topic, path)
+                    self.queue.put(
+                        MessageDropped(topic.name, exog.name, reason, exog.field_spans.get(path, exog.span), help_),
+                        now,
+                    )
+                    break
+                except ConversionError as e:
+                    self.queue.put(
+                        MessageDropped(
+                            topic.name,
+                            exog.name,
+                            f"field `{path}` for parameter `{param}`: {e}",
+                            exog.field_spans.get(path, exog.span),
+                        ),
+                        now,
+                    )
+                    break
+            else:
+                self.exog_received += 1
+                self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
+
+    @staticmethod
+    def _no_field(topic: Topic, path: str) -> tuple[str, str | None]:
+        """Why field `path` is not in the messages of `topic`, with a did-you-mean."""
+        from gpp.platform.ros2.interfaces import FieldError, field_at
+
+        if topic.interface is not None:
+            try:
+                field_at(topic.interface.cls, path)
+            except FieldError as e:
+                return f"{topic.interface.name}: {e}", e.hint
+        return f"the message has no field `{path}`", None
+
+    def _lost(self, topic: Topic, count: int) -> None:
+        """On the spin thread: the middleware reports `count` messages of the topic lost."""
+        if count <= 0:
+            return
+        now = self.now()
+        for exog, _ in topic.routes:
+            self.queue.put(
+                MessageDropped(
+                    topic.name,
+                    exog.name,
+                    f"{count} message(s) lost on the way (sent faster than the agent took them from a publisher "
+                    "keeping fewer, or by a best-effort publisher)",
+                    exog.span,
+                    'give the publisher a deeper history or `history = "keep_all"`, or make it reliable',
+                    count,
+                ),
+                now,
+            )
+
+    def _warn(self, message: str, span: Span | None, label: str = "", help: str | None = None) -> None:
+        self.queue.put(PlatformWarning(message, span, label, help), self.now())
 
     # ---------------------------------------------------------------- the contract
 
@@ -409,6 +563,7 @@ class Ros2Platform(Platform):
             from_graph=target.from_graph,
             fits=lambda found: self._fits(target, found),
             notice=lambda message, cancel_refused: self._notice(activity, message, cancel_refused),
+            feedback=self._feedback_to(name),
         )
         if interface is not None:
             # Checked here, before anything is sent: an argument that does not fit ends the
@@ -421,6 +576,28 @@ class Ros2Platform(Platform):
         with self._lock:
             self._jobs[activity.id] = job
         self.bridge.submit(job)
+
+    def _feedback_to(self, name: str) -> Callable[[Any], None] | None:
+        """For a goal about to be sent to action `name`: what to do with its feedback, when an
+        exogenous function answers with it. Its value is cleared now: the feedback of an
+        earlier goal is no answer about this one."""
+        sources = [s for s in self.sources.values() if s.entry.kind == "feedback" and s.entry.source.name == name]
+        if not sources:
+            return None
+        for source in sources:
+            with source.lock:
+                source.has_latest = False
+                source.latest = None
+
+        def feedback(plain: Any) -> None:
+            from gpp.platform.ros2.bridge import is_malformed
+
+            if is_malformed(plain):
+                return
+            for source in sources:
+                self._arrived(source, plain)
+
+        return feedback
 
     def preempt(self, activity: Activity) -> None:
         with self._lock:
@@ -499,10 +676,20 @@ class Ros2Platform(Platform):
         entry = source.entry
         timeout = entry.timeout if entry.timeout is not None else self.binding.timeout
         what = f'`{entry.function}` ({entry.kind} "{entry.source.name}")'
-        if entry.kind == "topic":
-            if not source.has_latest and not source.arrived.wait(timeout):
-                raise PlatformError(f"{what}: no message arrived within {timeout:g} s")
-            plain = source.latest
+        if entry.kind != "service":
+            with source.lock:
+                has, plain, received = source.has_latest, source.latest, source.received
+            kind = "message" if entry.kind == "topic" else "feedback"
+            where = f'"{entry.source.name}"'
+            if not has:
+                raise NoAnswer(
+                    f"no {kind} on {where} yet"
+                    if entry.kind == "topic"
+                    else f"no feedback yet from the goal running on {where}"
+                )
+            age = self.now() - received
+            if entry.max_age is not None and age > entry.max_age:
+                raise NoAnswer(f"its last {kind} on {where} is {age:.1f} s old (max_age {entry.max_age:g} s)")
         else:
             assert self.bridge is not None
             by_param = {param: req for req, param in entry.request.items()}
@@ -520,10 +707,10 @@ class Ros2Platform(Platform):
             self.bridge.submit(job)
             if not done.wait(timeout + server_timeout + 0.5):
                 self.bridge.post(self.bridge.cancel, job)
-                raise PlatformError(f"{what}: no answer within {timeout:g} s")
+                raise NoAnswer(f"{what}: no answer within {timeout:g} s")
             outcome = answer[0]
             if outcome.status is not ActivityStatus.FINAL:
-                raise PlatformError(f"{what}: {outcome.reason}")
+                raise NoAnswer(f"{what}: {outcome.reason}")
             plain = outcome.result
         try:
             return sensed_value(plain, return_type, entry.field)
@@ -550,7 +737,7 @@ class Ros2Platform(Platform):
     def live(self) -> bool:
         with self._lock:
             running = bool(self._jobs)
-        return running or bool(self.topics)
+        return running or bool(self.topics) or any(s.watched for s in self.sources.values())
 
     def close(self) -> None:
         if self.bridge is not None:

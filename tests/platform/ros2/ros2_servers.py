@@ -8,12 +8,14 @@ prints `ready` once they serve.
 Behaviours:
 * `/fib` (test_msgs/action/Fibonacci), chosen by `order`: >= 0 succeed with the sequence;
   -1 abort; -2 reject; -3 succeed after 0.3 s; -5 answer each goal request only after 1.5 s;
-  -6 answer only the first goal request late (1.5 s); >= 1000 run until cancelled;
+  -6 answer only the first goal request late (1.5 s); -7 send feedback (the sequence so far,
+  growing by one) every 50 ms, 10 times, then succeed; >= 1000 run until cancelled;
   -10 run until cancelled, sending feedback every 0.1 s; -11 refuse to be cancelled and
   succeed after 1 s; -12 send feedback for 0.3 s, then nothing until cancelled (stuck);
 * `/nested` (test_msgs/action/NestedMessage): the result echoes the goal;
 * `/basic` (test_msgs/srv/BasicTypes): echo; `/set_bool` (std_srvs/srv/SetBool):
-  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s; `/get_plan`
+  success = data; `/slow` (std_srvs/srv/Trigger): answers after 2 s; `/ticks`
+  (std_srvs/srv/Trigger): the number of calls so far, as the message ("1", "2", ...); `/get_plan`
   (nav_msgs/srv/GetPlan, a response of one field that is a message): a path from the start to
   the goal pose, in the goal's frame;
 * a subscription `/said` (std_msgs/msg/String): `heard` keeps what arrives (a process prints
@@ -80,6 +82,8 @@ class TestRobot:
         node.create_service(SetBool, "/set_bool", self._set_bool, callback_group=group)
         node.create_service(Trigger, "/slow", self._slow, callback_group=group)
         node.create_service(GetPlan, "/get_plan", self._get_plan, callback_group=group)
+        self.ticks = 0
+        node.create_service(Trigger, "/ticks", self._tick, callback_group=group)
         self.events = node.create_publisher(String, "/events", KEEP_ALL)
         self.count = node.create_publisher(Int32, "/count", KEEP_ALL)
         self.heard: list[str] = []
@@ -147,6 +151,14 @@ class TestRobot:
             if order == -3:
                 time.sleep(0.3)
                 order = 5
+            if order == -7:
+                sequence = [0]
+                for _ in range(10):
+                    sequence.append(len(sequence))
+                    handle.publish_feedback(Fibonacci.Feedback(sequence=sequence))
+                    time.sleep(0.05)
+                handle.succeed()
+                return Fibonacci.Result(sequence=sequence)
             sequence = [0, 1]
             for _ in range(order - 1):
                 sequence.append(sequence[-1] + sequence[-2])
@@ -179,6 +191,13 @@ class TestRobot:
         time.sleep(2.0)
         response.success = True
         response.message = "slow"
+        return response
+
+    def _tick(self, request: Any, response: Any) -> Any:
+        with self.lock:
+            self.ticks += 1
+            response.message = str(self.ticks)
+        response.success = True
         return response
 
     # ---------------------------------------------------------------- topics

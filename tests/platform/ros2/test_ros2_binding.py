@@ -44,11 +44,18 @@ qos = { reliability = "best_effort", depth = 5 }
 [exog_function.battery]
 topic = "/battery : sensor_msgs/msg/BatteryState"
 field = "percentage"
+max_age = 2
+max_rate = 20
+
+[exog_function.progress]
+feedback = "/navigate_to_pose"
+field = "distance_remaining"
 
 [exog_function.block_on]
 service = "/get_block_pose"
 request = { block = "b" }
 timeout = 0.5
+poll = 1
 """,
     )
     assert b.server_timeout == 2.0 and b.result_timeout_for("/x", service=False) == 60.0
@@ -59,6 +66,9 @@ timeout = 0.5
     assert b.names["/scan"].qos is not None and b.names["/scan"].qos.reliability == "best_effort"
     assert b.functions["battery"].source.type == "sensor_msgs/msg/BatteryState"
     assert b.functions["block_on"].request == {"block": "b"} and b.functions["block_on"].timeout == 0.5
+    assert b.functions["block_on"].poll == 1.0
+    assert (b.functions["battery"].max_age, b.functions["battery"].max_rate) == (2.0, 20.0)
+    assert b.functions["progress"].kind == "feedback" and b.functions["progress"].source.name == "/navigate_to_pose"
     assert nav.span is not None and nav.span.line == 7
 
 
@@ -88,7 +98,11 @@ def test_services_have_a_result_timeout_by_default_and_actions_none() -> None:
         ('["/scan"]\nqos = { reliability = "best-effort" }\n', "did you mean `best_effort`?"),
         ('["/x"]\nstamp = [1]\n', "stamp: expected a list of field paths"),
         ('[exog_function.f]\nfield = "x"\n', "give the source of `f`"),
-        ('[exog_function.f]\ntopic = "/t"\nrequest = { a = "b" }\n', "only a service source takes a request"),
+        ('[exog_function.f]\ntopic = "/t"\nrequest = { a = "b" }\n', "only a service source takes `request`"),
+        ('[exog_function.f]\ntopic = "/t"\ntimeout = 2\n', "a topic's value has a maximum age (`max_age`) instead"),
+        ('[exog_function.f]\nservice = "/s"\nmax_age = 2\n', "only a topic or feedback source takes `max_age`"),
+        ('[exog_function.f]\nfeedback = "/a"\npoll = 1\n', "only a service source takes `poll`"),
+        ('[exog_function.f]\ntopic = "/t"\nmax_rate = 0\n', "max_rate: expected a number of times a second > 0"),
         ('[exog_function.f]\nservice = "/s"\nrequest = { a = 1 }\n', "`a` must name a parameter of `f`"),
         ('["/nav"]\nresend = "yes"\n', 'resend: expected true or false, not "yes"'),
         ("[defaults]\nfeedback_timeout = -1\n", "feedback_timeout: expected a number of seconds >= 0 (0: no limit)"),

@@ -15,7 +15,16 @@ import pytest
 pytest.importorskip("rclpy")
 
 from gpp.run.runner import RunOptions, RunOutcome, run_program
-from gpp.runtime.events import ABSENT, NoticeEvent, SenseEvent, StartEvent, UpdateEvent, encode, load_schema
+from gpp.runtime.events import (
+    ABSENT,
+    NoticeEvent,
+    SenseEvent,
+    StartEvent,
+    UpdateEvent,
+    WaitingEvent,
+    encode,
+    load_schema,
+)
 from gpp.runtime.executor import RunStatus
 
 FIB = '"/fib : test_msgs/action/Fibonacci"'
@@ -467,7 +476,6 @@ bool function postcond() = seen() == "door opened" & answer() == "off"
     binding = """
 [exog_function.last_event]
 topic = "/events : std_msgs/msg/String"
-timeout = 5.0
 
 [exog_function.switched]
 service = "/set_bool : std_srvs/srv/SetBool"
@@ -585,6 +593,41 @@ procedure main() { say("kept"); test(heard() == "done"); }
     assert outcome.trace is not None
     [notice] = outcome.trace.of(NoticeEvent)
     assert notice.message.endswith("with no subscriber matched: it is kept for a subscriber that joins later")
+
+
+# ---------------------------------------------------------------- exogenous functions from services
+
+
+def test_a_polled_service_wakes_a_waiting_program_and_an_unpolled_one_does_not(ros: Any, tmp_path: Path) -> None:
+    program = """
+string exog_function ticks();
+procedure main() { test(ticks() == "3"); }
+"""
+    binding = '[exog_function.ticks]\nservice = "/ticks : std_srvs/srv/Trigger"\nfield = "message"\n'
+    ok(run(tmp_path, program, binding + "poll = 0.05\n"))
+    assert ros.ticks >= 3
+    ros.ticks = 0
+    outcome = run(tmp_path, program, binding)
+    assert outcome.result is not None and outcome.result.status is RunStatus.BLOCKED
+    assert ros.ticks == 1  # asked once; nothing can change the answer without a poll
+    [blocked] = errors(outcome)
+    assert "this test is false" in blocked
+
+
+@pytest.mark.fault
+def test_a_service_that_cannot_answer_is_no_answer_and_the_program_waits(ros: Any, tmp_path: Path) -> None:
+    program = """
+string exog_function state();
+procedure main() { test(state() == "on"); }
+"""
+    binding = '[exog_function.state]\nservice = "/nowhere : std_srvs/srv/Trigger"\nfield = "message"\n'
+    binding += "server_timeout = 0.1\ntimeout = 0.1\npoll = 0.2\n"
+    outcome = run(tmp_path, program, binding, timeout=1.0)
+    assert outcome.result is not None and outcome.result.status is RunStatus.TIMEOUT
+    assert outcome.trace is not None
+    [waiting] = [w for w in outcome.trace.of(WaitingEvent) if not w.resumed]
+    assert "exogenous function `state` has no answer" in waiting.condition
+    assert waiting.statement == 'test(state() == "on");'
 
 
 # ---------------------------------------------------------------- checks at attach
