@@ -225,7 +225,8 @@ class Bridge:
 
     def graph_type(self, name: str) -> tuple[str, str] | None:
         """(kind, type name) of `name` in the ROS graph now: an action server, a service or a
-        topic with publishers; None when it is not there (yet)."""
+        topic (with a publisher or a subscriber: an action that publishes on it finds its
+        type from the subscribers waiting for its messages); None when it is not there (yet)."""
         for n, types in get_action_names_and_types(self.node):
             if n == name and types:
                 return "action", types[0]
@@ -233,7 +234,7 @@ class Bridge:
             if n == name and types:
                 return "srv", types[0]
         for n, types in self.node.get_topic_names_and_types():
-            if n == name and types and self.node.count_publishers(name) > 0:
+            if n == name and types and self.node.count_publishers(name) + self.node.count_subscribers(name) > 0:
                 return "msg", types[0]
         return None
 

@@ -527,8 +527,13 @@ mapping:
 """
 
 
-def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the_run(ros: Any, tmp_path: Path) -> None:
-    outcome = ok(run(tmp_path, SAY + 'procedure main() { say("first"); say("second"); }\n'))
+@pytest.mark.parametrize("typed", [True, False], ids=["typed", "untyped"])
+def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the_run(
+    ros: Any, tmp_path: Path, typed: bool
+) -> None:
+    # Untyped, the mapping's type comes from the graph: the subscriber's.
+    say = SAY if typed else SAY.replace("/said : std_msgs/msg/String", "/said")
+    outcome = ok(run(tmp_path, say + 'procedure main() { say("first"); say("second"); }\n'))
     deadline = time.monotonic() + 5
     while len(ros.heard) < 2 and time.monotonic() < deadline:
         time.sleep(0.01)
