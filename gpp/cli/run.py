@@ -299,11 +299,16 @@ def run(
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     options.progress = view.progress
+    from gpp.runtime.trace import TraceWriteError
+
     try:
         with view:
             outcome = run_program(file, options, [view] if view.shows else None, checked=checked)
     except RunSetupError as e:
         usage_error(str(e))
+    except TraceWriteError as e:  # the run stopped, its activities cancelled
+        print(f"error: {e}", file=sys.stderr)
+        raise typer.Exit(EXIT_PROBLEMS) from None
     runtime = [d for d in outcome.diagnostics if d not in shown]
     if runtime:
         emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)

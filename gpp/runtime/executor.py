@@ -68,7 +68,7 @@ from gpp.runtime.semantics import (
     TestStep,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Trace, TraceWriteError
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
@@ -273,6 +273,9 @@ class Executor:
             result.terminated = signals.is_termination(e)
             message = signals.message(e)
             self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message=message))
+        except TraceWriteError:
+            result.status = RunStatus.ERROR
+            raise  # after the activities are stopped: the command says why
         except Exception as e:  # a bug in gpp or in a platform: still a diagnostic, never a traceback
             if os.environ.get("GPP_DEBUG") == "1":
                 raise

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from gpp.runtime.events import (
     ABSENT,
+    TRACE_SCHEMA_VERSION,
     Absent,
     AssignEvent,
     BlockedEvent,
@@ -108,7 +109,28 @@ def load_trace(path: Path) -> LoadedTrace:
             raise TraceReadError(f"{path}:{number}: not a trace record: {_one_line(str(e))}") from None
     if not events:
         raise TraceReadError(f"{path}: empty trace (no records)")
+    header = events[0] if isinstance(events[0], HeaderEvent) else None
+    if header is not None and not _readable_version(header.schema_version):
+        warnings.append(
+            f"{path}: written with trace schema {header.schema_version} by gpp {header.gpp_version}; this gpp reads "
+            f"schema {TRACE_SCHEMA_VERSION} and older: what it does not know may be missing or misread"
+        )
     return LoadedTrace(events, warnings)
+
+
+# A trace's times are seconds since the run started; a time beyond this cannot be shown (a
+# scale of microseconds or ticks would overflow), and no run lasts that long.
+MAX_TRACE_TIME = 1e15
+
+
+def _readable_version(version: str) -> bool:
+    """Whether this gpp reads a trace of schema `version` (its own or an older one)."""
+    try:
+        major, minor = (int(part) for part in version.split("."))
+    except ValueError:
+        return False
+    own_major, own_minor = (int(part) for part in TRACE_SCHEMA_VERSION.split("."))
+    return (major, minor) <= (own_major, own_minor)
 
 
 def _one_line(text: str) -> str:
@@ -118,6 +140,8 @@ def _one_line(text: str) -> str:
 def _type_problem(event: TraceEvent) -> str | None:
     """What is wrong with the types of a decoded record's fields (decode checks only that the
     required fields are there), or None."""
+    if not (isinstance(event.t, int | float) and math.isfinite(event.t) and abs(event.t) <= MAX_TRACE_TIME):
+        return f"a `{event.EVENT}` record at time {json.dumps(event.t)}, beyond what a trace holds (at most 1e15 s)"
     for f in dataclasses.fields(event):
         value = getattr(event, f.name)
         annotation = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support import disks
 from tests.support.cli import Result, run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -94,6 +95,35 @@ def test_a_trace_may_replace_an_older_trace(tmp_path: Path) -> None:
     result = gpp("run", "-q", "agent.gpp", "--trace", "run.jsonl", cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert (tmp_path / "run.jsonl").read_text(encoding="utf-8").startswith("{")
+
+
+def test_a_trace_that_cannot_be_written_stops_the_run_with_one_line() -> None:
+    result = gpp("run", "-q", "examples/durative.gpp", "--trace", "/dev/full")
+    assert (result.returncode, result.stderr) == (
+        1,
+        "error: cannot write the trace '/dev/full': No space left on device\n",
+    )
+
+
+def test_a_disk_full_mid_run_stops_it_and_cancels_its_activities(tmp_path: Path) -> None:
+    from gpp.run.runner import RunOptions, run_program
+    from gpp.runtime.events import FinishEvent, TraceEvent, UpdateEvent
+    from gpp.runtime.trace import TraceWriteError
+
+    program = (
+        "number fluent n() { initially: () = 0; }\n"
+        "action long() { duration: [100, 100] }\n"
+        "procedure main() { start(long()); while (n() < 100000) n() = n() + 1; end(long()); }\n"
+    )
+    seen: list[TraceEvent] = []
+    with disks.full_disk(tmp_path / "disk", {"agent.gpp": program}, free=16 * 1024) as disk:
+        with pytest.raises(TraceWriteError, match="No space left on device"):
+            run_program(disk / "agent.gpp", RunOptions(platform="dummy", trace=disk / "run.jsonl"), [seen.append])
+        written = (disk / "run.jsonl").read_text(encoding="utf-8").splitlines()
+    assert len(written) > 10 and all(line.startswith("{") for line in written[:-1])  # up to where the disk was full
+    [update] = [e for e in seen if isinstance(e, UpdateEvent)]
+    assert (update.action, update.status) == ("long()", "cancelled")
+    assert isinstance(seen[-1], FinishEvent) and seen[-1].status == "error"
 
 
 @pytest.mark.slow

@@ -5,6 +5,7 @@ test, saying why, where the machine does not allow it (they need root)."""
 from __future__ import annotations
 
 import contextlib
+import shutil
 import subprocess
 from collections.abc import Iterator
 from pathlib import Path
@@ -24,9 +25,9 @@ def immutable(path: Path) -> Iterator[Path]:
 
 
 @contextlib.contextmanager
-def full_disk(folder: Path, files: dict[str, str]) -> Iterator[Path]:
-    """`folder` as a 64 KiB file system holding `files` (name: text), then filled up to the last
-    byte by a file named `filler`."""
+def full_disk(folder: Path, files: dict[str, str], free: int = 0) -> Iterator[Path]:
+    """`folder` as a 64 KiB file system holding `files` (name: text), then filled by a file
+    named `filler` up to the last byte, or up to `free` bytes before it."""
     folder.mkdir()
     mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)], capture_output=True)
     if mounted.returncode != 0:
@@ -35,10 +36,13 @@ def full_disk(folder: Path, files: dict[str, str]) -> Iterator[Path]:
         for name, text in files.items():
             (folder / name).write_text(text, encoding="utf-8")
         with (folder / "filler").open("wb", buffering=0) as filler:
-            for size in (1024, 1):
-                with contextlib.suppress(OSError):
-                    while True:
-                        filler.write(b"x" * size)
+            if free:
+                filler.write(b"x" * (shutil.disk_usage(folder).free - free))
+            else:
+                for size in (1024, 1):
+                    with contextlib.suppress(OSError):
+                        while True:
+                            filler.write(b"x" * size)
         yield folder
     finally:
         subprocess.run(["umount", str(folder)], check=False)

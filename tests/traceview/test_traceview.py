@@ -9,6 +9,7 @@ import json
 import os
 import re
 from collections import Counter
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -435,6 +436,41 @@ def test_bad_input_is_one_line_and_an_exit_code(
 def test_a_directory_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     expected = f"error: cannot read '{tmp_path}': it is a folder, not a file\n"
     assert gpp(capsys, "trace", "summary", str(tmp_path)) == (2, "", expected)
+
+
+def small_trace_with(tmp_path: Path, change: Callable[[list[dict[str, Any]]], None]) -> Path:
+    """tests/golden/trace/small.jsonl with its records changed by `change`."""
+    records = [json.loads(line) for line in (ROOT / "tests/golden/trace/small.jsonl").read_text().splitlines()]
+    change(records)
+    path = tmp_path / "changed.jsonl"
+    path.write_text("".join(json.dumps(r) + "\n" for r in records), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("command", [["summary"], ["html", "-o", "page.html"], ["perfetto", "-o", "run.json"]])
+def test_a_time_beyond_what_a_trace_holds_is_an_error_not_a_crash(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, command: list[str]
+) -> None:
+    def far(records: list[dict[str, Any]]) -> None:
+        records[1]["t"] = 1e308
+
+    path = small_trace_with(tmp_path, far)
+    code, _, err = gpp(capsys, "trace", command[0], str(path), *command[1:])
+    assert code == 1
+    assert (
+        err
+        == f"error: {path}:2: not a trace record: a `assign` record at time 1e+308, beyond what a trace holds (at most 1e15 s)\n"
+    )
+
+
+def test_a_trace_of_a_newer_schema_is_read_with_a_warning(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    def newer(records: list[dict[str, Any]]) -> None:
+        records[0]["schema_version"] = "2.0"
+
+    path = small_trace_with(tmp_path, newer)
+    code, out, err = gpp(capsys, "trace", "summary", str(path))
+    assert code == 0 and out
+    assert err.startswith(f"warning: {path}: written with trace schema 2.0 by gpp 0.1.0; this gpp reads schema ")
 
 
 def test_an_incomplete_last_line_is_skipped_with_a_warning(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
