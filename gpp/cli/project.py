@@ -48,8 +48,9 @@ def new_command(
         usage_error(str(e))
     except OSError as e:
         usage_error(f"cannot create '{name}': {e.strerror or e}")
-    print(f"created {name}/ with {len(written)} files:")
+    here = name.resolve() == Path.cwd().resolve()
+    print(f"created {'the project here' if here else f'{name}/'} with {len(written)} files:")
     for path in written:
         print(f"  {path.relative_to(name).as_posix()}")
-    print(f"next: cd {name} && gpp check && gpp test")
+    print("next: gpp check && gpp test" if here else f"next: cd {name} && gpp check && gpp test")
     raise typer.Exit(EXIT_OK)

@@ -85,7 +85,7 @@ def find_config_file(start: Path) -> Path | None:
         folder = folder.parent
     for candidate in (folder, *folder.parents):
         own = candidate / CONFIG_NAME
-        if own.is_file():
+        if own.exists():  # a folder named gpp.toml is an error when it is read, not passed over
             return own
         pyproject = candidate / PYPROJECT
         if pyproject.is_file() and _has_gpp_table(pyproject):
@@ -95,7 +95,7 @@ def find_config_file(start: Path) -> Path | None:
 
 def _has_gpp_table(pyproject: Path) -> bool:
     try:
-        data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
+        data = tomllib.loads(pyproject.read_text(encoding="utf-8").removeprefix("\ufeff"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return False  # not ours to judge: a broken pyproject.toml without gpp settings is passed over
     tool = data.get("tool")
@@ -129,9 +129,12 @@ def load_config(path: Path) -> Config:
     readable TOML or has unknown keys or values of the wrong type."""
     shown = _display(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        # A byte-order mark is read as gpp check reads one in a program: as nothing.
+        text = path.read_text(encoding="utf-8").removeprefix("\ufeff")
     except (OSError, UnicodeDecodeError) as e:
         reason = e.strerror if isinstance(e, OSError) else "not UTF-8 text"
+        if path.is_dir():
+            reason = "it is a folder, not a file"
         raise ConfigError(
             diag.error(diag.Message("", f"cannot read {shown}: {reason}"), Span(Source("", shown), 0, 0))
         ) from None

@@ -151,17 +151,17 @@ bool function postcond() = delivered() & robot_at() == office
 def create_project(folder: Path) -> list[Path]:
     """Write a starter project into `folder` (created; it may exist if it is empty). Returns
     the files written; ScaffoldError when the folder is not empty or the name is unusable."""
-    if not _NAME.fullmatch(folder.name):
-        raise ScaffoldError(
-            f"'{folder.name}' is not a usable project name (a letter, then letters, digits, `_`, `-` or `.`)"
-        )
+    # The project is named after its folder (`gpp new .` names it after the working directory).
+    name = folder.name or Path.cwd().joinpath(folder).resolve().name
+    if not _NAME.fullmatch(name):
+        raise ScaffoldError(f"'{name}' is not a usable project name (a letter, then letters, digits, `_`, `-` or `.`)")
     if folder.exists():
         if not folder.is_dir():
             raise ScaffoldError(f"'{folder}' exists and is not a folder")
         if any(folder.iterdir()):
             raise ScaffoldError(f"'{folder}' exists and is not empty; choose another name or remove it")
     written: list[Path] = []
-    for relative, text in _files(folder.name).items():
+    for relative, text in _files(name).items():
         path = folder / relative
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8")

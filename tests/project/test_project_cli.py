@@ -650,3 +650,27 @@ def test_gpp_new_makes_a_project_that_checks_and_tests_cleanly(tmp_path: Path, m
     again = gpp("new", "courier")
     assert again.exit_code == 2
     assert again.stderr == "error: 'courier' exists and is not empty; choose another name or remove it\n"
+
+
+def test_gpp_new_dot_makes_the_project_in_the_working_directory_named_after_it(tmp_path: Path) -> None:
+    folder = tmp_path / "courier"
+    folder.mkdir()
+    made = cli.run("new", ".", cwd=folder)
+    assert made.returncode == 0, made.stderr
+    assert made.stdout.startswith("created the project here with 6 files:\n")
+    assert made.stdout.endswith("next: gpp check && gpp test\n")
+    assert (folder / "agent.gpp").is_file() and (folder / "gpp.toml").is_file()
+    assert "courier" in (folder / "README.md").read_text(encoding="utf-8")
+
+
+def test_a_gpp_toml_with_a_byte_order_mark_is_read(tmp_path: Path) -> None:
+    (tmp_path / "gpp.toml").write_bytes(b'\xef\xbb\xbf[lint]\ndisable = ["unused"]\n')
+    assert load_config(tmp_path / "gpp.toml").disabled_lints() == ["W0101"]
+
+
+def test_a_folder_named_gpp_toml_is_an_error_not_passed_over(tmp_path: Path) -> None:
+    (tmp_path / "gpp.toml").mkdir()
+    (tmp_path / "a.gpp").write_text("procedure main() { }\n")
+    result = cli.run("check", "a.gpp", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: cannot read gpp.toml: it is a folder, not a file\n")
