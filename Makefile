@@ -82,9 +82,11 @@ pathological: $(VENV)/.installed
 	$(BIN)/python bench/pathological.py
 
 # Fuzzing, outside `make test` (which runs a few seconds of the same fuzzers): 100,000 random
-# inputs through `gpp check`; reproducers of internal errors go to fuzz-findings/.
-fuzz: $(VENV)/.installed
+# inputs through `gpp check`, then 2,000 random edits through the language server, each
+# compared with `gpp check`; reproducers go to fuzz-findings/.
+fuzz: $(VENV)/.installed-dev
 	$(BIN)/python bench/fuzz.py --count 100000
+	$(BIN)/python bench/lspfuzz.py --edits 2000
 
 # ---------------------------------------------------------------- ROS 2 (the [ros] extra)
 # The example robot's interface package (examples/ros2/gpp_robot_interfaces), built with plain
