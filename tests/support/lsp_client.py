@@ -106,7 +106,7 @@ def expected(path: Path, text: str | None = None) -> list[tuple[str, tuple[int, 
 
 def _key(d: Diagnostic) -> tuple[str, tuple[int, int, int, int], str]:
     (l1, c1), (l2, c2) = d.span.lsp_range()
-    return d.code, (l1, c1, l2, c2), d.message
+    return d.code, (l1, c1, l2, c2), d.message.split("\n")[0]
 
 
 def keys(diags: list[types.Diagnostic]) -> list[tuple[str, tuple[int, int, int, int], str]]:
