@@ -33,7 +33,7 @@ from gpp.runtime.events import (
     load_schema,
 )
 from gpp.runtime.trace import Recording, TraceSplit, part_path, trace_parts
-from gpp.traceview.model import load_trace
+from gpp.traceview.model import build_run_model, load_trace
 from tests.support.cli import run
 
 LOOP = """\
@@ -318,3 +318,26 @@ def test_the_split_options_are_usage_errors_where_they_do_not_apply(
     done = run("run", str(loop(tmp_path)), "--arg", "rounds=2", *args, cwd=tmp_path)
     assert (done.returncode, done.stdout, done.stderr) == (2, "", f"error: {message}\n")
     assert not list(tmp_path.glob("*.jsonl"))
+
+
+def test_a_trace_of_an_older_schema_reads_as_before(tmp_path: Path) -> None:
+    # The pinned trace as 1.3 wrote it (the same records, an older version): no warning, the
+    # same run; and 1.3's `waiting` record after every event reads as the waits it was.
+    golden = Path(__file__).resolve().parents[1] / "golden" / "trace" / "small.jsonl"
+    now = load_trace(golden)
+    old = tmp_path / "old.jsonl"
+    old.write_text(
+        golden.read_text(encoding="utf-8").replace('"schema_version": "1.4"', '"schema_version": "1.3"'),
+        encoding="utf-8",
+    )
+    before = load_trace(old)
+    assert before.warnings == [] and len(before.events) == len(now.events)
+    assert build_run_model(before.events).activities == build_run_model(now.events).activities
+    waits = [
+        WaitingEvent(
+            t=float(t), statement="test(n() >= 2);", at="a.gpp:3:5", condition=f"this test is false (n() = {t})"
+        )
+        for t in range(2)
+    ]
+    model = build_run_model([*waits, dataclasses.replace(waits[-1], t=2.0, resumed=True)])
+    assert [(w.start, w.stop) for w in model.waits] == [(0.0, 1.0), (1.0, 2.0)]
