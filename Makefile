@@ -75,6 +75,7 @@ bench: $(VENV)/.installed
 	$(BIN)/python bench/planner.py
 	$(BIN)/python bench/sim.py
 	$(BIN)/python bench/ros2.py
+	$(BIN)/python bench/soak.py
 
 # Pathological inputs (deep nesting, long lines, binary files, ...) at four sizes each: time,
 # peak memory and growth exponent per family. Takes a while; `--quick` for a smoke run.

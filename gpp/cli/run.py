@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from gpp.check import CheckResult
     from gpp.run.testing import TestCase
     from gpp.run.view import RunView
+    from gpp.runtime.trace import TraceSplit
 
 PlatformOption = Annotated[
     str | None,
@@ -203,6 +204,49 @@ def check_timeout(timeout: float | None) -> None:
         usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
 
 
+_SIZE_UNITS: dict[str, float] = {
+    "": 1,
+    "B": 1,
+    "KB": 10**3,
+    "MB": 10**6,
+    "GB": 10**9,
+    "KIB": 2**10,
+    "MIB": 2**20,
+    "GIB": 2**30,
+}
+_TIME_UNITS: dict[str, float] = {"": 1.0, "S": 1.0, "M": 60.0, "MIN": 60.0, "H": 3600.0, "D": 86400.0}
+
+
+def trace_split(trace: Path | None, max_size: str | None, max_time: str | None) -> TraceSplit | None:
+    """The `--trace-max-size`/`--trace-max-time` split (a usage error without --trace, or for
+    a size or time that is not one)."""
+    from gpp.runtime.trace import TraceSplit
+
+    if max_size is None and max_time is None:
+        return None
+    if trace is None:
+        given = "--trace-max-size" if max_size is not None else "--trace-max-time"
+        usage_error(f"{given} splits the trace file: it needs --trace FILE")
+    size = _amount(max_size, _SIZE_UNITS, "--trace-max-size", "a size such as 10MB, 500KB or 4096")
+    seconds = _amount(max_time, _TIME_UNITS, "--trace-max-time", "a time such as 90s, 30m or 2h")
+    return TraceSplit(int(size) if size is not None else None, seconds)
+
+
+def _amount(text: str | None, units: dict[str, float], option: str, expected: str) -> float | None:
+    """`text` as a number times its unit (a usage error unless it is a positive one)."""
+    import math
+    import re
+
+    if text is None:
+        return None
+    found = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*([A-Za-z]*)\s*", text)
+    unit = units.get(found.group(2).upper()) if found else None
+    value = float(found.group(1)) * unit if found and unit is not None else math.nan
+    if not (value > 0 and math.isfinite(value)):
+        usage_error(f"{option} takes {expected}, not {text!r}")
+    return value
+
+
 def register(app: typer.Typer) -> None:
     app.command(name="run")(with_platform_flags(single_run=True)(run))
     app.command(name="test")(with_platform_flags(single_run=False)(test_command))
@@ -222,6 +266,22 @@ def run(
         ),
     ] = None,
     trace: Annotated[Path | None, typer.Option("--trace", help="Write the run's trace (JSON lines) here.")] = None,
+    trace_max_size: Annotated[
+        str | None,
+        typer.Option(
+            "--trace-max-size",
+            metavar="SIZE",
+            help="Go on in a new part of the trace (run.1.jsonl, ...) once a part holds SIZE (10MB, 500KB, bytes).",
+        ),
+    ] = None,
+    trace_max_time: Annotated[
+        str | None,
+        typer.Option(
+            "--trace-max-time",
+            metavar="TIME",
+            help="Go on in a new part of the trace once a part covers TIME of platform time (90s, 30m, 2h).",
+        ),
+    ] = None,
     timeout: TimeoutOption = None,
     profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
     search_strategy: Annotated[
@@ -264,6 +324,7 @@ def run(
     config = load_config(file)
     if timeout is None:
         timeout = config.run_timeout
+    split = trace_split(trace, trace_max_size, trace_max_time)
     if trace is not None:
         from gpp.base.paths import output_problem
 
@@ -292,6 +353,7 @@ def run(
         platform_options=chosen_options,
         timeout=timeout,
         trace=trace,
+        trace_split=split,
         args=key_values(arg, "--arg"),
         include_dirs=config.include,
         allow=allow,
@@ -299,11 +361,15 @@ def run(
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     options.progress = view.progress
-    from gpp.runtime.trace import TraceWriteError
+    from gpp.runtime.events import ErrorEvent, PlanEvent, ReplanEvent
+    from gpp.runtime.trace import Recording, TraceListener, TraceWriteError
 
+    # The planner profile needs the plans and the errors that stopped planning, nothing else.
+    plans = Recording(kinds=(PlanEvent, ReplanEvent, ErrorEvent)) if profile else None
+    listeners: list[TraceListener] = [*([view] if view.shows else []), *([plans] if plans is not None else [])]
     try:
         with view:
-            outcome = run_program(file, options, [view] if view.shows else None, checked=checked)
+            outcome = run_program(file, options, listeners or None, checked=checked)
     except RunSetupError as e:
         usage_error(str(e))
     except TraceWriteError as e:  # the run stopped, its activities cancelled
@@ -312,14 +378,14 @@ def run(
     runtime = [d for d in outcome.diagnostics if d not in shown]
     if runtime:
         emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
-    if profile and outcome.trace is not None:
+    if plans is not None and outcome.trace is not None:
         from rich.console import Console
 
         from gpp.planner.profile import render_profile
 
         # Off a terminal rich would assume 80 columns; the table needs more.
         width = None if sys.stdout.isatty() else 140
-        render_profile(outcome.trace.records, Console(file=sys.stdout, highlight=False, width=width))
+        render_profile(plans.records, Console(file=sys.stdout, highlight=False, width=width))
     from gpp.run.view import summary_lines
 
     print("\n".join(summary_lines(outcome)))

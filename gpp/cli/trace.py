@@ -38,7 +38,13 @@ class Color(StrEnum):
     NEVER = "never"
 
 
-TraceFile = Annotated[Path, typer.Argument(metavar="TRACE", help="A trace written by `gpp run --trace`.")]
+TraceFile = Annotated[
+    Path,
+    typer.Argument(
+        metavar="TRACE",
+        help="A trace written by `gpp run --trace`: the file, or the first part (or the folder) of a split trace.",
+    ),
+]
 
 
 def register(app: typer.Typer) -> None:
@@ -51,13 +57,13 @@ def _fail(message: str, code: int) -> NoReturn:
 
 
 def _load(path: Path) -> RunModel:
-    """The run in a trace file, or a one-line error (exit 2 when the file cannot be read, 1
+    """The run in a trace (all the parts of a split one), or a one-line error (exit 2 when the file cannot be read, 1
     when it is not a valid trace)."""
     from gpp.base.paths import input_problem
     from gpp.cli.common import EXIT_PROBLEMS, EXIT_USAGE
     from gpp.traceview.model import TraceReadError, build_run_model, load_trace
 
-    problem = input_problem(path)
+    problem = input_problem(path, folder=True)
     if problem is not None:
         _fail(problem, EXIT_USAGE)
     try:

@@ -27,7 +27,7 @@ from gpp.runtime.contract import program_interface, unfit_error
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, HeaderEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace, TraceSplit
 from gpp.runtime.values import Value
 from gpp.syntax.directives import directives
 
@@ -51,6 +51,11 @@ class RunOptions:
     # Values of the entry procedure's parameters (`--arg name=value`), as text or as values.
     args: Mapping[str, object] = field(default_factory=dict)
     trace: Path | None = None
+    # When the trace file goes on in a new part (`--trace-max-size`, `--trace-max-time`).
+    trace_split: TraceSplit | None = None
+    # Keep every event of the run in `RunOutcome.recording` (for tests and tools: its memory
+    # grows with the run; `gpp run` keeps none).
+    record: bool = False
     entry: str = "main"
     # The project's settings for checking the program: include folders, lints turned off.
     include_dirs: Sequence[Path] = ()
@@ -67,6 +72,8 @@ class RunOutcome:
     check: CheckResult
     result: RunResult | None = None
     trace: Trace | None = None
+    # Every event of the run, when RunOptions.record asked for them.
+    recording: Recording | None = None
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     platform: str = ""
 
@@ -132,7 +139,10 @@ def run_program(
     trace: Trace | None = None
     try:
         header = _header(path, platform)
-        trace = outcome.trace = Trace(options.trace, listeners)
+        if options.record:
+            outcome.recording = Recording()
+            listeners = [outcome.recording, *(listeners or [])]
+        trace = outcome.trace = Trace(options.trace, listeners, options.trace_split)
         trace.emit(header)
         from gpp.planner.policy import PolicyPlanner
         from gpp.runtime.compiled import CompiledProgram
@@ -187,9 +197,9 @@ def run_program(
 def _finish_interrupted(trace: Trace, header: HeaderEvent, platform: Platform, e: KeyboardInterrupt) -> None:
     """End the trace of a run interrupted before or after the executor ran: the header if it is
     missing, then an `error` and the one `finish` record, unless the executor wrote them."""
-    if any(isinstance(r, FinishEvent) for r in trace.records):
+    if trace.finished:
         return
-    if not trace.records:
+    if not trace.written:
         trace.emit(header)
     now = platform.now()
     trace.emit(ErrorEvent(t=now, message=signals.message(e)))

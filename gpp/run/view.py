@@ -22,6 +22,7 @@ from gpp.runtime.events import (
     PlanEvent,
     ReplanEvent,
     SenseEvent,
+    SnapshotEvent,
     StartEvent,
     TraceEvent,
     UpdateEvent,
@@ -83,7 +84,7 @@ def describe(event: TraceEvent) -> str | None:
             if event.resumed:
                 return None
             return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
-        case HeaderEvent():
+        case HeaderEvent() | SnapshotEvent():
             return None
         case _:
             assert_never(event)

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.3"
+TRACE_SCHEMA_VERSION: Final = "1.4"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -88,6 +88,29 @@ class HeaderEvent(EventBase):
     scenario: str | None = field(default=None, metadata=_OPTIONAL)
     seed: int | None = field(default=None, metadata=_OPTIONAL)
     started: str  # wall-clock start, ISO-8601 with time zone
+    # In a part after the first of a split trace (gpp.runtime.trace): its number (1, 2, ...)
+    # and the file name of the part before it; left out in the first part.
+    part: int | None = field(default=None, metadata=_OPTIONAL)
+    previous: str | None = field(default=None, metadata=_OPTIONAL)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SnapshotEvent(EventBase):
+    """The run's state where a part of a split trace begins (its second record): what a reader
+    or a replay starting from this part needs of what came before."""
+
+    EVENT: ClassVar[str] = "snapshot"
+
+    # The fluent instances whose value is not their initial one (`{"fluent": ..., "value": ...}`).
+    fluents: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
+    # The activities started and not consumed yet (`{"action": ..., "id": ..., "status": ...}`).
+    activities: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
+    # What the program waits for (`statement`, `at`, `condition` of its `waiting` record), if it waits.
+    waiting: dict[str, JsonValue] | None = field(default=None, metadata=_OPTIONAL)
+    # The counts of the `finish` record, so far.
+    actions: int
+    failures: int
+    exog_events: int
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -328,6 +351,7 @@ class ReplanEvent(EventBase):
 
 TraceEvent: TypeAlias = (
     HeaderEvent
+    | SnapshotEvent
     | StartEvent
     | UpdateEvent
     | EndEvent
@@ -350,6 +374,7 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
     cls.EVENT: cls
     for cls in (
         HeaderEvent,
+        SnapshotEvent,
         StartEvent,
         UpdateEvent,
         EndEvent,
@@ -489,6 +514,7 @@ __all__ = [
     "PlanEvent",
     "ReplanEvent",
     "SenseEvent",
+    "SnapshotEvent",
     "StartEvent",
     "TraceEvent",
     "UpdateEvent",

@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import os
+import re
 import sys
 import time
 from collections.abc import Iterator, Mapping
@@ -175,8 +176,10 @@ class Executor:
         self.cancel_grace = CANCEL_GRACE
         # `solve` statements already warned about (R0014).
         self.warned: set[int] = set()
-        # The `waiting` record of the wait the program is in, if it is waiting.
+        # The `waiting` record of the wait the program is in, if it is waiting, and what it
+        # waits for (`_waited_for`: the record is written again only when that changes).
         self.waiting_at: ev.WaitingEvent | None = None
+        self.waiting_for: tuple[str, str | None, str] | None = None
         # The program waited for clock times that kept moving with the clock.
         self.chasing = False
         self.result = RunResult(RunStatus.FINISHED)
@@ -202,6 +205,8 @@ class Executor:
             # Wake-ups in a row at which the program still could not step.
             chased = 0
             while True:
+                if self.trace.split_due(self.platform.now()):
+                    self.trace.next_part(self.snapshot())
                 self.drain()
                 self.stop_at_fault()
                 # An exogenous function's answer may have changed since the last look.
@@ -223,7 +228,7 @@ class Executor:
                     next_prog, step = successors[0]
                     if self.waiting_at is not None:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
-                        self.waiting_at = None
+                        self.waiting_at = self.waiting_for = None
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
@@ -353,23 +358,36 @@ class Executor:
             why = diag.error(diag.Message(unanswered.code, unanswered.message), stmt.span)
         span = why.span if why is not None else _head_span(prog)
         condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
+        text = span.text.strip().splitlines()[0] if span is not None and span.text.strip() else ""
+        statement = text if len(text) <= 80 else text[:77] + "..."
+        waited_for = (statement, _where(span), _without_figures(condition))
+        if waited_for == self.waiting_for:
+            return  # the values it looks at changed, not what it waits for
         if why is not None and why.notes:
             condition += " (" + "; ".join(n.strip() for n in why.notes) + ")"
-        text = span.text.strip().splitlines()[0] if span is not None and span.text.strip() else ""
-        waiting = ev.WaitingEvent(
-            t=self.platform.now(),
-            statement=text if len(text) <= 80 else text[:77] + "...",
-            at=_where(span),
-            condition=condition,
+        self.waiting_for = waited_for
+        self.waiting_at = ev.WaitingEvent(
+            t=self.platform.now(), statement=statement, at=_where(span), condition=condition
         )
-        previous = self.waiting_at
-        if previous is None or (previous.statement, previous.at, previous.condition) != (
-            waiting.statement,
-            waiting.at,
-            waiting.condition,
-        ):
-            self.waiting_at = waiting
-            self.trace.emit(waiting)
+        self.trace.emit(self.waiting_at)
+
+    def snapshot(self) -> ev.SnapshotEvent:
+        """The state between two steps, for a new part of a split trace: the fluent instances
+        not at their initial value, the activities not consumed, what the program waits for."""
+        waiting = self.waiting_at
+        return ev.SnapshotEvent(
+            t=self.platform.now(),
+            fluents=self.changes(self.state.held()),
+            activities=tuple(
+                {"action": g.text, "id": self.records[g].id, "status": status.value} for g, status in self.acts.items()
+            ),
+            waiting=None
+            if waiting is None
+            else {"statement": waiting.statement, "at": waiting.at, "condition": waiting.condition},
+            actions=self.result.actions,
+            failures=self.result.failures,
+            exog_events=self.result.exog_events,
+        )
 
     def stop_at_timeout(self, prog: Prog) -> None:
         self.result.status = RunStatus.TIMEOUT
@@ -686,8 +704,12 @@ class Executor:
             )
         )
         self.acts = self.acts.with_status(g, None)
-        self.records.pop(g, None)
+        consumed = self.records.pop(g, None)
         self.results.pop(g, None)
+        if consumed is not None:  # what is kept per activity goes with it (a run keeps no history)
+            self.by_id.pop(consumed.id, None)
+            self.accepted.discard(consumed.id)
+            self.cancel_refused.discard(consumed.id)
 
     def sense(self, g: GroundAction, record: Activity, senses: object, now: float) -> None:
         """Apply the `senses:` section of an activity that ended final; its record is stamped
@@ -827,6 +849,12 @@ def _head_span(p: Prog) -> Span | None:
             case _:
                 assert_never(p)
     return None
+
+
+def _without_figures(text: str) -> str:
+    """`text` with its numbers blanked: a wait for an exogenous function's answer says how old
+    the last one is, which changes with every look but is still the same wait."""
+    return re.sub(r"[0-9]+(?:\.[0-9]+)?", "#", text)
 
 
 def _where(span: Span | None) -> str | None:

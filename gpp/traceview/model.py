@@ -40,12 +40,14 @@ from gpp.runtime.events import (
     PlanEvent,
     ReplanEvent,
     SenseEvent,
+    SnapshotEvent,
     StartEvent,
     TraceEvent,
     UpdateEvent,
     WaitingEvent,
     decode,
 )
+from gpp.runtime.trace import part_header, trace_parts
 from gpp.runtime.values import show_json
 
 
@@ -67,8 +69,47 @@ class LoadedTrace:
 
 
 def load_trace(path: Path) -> LoadedTrace:
-    """The events of a trace file. A last line without its newline that does not decode is the
-    partial write of a killed run: it is skipped with a warning. Blank lines are skipped."""
+    """The events of a run's trace: a trace file, or all the parts of a split trace given its
+    first part or the folder that holds it (gpp.runtime.trace.trace_parts), read as one run:
+    the header and snapshot that start each later part are left out. A last line without its
+    newline that does not decode is the partial write of a killed run: it is skipped with a
+    warning. Blank lines are skipped."""
+    if path.is_dir():
+        path = _first_part_in(path)
+    parts = trace_parts(path)
+    loaded = _load_file(parts[0])
+    events, warnings = loaded.events, list(loaded.warnings)
+    header = events[0] if isinstance(events[0], HeaderEvent) else None
+    if header is not None and header.part is not None:
+        warnings.append(
+            f"{path}: part {header.part} of a split trace (after {header.previous}): the run before it is not read; "
+            "give the first part to read the whole run"
+        )
+    for part in parts[1:]:
+        more = _load_file(part)
+        events.extend(e for e in more.events if not isinstance(e, HeaderEvent | SnapshotEvent))
+        warnings.extend(more.warnings)
+    return LoadedTrace(events, warnings)
+
+
+def _first_part_in(folder: Path) -> Path:
+    """The first part of the one trace in `folder` (its `.jsonl` files whose header names no
+    earlier part); a TraceReadError when there is none or more than one."""
+    try:
+        files = sorted(p for p in folder.iterdir() if p.suffix == ".jsonl" and p.is_file())
+    except OSError as e:
+        raise TraceReadError(f"cannot read '{folder}': {e.strerror or e}", usage=True) from None
+    firsts = [p for p in files if (h := part_header(p)) is not None and h.part is None]
+    if not firsts:
+        raise TraceReadError(f"'{folder}' holds no trace (no .jsonl file that starts with a header)", usage=True)
+    if len(firsts) > 1:
+        names = ", ".join(p.name for p in firsts[:5]) + (", ..." if len(firsts) > 5 else "")
+        raise TraceReadError(f"'{folder}' holds {len(firsts)} traces ({names}): name the one to read", usage=True)
+    return firsts[0]
+
+
+def _load_file(path: Path) -> LoadedTrace:
+    """The events of one trace file."""
     try:
         data = path.read_bytes()
     except IsADirectoryError:
@@ -358,7 +399,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
                     if waiting is not None:  # waiting on something else now
                         waits.append(Wait(waiting.t, event.t, waiting.statement, waiting.condition, waiting.at))
                     waiting = event
-            case HeaderEvent() | FinishEvent() | NoticeEvent():
+            case HeaderEvent() | SnapshotEvent() | FinishEvent() | NoticeEvent():
                 pass
     if waiting is not None:
         waits.append(Wait(waiting.t, None, waiting.statement, waiting.condition, waiting.at))

@@ -37,14 +37,14 @@ def run(tmp_path: Path, text: str, scenario: str | None = None) -> RunOutcome:
     program.write_text(text)
     if scenario is not None:
         (tmp_path / "fail_once.toml").write_text(scenario)
-    return run_program(program, RunOptions())
+    return run_program(program, RunOptions(record=True))
 
 
 def test_the_reward_after_a_during_sees_its_effects(tmp_path: Path) -> None:
     outcome = run(tmp_path, EFFECT_AT_END)
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
-    assert outcome.trace is not None
-    [plan] = outcome.trace.of(PlanEvent)
+    assert outcome.recording is not None
+    [plan] = outcome.recording.of(PlanEvent)
     # R(s0) = 0, and R after the `during` (its one costed step, at its end) = 100.
     assert (plan.value, plan.policy) == (100.0, ("act()",))
     assert outcome.postcond is True
@@ -54,10 +54,10 @@ def test_a_failed_during_in_a_plan_runs_on_fail_and_replans(tmp_path: Path) -> N
     scenario = '[[action]]\nmatch = "act(a)"\noutcome = "fail"\ntimes = 1\n'
     outcome = run(tmp_path, FAIL_THEN_REPAIR, scenario)
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
-    assert outcome.trace is not None
-    events = [(r.EVENT, getattr(r, "action", None)) for r in outcome.trace.records]
+    assert outcome.recording is not None
+    events = [(r.EVENT, getattr(r, "action", None)) for r in outcome.recording.records]
     # act(a) fails, the handler repair() runs, then the planner plans the rest again.
     failed_at = events.index(("update", "act(a)"))
     assert ("start", "repair()") in events[failed_at:]
-    assert any(isinstance(r, ReplanEvent) for r in outcome.trace.records[failed_at:])
+    assert any(isinstance(r, ReplanEvent) for r in outcome.recording.records[failed_at:])
     assert outcome.postcond is True

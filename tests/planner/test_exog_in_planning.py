@@ -17,7 +17,7 @@ from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import program_interface
 from gpp.runtime.events import PlanEvent
 from gpp.runtime.executor import Executor, RunStatus
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace
 from gpp.runtime.values import Value
 
 PROGRAM = """
@@ -69,8 +69,8 @@ def _plan(tmp_path: Path) -> tuple[Counting, PlanEvent]:
     assert not check.errors, [d.message for d in check.diagnostics]
     platform = Counting(Scenario.from_data(SCENARIO))
     program = CompiledProgram(check.model)
-    trace = Trace()
-    executor = Executor(program, platform, trace, timeout=100, planner=PolicyPlanner())
+    trace = Recording()
+    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=100, planner=PolicyPlanner())
     assert platform.attach(program_interface(program)) == []
     result = executor.run()
     assert result.status is RunStatus.FINISHED, result.diagnostics

@@ -16,9 +16,9 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def plan_of(path: Path) -> tuple[float, tuple[str, ...], int]:
-    outcome = run_program(path, RunOptions())
-    assert outcome.trace is not None
-    [plan] = outcome.trace.of(PlanEvent)
+    outcome = run_program(path, RunOptions(record=True))
+    assert outcome.recording is not None
+    [plan] = outcome.recording.of(PlanEvent)
     return plan.value, plan.policy, plan.pruned
 
 
@@ -48,6 +48,6 @@ number function reward() = n()
 procedure main() { solve(1, reward()) pick (item x) pick (item y) put(x, y); }
 """
     )
-    outcome = run_program(program, RunOptions())
+    outcome = run_program(program, RunOptions(record=True))
     assert outcome.result is not None and outcome.result.status is RunStatus.ERROR
     assert [d.code for d in outcome.diagnostics if d.is_error] == ["R0001"]

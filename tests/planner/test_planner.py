@@ -78,17 +78,17 @@ def both(pb: PlanningProblem) -> Plan:
 
 
 def run(path: Path) -> RunOutcome:
-    return run_program(path, RunOptions())
+    return run_program(path, RunOptions(record=True))
 
 
 def plans(outcome: RunOutcome) -> list[PlanEvent]:
-    assert outcome.trace is not None
-    return outcome.trace.of(PlanEvent)
+    assert outcome.recording is not None
+    return outcome.recording.of(PlanEvent)
 
 
 def started(outcome: RunOutcome) -> list[str]:
-    assert outcome.trace is not None
-    return [r.action for r in outcome.trace.of(StartEvent)]
+    assert outcome.recording is not None
+    return [r.action for r in outcome.recording.of(StartEvent)]
 
 
 # ---------------------------------------------------------------- the targets
@@ -449,8 +449,8 @@ def test_profile_of_a_run_without_planning_says_so() -> None:
 
 def test_profile_of_a_real_run_shows_its_plan() -> None:
     outcome = run(EXAMPLES / "blocks_planning.gpp")
-    assert outcome.trace is not None
-    text = render(outcome.trace.records)
+    assert outcome.recording is not None
+    text = render(outcome.recording.records)
     row = next(line for line in text.splitlines() if " plan " in line)
     assert "solve" in row
     assert " 96 " in row
@@ -463,10 +463,10 @@ def test_profile_reports_a_search_that_stopped_without_a_plan() -> None:
 
     from gpp.planner.profile import render_profile
 
-    outcome = run_program(ROOT / "tests" / "runtime_errors" / "search_unbounded.gpp", RunOptions())
-    assert outcome.trace is not None
+    outcome = run_program(ROOT / "tests" / "runtime_errors" / "search_unbounded.gpp", RunOptions(record=True))
+    assert outcome.recording is not None
     out = io.StringIO()
-    render_profile(outcome.trace.records, Console(file=out, width=200, color_system=None))
+    render_profile(outcome.recording.records, Console(file=out, width=200, color_system=None))
     text = out.getvalue()
     assert "did not plan" not in text
     assert "planning stopped without a plan at " in text
@@ -484,17 +484,17 @@ def test_a_solve_cut_at_its_horizon_warns_once_and_says_how_many_steps_are_left(
         "}\n",
         encoding="utf-8",
     )
-    outcome = run_program(program, RunOptions())
+    outcome = run_program(program, RunOptions(record=True))
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
     [warning] = [d for d in outcome.diagnostics if d.code == "R0014"]
     assert not warning.is_error and warning.span.text.startswith("solve(3, reward())")
     assert warning.notes[1] == "finishing it needs at least 2 more step(s)"
     assert warning.help == "raise the horizon to at least 5"
-    assert outcome.trace is not None
-    [plan] = outcome.trace.of(PlanEvent)
+    assert outcome.recording is not None
+    [plan] = outcome.recording.of(PlanEvent)
     assert (plan.unfinished, plan.steps_left) == (True, 2)
     # A horizon with room for the whole program: no warning.
     program.write_text(program.read_text(encoding="utf-8").replace("solve(3,", "solve(5,"), encoding="utf-8")
-    outcome = run_program(program, RunOptions())
+    outcome = run_program(program, RunOptions(record=True))
     assert [d for d in outcome.diagnostics if d.code == "R0014"] == []
-    assert outcome.trace is not None and outcome.trace.of(PlanEvent)[0].unfinished is False
+    assert outcome.recording is not None and outcome.recording.of(PlanEvent)[0].unfinished is False

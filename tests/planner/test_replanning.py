@@ -20,17 +20,17 @@ FIRST_PLAN = ("stack(a,table)", "stack(c,table)", "stack(b,a)", "stack(c,b)")
 
 
 def run(program: Path, scenario: str) -> RunOutcome:
-    return run_program(program, RunOptions(platform_options={"scenario": SCENARIOS / scenario}))
+    return run_program(program, RunOptions(record=True, platform_options={"scenario": SCENARIOS / scenario}))
 
 
 def events(outcome: RunOutcome, kind: type[E]) -> list[E]:
-    assert outcome.trace is not None
-    return outcome.trace.of(kind)
+    assert outcome.recording is not None
+    return outcome.recording.of(kind)
 
 
 def plans(outcome: RunOutcome) -> list[PlanEvent | ReplanEvent]:
-    assert outcome.trace is not None
-    return plan_events(outcome.trace.records)
+    assert outcome.recording is not None
+    return plan_events(outcome.recording.records)
 
 
 def started(outcome: RunOutcome) -> tuple[str, ...]:
@@ -87,7 +87,7 @@ def test_a_condition_the_plan_assumed_is_checked_again_before_the_step_that_foll
 
 
 def test_without_deviation_the_plan_is_executed_as_planned() -> None:
-    outcome = run_program(SCENARIOS / "blocks.gpp", RunOptions())
+    outcome = run_program(SCENARIOS / "blocks.gpp", RunOptions(record=True))
     assert [r.EVENT for r in plans(outcome)] == ["plan"]
     assert started(outcome) == FIRST_PLAN
     assert outcome.ok

@@ -20,7 +20,7 @@ from gpp.platform.sim import SimPlatform
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunStatus
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace
 from gpp.syntax.directives import directives
 from tests.support.cli import Result, run
 
@@ -185,8 +185,8 @@ def test_a_cancellation_that_is_never_acknowledged_is_recorded_after_a_bounded_w
     assert not check.errors, [d.message for d in check.diagnostics]
     program = CompiledProgram(check.model)
     platform = Deaf()
-    trace = Trace()
-    executor = Executor(program, platform, trace, timeout=10)
+    trace = Recording()
+    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=10)
     executor.cancel_grace = 0.2
     assert platform.attach(program_interface(program)) == []
     started = time.perf_counter()

@@ -22,7 +22,7 @@ PROGRAMS = sorted(PROGRAMS_DIR.glob("*.gpp"))
 def _explain(outcome: RunOutcome) -> str:
     """Diagnostics as the terminal shows them, and the end of the trace."""
     lines = [render_text(outcome.diagnostics)] if outcome.diagnostics else []
-    records = outcome.trace.records[-15:] if outcome.trace is not None else []
+    records = outcome.recording.records[-15:] if outcome.recording is not None else []
     lines.extend(encode(r) for r in records)
     return "\n".join(lines)
 
@@ -33,7 +33,7 @@ def test_there_are_conformance_programs() -> None:
 
 @pytest.mark.parametrize("path", PROGRAMS, ids=[p.stem for p in PROGRAMS])
 def test_program_finishes_and_its_postcondition_holds(path: Path) -> None:
-    outcome = run_program(path, RunOptions(timeout=10_000))
+    outcome = run_program(path, RunOptions(record=True, timeout=10_000))
     assert not outcome.check.errors, _explain(outcome)
     assert outcome.result is not None, _explain(outcome)
     assert outcome.result.status is RunStatus.FINISHED, _explain(outcome)

@@ -40,7 +40,7 @@ from gpp.runtime.events import (
     encode,
 )
 from gpp.runtime.executor import Executor, RunResult, RunStatus
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace
 from tests.support.cli import run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -96,7 +96,7 @@ def _errors(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
 
 
 def _explain(outcome: RunOutcome) -> str:
-    records = outcome.trace.records[-10:] if outcome.trace is not None else []
+    records = outcome.recording.records[-10:] if outcome.recording is not None else []
     return render_text(outcome.diagnostics) + "\n" + "\n".join(encode(r) for r in records)
 
 
@@ -109,7 +109,7 @@ def test_there_is_a_program_for_every_runtime_error_code() -> None:
 def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path: Path) -> None:
     expected = expectation(path)
     trace_file = tmp_path / "trace.jsonl"
-    outcome = run_program(path, RunOptions(timeout=expected.timeout, trace=trace_file))
+    outcome = run_program(path, RunOptions(record=True, timeout=expected.timeout, trace=trace_file))
     assert not outcome.check.errors, _explain(outcome)
     assert outcome.result is not None
     assert outcome.result.status.value == expected.status, _explain(outcome)
@@ -149,7 +149,7 @@ def test_no_runtime_error_prints_a_traceback() -> None:
         "from pathlib import Path\n"
         "from gpp.run.runner import RunOptions, run_program\n"
         "for name in sys.argv[1:]:\n"
-        "    o = run_program(Path(name), RunOptions(timeout=30))\n"
+        "    o = run_program(Path(name), RunOptions(record=True, timeout=30))\n"
         "    print(name, o.result.status.value, o.exit_code)\n"
     )
     done = subprocess.run(
@@ -195,11 +195,13 @@ action a() { }
 """
 
 
-def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None = None) -> tuple[RunResult, Trace]:
+def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None = None) -> tuple[RunResult, Recording]:
     check = check_text(PRELUDE + extra + "\nprocedure main() {\n" + body + "\n}\n", tmp_path / "t.gpp", lint=False)
     assert not check.errors, render_text(check.diagnostics)
-    trace = Trace()
-    executor = Executor(CompiledProgram(check.model), DummyPlatform(), trace, timeout, planner=PolicyPlanner())
+    trace = Recording()
+    executor = Executor(
+        CompiledProgram(check.model), DummyPlatform(), Trace(listeners=[trace]), timeout, planner=PolicyPlanner()
+    )
     return executor.run(), trace
 
 
@@ -258,8 +260,8 @@ def test_error_in_a_planned_program_is_reported_at_its_source(tmp_path: Path) ->
 def test_solve_without_a_planner_is_an_error_at_the_statement(statement: str, tmp_path: Path) -> None:
     check = check_text(PRELUDE + "procedure main() { n() = 1; " + statement + " }\n", tmp_path / "t.gpp", lint=False)
     assert not check.errors, render_text(check.diagnostics)
-    trace = Trace()
-    result = Executor(CompiledProgram(check.model), DummyPlatform(), trace).run()
+    trace = Recording()
+    result = Executor(CompiledProgram(check.model), DummyPlatform(), Trace(listeners=[trace])).run()
     assert result.status is RunStatus.ERROR
     [d] = _errors(result.diagnostics)
     kind = statement.split("(")[0].split(" ")[0]
@@ -271,9 +273,9 @@ def test_solve_without_a_planner_is_an_error_at_the_statement(statement: str, tm
 
 def test_unhandled_failure_continues_and_is_counted(tmp_path: Path) -> None:
     check = check_text(PRELUDE + "procedure main() { a(); n() = 1; }\n", tmp_path / "t.gpp", lint=False)
-    trace = Trace()
+    trace = Recording()
     platform = DummyPlatform(Scenario.from_data({"action": [{"match": "a()", "outcome": "fail"}]}))
-    result = Executor(CompiledProgram(check.model), platform, trace).run()
+    result = Executor(CompiledProgram(check.model), platform, Trace(listeners=[trace])).run()
     assert result.status is RunStatus.FINISHED
     assert result.failures == 1 and result.unhandled_failures == 1
     [end] = trace.of(EndEvent)

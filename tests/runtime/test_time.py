@@ -42,14 +42,14 @@ bool function postcond() = waited_until() == 2.5 & gave_up_at() == 7.5 & !listen
 def run(tmp_path: Path, text: str, name: str = "p.gpp", **options: object) -> RunOutcome:
     path = tmp_path / name
     path.write_text(text, encoding="utf-8")
-    return run_program(path, RunOptions(**options))  # type: ignore[arg-type]
+    return run_program(path, RunOptions(record=True, **options))  # type: ignore[arg-type]
 
 
 def test_the_timeout_pattern_works_on_the_dummy(tmp_path: Path) -> None:
     outcome = run(tmp_path, TIMEOUT)
     assert outcome.ok, [d.message for d in outcome.diagnostics]
     assert outcome.result is not None and outcome.result.platform_time == 7.5  # not 30 + 2.5
-    trace = outcome.trace
+    trace = outcome.recording
     assert trace is not None
     [cancel] = trace.of(CancelEvent)
     assert (cancel.t, cancel.action) == (7.5, "listen()")
@@ -94,7 +94,7 @@ def test_comparisons_with_the_clock_wake_the_program(tmp_path: Path, condition: 
     )
     outcome = run(tmp_path, program)
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED, outcome.diagnostics
-    trace = outcome.trace
+    trace = outcome.recording
     assert trace is not None
     [assign] = trace.of(AssignEvent)
     assert assign.value == pytest.approx(woke) and assign.value >= 4.0
@@ -102,8 +102,8 @@ def test_comparisons_with_the_clock_wake_the_program(tmp_path: Path, condition: 
 
 def test_a_wait_and_its_end_are_in_the_trace(tmp_path: Path) -> None:
     outcome = run(tmp_path, TIMEOUT)
-    assert outcome.trace is not None
-    waits = outcome.trace.of(WaitingEvent)
+    assert outcome.recording is not None
+    waits = outcome.recording.of(WaitingEvent)
     first, resumed = waits[0], waits[1]
     assert (first.t, first.statement, first.resumed) == (0.0, "test(context_time() >= t);", False)
     assert first.at is not None and first.at.endswith("time.gpp:31:5")
@@ -141,8 +141,8 @@ def test_a_wait_on_an_activity_wakes_as_before(tmp_path: Path) -> None:
     program = "action a() { duration: [3, 3] }\nprocedure main() { a(); }\n"
     outcome = run(tmp_path, program)
     assert outcome.ok and outcome.result is not None and outcome.result.platform_time == 3.0
-    assert outcome.trace is not None and outcome.trace.of(WaitingEvent) == []
-    assert [s.action for s in outcome.trace.of(StartEvent)] == ["a()"]
+    assert outcome.recording is not None and outcome.recording.of(WaitingEvent) == []
+    assert [s.action for s in outcome.recording.of(StartEvent)] == ["a()"]
 
 
 KNOCK = """// scenario: knock.toml
@@ -166,8 +166,8 @@ def test_a_blocked_sequence_steps_back_into_an_earlier_loop_and_the_trace_shows_
         '[[exog]]\nat = 1\naction = "knock"\n\n[[exog]]\nat = 2\naction = "open_door"\n', encoding="utf-8"
     )
     outcome = run(tmp_path, KNOCK, "knock.gpp")
-    assert outcome.ok and outcome.trace is not None
-    steps = [(e.EVENT, e.t, getattr(e, "at", None), getattr(e, "resumed", None)) for e in outcome.trace.records[1:]]
+    assert outcome.ok and outcome.recording is not None
+    steps = [(e.EVENT, e.t, getattr(e, "at", None), getattr(e, "resumed", None)) for e in outcome.recording.records[1:]]
     test_at = f"{tmp_path / 'knock.gpp'}:9:5"
     assert steps[:5] == [
         ("waiting", 0.0, test_at, False),
@@ -186,8 +186,8 @@ def test_the_live_view_shows_what_the_program_waits_for(tmp_path: Path) -> None:
     from gpp.run.view import LiveView, PlainView
 
     outcome = run(tmp_path, TIMEOUT)
-    assert outcome.trace is not None
-    events = outcome.trace.records
+    assert outcome.recording is not None
+    events = outcome.recording.records
     first_wait = next(i for i, e in enumerate(events) if isinstance(e, WaitingEvent))
     live = LiveView(Console(file=io.StringIO(), width=120, color_system=None), "p.gpp")
     for event in events[: first_wait + 1]:

@@ -38,7 +38,7 @@ from gpp.runtime.events import (
 )
 from gpp.runtime.executor import RunStatus
 from gpp.runtime.state import GroundAction
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace
 from gpp.runtime.values import CompoundValue
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -104,9 +104,9 @@ def _check_record(record: TraceEvent) -> None:
 )
 def test_every_record_has_the_required_fields(program: str, tmp_path: Path) -> None:
     trace_file = tmp_path / "trace.jsonl"
-    outcome = run_program(PROGRAMS / f"{program}.gpp", RunOptions(trace=trace_file))
+    outcome = run_program(PROGRAMS / f"{program}.gpp", RunOptions(record=True, trace=trace_file))
     records = _read(trace_file)
-    assert outcome.trace is not None and records == outcome.trace.records
+    assert outcome.recording is not None and records == outcome.recording.records
     for record in records:
         _check_record(record)
     assert [r.EVENT for r in records].count("finish") == 1
@@ -120,20 +120,20 @@ def test_every_record_has_the_required_fields(program: str, tmp_path: Path) -> N
 def test_all_event_kinds_appear_with_their_fields(tmp_path: Path) -> None:
     seen: dict[str, dict[str, object]] = {}
     for program in ("during_on_fail", "exog_events", "sensing", "solve", "concurrent"):
-        outcome = run_program(PROGRAMS / f"{program}.gpp", RunOptions())
-        assert outcome.trace is not None
-        for record in outcome.trace.records:
+        outcome = run_program(PROGRAMS / f"{program}.gpp", RunOptions(record=True))
+        assert outcome.recording is not None
+        for record in outcome.recording.records:
             seen.setdefault(record.EVENT, to_json_dict(record))
     _write(tmp_path, "replan.toml", '[[exog]]\nat = 0.5\naction = "close"\nargs = ["c"]\n')
-    outcome = run_program(_write(tmp_path, "replan.gpp", REPLAN), RunOptions())
-    assert outcome.trace is not None
-    [replan] = outcome.trace.of(ReplanEvent)
-    blocked = run_program(ROOT / "tests" / "runtime_errors" / "blocked_test.gpp", RunOptions())
-    error = run_program(ROOT / "tests" / "runtime_errors" / "division_by_zero.gpp", RunOptions())
-    assert blocked.trace is not None and error.trace is not None
+    outcome = run_program(_write(tmp_path, "replan.gpp", REPLAN), RunOptions(record=True))
+    assert outcome.recording is not None
+    [replan] = outcome.recording.of(ReplanEvent)
+    blocked = run_program(ROOT / "tests" / "runtime_errors" / "blocked_test.gpp", RunOptions(record=True))
+    error = run_program(ROOT / "tests" / "runtime_errors" / "division_by_zero.gpp", RunOptions(record=True))
+    assert blocked.recording is not None and error.recording is not None
     seen["replan"] = to_json_dict(replan)
-    seen["blocked"] = to_json_dict(blocked.trace.of(BlockedEvent)[0])
-    seen["error"] = to_json_dict(error.trace.of(ErrorEvent)[0])
+    seen["blocked"] = to_json_dict(blocked.recording.of(BlockedEvent)[0])
+    seen["error"] = to_json_dict(error.recording.of(ErrorEvent)[0])
     assert set(seen) >= EVENTS - {"cancel"}
     assert set(seen["start"]) >= {"t", "event", "action", "id", "mapped", "args"}
     assert set(seen["update"]) >= {"action", "status", "id"}
@@ -162,7 +162,7 @@ def test_ground_action_text_is_name_and_arguments_without_spaces() -> None:
 
 def test_trace_values_are_json_with_tagged_symbols_and_compounds(tmp_path: Path) -> None:
     trace_file = tmp_path / "trace.jsonl"
-    run_program(PROGRAMS / "compounds.gpp", RunOptions(trace=trace_file))
+    run_program(PROGRAMS / "compounds.gpp", RunOptions(record=True, trace=trace_file))
     assigns = [to_json_dict(r) for r in _read(trace_file) if isinstance(r, AssignEvent)]
     assert assigns[0] == {
         "t": 0.0,
@@ -171,9 +171,9 @@ def test_trace_values_are_json_with_tagged_symbols_and_compounds(tmp_path: Path)
         "value": _pose(0, 0),
         "at": "tests/programs/compounds.gpp:42:5",
     }
-    sym = run_program(PROGRAMS / "choose_pick.gpp", RunOptions())
-    assert sym.trace is not None
-    assert {"symbol": "office"} in [r.value for r in sym.trace.of(AssignEvent)]
+    sym = run_program(PROGRAMS / "choose_pick.gpp", RunOptions(record=True))
+    assert sym.recording is not None
+    assert {"symbol": "office"} in [r.value for r in sym.recording.of(AssignEvent)]
 
 
 def _pose(x: int, y: int) -> dict[str, object]:
@@ -192,7 +192,7 @@ def test_each_record_is_on_disk_when_its_event_happens(tmp_path: Path) -> None:
         lines_seen.append(len(lines))
         assert decode(lines[-1]) == record
 
-    outcome = run_program(PROGRAMS / "concurrent.gpp", RunOptions(trace=trace_file), listeners=[listener])
+    outcome = run_program(PROGRAMS / "concurrent.gpp", RunOptions(record=True, trace=trace_file), listeners=[listener])
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
     assert lines_seen == list(range(1, count + 1))
 
@@ -208,7 +208,9 @@ def test_interrupted_run_leaves_a_complete_trace(stop_at: str, tmp_path: Path) -
             interrupted = True
             raise KeyboardInterrupt
 
-    outcome = run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
+    outcome = run_program(
+        PROGRAMS / "during_on_fail.gpp", RunOptions(record=True, trace=trace_file), listeners=[ctrl_c]
+    )
     assert interrupted
     assert outcome.result is not None and outcome.result.status is RunStatus.INTERRUPTED
     assert outcome.postcond is None and outcome.exit_code == 1
@@ -238,7 +240,7 @@ def test_interrupt_while_an_activity_runs_cancels_it(tmp_path: Path) -> None:
             case AssignEvent(fluent="said()"):
                 raise KeyboardInterrupt
 
-    run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
+    run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(record=True, trace=trace_file), listeners=[ctrl_c])
     records = _read(trace_file)
     cancel = [r for r in records if isinstance(r, CancelEvent)]
     assert [(r.action, r.reason) for r in cancel] == [("drive(kitchen)", "the program ended")]
@@ -257,17 +259,17 @@ def test_interrupt_before_the_platform_took_an_activity_cancels_it_without_waiti
             case StartEvent(action="drive(kitchen)"):
                 raise KeyboardInterrupt  # while the executor starts it: the platform never got it
 
-    run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace_file), listeners=[ctrl_c])
+    run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(record=True, trace=trace_file), listeners=[ctrl_c])
     records = _read(trace_file)
     assert [r.EVENT for r in records] == ["header", "start", "error", "cancel", "finish"]
 
 
 def test_failure_shows_in_the_trace_and_on_fail_runs() -> None:
-    outcome = run_program(PROGRAMS / "during_on_fail.gpp", RunOptions())
-    assert outcome.trace is not None
+    outcome = run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(record=True))
+    assert outcome.recording is not None
     events = [
         (r.EVENT, getattr(r, "action", getattr(r, "fluent", None)), getattr(r, "status", None))
-        for r in outcome.trace.records
+        for r in outcome.recording.records
     ]
     failed_update = events.index(("update", "drive(kitchen)", "failed"))
     failed_end = events.index(("end", "drive(kitchen)", "failed"))
@@ -278,9 +280,9 @@ def test_failure_shows_in_the_trace_and_on_fail_runs() -> None:
 
 
 def test_exog_event_with_a_false_precondition_is_marked_and_still_applied() -> None:
-    outcome = run_program(PROGRAMS / "exog_events.gpp", RunOptions())
-    assert outcome.trace is not None and outcome.postcond is True
-    marked = [(r.action, r.precondition) for r in outcome.trace.of(ExogEvent)]
+    outcome = run_program(PROGRAMS / "exog_events.gpp", RunOptions(record=True))
+    assert outcome.recording is not None and outcome.postcond is True
+    marked = [(r.action, r.precondition) for r in outcome.recording.of(ExogEvent)]
     assert marked == [
         ('bell("ann")', True),
         ("door_opened(front)", True),
@@ -288,17 +290,17 @@ def test_exog_event_with_a_false_precondition_is_marked_and_still_applied() -> N
         ("door_opened(back)", True),
         ('bell("cid")', False),
     ]
-    lines = [encode(r) for r in outcome.trace.of(ExogEvent)]
+    lines = [encode(r) for r in outcome.recording.of(ExogEvent)]
     assert ['"precondition": false' in line for line in lines] == [False, False, True, False, True]
     assert not any('"precondition": true' in line for line in lines)
 
 
 def test_records_of_silent_actions_are_marked() -> None:
-    outcome = run_program(ROOT / "examples" / "exog_sensing.gpp", RunOptions())
-    assert outcome.trace is not None
-    silent = {getattr(r, "action", None) for r in outcome.trace.records if getattr(r, "silent", False)}
+    outcome = run_program(ROOT / "examples" / "exog_sensing.gpp", RunOptions(record=True))
+    assert outcome.recording is not None
+    silent = {getattr(r, "action", None) for r in outcome.recording.records if getattr(r, "silent", False)}
     assert silent == {"battery_report(80)"}
-    assert all("silent" not in to_json_dict(r) for r in outcome.trace.of(StartEvent))
+    assert all("silent" not in to_json_dict(r) for r in outcome.recording.of(StartEvent))
 
 
 # ---------------------------------------------------------------- the pinned trace
@@ -314,7 +316,7 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
     (regenerate with GPP_UPDATE_GOLDEN=1); only the planning time varies between runs."""
     monkeypatch.chdir(ROOT)  # source locations in the trace are relative, as given
     trace_file = tmp_path / "trace.jsonl"
-    outcome = run_program(Path("tests/golden/trace/small.gpp"), RunOptions(trace=trace_file))
+    outcome = run_program(Path("tests/golden/trace/small.gpp"), RunOptions(record=True, trace=trace_file))
     assert outcome.ok
     actual = STARTED.sub('"started": "2026-01-01T00:00:00+00:00"', trace_file.read_text(encoding="utf-8"))
     actual = SECONDS.sub('"seconds": 0.0', actual)
@@ -323,17 +325,17 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
         golden.write_text(actual, encoding="utf-8")
     assert actual == golden.read_text(encoding="utf-8")
     # The same bytes from the events in memory, and back.
-    assert outcome.trace is not None
-    assert [encode(e) for e in outcome.trace.records] == trace_file.read_text(encoding="utf-8").splitlines()
+    assert outcome.recording is not None
+    assert [encode(e) for e in outcome.recording.records] == trace_file.read_text(encoding="utf-8").splitlines()
     assert [decode(line) for line in actual.splitlines()] == [
         dataclasses.replace(e, seconds=0.0)
         if isinstance(e, PlanEvent | ReplanEvent)
         else dataclasses.replace(e, started="2026-01-01T00:00:00+00:00")
         if isinstance(e, HeaderEvent)
         else e
-        for e in outcome.trace.records
+        for e in outcome.recording.records
     ]
-    kinds = {e.EVENT for e in outcome.trace.records}
+    kinds = {e.EVENT for e in outcome.recording.records}
     assert kinds == {"header", "assign", "plan", "start", "exog", "update", "end", "sense", "cancel", "finish"}
 
 
@@ -341,14 +343,14 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
 
 
 def test_consumers_get_the_events_of_one_kind_typed() -> None:
-    outcome = run_program(PROGRAMS / "sensing.gpp", RunOptions())
-    assert outcome.trace is not None
-    starts = outcome.trace.of(StartEvent)
+    outcome = run_program(PROGRAMS / "sensing.gpp", RunOptions(record=True))
+    assert outcome.recording is not None
+    starts = outcome.recording.of(StartEvent)
     assert [s.action for s in starts][:2] == ["measure(kitchen)", "measure(hall)"]
     assert all(type(s) is StartEvent for s in starts)
-    assert outcome.trace.of(EventBase) == outcome.trace.records
-    [finish] = outcome.trace.of(FinishEvent)
-    assert finish == outcome.trace.records[-1]
+    assert outcome.recording.of(EventBase) == outcome.recording.records
+    [finish] = outcome.recording.of(FinishEvent)
+    assert finish == outcome.recording.records[-1]
 
 
 def test_events_are_frozen_and_round_their_time() -> None:
@@ -393,7 +395,8 @@ def test_decode_ignores_unknown_keys_and_rejects_unknown_kinds_and_missing_field
 
 
 def test_every_event_of_real_traces_round_trips(tmp_path: Path) -> None:
-    trace = Trace(tmp_path / "t.jsonl")
+    recording = Recording()
+    trace = Trace(tmp_path / "t.jsonl", [recording])
 
     def record(event: TraceEvent) -> None:
         trace.emit(event)
@@ -402,8 +405,8 @@ def test_every_event_of_real_traces_round_trips(tmp_path: Path) -> None:
         outcome = run_program(PROGRAMS / f"{program}.gpp", RunOptions(), listeners=[record])
         assert outcome.ok
     trace.close()
-    assert _read(tmp_path / "t.jsonl") == trace.records
-    for event in trace.records:
+    assert _read(tmp_path / "t.jsonl") == recording.records
+    for event in recording.records:
         assert decode(encode(event)) == event
         assert json.loads(encode(event)) == to_json_dict(event)
 
@@ -441,29 +444,29 @@ def test_the_header_says_what_was_run(tmp_path: Path) -> None:
     from gpp import __version__
 
     program = ROOT / "examples" / "blocksworld_faults.gpp"
-    outcome = run_program(program, RunOptions(platform="sim", trace=tmp_path / "t.jsonl"))
-    assert outcome.trace is not None
-    header = outcome.trace.records[0]
+    outcome = run_program(program, RunOptions(record=True, platform="sim", trace=tmp_path / "t.jsonl"))
+    assert outcome.recording is not None
+    header = outcome.recording.records[0]
     assert isinstance(header, HeaderEvent)
     assert (header.gpp_version, header.program, header.platform) == (__version__, str(program), "sim")
     assert header.program_sha256 == hashlib.sha256(program.read_bytes()).hexdigest()
     assert (header.world, header.seed, header.scenario) == ("blocksworld_faults", 3, None)
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d[+-]\d\d:\d\d", header.started)
-    dummy = run_program(PROGRAMS / "exog_events.gpp", RunOptions())
-    assert dummy.trace is not None
-    first = dummy.trace.records[0]
+    dummy = run_program(PROGRAMS / "exog_events.gpp", RunOptions(record=True))
+    assert dummy.recording is not None
+    first = dummy.recording.records[0]
     assert isinstance(first, HeaderEvent) and first.platform == "dummy"
     assert first.scenario is not None and first.scenario.endswith("exog_events.toml") and first.seed is None
 
 
 def test_end_and_exog_records_carry_the_fluent_changes() -> None:
-    outcome = run_program(ROOT / "tests" / "golden" / "trace" / "small.gpp", RunOptions())
-    assert outcome.trace is not None
-    ends = {e.action: e.changes for e in outcome.trace.of(EndEvent)}
+    outcome = run_program(ROOT / "tests" / "golden" / "trace" / "small.gpp", RunOptions(record=True))
+    assert outcome.recording is not None
+    ends = {e.action: e.changes for e in outcome.recording.of(EndEvent)}
     assert ends["go(kitchen)"] == ({"fluent": "at()", "value": {"symbol": "kitchen"}},)
-    failed = [e for e in outcome.trace.of(EndEvent) if e.status != "final"]
+    failed = [e for e in outcome.recording.of(EndEvent) if e.status != "final"]
     assert failed and all(e.changes == () for e in failed)  # a failed activity changes nothing
-    exogs = outcome.trace.of(ExogEvent)
+    exogs = outcome.recording.of(ExogEvent)
     assert any(e.changes for e in exogs)
     for e in exogs:
         for change in e.changes:
@@ -495,7 +498,7 @@ def test_numbers_at_the_edge_of_the_range_are_exact_in_a_strict_json_trace(tmp_p
         encoding="utf-8",
     )
     trace_file = tmp_path / "trace.jsonl"
-    outcome = run_program(program, RunOptions(trace=trace_file))
+    outcome = run_program(program, RunOptions(record=True, trace=trace_file))
     assert outcome.ok
     records = [_strict(line) for line in trace_file.read_text(encoding="utf-8").splitlines()]
     values = [r["value"] for r in records if isinstance(r, dict) and r["event"] == "assign"]

@@ -102,8 +102,10 @@ def test_schema_enums_are_the_interpreters_values(schema: dict[str, Any]) -> Non
 # ---------------------------------------------------------------- real traces
 
 
-# Event kinds that the dummy and sim platforms never cause.
+# Event kinds that the dummy and sim platforms never cause, and those only a split trace has
+# (tests/runtime/test_trace_split.py validates its parts).
 ROBOT_ONLY = {"notice"}
+SPLIT_ONLY = {"snapshot"}
 
 
 def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
@@ -174,7 +176,7 @@ def test_every_record_of_real_traces_is_valid(validator: jsonschema.Draft202012V
         assert json.loads(lines[-1])["event"] == "finish", name
     # Every kind of event appears in these traces, but for those only a robot's platform
     # writes (tests/platform/ros2 validates its `notice` records against the schema).
-    assert seen == set(EVENT_TYPES) - ROBOT_ONLY
+    assert seen == set(EVENT_TYPES) - ROBOT_ONLY - SPLIT_ONLY
 
 
 def test_the_schema_rejects_what_the_executor_never_writes(validator: jsonschema.Draft202012Validator) -> None:

@@ -433,8 +433,9 @@ def test_bad_input_is_one_line_and_an_exit_code(
     assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob("*.perfetto.json"))
 
 
-def test_a_directory_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    expected = f"error: cannot read '{tmp_path}': it is a folder, not a file\n"
+def test_a_folder_without_a_trace_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    (tmp_path / "notes.jsonl").write_text('{"note": 1}\n', encoding="utf-8")
+    expected = f"error: '{tmp_path}' holds no trace (no .jsonl file that starts with a header)\n"
     assert gpp(capsys, "trace", "summary", str(tmp_path)) == (2, "", expected)
 
 

@@ -22,7 +22,7 @@ from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import program_interface
 from gpp.runtime.executor import Executor, RunResult, RunStatus
 from gpp.runtime.state import ActivityStatus, GroundAction
-from gpp.runtime.trace import Trace
+from gpp.runtime.trace import Recording, Trace
 from gpp.syntax.directives import file_directives
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -60,13 +60,15 @@ def scenario(**sections: Any) -> Scenario:
     return Scenario.from_data(sections)
 
 
-def run(main: str, scn: Scenario | None = None, *, seed: int = 1, random_mode: bool = False) -> tuple[RunResult, Trace]:
+def run(
+    main: str, scn: Scenario | None = None, *, seed: int = 1, random_mode: bool = False
+) -> tuple[RunResult, Recording]:
     check = check_text(PROGRAM + "\nprocedure main() {\n" + main + "\n}\n", lint=False)
     assert not check.errors, [d.message for d in check.diagnostics if d.is_error]
     platform = DummyPlatform(scn, seed, random_mode)
-    trace = Trace()
+    trace = Recording()
     program = CompiledProgram(check.model)
-    executor = Executor(program, platform, trace, timeout=1000)
+    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=1000)
     problems = platform.attach(program_interface(program))
     assert problems == []
     return executor.run(), trace
@@ -78,7 +80,7 @@ def attach_problems(scn: Scenario) -> list[str]:
     return [p.message for p in platform.attach(program_interface(CompiledProgram(check.model)))]
 
 
-def events(trace: Trace, *kinds: type[ev.EventBase]) -> list[tuple[float, str, str]]:
+def events(trace: Recording, *kinds: type[ev.EventBase]) -> list[tuple[float, str, str]]:
     return [(r.t, r.EVENT, getattr(r, "action", "")) for r in trace.records if isinstance(r, kinds)]
 
 
@@ -234,14 +236,14 @@ def test_scenario_that_does_not_fit_stops_run_program_with_a_diagnostic(tmp_path
     program = tmp_path / "p.gpp"
     program.write_text("// scenario: s.toml\nexog_action ping() { }\nprocedure main() { }\n", encoding="utf-8")
     (tmp_path / "s.toml").write_text('[[exog]]\nat = 1\naction = "pong"\n', encoding="utf-8")
-    outcome = run_program(program, RunOptions())
+    outcome = run_program(program, RunOptions(record=True))
     assert outcome.result is None and not outcome.ok
     [d] = [d for d in outcome.diagnostics if d.is_error]
     assert d.code == "R0007" and d.message == "scenario: no exogenous action `pong` in the program"
     # At the scenario's entry, with a did-you-mean from the program's exogenous actions.
     assert (d.span.source.path, d.span.text, d.span.start) == (str(tmp_path / "s.toml"), "[[exog]]", 0)
     assert d.help == "did you mean `ping`?"
-    assert outcome.trace is not None and isinstance(outcome.trace.records[-1], ev.FinishEvent)
+    assert outcome.recording is not None and isinstance(outcome.recording.records[-1], ev.FinishEvent)
 
 
 def test_bad_scenario_file_is_a_setup_error(tmp_path: Path) -> None:
@@ -250,7 +252,7 @@ def test_bad_scenario_file_is_a_setup_error(tmp_path: Path) -> None:
     (tmp_path / "s.toml").write_text("[surprise]\n", encoding="utf-8")
     assert file_directives(program) == {"scenario": "s.toml"}
     with pytest.raises(RunSetupError, match="unknown section"):
-        run_program(program, RunOptions())
+        run_program(program, RunOptions(record=True))
 
 
 def test_pattern_with_the_wrong_number_of_arguments_stops_the_run_at_the_action() -> None:
@@ -512,7 +514,7 @@ EXAMPLES = sorted(p for p in (ROOT / "examples").glob("*.gpp") if "world" not in
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_random_mode_runs_the_examples_to_completion(path: Path) -> None:
-    outcome = run_program(path, RunOptions(timeout=3600, platform_options={"random": True, "seed": 1}))
+    outcome = run_program(path, RunOptions(record=True, timeout=3600, platform_options={"random": True, "seed": 1}))
     assert outcome.result is not None
     assert outcome.result.status is RunStatus.FINISHED, [d.message for d in outcome.diagnostics if d.is_error]
 

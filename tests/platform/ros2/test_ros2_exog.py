@@ -77,7 +77,7 @@ def run_with(
 
     driver = threading.Thread(target=guarded)
     driver.start()
-    outcome = run_program(path, RunOptions(platform="ros2", timeout=timeout))
+    outcome = run_program(path, RunOptions(record=True, platform="ros2", timeout=timeout))
     driver.join(60)
     assert not failure, failure
     return outcome
@@ -124,8 +124,8 @@ bool function postcond() = seen() == 45
         publisher.ask("send /battery 45")
 
     outcome = finished(run_with(tmp_path, program, BATTERY, drive))
-    assert outcome.trace is not None
-    waits = outcome.trace.of(WaitingEvent)
+    assert outcome.recording is not None
+    waits = outcome.recording.of(WaitingEvent)
     assert any('no message on "/battery" yet' in w.condition for w in waits), waits
     assert waits[-1].resumed and waits[-1].statement == "test(battery() < 50);"
 
@@ -161,10 +161,10 @@ bool function postcond() = status() == stale & last() == 40
         publisher.ask("send /battery 40")
 
     outcome = finished(run_with(tmp_path, program, BATTERY + "max_age = 0.3\n", drive))
-    assert outcome.trace is not None
-    stale = [w for w in outcome.trace.of(WaitingEvent) if "s old (max_age 0.3 s)" in w.condition]
-    assert stale and stale[0].statement == "test(battery() < 50);", outcome.trace.of(WaitingEvent)
-    [assign] = [a for a in outcome.trace.of(AssignEvent) if a.fluent == "last()"]
+    assert outcome.recording is not None
+    stale = [w for w in outcome.recording.of(WaitingEvent) if "s old (max_age 0.3 s)" in w.condition]
+    assert stale and stale[0].statement == "test(battery() < 50);", outcome.recording.of(WaitingEvent)
+    [assign] = [a for a in outcome.recording.of(AssignEvent) if a.fluent == "last()"]
     assert assign.value == 40.0
 
 
@@ -189,12 +189,12 @@ bool function postcond() = seen() >= 5 & seen() <= 11
 """
     binding = '[exog_function.progress]\nfeedback = "/fib"\nfield = "sequence"\nmax_rate = 50\n'
     outcome = finished(run_with(tmp_path, program, binding, lambda: None))
-    assert outcome.trace is not None
-    records = outcome.trace.records
+    assert outcome.recording is not None
+    records = outcome.recording.records
     seen = next(i for i, r in enumerate(records) if isinstance(r, AssignEvent) and r.fluent == "seen()")
     ended = next(i for i, r in enumerate(records) if isinstance(r, UpdateEvent))
     assert seen < ended  # seen while the goal still ran
-    assert [u.status for u in outcome.trace.of(UpdateEvent)] == ["final"]
+    assert [u.status for u in outcome.recording.of(UpdateEvent)] == ["final"]
 
 
 # ---------------------------------------------------------------- item 10: exogenous topics
@@ -245,8 +245,8 @@ def test_messages_a_shallow_publisher_loses_are_reported(publisher: Publisher, t
         publisher.ask("burst /count 10000")
 
     outcome = finished(run_with(tmp_path, program, None, drive, timeout=60.0))
-    assert outcome.trace is not None and outcome.result is not None
-    lost = sum(d.count for d in outcome.trace.of(DroppedEvent))
+    assert outcome.recording is not None and outcome.result is not None
+    lost = sum(d.count for d in outcome.recording.of(DroppedEvent))
     assert outcome.result.exog_events + lost == 10000, (outcome.result.exog_events, lost)
     if lost:
         [warning] = [d for d in outcome.diagnostics if d.code == "R0015"]
@@ -274,12 +274,12 @@ bool function postcond() = door() == open
         publisher.ask("send /events open")
 
     outcome = finished(run_with(tmp_path, program, None, drive))
-    assert outcome.trace is not None
-    dropped = [(d.target, d.reason) for d in outcome.trace.of(DroppedEvent)]
+    assert outcome.recording is not None
+    dropped = [(d.target, d.reason) for d in outcome.recording.of(DroppedEvent)]
     assert [t for t, _ in dropped] == ["door_moved"] and "ajar" in dropped[0][1], dropped
     assert all("KeyError" not in r and "'" not in r for _, r in dropped), dropped
     [warning] = [d for d in outcome.diagnostics if d.code == "R0015"]
-    assert len(outcome.trace.of(WarningEvent)) == 1
+    assert len(outcome.recording.of(WarningEvent)) == 1
     assert "dropped for `door_moved`" in warning.message
     assert warning.span is not None and warning.span.line == 6
     # A field the message does not have is no drop: the mapping is wrong, and the run stops with

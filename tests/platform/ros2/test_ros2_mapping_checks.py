@@ -29,7 +29,7 @@ from tests.platform.ros2.test_ros2_processes import domain, ros_env, servers, tr
 def run(tmp_path: Path, text: str, timeout: float = 15.0, **options: str) -> RunOutcome:
     path = tmp_path / "agent.gpp"
     path.write_text(text, encoding="utf-8")
-    return run_program(path, RunOptions(platform="ros2", platform_options=options, timeout=timeout))
+    return run_program(path, RunOptions(record=True, platform="ros2", platform_options=options, timeout=timeout))
 
 
 def r0007(outcome: RunOutcome) -> list[tuple[int, str, str | None]]:
@@ -111,8 +111,8 @@ procedure main() { count(1); }
     [(line, message, hint)] = r0007(outcome)
     assert line == 4 and "has no field `ordr`" in message and hint == "did you mean `order`?"
     assert requests == []
-    assert outcome.trace is not None
-    [update] = outcome.trace.of(UpdateEvent)
+    assert outcome.recording is not None
+    [update] = outcome.recording.of(UpdateEvent)
     assert update.status == "failed" and "nothing was sent" in (update.reason or "")
 
 
@@ -151,8 +151,8 @@ def test_a_name_never_discovered_waits_the_discovery_timeout_then_fails_its_goal
     started = time.monotonic()
     outcome = finished(run(tmp_path, program, discovery_timeout="0.3", server_timeout="0.3"))
     assert time.monotonic() - started < 5
-    assert outcome.trace is not None
-    [update] = outcome.trace.of(UpdateEvent)
+    assert outcome.recording is not None
+    [update] = outcome.recording.of(UpdateEvent)
     assert update.status == "failed" and '"/nowhere" is not available' in (update.reason or "")
 
 
@@ -176,8 +176,8 @@ def test_an_untyped_name_is_not_looked_up_per_goal(ros: Any, tmp_path: Path, mon
     program = 'action count(number n) { mapping: "/fib" { order = n } }\n'
     program += "procedure main() { count(1); count(2); count(3); }\n"
     outcome = finished(run(tmp_path, program))
-    assert outcome.trace is not None
-    assert [u.status for u in outcome.trace.of(UpdateEvent)] == ["final"] * 3
+    assert outcome.recording is not None
+    assert [u.status for u in outcome.recording.of(UpdateEvent)] == ["final"] * 3
     assert ros.executed == [1, 2, 3]
     assert looked == []  # the type came with the graph read at attach, and was kept
 

@@ -132,9 +132,9 @@ def kill_during_goal(
         servers.send_signal(sig)
 
     threading.Thread(target=kill_soon, daemon=True).start()
-    outcome = run_program(program, RunOptions(platform="ros2", timeout=60.0))
-    assert outcome.trace is not None and killed
-    [update] = outcome.trace.of(UpdateEvent)
+    outcome = run_program(program, RunOptions(record=True, platform="ros2", timeout=60.0))
+    assert outcome.recording is not None and killed
+    [update] = outcome.recording.of(UpdateEvent)
     return update, time.monotonic() - killed[0]
 
 
@@ -189,9 +189,9 @@ def test_the_first_message_reaches_a_subscriber_process_that_was_up_before_the_r
         'action say(string s) { mapping: "/said : std_msgs/msg/String" { data = s } }\n'
         'procedure main() { say("first"); }\n'
     )
-    outcome = run_program(program, RunOptions(platform="ros2", timeout=30.0))
-    assert outcome.ok and outcome.trace is not None
-    assert not [e for e in outcome.trace.records if e.EVENT == "notice"]
+    outcome = run_program(program, RunOptions(record=True, platform="ros2", timeout=30.0))
+    assert outcome.ok and outcome.recording is not None
+    assert not [e for e in outcome.recording.records if e.EVENT == "notice"]
     assert "heard first" in stop(servers).splitlines()
 
 
@@ -280,8 +280,8 @@ def test_the_robot_interfaces_build_without_colcon(robot_interfaces: list[str]) 
 
 def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str], domain: int, tmp_path: Path) -> None:
     example = ROOT / "examples" / "blocksworld.gpp"
-    on_sim = run_program(example, RunOptions(platform="sim"))
-    assert on_sim.ok and on_sim.trace is not None
+    on_sim = run_program(example, RunOptions(record=True, platform="sim"))
+    assert on_sim.ok and on_sim.recording is not None
     env = ros_env(domain, robot_interfaces)
     env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
     robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
@@ -300,10 +300,10 @@ def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str]
     events = trace_events(trace)
     plans = [tuple(e["policy"]) for e in events if e.get("event") == "plan"]
     sensed = {e["fluent"]: e["value"] for e in events if e.get("event") == "sense"}
-    assert plans[0] == on_sim.trace.of(PlanEvent)[0].policy
-    assert sensed == {s.fluent: s.value for s in on_sim.trace.of(SenseEvent)}
+    assert plans[0] == on_sim.recording.of(PlanEvent)[0].policy
+    assert sensed == {s.fluent: s.value for s in on_sim.recording.of(SenseEvent)}
     finals = [(e["action"], e["status"]) for e in events if e.get("event") == "update"]
-    assert finals == [(u.action, u.status) for u in on_sim.trace.of(UpdateEvent)]
+    assert finals == [(u.action, u.status) for u in on_sim.recording.of(UpdateEvent)]
 
 
 NAV2 = """

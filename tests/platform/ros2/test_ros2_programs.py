@@ -51,7 +51,7 @@ def run(tmp_path: Path, text: str, binding: str | None = None, timeout: float = 
     path.write_text(text, encoding="utf-8")
     if binding is not None:
         (tmp_path / "agent.ros2.toml").write_text(binding, encoding="utf-8")
-    return run_program(path, RunOptions(platform="ros2", platform_options=options, timeout=timeout))
+    return run_program(path, RunOptions(record=True, platform="ros2", platform_options=options, timeout=timeout))
 
 
 def ok(outcome: RunOutcome) -> RunOutcome:
@@ -63,8 +63,8 @@ def ok(outcome: RunOutcome) -> RunOutcome:
 
 
 def updates(outcome: RunOutcome) -> list[UpdateEvent]:
-    assert outcome.trace is not None
-    return outcome.trace.of(UpdateEvent)
+    assert outcome.recording is not None
+    return outcome.recording.of(UpdateEvent)
 
 
 def errors(outcome: RunOutcome) -> list[str]:
@@ -158,7 +158,7 @@ def test_an_aborted_goal_fails_with_the_reason(ros: Any, tmp_path: Path) -> None
     [update] = updates(outcome)
     assert update.status == "failed"
     assert 'the action server "/fib" aborted the goal' in (update.reason or "")
-    assert outcome.trace is not None and not outcome.trace.of(SenseEvent)
+    assert outcome.recording is not None and not outcome.recording.of(SenseEvent)
 
 
 @pytest.mark.fault
@@ -359,8 +359,8 @@ bool function postcond() = handled() == "aborted with [0]" & length(seq()) == 0
 def test_a_cancel_the_server_refuses_is_reported_and_the_goal_still_tracked(ros: Any, tmp_path: Path) -> None:
     program = COUNT + "procedure main() { start(count(-11)); cancel(count(-11)); end(count(-11)); }\n"
     outcome = ok(run(tmp_path, program))
-    assert outcome.trace is not None
-    [notice] = outcome.trace.of(NoticeEvent)
+    assert outcome.recording is not None
+    [notice] = outcome.recording.of(NoticeEvent)
     assert notice.action == "count(-11)"
     assert notice.message == 'the action server "/fib" refused to cancel the goal: it still runs'
     [update] = updates(outcome)
@@ -373,8 +373,8 @@ def test_a_cancel_the_server_refuses_is_reported_and_the_goal_still_tracked(ros:
 @pytest.mark.fault
 def test_a_goal_still_running_at_the_end_whose_cancel_is_refused_is_not_waited_for(ros: Any, tmp_path: Path) -> None:
     outcome = ok(run(tmp_path, COUNT + "procedure main() { start(count(-11)); }\n"))
-    assert outcome.trace is not None
-    [notice] = outcome.trace.of(NoticeEvent)
+    assert outcome.recording is not None
+    [notice] = outcome.recording.of(NoticeEvent)
     assert "refused to cancel the goal: it still runs" in notice.message
     assert not [d for d in outcome.diagnostics if "did not acknowledge" in d.message]
 
@@ -538,7 +538,7 @@ def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the
     while len(ros.heard) < 2 and time.monotonic() < deadline:
         time.sleep(0.01)
     assert ros.heard == ["first", "second"]
-    assert outcome.trace is not None and not outcome.trace.of(NoticeEvent)
+    assert outcome.recording is not None and not outcome.recording.of(NoticeEvent)
 
 
 @pytest.mark.fault
@@ -547,8 +547,8 @@ def test_a_message_published_with_no_subscriber_is_said_in_the_trace(ros: Any, t
     outcome = ok(run(tmp_path, program))
     [update] = updates(outcome)
     assert update.status == "final"
-    assert outcome.trace is not None
-    [notice] = outcome.trace.of(NoticeEvent)
+    assert outcome.recording is not None
+    [notice] = outcome.recording.of(NoticeEvent)
     assert notice.action == 'say("lost")'
     assert notice.message == 'published on "/nobody_listens" with no subscriber matched: nobody received it'
 
@@ -595,8 +595,8 @@ procedure main() { say("kept"); test(heard() == "done"); }
     outcome = ok(run(tmp_path, program, binding))
     joiner.join(15)
     assert got == ["kept"]
-    assert outcome.trace is not None
-    [notice] = outcome.trace.of(NoticeEvent)
+    assert outcome.recording is not None
+    [notice] = outcome.recording.of(NoticeEvent)
     assert notice.message.endswith("with no subscriber matched: it is kept for a subscriber that joins later")
 
 
@@ -629,8 +629,8 @@ procedure main() { test(state() == "on"); }
     binding += "server_timeout = 0.1\ntimeout = 0.1\npoll = 0.2\n"
     outcome = run(tmp_path, program, binding, timeout=1.0)
     assert outcome.result is not None and outcome.result.status is RunStatus.TIMEOUT
-    assert outcome.trace is not None
-    [waiting] = [w for w in outcome.trace.of(WaitingEvent) if not w.resumed]
+    assert outcome.recording is not None
+    [waiting] = [w for w in outcome.recording.of(WaitingEvent) if not w.resumed]
     assert "exogenous function `state` has no answer" in waiting.condition
     assert waiting.statement == 'test(state() == "on");'
 
@@ -712,7 +712,7 @@ def test_a_run_starts_nothing_when_a_mapping_is_wrong(ros: Any, tmp_path: Path) 
     program = COUNT.replace("order = n", "ordr = n") + "procedure main() { count(1); }\n"
     outcome = run(tmp_path, program)
     assert outcome.exit_code == 1
-    assert outcome.trace is not None and not outcome.trace.of(StartEvent)
+    assert outcome.recording is not None and not outcome.recording.of(StartEvent)
     assert ros.requests == []
 
 
@@ -733,9 +733,9 @@ def test_trace_times_never_go_back(ros: Any, tmp_path: Path) -> None:
     """A `sense` record is stamped with the time of its `end` (it was stamped after it)."""
     program = COUNT + "procedure main() { count(3); count(4); }\n"
     outcome = ok(run(tmp_path, program))
-    assert outcome.trace is not None
-    times = [e.t for e in outcome.trace.records]
-    assert len(outcome.trace.of(SenseEvent)) == 2
+    assert outcome.recording is not None
+    times = [e.t for e in outcome.recording.records]
+    assert len(outcome.recording.of(SenseEvent)) == 2
     assert times == sorted(times), times
 
 

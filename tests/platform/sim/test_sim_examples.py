@@ -28,7 +28,7 @@ EXAMPLES = ROOT / "examples"
 
 def sim_run(name: str, record: Path | None = None, snapshot: Path | None = None) -> RunOutcome:
     files = {k: v for k, v in {"record": record, "snapshot": snapshot}.items() if v is not None}
-    outcome = run_program(EXAMPLES / name, RunOptions(platform="sim", platform_options=files))
+    outcome = run_program(EXAMPLES / name, RunOptions(record=True, platform="sim", platform_options=files))
     messages = [d.message + " " + " ".join(d.notes) for d in outcome.diagnostics]
     assert outcome.result is not None, messages
     assert outcome.result.status is RunStatus.FINISHED, messages
@@ -37,8 +37,8 @@ def sim_run(name: str, record: Path | None = None, snapshot: Path | None = None)
 
 
 def events(outcome: RunOutcome, kind: type[E]) -> list[E]:
-    assert outcome.trace is not None
-    return outcome.trace.of(kind)
+    assert outcome.recording is not None
+    return outcome.recording.of(kind)
 
 
 def test_blocksworld_senses_plans_and_builds_the_tower() -> None:
@@ -73,7 +73,7 @@ def test_rescue_finds_the_victims_and_returns_home() -> None:
 
 def test_the_world_option_overrides_the_directive() -> None:
     outcome = run_program(
-        EXAMPLES / "rescue.gpp", RunOptions(platform="sim", platform_options={"world": "blocksworld"})
+        EXAMPLES / "rescue.gpp", RunOptions(record=True, platform="sim", platform_options={"world": "blocksworld"})
     )
     assert outcome.result is None  # did not start
     messages = [d.message for d in outcome.diagnostics]
@@ -82,15 +82,17 @@ def test_the_world_option_overrides_the_directive() -> None:
 
 def test_runs_are_reproducible() -> None:
     def trace() -> list[tuple[object, ...]]:
-        outcome = run_program(EXAMPLES / "blocksworld_faults.gpp", RunOptions(platform="sim"))
-        assert outcome.trace is not None
-        return [(r.t, r.EVENT, getattr(r, "action", None), getattr(r, "reason", None)) for r in outcome.trace.records]
+        outcome = run_program(EXAMPLES / "blocksworld_faults.gpp", RunOptions(record=True, platform="sim"))
+        assert outcome.recording is not None
+        return [
+            (r.t, r.EVENT, getattr(r, "action", None), getattr(r, "reason", None)) for r in outcome.recording.records
+        ]
 
     assert trace() == trace()
 
 
 def test_mappings_are_checked_against_what_the_sim_serves() -> None:
-    outcome = run_program(EXAMPLES / "blocks_planning.gpp", RunOptions(platform="sim"))
+    outcome = run_program(EXAMPLES / "blocks_planning.gpp", RunOptions(record=True, platform="sim"))
     assert outcome.result is None
     (error,) = [d for d in outcome.diagnostics if d.code == "R0007"]
     # At the mapping, not at `main()`.
@@ -122,7 +124,7 @@ procedure main() { put(a, t3); }
 """,
         encoding="utf-8",
     )
-    outcome = run_program(program, RunOptions(platform="sim"))
+    outcome = run_program(program, RunOptions(record=True, platform="sim"))
     # Every problem at once, each where the mapping says it, before anything runs.
     assert outcome.result is None
     found = [(d.code, d.span.text, d.message, d.help) for d in outcome.diagnostics]
@@ -163,7 +165,7 @@ procedure main() { get_block_pose(a); }
         + '[[map.region]]\nname = "v2"\ncircle = [2, 2, 1]\nevent = "/victim_detected"\nfields = { id = "v2" }\n',
         encoding="utf-8",
     )
-    outcome = run_program(program, RunOptions(platform="sim", platform_options={"world": str(world)}))
+    outcome = run_program(program, RunOptions(record=True, platform="sim", platform_options={"world": str(world)}))
     messages = [d.message for d in outcome.diagnostics]
     assert messages == [
         'action `get_block_pose` senses into type `location`, which lacks `c`: "/get_block_pose" can report these '
@@ -174,7 +176,9 @@ procedure main() { get_block_pose(a); }
 
 def test_unknown_worlds_are_setup_errors() -> None:
     with pytest.raises(RunSetupError, match=r"no world `rescu` \(available: .*rescue.*; did you mean `rescue`\?"):
-        run_program(EXAMPLES / "rescue.gpp", RunOptions(platform="sim", platform_options={"world": "rescu"}))
+        run_program(
+            EXAMPLES / "rescue.gpp", RunOptions(record=True, platform="sim", platform_options={"world": "rescu"})
+        )
 
 
 @pytest.mark.parametrize(
