@@ -82,3 +82,21 @@ def nested_expression_program(depth: int) -> str:
     expr = "(" * depth + "1" + " + 1)" * depth
     blocks = "{ " * depth + "a();" + " }" * depth
     return f"number function deep() = {expr}\naction a() {{}}\nprocedure main() {blocks}\n"
+
+
+def callers_of_a_renamed_action(n: int) -> str:
+    """`go_to` was `goto`: n procedures still call `goto`, each an error with a did-you-mean."""
+    return "action go_to() {}\n" + "".join(f"procedure caller_{i}() {{ goto(); }}\n" for i in range(n))
+
+
+PICK = "pick (bool b) if (b) a();"
+
+
+def chain_of_procedures(n: int, first: str, main: str, backwards: bool = False) -> str:
+    """p0 .. pn, each calling the one before, p0's body `first`, main's body `main` (where `pn`
+    is the last of the chain), declared from p1 up (or `backwards`, from pn down): what the
+    lints find follows the chain, one call at a time."""
+    links = [f"procedure p{i + 1}() {{ p{i}(); }}\n" for i in range(n)]
+    chain = "".join(reversed(links) if backwards else links)
+    head = f"action a() {{}}\nnumber function r() = 1\nprocedure p0() {{ {first} }}\n"
+    return head + chain + "procedure main() {\n" + main.replace("pn", f"p{n}") + "\n}\n"

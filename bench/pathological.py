@@ -40,7 +40,7 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH))
 
-from genprog import generate_program  # noqa: E402
+from genprog import PICK, callers_of_a_renamed_action, chain_of_procedures, generate_program  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -101,6 +101,15 @@ FAMILIES: list[Family] = [
     Family("generated-program", lambda n: generate_program(max(1, n))),
     Family("one-line-many-diagnostics", lambda n: "procedure main() {" + " zz();" * n + "}\n"),
     Family("one-line-if-diagnostics", lambda n: "procedure main() {" + " if (true) {}" * n + "}\n"),
+    # One unknown name, n errors, each with a did-you-mean among n declared names.
+    Family("callers-of-renamed-action", callers_of_a_renamed_action),
+    # The lints that follow calls: which procedures run only while planning (none), and which
+    # reach a `pick` (all), each found one call further along the chain.
+    Family("procedure-chain-online", lambda n: chain_of_procedures(n, PICK, "pn();")),
+    Family(
+        "procedure-chain-to-pick",
+        lambda n: chain_of_procedures(n, PICK, "solve (2, r()) pn();", backwards=True),
+    ),
     Family("binary-file", binary),
 ]
 

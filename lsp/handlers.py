@@ -1,6 +1,8 @@
 """The requests that read a checked program: each waits for the check of the document's current
 version (GppServer.result_for), converts the LSP position to an offset in that version's text,
-and runs the pure function of lsp.features (or the formatter) on the request thread.
+and runs the pure function of lsp.features (or the formatter) on the request thread. Hover and
+go-to-definition do not wait while a new check runs: they are answered from the last one
+(`at_last_check`), as completion is.
 
 Every handler is guarded: an exception is logged to the client and answered with an empty
 result. A refused rename is the one error response (LSP `RequestFailed`, with the reason).
@@ -19,6 +21,7 @@ from pygls.exceptions import JsonRpcException
 from gpp.base.source import Source, Span
 from gpp.check import CheckResult
 from lsp import features
+from lsp.features.earlier import EarlierText, Unplaced
 from lsp.ranges import lsp_range
 from lsp.server import GppServer, guarded, uri_to_path
 
@@ -51,6 +54,66 @@ async def at(
     result, path = found
     offset = source_of(result, path, ls).lsp_offset(position.line, position.character)
     return await ls.on_request_thread(lambda: fn(result, path, offset))
+
+
+# Places a range of a file (by URI) of an earlier check in the file's current text.
+Place = Callable[[str, types.Range], types.Range]
+
+
+async def at_last_check(
+    ls: GppServer,
+    uri: str,
+    where: types.Position,
+    fn: Callable[[CheckResult, Path, int], R],
+    default: R,
+    relocate: Callable[[R, Place], R],
+) -> R:
+    """`at`, but while the document's current version is being checked, answered at once from
+    its last check: the position mapped into the text that was checked, the answer's ranges
+    (`relocate`) back into the current texts. When either lies in text edited since, the last
+    check cannot tell: as `at`, it waits for the current one."""
+    path = uri_to_path(uri)
+    earlier = ls.earlier_check(path)
+    if earlier is not None:
+        result, doc = earlier
+        offset = EarlierText.of(source_of(result, path, ls), doc.source).offset_checked(where)
+        if offset is not None:
+            checked_offset = offset
+            answer = await ls.on_request_thread(lambda: fn(result, path, checked_offset))
+            try:
+                return relocate(answer, placer(ls, result))
+            except Unplaced:
+                pass
+    return await at(ls, uri, where, fn, default)
+
+
+def placer(ls: GppServer, result: CheckResult) -> Place:
+    """Where the ranges of the files `result` checked are in the files' current texts (the open
+    documents edited since; the others are as checked)."""
+    texts: dict[Path, EarlierText | None] = {}
+
+    def place(uri: str, r: types.Range) -> types.Range:
+        path = uri_to_path(uri)
+        if path not in texts:
+            doc, parsed = ls.session.document(path), result.loaded.file(path)
+            if doc is None or parsed is None or parsed.source.text == doc.text:
+                texts[path] = None  # as checked
+            else:
+                texts[path] = EarlierText.of(parsed.source, doc.source)
+        text = texts[path]
+        return r if text is None else text.range_now(r)
+
+    return place
+
+
+def _hover_now(found: types.Hover | None, place: Place, uri: str) -> types.Hover | None:
+    if found is None or found.range is None:
+        return found
+    return types.Hover(contents=found.contents, range=place(uri, found.range))
+
+
+def _locations_now(found: list[types.Location], place: Place) -> list[types.Location]:
+    return [types.Location(uri=loc.uri, range=place(loc.uri, loc.range)) for loc in found]
 
 
 async def whole(ls: GppServer, uri: str, fn: Callable[[CheckResult, Path], R], default: R) -> R:
@@ -128,12 +191,17 @@ def register_features(server: GppServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     @guarded(_none)
     async def hover(ls: GppServer, params: types.HoverParams) -> types.Hover | None:
-        return await at(ls, params.text_document.uri, params.position, features.hover, None)
+        uri = params.text_document.uri
+        return await at_last_check(
+            ls, uri, params.position, features.hover, None, lambda found, place: _hover_now(found, place, uri)
+        )
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
     @guarded(_empty)
     async def definition(ls: GppServer, params: types.DefinitionParams) -> list[types.Location]:
-        return await at(ls, params.text_document.uri, params.position, features.definition, [])
+        return await at_last_check(
+            ls, params.text_document.uri, params.position, features.definition, [], _locations_now
+        )
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
     @guarded(_empty)

@@ -260,20 +260,21 @@ class _Program:
 
     @cached_property
     def planning_only(self) -> set[int]:
-        """Procedures (by id) that run only while planning: every call is inside `solve` or
-        `search`, or in a procedure that itself runs only while planning."""
-        sites: dict[int, list[_CallSite]] = {}
+        """Procedures (by id) that run only while planning: called, and every call is inside
+        `solve` or `search`, or in a procedure that itself runs only while planning."""
+        called = {id(site.callee) for site in self.call_sites}
+        # The calls outside `solve` and `search`, by caller; a procedure they reach runs online.
+        online_calls: dict[int, list[int]] = {}
+        online: set[int] = set()
         for site in self.call_sites:
-            sites.setdefault(id(site.callee), []).append(site)
-        candidates = set(sites)
-        changed = True
-        while changed:
-            changed = False
-            for callee in list(candidates):
-                if any(not s.planning and (s.caller is None or id(s.caller) not in candidates) for s in sites[callee]):
-                    candidates.discard(callee)
-                    changed = True
-        return candidates
+            if site.planning:
+                continue
+            if site.caller is None or id(site.caller) not in called:
+                online.add(id(site.callee))  # called from where nothing calls
+            else:
+                online_calls.setdefault(id(site.caller), []).append(id(site.callee))
+        _reach(online, online_calls)
+        return called - online
 
     @cached_property
     def choosing(self) -> set[int]:
@@ -282,14 +283,22 @@ class _Program:
         for caller, statements_ in self.body_statements(self.model.files):
             if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements_):
                 found.add(id(caller))
-        changed = True
-        while changed:
-            changed = False
-            for site in self.call_sites:
-                if site.caller is not None and id(site.callee) in found and id(site.caller) not in found:
-                    found.add(id(site.caller))
-                    changed = True
+        callers: dict[int, list[int]] = {}
+        for site in self.call_sites:
+            if site.caller is not None:
+                callers.setdefault(id(site.callee), []).append(id(site.caller))
+        _reach(found, callers)
         return found
+
+
+def _reach(reached: set[int], edges: dict[int, list[int]]) -> None:
+    """Add to `reached` everything its members lead to along `edges` (each edge read once)."""
+    pending = list(reached)
+    while pending:
+        for target in edges.get(pending.pop(), ()):
+            if target not in reached:
+                reached.add(target)
+                pending.append(target)
 
 
 @dataclass(frozen=True, slots=True)

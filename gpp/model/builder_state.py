@@ -20,11 +20,11 @@ type checker and the precedence regrouping); each phase is a `Phase` over one `B
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence, Sized
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
-from gpp.base.suggest import Suggestion
+from gpp.base.suggest import NameIndex, Suggestion
 from gpp.model.model import Model
 from gpp.model.symbols import Reference, Symbol
 from gpp.syntax import ast
@@ -53,6 +53,8 @@ class BuilderState:
         self.reassociated: set[int] = set()
         # Parameters of forward declarations -> the same parameter of the definition.
         self.merged: dict[int, Symbol] = {}
+        # The did-you-mean indexes of the program-wide name tables (`name_index`).
+        self._name_indexes: dict[Hashable, tuple[int, NameIndex]] = {}
 
     # ---------------------------------------------------------------- reporting
 
@@ -77,6 +79,15 @@ class BuilderState:
         if suggested is not None:
             help, fix = suggested.help, suggested.fix(span)
         self.report(diag.error(message, span, label, secondary=secondary, notes=notes, help=help, fix=fix))
+
+    def name_index(self, key: Hashable, table: Sized, names: Callable[[], Iterable[str]]) -> NameIndex:
+        """The did-you-mean index of the names `names()` lists from `table` (the model's globals,
+        types or symbols; `key` says which of its names): built on first use, and again only
+        if the table, which only grows, has grown since."""
+        kept = self._name_indexes.get(key)
+        if kept is None or kept[0] != len(table):
+            kept = self._name_indexes[key] = (len(table), NameIndex(names()))
+        return kept[1]
 
     def refer(self, span: Span, symbol: Symbol, node: ast.Node | None = None, declaration: bool = False) -> None:
         if self.silent:

@@ -261,11 +261,16 @@ class DeclarationChecker(Phase):
         elif isinstance(s, ast.StateAtom):
             component = self.model.globals.get(s.component.name)
             if component is None or component.kind is not SymbolKind.COMPONENT:
-                components = [g.name for g in self.model.globals.values() if g.kind is SymbolKind.COMPONENT]
+                globals_ = self.model.globals
+                components = self.state.name_index(
+                    ("globals", frozenset({SymbolKind.COMPONENT})),
+                    globals_,
+                    lambda: (g.name for g in globals_.values() if g.kind is SymbolKind.COMPONENT),
+                )
                 self.error(
                     E0107.unknown_component(s.component.name),
                     s.component.span,
-                    suggested=suggestion(s.component.name, components),
+                    suggested=components.suggestion(s.component.name),
                 )
                 return
             self.refer(s.component.span, component, s.component)
@@ -274,10 +279,13 @@ class DeclarationChecker(Phase):
             g = s.action
             action = self.model.globals.get(g.name.name)
             if action is None or action.kind is not SymbolKind.ACTION:
-                actions = [x.name for x in self.model.globals.values() if x.kind is SymbolKind.ACTION]
-                self.error(
-                    E0103.unknown("action", g.name.name), g.name.span, suggested=suggestion(g.name.name, actions)
+                globals_ = self.model.globals
+                actions = self.state.name_index(
+                    ("globals", frozenset({SymbolKind.ACTION})),
+                    globals_,
+                    lambda: (x.name for x in globals_.values() if x.kind is SymbolKind.ACTION),
                 )
+                self.error(E0103.unknown("action", g.name.name), g.name.span, suggested=actions.suggestion(g.name.name))
                 return
             self.refer(g.name.span, action, g.name)
             if len(g.args) != len(action.params):

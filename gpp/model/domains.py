@@ -11,7 +11,6 @@ Reads `model.types` and the domains' element types (from resolve); writes each D
 
 from __future__ import annotations
 
-from gpp.base.suggest import suggestion
 from gpp.codes import E0105, E0202, E0213, E0311
 from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.symbols import Symbol, SymbolKind
@@ -70,10 +69,13 @@ class DomainEvaluator(Phase):
         if isinstance(d, ast.DomainRef):
             other = self.model.types.get(d.name.name)
             if other is None or other.kind is not _DOMAIN:
-                domains = [s.name for s in self.model.types.values() if s.kind is SymbolKind.DOMAIN]
+                types = self.model.types
+                domains = self.state.name_index(
+                    ("types", _DOMAIN), types, lambda: (s.name for s in types.values() if s.kind is _DOMAIN)
+                )
                 name = d.name.name
                 message = E0105.not_domain(name) if other is not None else E0105.unknown_domain(name)
-                self.error(message, d.name.span, suggested=suggestion(name, domains))
+                self.error(message, d.name.span, suggested=domains.suggestion(name))
                 return ()
             self.refer(d.name.span, other, d.name)
             values = self.evaluate_domain(other)

@@ -17,7 +17,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from gpp.base import diagnostics as diag
-from gpp.base.suggest import suggestion
 from gpp.codes import E0105, E0206, E0303, E0305, E0311
 from gpp.model.builder_state import Phase
 from gpp.model.symbols import Symbol, SymbolKind
@@ -74,12 +73,15 @@ class TypeResolver(Phase):
             return builtin
         symbol = self.model.types.get(t.name)
         if symbol is None:
-            candidates = [*self.model.types, *(n for n in BUILTIN_TYPES if n != "void")]
+            types = self.model.types
+            candidates = self.state.name_index(
+                "types", types, lambda: [*types, *(n for n in BUILTIN_TYPES if n != "void")]
+            )
             self.error(
                 E0105.unknown_type(t.name),
                 t.span,
                 "not a declared type",
-                suggested=suggestion(t.name, candidates),
+                suggested=candidates.suggestion(t.name),
             )
             return ERROR
         self.refer(t.span, symbol, t)

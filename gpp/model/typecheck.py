@@ -30,7 +30,7 @@ from typing import Any, assert_never
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
-from gpp.base.suggest import suggestion
+from gpp.base.suggest import NameIndex, suggestion, suggestion_among
 from gpp.codes import (
     E0101,
     E0102,
@@ -781,12 +781,12 @@ class TypeChecker(Regrouper):
                 else None,
             )
             return ERROR
-        candidates = [*self.visible_variables(), *self.model.symbols]
+        symbols = self.state.name_index("symbols", self.model.symbols, self.model.symbols.keys)
         self.error(
             E0101.unknown(e.name),
             e.span,
             "not a variable, parameter or symbol",
-            suggested=suggestion(e.name, candidates),
+            suggested=suggestion_among(e.name, (NameIndex(self.visible_variables()), symbols)),
         )
         return ERROR
 
@@ -802,12 +802,16 @@ class TypeChecker(Regrouper):
             else:
                 allowed = EXPRESSION_CALLABLE
                 what = "fluent or function"
-            pool = [g.name for g in self.model.globals.values() if g.kind in allowed]
+            globals_ = self.model.globals
+            pool = self.state.name_index(
+                ("globals", allowed), globals_, lambda: (g.name for g in globals_.values() if g.kind in allowed)
+            )
+            everything = self.state.name_index("globals", globals_, globals_.keys)
             self.error(
                 E0103.unknown(what, name),
                 e.name.span,
                 "not declared",
-                suggested=suggestion(name, pool) or suggestion(name, self.model.globals),
+                suggested=pool.suggestion(name) or everything.suggestion(name),
             )
             for a in e.args:
                 self.expr(a)
@@ -920,10 +924,13 @@ class TypeChecker(Regrouper):
     def compound_literal(self, e: ast.CompoundLit) -> Type:
         symbol = self.model.types.get(e.type_name.name)
         if symbol is None or symbol.kind is not _COMPOUND:
-            compounds = [s.name for s in self.model.types.values() if s.kind is SymbolKind.COMPOUND]
+            types = self.model.types
+            compounds = self.state.name_index(
+                ("types", _COMPOUND), types, lambda: (s.name for s in types.values() if s.kind is _COMPOUND)
+            )
             name = e.type_name.name
             message = E0105.unknown_compound(name) if symbol is None else E0105.not_compound(name)
-            self.error(message, e.type_name.span, suggested=suggestion(name, compounds))
+            self.error(message, e.type_name.span, suggested=compounds.suggestion(name))
             for f in e.fields:
                 self.expr(f.value)
             return ERROR

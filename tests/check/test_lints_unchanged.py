@@ -9,6 +9,8 @@
   one-walk node index give the same warnings as over a plain reading of the tree: every node
   found through its dataclass fields, every outermost expression searched for operator chains,
   every symbol's use asked of the model's reference index.
+* On random call graphs, the procedures that run only while planning, and those that reach a
+  choice, are those the fixed points the lints had first (one procedure per pass) find.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from bench.genprog import generate_program, nested_expression_program
 from gpp.base import diagnostics as diag
@@ -145,6 +148,36 @@ class PlainProgram(lints._Program):
             tops.extend(outermost_expressions(f.program))
         return lints._Nodes(dict(by_type), tops)
 
+    @cached_property
+    def planning_only(self) -> set[int]:
+        sites: dict[int, list[lints._CallSite]] = {}
+        for site in self.call_sites:
+            sites.setdefault(id(site.callee), []).append(site)
+        candidates = set(sites)
+        changed = True
+        while changed:
+            changed = False
+            for callee in list(candidates):
+                if any(not s.planning and (s.caller is None or id(s.caller) not in candidates) for s in sites[callee]):
+                    candidates.discard(callee)
+                    changed = True
+        return candidates
+
+    @cached_property
+    def choosing(self) -> set[int]:
+        found: set[int] = set()
+        for caller, statements_ in self.body_statements(self.model.files):
+            if caller is not None and any(isinstance(s, ast.Pick | ast.Choose) for s, _ in statements_):
+                found.add(id(caller))
+        changed = True
+        while changed:
+            changed = False
+            for site in self.call_sites:
+                if site.caller is not None and id(site.callee) in found and id(site.caller) not in found:
+                    found.add(id(site.caller))
+                    changed = True
+        return found
+
     def used(self, symbol: Symbol) -> bool:
         own = symbol.decl.span if symbol.kind in lints._USABLE_KINDS and symbol.decl is not None else None
         for r in self.model.references_to(symbol, include_declaration=False):
@@ -198,3 +231,51 @@ def test_the_index_lists_the_expressions_with_chains(text: str, chained: bool, w
     expression = text.split(" = ", 1)[1]
     assert [e.span.text for e in program.chained_expressions()] == ([expression] if chained else [])
     assert len(list(lints.mixed_precedence(program))) == warnings
+
+
+# A random call graph: each procedure calls some others, online or inside `search`; some pick.
+call_graphs = st.lists(
+    st.tuples(st.booleans(), st.lists(st.tuples(st.integers(0, 11), st.booleans()), max_size=4)),
+    min_size=1,
+    max_size=12,
+)
+
+
+def call_graph_program(graph: list[tuple[bool, list[tuple[int, bool]]]]) -> str:
+    count = len(graph)
+    lines = ["action a() {}", "number function r() = 1"]
+    for i, (picks, calls) in enumerate(graph):
+        body = ["pick (bool b) if (b) a();"] if picks else []
+        for callee, planning in calls:
+            call = f"p{callee % count}();"
+            body.append(f"search {{ {call} }}" if planning else call)
+        lines.append(f"procedure p{i}() {{ {' '.join(body)} }}")
+    lines.append("procedure main() { p0(); solve (2, r()) p0(); }")
+    return "\n".join(lines) + "\n"
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(call_graphs)
+def test_planning_only_and_choosing_are_the_fixed_points(graph: list[tuple[bool, list[tuple[int, bool]]]]) -> None:
+    path = ROOT / "calls.gpp"
+    loaded = load([path], {path: call_graph_program(graph)})
+    model, _ = with_deep_stack(lambda: build_model(loaded.files))
+    fast, plain = lints._Program(model, [path]), PlainProgram(model, [path])
+    assert fast.planning_only == plain.planning_only
+    assert fast.choosing == plain.choosing
+    assert all_lints(fast) == all_lints(plain)
+
+
+def test_a_chain_called_only_while_planning_runs_only_while_planning() -> None:
+    # p3 -> p2 -> p1 -> p0, p3 called inside `search` only: all four plan; called online: none.
+    chain = "action a() {}\nprocedure p0() { pick (bool b) if (b) a(); }\n" + "".join(
+        f"procedure p{i + 1}() {{ p{i}(); }}\n" for i in range(3)
+    )
+    for main, planning in [("search { p3(); }", 4), ("p3();", 0)]:
+        path = ROOT / "chain.gpp"
+        loaded = load([path], {path: chain + f"procedure main() {{ {main} }}\n"})
+        model, _ = with_deep_stack(lambda: build_model(loaded.files))  # noqa: B023
+        program = lints._Program(model, [path])
+        assert len(program.planning_only) == planning
+        assert len(program.choosing) == 5  # main too
+        assert [d.code for d in lints.online_nondeterminism(program)] == ([] if planning else ["W0105"])

@@ -26,6 +26,7 @@ from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
 
 import gpp
+from bench.genprog import callers_of_a_renamed_action
 from gpp.base.source import Source
 from gpp.check import CheckResult, check_program
 from gpp.syntax.format import format_text
@@ -346,6 +347,48 @@ async def test_completion_right_after_a_keystroke_does_not_wait_for_the_check(
     assert [i.label for i in got.items] == [i.label for i in want.items]
     assert {"v99", "v199", "v989", "v909"} <= {i.label for i in got.items} and "v98" not in {i.label for i in got.items}
     await diagnostics(client, uri, 2)
+
+
+@in_module_loop
+async def test_hover_and_definition_right_after_an_edit_answer_from_the_last_check(
+    client: LanguageClient, workspace: Path
+) -> None:
+    # 8,000 errors with a did-you-mean: a check that takes a while.
+    head = "symbol domain Place = {kitchen, hall}\naction drive(Place to) { }\n"
+    text = head + callers_of_a_renamed_action(8_000) + "procedure main() {\n    drive(hall);\n}\n"
+    line = text.count("\n") - 2  # of `drive(hall);`
+
+    def span(line: int, start: int, end: int) -> dict[str, dict[str, int]]:
+        return {"start": {"line": line, "character": start}, "end": {"line": line, "character": end}}
+
+    uri = await open_checked(client, workspace / "long_check.gpp", text)
+    document = types.TextDocumentIdentifier(uri)
+
+    async def hover_and_definition(at: types.Position) -> tuple[object, object, list[int]]:
+        hover = client.text_document_hover_async(types.HoverParams(document, at))
+        definition = client.text_document_definition_async(types.DefinitionParams(document, at))
+        found = await asyncio.gather(hover, definition)
+        return plain(found[0]), plain(found[1]), [p.version for p in published(client).of(uri)]
+
+    # A line inserted at the top: everything below it moved down by one.
+    change(client, uri, 2, [((0, 0, 0, 0), "// moved\n")])
+    hover, definition, versions = await hover_and_definition(types.Position(line + 1, 5))
+    assert 2 not in versions  # answered while version 2 was being checked
+    assert hover == {
+        "contents": {"kind": "markdown", "value": "```gpp\naction drive(Place to)\n```"},
+        "range": span(line + 1, 4, 9),
+    }
+    assert definition == [{"uri": uri, "range": span(2, 7, 12)}]
+    await diagnostics(client, uri, 2)
+    # The check of version 2 answers the same.
+    assert (await hover_and_definition(types.Position(line + 1, 5)))[:2] == (hover, definition)
+
+    # Where the text changed since the last check, it cannot answer: the new check does.
+    change(client, uri, 3, [((line + 1, 10, line + 1, 14), "kitchen")])
+    hover, definition, versions = await hover_and_definition(types.Position(line + 1, 12))
+    assert 3 in versions
+    assert definition == [{"uri": uri, "range": span(1, 23, 30)}]  # `kitchen` in `Place`
+    client.text_document_did_close(types.DidCloseTextDocumentParams(document))
 
 
 # ---------------------------------------------------------------- other ways to start it

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from bench.genprog import PICK, callers_of_a_renamed_action, chain_of_procedures
+
 
 def main_body(statement: str) -> str:
     return "procedure main() {\n" + statement + "\n}\n"
@@ -61,4 +63,13 @@ FAMILIES: dict[str, tuple[Callable[[int], str], int]] = {
     "long domain": (lambda n: "symbol domain D = {" + ", ".join(f"e{i}" for i in range(n)) + "}\n", 200),
     "long union": (lambda n: "symbol domain A = {a}\nsymbol domain D = " + " | ".join(["A"] * n) + "\n", 200),
     "many declarations": (lambda n: "".join(f"number function f{i}() = {i}\n" for i in range(n)), 100),
+    "callers of a renamed action": (callers_of_a_renamed_action, 250),
+    # Which procedures run only while planning: none, found from main back along the chain
+    # (the `pick` in p0 is online: W0105).
+    "a chain of procedures called online": (lambda n: chain_of_procedures(n, PICK, "pn();"), 500),
+    # Which procedures reach a choice: all, found from p0's `pick` forward along the chain.
+    "a chain of procedures reaching a pick": (
+        lambda n: chain_of_procedures(n, PICK, "solve (2, r()) pn();", backwards=True),
+        1000,
+    ),
 }
