@@ -12,10 +12,6 @@ Prints
   names the type and one whose type came from the graph at attach (and is kept), their goals
   alternating (the test server keeps every finished goal, which slows later goals: measured
   one after the other, the second would seem slower);
-* goal round trip, typed and untyped: the same on two platforms at once, one whose mapping
-  names the type and one whose type came from the graph at attach (and is kept), their goals
-  alternating (the test server keeps every finished goal, which slows later goals: measured
-  one after the other, the second would seem slower);
 * service round trip: the same for a service (std_srvs SetBool);
 * first goal, typed and untyped: on a platform just attached (a new node, the mapping checked),
   its first goal from `start` to the final update, the mapping naming its type
@@ -32,11 +28,26 @@ Prints
 * exogenous function wake-up: a program waits in `test(battery() < level)` on an exogenous
   function answered from a topic (no exogenous action); from publishing the message that makes
   it true until the program resumes (its `waiting` record with `resumed`), median and p90.
+
+Across processes (`--part across`, also in the default `all`; a random ROS domain, discovery
+on localhost only; `--load N` keeps N other processes busy meanwhile, as a test run does):
+* exogenous function wake-up with the publisher in another process (tests/platform/ros2/
+  ros2_publisher.py): it prints the time.monotonic() just before each publish; on Linux that
+  is the system-wide CLOCK_MONOTONIC, the clock this process reads too (checked: each send
+  time lies between this process writing the command and reading the answer);
+* first goal, typed and untyped, with the test servers in another process: a platform created
+  and attached (untyped: the attach waits for discovery to show "/fib"), then its first goal
+  from `start` to the final update (typed: it includes discovering the server);
+* discovery: how long until the agent's graph shows the servers of another process, (a) for
+  an agent that starts while they run (what `discovery_timeout` bounds at attach), from its
+  node being up, and (b) for servers that start while the agent runs, from their `ready`
+  (their own monotonic time); median, p90 and max over --discoveries runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import random
 import signal
@@ -46,6 +57,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -67,6 +79,8 @@ from gpp.check import check_text  # noqa: E402
 from gpp.platform.base import Activity, ActivityUpdate  # noqa: E402
 from gpp.platform.ros2 import Ros2Platform  # noqa: E402
 from gpp.platform.ros2.binding import Binding  # noqa: E402
+from gpp.platform.ros2.bridge import Bridge  # noqa: E402
+from gpp.platform.ros2.checks import DISCOVERY_POLL, snapshot  # noqa: E402
 from gpp.run.runner import RunOptions, run_program  # noqa: E402
 from gpp.runtime.compiled import CompiledProgram  # noqa: E402
 from gpp.runtime.contract import program_interface  # noqa: E402
@@ -222,23 +236,13 @@ def exog_rate(robot: TestRobot, messages: int) -> float:
 def kill_to_failed(order: int, profile: bool, binding: Binding) -> float:
     """Seconds from SIGKILL of the server process (while goal `order` runs) to the failed update."""
     domain = random.randint(101, 200)
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "tests" / "platform" / "ros2")])
-    if profile:
-        env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(ROOT / "examples" / "ros2" / "fastdds_short_lease.xml")
-    server = subprocess.Popen(
-        [sys.executable, str(ROOT / "tests" / "platform" / "ros2" / "ros2_servers.py")],
-        env=env,
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        text=True,
-    )
+    server = spawn("ros2_servers.py", domain, profile)
     assert server.stdout is not None
-    saved = {k: os.environ.get(k) for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}
-    os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
-    platform = Ros2Platform(binding)  # its own context: the variables are read now
-    try:
-        assert "ready" in server.stdout.readline()
+    platform = Ros2Platform(binding)
+    with across(domain), contextlib.ExitStack() as closing:  # its own context, made at attach
+        closing.callback(server.wait, 10)
+        closing.callback(platform.close)
+        ready(server)
         assert not platform.attach(interface(PROGRAM.replace("MESSAGES", "1")))  # type: ignore[arg-type]
         platform.start(Activity(1, GroundAction("count", (order,)), "", {"order": order}))
         for line in server.stdout:
@@ -253,14 +257,256 @@ def kill_to_failed(order: int, profile: bool, binding: Binding) -> float:
             if events:
                 assert events[0].status.value == "failed", events[0]
                 return time.perf_counter() - killed
+
+
+# ---------------------------------------------------------------- across processes
+
+HELPERS = ROOT / "tests" / "platform" / "ros2"
+
+
+@contextlib.contextmanager
+def across(domain: int) -> Iterator[None]:
+    """ROS traffic of the platforms created meanwhile in this process: domain `domain`,
+    discovery on localhost only (rclpy reads the variables when a context is initialised)."""
+    keys = ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")
+    saved = {k: os.environ.get(k) for k in keys}
+    os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    try:
+        yield
     finally:
-        platform.close()
-        server.wait(10)
         for k, v in saved.items():
             if v is None:
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+def spawn(script: str, domain: int, short_lease: bool = False) -> subprocess.Popen[str]:
+    """tests/platform/ros2/SCRIPT in a process of its own, in `domain`, on localhost."""
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(HELPERS)])
+    if short_lease:
+        env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(ROOT / "examples" / "ros2" / "fastdds_short_lease.xml")
+    return subprocess.Popen(
+        [sys.executable, str(HELPERS / script)], env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
+    )
+
+
+def ready(process: subprocess.Popen[str]) -> float:
+    """Wait for the process's `ready` line; the time.monotonic() it gives (or now)."""
+    assert process.stdout is not None
+    line = process.stdout.readline()
+    assert line.startswith("ready"), f"the process did not start: {line!r}"
+    words = line.split()
+    return float(words[1]) if len(words) > 1 else time.monotonic()
+
+
+def finish(process: subprocess.Popen[str]) -> None:
+    if process.stdin is not None:
+        process.stdin.close()
+    try:
+        process.wait(10)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(10)
+
+
+def one_clock() -> None:
+    """Times of other processes are compared with this one's: the system-wide monotonic clock."""
+    implementation = time.get_clock_info("monotonic").implementation
+    assert implementation == "clock_gettime(CLOCK_MONOTONIC)", f"not one clock for all processes: {implementation}"
+
+
+class Driven:
+    """ros2_publisher.py: `ask` sends a command, returns its answer and the times (this
+    process's monotonic clock) just before writing it and just after reading the answer."""
+
+    def __init__(self, domain: int) -> None:
+        self.process = spawn("ros2_publisher.py", domain)
+        ready(self.process)
+
+    def ask(self, command: str) -> tuple[str, float, float]:
+        assert self.process.stdin is not None and self.process.stdout is not None
+        before = time.monotonic()
+        self.process.stdin.write(command + "\n")
+        self.process.stdin.flush()
+        answer = self.process.stdout.readline().strip()
+        return answer, before, time.monotonic()
+
+
+def wake_ups_across(n: int) -> list[float]:
+    """Seconds from the publisher process publishing the battery level that makes the waiting
+    test true (its clock) until the program in this process resumes (this one's), `n` times."""
+    one_clock()
+    domain = random.randint(101, 200)
+    publisher = Driven(domain)
+    waiting = threading.Event()
+    resumed = threading.Event()
+    at: list[float] = []
+    times: list[float] = []
+
+    def listen(event: TraceEvent) -> None:
+        if isinstance(event, WaitingEvent):
+            if event.resumed:
+                at.append(time.monotonic())
+                resumed.set()
+            else:
+                waiting.set()
+
+    def publish() -> None:
+        assert publisher.ask("advertise /battery float64 keep_all")[0] == "advertised"
+        assert publisher.ask("match /battery")[0] == "matched"
+        for level in range(n, 0, -1):
+            assert waiting.wait(30.0), "the program does not wait"
+            waiting.clear()
+            resumed.clear()
+            time.sleep(0.005)  # it waits, with nothing else to do
+            answer, before, after = publisher.ask(f"send /battery {level - 0.5}")
+            sent = float(answer.split()[1])
+            assert before <= sent <= after, (before, sent, after)  # one clock
+            assert resumed.wait(30.0), "the program did not resume"
+            times.append(at[-1] - sent)
+
+    try:
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "wake.gpp"
+            path.write_text(WAKE_PROGRAM.replace("LEVELS", str(n)))
+            (Path(folder) / "wake.ros2.toml").write_text(
+                '[exog_function.battery]\ntopic = "/battery : std_msgs/msg/Float64"\n'
+            )
+            driver = threading.Thread(target=publish)
+            driver.start()
+            with across(domain):
+                outcome = run_program(path, RunOptions(platform="ros2", timeout=300.0), listeners=[listen])
+            driver.join(60)
+            assert outcome.ok, [d.message for d in outcome.diagnostics]
+    finally:
+        finish(publisher.process)
+    return times
+
+
+def first_goals_across(mapped: str, repeat: int) -> tuple[list[float], list[float]]:
+    """With the test servers in another process: for each of `repeat` platforms, (create +
+    attach) and its first goal (`start` to the final update), `count` mapped to `mapped`."""
+    domain = random.randint(101, 200)
+    server = spawn("ros2_servers.py", domain)
+    program = PROGRAM.replace("MESSAGES", "1").replace(FIB_TYPED, f'"{mapped}"')
+    iface = interface(program)
+    attaches: list[float] = []
+    goals: list[float] = []
+    try:
+        ready(server)
+        for i in range(repeat):
+            began = time.perf_counter()
+            platform = Ros2Platform(Binding(discovery_timeout=30.0))
+            try:
+                with across(domain):  # its own context, made at attach
+                    assert not platform.attach(iface)  # type: ignore[arg-type]
+                attaches.append(time.perf_counter() - began)
+                activity = Activity(i + 1, GroundAction("count", (1,)), mapped, {"order": 1})  # type: ignore[arg-type]
+                started = time.perf_counter()
+                platform.start(activity)
+                update = None
+                while update is None:
+                    assert platform.queue.wait(30.0), "no answer within 30 s"
+                    for _, event in platform.queue.drain():
+                        if isinstance(event, ActivityUpdate):
+                            update = event
+                if update.status.value == "final":
+                    goals.append(time.perf_counter() - started)
+                else:
+                    print(f"    a first goal failed: {update.reason}")
+            finally:
+                platform.close()
+    finally:
+        finish(server)
+    return attaches, goals
+
+
+def shows_servers(bridge: Bridge, deadline: float) -> float:
+    """Poll the agent's graph (as the attach does) until it shows the test servers' "/fib" and
+    "/basic"; the time.monotonic() then."""
+    while time.monotonic() < deadline:
+        known, _ = bridge.call(snapshot, bridge, timeout=5.0)
+        if "/fib" in known and "/basic" in known:
+            return time.monotonic()
+        time.sleep(DISCOVERY_POLL)
+    raise TimeoutError("the agent's graph did not show the servers")
+
+
+def discovery_across(runs: int) -> tuple[list[float], list[float]]:
+    """(a) an agent node started while the servers run: from its node being up until its graph
+    shows them; (b) servers started while an agent runs: from their `ready` until it does."""
+    domain = random.randint(101, 200)
+    joining: list[float] = []
+    server = spawn("ros2_servers.py", domain)
+    try:
+        ready(server)
+        for _ in range(runs):
+            with across(domain):
+                bridge = Bridge(None, None, "gpp_agent")
+            up = time.monotonic()
+            try:
+                joining.append(shows_servers(bridge, up + 60) - up)
+            finally:
+                bridge.close()
+    finally:
+        finish(server)
+    starting: list[float] = []
+    for _ in range(runs):
+        domain = random.randint(101, 200)
+        with across(domain):
+            bridge = Bridge(None, None, "gpp_agent")
+        try:
+            server = spawn("ros2_servers.py", domain)
+            try:
+                served = ready(server)
+                starting.append(shows_servers(bridge, time.monotonic() + 60) - served)
+            finally:
+                finish(server)
+        finally:
+            bridge.close()
+    return joining, starting
+
+
+def spread(values: list[float]) -> str:
+    ordered = sorted(values)
+    p90 = ordered[int(0.9 * (len(ordered) - 1))]
+    slow = sum(v > 1.0 for v in ordered)
+    return (
+        f"median {statistics.median(ordered) * 1000:.0f} ms, p90 {p90 * 1000:.0f} ms, "
+        f"max {ordered[-1] * 1000:.0f} ms; {slow} of {len(ordered)} runs over 1 s"
+    )
+
+
+@contextlib.contextmanager
+def load(n: int) -> Iterator[None]:
+    """`n` other processes keeping a core busy each (a test run beside the agent)."""
+    busy = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(n)]
+    try:
+        yield
+    finally:
+        for process in busy:
+            process.kill()
+            process.wait(10)
+
+
+def across_processes(args: argparse.Namespace) -> None:
+    print(f"ros2 platform (test nodes in another process, discovery on localhost; {args.load} busy processes beside)")
+    with load(args.load):
+        joining, starting = discovery_across(args.discoveries)
+        print(f"  discovery, agent joins running servers   {spread(joining)}")
+        print(f"  discovery, servers join a running agent  {spread(starting)}")
+        if args.verbose:
+            print("    agent joins (s):", " ".join(f"{v:.2f}" for v in sorted(joining)))
+            print("    servers join (s):", " ".join(f"{v:.2f}" for v in sorted(starting)))
+        for word, mapped in (("typed", "/fib : test_msgs/action/Fibonacci"), ("untyped", "/fib")):
+            attaches, goals = first_goals_across(mapped, args.first)
+            print(
+                f"  first goal, {word:<8} {ms(goals)}; create + attach {ms(attaches)} "
+                f"({len(goals)} of {args.first} platforms)"
+            )
+        print(f"  exog function wake-up  {ms(wake_ups_across(args.wakes))} ({args.wakes} messages)")
 
 
 def seconds(values: list[float]) -> str:
@@ -341,7 +587,21 @@ def main() -> None:
     parser.add_argument("--kills", type=int, default=5)
     parser.add_argument("--kill-default", action="store_true", help="also kill -9 with Fast DDS's default lease")
     parser.add_argument("--wakes", type=int, default=100)
+    parser.add_argument("--first", type=int, default=10, help="platforms for the first goals across processes")
+    parser.add_argument("--discoveries", type=int, default=10, help="runs of each discovery measure")
+    parser.add_argument("--load", type=int, default=0, help="busy processes beside the cross-process part")
+    parser.add_argument("--verbose", action="store_true", help="print every discovery time")
+    parser.add_argument("--part", choices=("all", "in-process", "kills", "across"), default="all")
     args = parser.parse_args()
+    if args.part in ("all", "in-process"):
+        in_process(args)
+    if args.part in ("all", "kills"):
+        kills(args)
+    if args.part in ("all", "across"):
+        across_processes(args)
+
+
+def in_process(args: argparse.Namespace) -> None:
     context = Context()
     rclpy.init(
         context=context, args=["--ros-args", "--log-level", "error"], signal_handler_options=SignalHandlerOptions.NO
@@ -367,6 +627,9 @@ def main() -> None:
         Ros2Platform.shared_context = None
         robot.close()
         context.try_shutdown()
+
+
+def kills(args: argparse.Namespace) -> None:
     print("ros2 platform (test servers in another process, killed with SIGKILL mid-goal)")
     lease = [kill_to_failed(5000, True, Binding()) for _ in range(args.kills)]
     print(f"  kill -9 -> failed, 1 s lease   {seconds(lease)}")

@@ -80,8 +80,9 @@ class Ros2Options:
     discovery_timeout: float | None = field(
         default=None,
         metadata=about(
-            "s to wait before the run for the names mapped without a type to appear, so that their mappings are "
-            "checked first (default: the binding file's, else 3)"
+            "s the attach waits at most for discovery: for the names mapped without a type (their mappings are "
+            "checked first) and the subscribers of the topics the program publishes on (default: the binding "
+            "file's, else 5)"
         ),
     )
     log_level: str = field(default="warn", metadata=about("rclpy's log level (debug, info, warn, error)"))

@@ -31,7 +31,6 @@ import rclpy
 from action_msgs.msg import GoalStatus
 from action_msgs.srv import CancelGoal
 from rclpy.action.client import ActionClient
-from rclpy.action.graph import get_action_names_and_types
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -224,19 +223,34 @@ class Bridge:
     # ---------------------------------------------------------------- the graph
 
     def graph_type(self, name: str) -> tuple[str, str] | None:
-        """(kind, type name) of `name` in the ROS graph now: an action server, a service or a
-        topic (with a publisher or a subscriber: an action that publishes on it finds its
-        type from the subscribers waiting for its messages); None when it is not there (yet)."""
-        for n, types in get_action_names_and_types(self.node):
-            if n == name and types:
-                return "action", types[0]
-        for n, types in self.node.get_service_names_and_types():
-            if n == name and types:
-                return "srv", types[0]
+        """(kind, type name) of `name` in the ROS graph now: an action server, a service server
+        or a topic (with a publisher or a subscriber: an action that publishes on it finds its
+        type from the subscribers waiting for its messages); None when it is not there (yet).
+        Clients do not count: the agent's own client of a type no server has any more would
+        hide the type a new server has."""
+        found = self.served_type(name)
+        if found is not None:
+            return found
         for n, types in self.node.get_topic_names_and_types():
             if n == name and types and self.node.count_publishers(name) + self.node.count_subscribers(name) > 0:
                 return "msg", types[0]
         return None
+
+    def served_type(self, name: str) -> tuple[str, str] | None:
+        """("action" or "srv", type name) of a server of `name` in the graph now, if one is."""
+        goal = f"{name}/_action/send_goal"
+        service = None
+        for node, namespace in self.node.get_node_names_and_namespaces():
+            try:
+                served = self.node.get_service_names_and_types_by_node(node, namespace)
+            except Exception:  # the node left meanwhile
+                continue
+            for n, types in served:
+                if n == goal and types and types[0].endswith("_SendGoal"):
+                    return "action", types[0].removesuffix("_SendGoal")
+                if n == name and types and service is None:
+                    service = types[0]
+        return ("srv", service) if service is not None else None
 
     # ---------------------------------------------------------------- jobs
 
@@ -323,20 +337,43 @@ class Bridge:
             job.deadline = self.now() + job.server_timeout
             self._publish_when_matched(job)
             return
-        if kind == "action":
-            client = self._action_clients.get(key)
-            if client is None:
-                client = ActionClient(self.node, job.interface.cls, job.name)
-                self._action_clients[key] = client
-        else:
-            client = self._service_clients.get(key)
-            if client is None:
-                client = self.node.create_client(job.interface.cls, job.name)
-                self._service_clients[key] = client
+        clients = self._action_clients if kind == "action" else self._service_clients
+        client = clients.get(key)
+        if client is None:
+            # A participant has one type per name: a client of the type the name had before
+            # (its server went, one of another type came) goes first.
+            if not self._drop_clients(job.name):
+                self._fail(job, f'"{job.name}" is now {job.interface.name}, and a goal of its old type still runs')
+                return
+            try:
+                if kind == "action":
+                    client = ActionClient(self.node, job.interface.cls, job.name)
+                else:
+                    client = self.node.create_client(job.interface.cls, job.name)
+            except Exception as e:
+                self._fail(job, f'cannot make a client of "{job.name}" ({job.interface.name}): {e}')
+                return
+            clients[key] = client
         job.client = client
         job.phase = "waiting"
         job.deadline = self.now() + job.server_timeout
         self._wait_for_server(job)
+
+    def _drop_clients(self, name: str) -> bool:
+        """Destroy the clients of `name` (of another type than a job about to be prepared needs);
+        False when one of them is still used by a job."""
+        for clients in (self._action_clients, self._service_clients):
+            for key, client in list(clients.items()):
+                if key[0] != name:
+                    continue
+                if any(j.client is client for j in self.jobs if j.phase != "ended"):
+                    return False
+                del clients[key]
+                if clients is self._action_clients:
+                    client.destroy()
+                else:
+                    self.node.destroy_client(client)
+        return True
 
     def publisher(self, name: str, interface: Interface, qos: Qos | None) -> Any:
         """The agent's publisher of `name` (made once, on the spin thread)."""
@@ -377,6 +414,7 @@ class Bridge:
             self._send(job)
         elif job.from_graph and self._type_changed(job):
             job.interface = None
+            job.client = None
             job.phase = "resolving"
             self._resolve(job)
         elif self.now() >= job.deadline:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Collection
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -59,67 +59,83 @@ class Target:
 
 class Graph:
     """The names in the ROS graph when the program attaches (kind and type of each). The names
-    in `wanted` (those mapped without a type) are waited for, at most `timeout` seconds:
-    discovery takes a moment after the agent's node starts, and a mapping is checked before the
-    run only if its type is known by then."""
+    in `wanted` (those mapped without a type) are waited for until `deadline` (a
+    `time.monotonic()` time): discovery takes a moment after the agent's node starts, and a
+    mapping is checked before the run only if its type is known by then. A topic that only has
+    subscribers is `listened`: its type is enough for an action that publishes on it (the
+    names `wanted` with True), not for an exogenous action or function (they need a
+    publisher's)."""
 
-    def __init__(self, bridge: Bridge | None, wanted: Collection[str] = (), timeout: float = 0.0) -> None:
+    def __init__(self, bridge: Bridge | None, wanted: Mapping[str, bool] | None = None, deadline: float = 0.0) -> None:
         self.known: dict[str, tuple[str, str]] = {}
+        self.listened: dict[str, str] = {}
         if bridge is None:
             return
-        deadline = time.monotonic() + timeout
+        wanted = wanted or {}
         while True:
             try:
-                self.known = bridge.call(snapshot, bridge, timeout=5.0)
+                self.known, self.listened = bridge.call(snapshot, bridge, timeout=5.0)
             except Exception:
-                self.known = {}
+                self.known, self.listened = {}, {}
                 return
-            if all(name in self.known for name in wanted) or time.monotonic() >= deadline:
+            found = all(self.lookup(name, subscribed) is not None for name, subscribed in wanted.items())
+            if found or time.monotonic() >= deadline:
                 return
             time.sleep(DISCOVERY_POLL)
 
-    def lookup(self, name: str) -> tuple[str, str] | None:
-        return self.known.get(name)
+    def lookup(self, name: str, subscribed: bool = False) -> tuple[str, str] | None:
+        """(kind, type) of `name`; `subscribed`: a topic that only has subscribers counts too."""
+        found = self.known.get(name)
+        if found is None and subscribed and name in self.listened:
+            return "msg", self.listened[name]
+        return found
 
 
 # s between two looks at the graph while waiting for names to be discovered
 DISCOVERY_POLL = 0.02
 
 
-def snapshot(bridge: Bridge) -> dict[str, tuple[str, str]]:
+def snapshot(bridge: Bridge) -> tuple[dict[str, tuple[str, str]], dict[str, str]]:
     """Every name in the ROS graph now (on the spin thread): its kind (action, srv, or msg for
-    a topic with publishers) and type."""
+    a topic with publishers) and type; and the topics that only have subscribers, with their
+    types."""
     from rclpy.action.graph import get_action_names_and_types
 
     node = bridge.node
     known: dict[str, tuple[str, str]] = {}
+    listened: dict[str, str] = {}
     for name, types in node.get_topic_names_and_types():
         if types and node.count_publishers(name) > 0:
             known[name] = ("msg", types[0])
+        elif types and node.count_subscribers(name) > 0:
+            listened[name] = types[0]
     for name, types in node.get_service_names_and_types():
         if types:
             known[name] = ("srv", types[0])
     for name, types in get_action_names_and_types(node):
         if types:
             known[name] = ("action", types[0])
-    return known
+    return known, listened
 
 
-def untyped_names(interface: ProgramInterface, b: Binding) -> set[str]:
+def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
     """The ROS names the program maps without a type (in the mapping or the binding file):
-    their types come from the graph."""
-    names: set[str] = set()
-    mapped = [a.mapped_name for a in interface.actions.values()]
-    mapped += [e.mapped_name for e in interface.exog_actions.values()]
-    for text in mapped:
+    their types come from the graph. True: only actions use the name, and a topic's
+    subscribers tell its type as well as a publisher."""
+    names: dict[str, bool] = {}
+    mapped = [(a.mapped_name, True) for a in interface.actions.values()]
+    mapped += [(e.mapped_name, False) for e in interface.exog_actions.values()]
+    for text, by_action in mapped:
         try:
             name = parse_mapped(text)
         except NameError_:
             continue
         entry = b.names.get(name.name)
         if name.type is None and (entry is None or entry.type is None):
-            names.add(name.name)
-    names.update(f.source.name for f in b.functions.values() if f.source.type is None)
+            names[name.name] = names.get(name.name, True) and by_action
+    for f in b.functions.values():
+        if f.source.type is None:
+            names[f.source.name] = False
     return names
 
 
@@ -131,7 +147,7 @@ def _parse(mapped: str, span: Span, what: str) -> tuple[MappedName | None, list[
 
 
 def _type_name(
-    name: MappedName, binding: Binding, graph: Graph, span: Span, what: str
+    name: MappedName, binding: Binding, graph: Graph, span: Span, what: str, subscribed: bool = False
 ) -> tuple[str | None, list[Problem]]:
     entry = binding.names.get(name.name)
     declared = name.type
@@ -146,7 +162,7 @@ def _type_name(
             ]
         declared = entry.type
     if declared is None:
-        found = graph.lookup(name.name)
+        found = graph.lookup(name.name, subscribed)
         if found is not None:
             return found[1], []
     return declared, []
@@ -165,7 +181,8 @@ def action_target(binding: ActionBinding, b: Binding, graph: Graph) -> tuple[Tar
     if name is None:
         return None, problems
     entry = b.entry(name.name)
-    type_name, problems = _type_name(name, b, graph, binding.span, what)
+    # An action that publishes on a topic finds its type from the subscribers too.
+    type_name, problems = _type_name(name, b, graph, binding.span, what, subscribed=True)
     if problems:
         return None, problems
     if type_name is None:

@@ -76,8 +76,6 @@ log = logging.getLogger("gpp.platform.ros2")
 # s between two looks at the graph for the types of names mapped without one, not yet seen
 TARGET_LOOK = 0.1
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
-# s the attach waits for the subscribers of the topics the program publishes on to be matched.
-SUBSCRIBER_WAIT = 1.0
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
 
@@ -200,9 +198,11 @@ class Ros2Platform(Platform):
             return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
         bridge = self.bridge
         self.t0 = bridge.t0
-        # The names mapped without a type are checked against the types the graph shows: wait
-        # (bounded) for discovery to find them first.
-        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), self.binding.discovery_timeout)
+        # One wait for discovery, at most discovery_timeout in all: first for the names mapped
+        # without a type (their mappings are checked against the types the graph shows), then
+        # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
+        deadline = time.monotonic() + self.binding.discovery_timeout
+        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
         for name, binding in sorted(interface.actions.items()):
             target, found = checks.action_target(binding, self.binding, graph)
             problems.extend(found)
@@ -263,13 +263,14 @@ class Ros2Platform(Platform):
         bridge.watchers.append(self._watch_topics)
         bridge.watchers.append(self._watch_targets)
         bridge.watchers.append(self._watch_sources)
-        self._wait_for_subscribers()
+        self._wait_for_subscribers(deadline)
         return []
 
-    def _wait_for_subscribers(self) -> None:
-        """Make the publishers of the actions that publish now, and wait (at most
-        SUBSCRIBER_WAIT s) until each has a subscriber and has matched all those the graph
-        shows: a subscriber that is up before the run gets the first message."""
+    def _wait_for_subscribers(self, deadline: float) -> None:
+        """Make the publishers of the actions that publish now, and wait (until `deadline`, the
+        end of the attach's one wait for discovery) until each has a subscriber and has matched
+        all those the graph shows: a subscriber that is up before the run gets the first
+        message."""
         assert self.bridge is not None
         bridge = self.bridge
         publishers = [
@@ -277,7 +278,6 @@ class Ros2Platform(Platform):
             for t in self.targets.values()
             if t.interface is not None and t.interface.kind == "msg"
         ]
-        deadline = time.monotonic() + SUBSCRIBER_WAIT
         while publishers and time.monotonic() < deadline:
             try:
                 publishers = [p for p in publishers if bridge.call(_waiting_for_subscriber, bridge, p, timeout=1.0)]

@@ -3,7 +3,7 @@
 `TestRobot(context)` runs them on a node of the given context (in-process tests share one
 context with the platform, discovery off); `python ros2_servers.py` runs them in a process of
 their own (cross-process tests, with a random domain and discovery on localhost only) and
-prints `ready` once they serve.
+prints `ready T` once they serve (T: its time.monotonic() then).
 
 Behaviours:
 * `/fib` (test_msgs/action/Fibonacci), chosen by `order`: >= 0 succeed with the sequence;
@@ -231,7 +231,7 @@ def main() -> None:
     robot = TestRobot(context, "test_robot_process", announce=True)
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
-    print("ready", flush=True)
+    print(f"ready {time.monotonic()}", flush=True)  # the system-wide CLOCK_MONOTONIC on Linux
     threading.Thread(target=lambda: (sys.stdin.read(), stop.set()), daemon=True).start()
     stop.wait()
     robot.close()

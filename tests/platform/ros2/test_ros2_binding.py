@@ -59,7 +59,7 @@ poll = 1
 """,
     )
     assert b.server_timeout == 2.0 and b.result_timeout_for("/x", service=False) == 60.0
-    assert b.discovery_timeout == 1.5 and Binding().discovery_timeout == 3.0
+    assert b.discovery_timeout == 1.5 and Binding().discovery_timeout == 5.0
     nav = b.names["/navigate_to_pose"]
     assert nav.type == "nav2_msgs/action/NavigateToPose" and nav.stamp == ("pose.header.stamp",)
     assert b.ack_timeout_for("/navigate_to_pose") == 1.5 and b.ack_timeout_for("/other") == 5.0

@@ -7,12 +7,14 @@ publisher sends after the match, and what does not fit is a `dropped` record and
 
 from __future__ import annotations
 
+import itertools
 import subprocess
 import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -128,6 +130,59 @@ bool function postcond() = seen() == 45
     waits = outcome.recording.of(WaitingEvent)
     assert any('no message on "/battery" yet' in w.condition for w in waits), waits
     assert waits[-1].resumed and waits[-1].statement == "test(battery() < 50);"
+
+
+def test_max_rate_limits_the_wake_ups_and_the_value_read_is_the_latest(
+    publisher: Publisher, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Messages at 50 Hz, `max_rate = 5`: the platform wakes the waiting program at most 5
+    times a second (each wake-up it queues is counted, with its time), not once a message;
+    each evaluation reads the latest value (they skip values, never go back), and the last
+    message, whose wake-up is held back, is the one the program reads at the end."""
+    from gpp.platform.base import ExogFunctionChanged
+    from gpp.platform.ros2.platform import Ros2Platform
+    from gpp.runtime.contract import EventQueue
+
+    program = """
+number exog_function battery();
+number fluent seen() { initially: () = -1; }
+procedure main() { test(battery() >= 99); seen() = battery(); }
+bool function postcond() = seen() == 99
+"""
+    wakes: list[float] = []  # platform times of the wake-ups queued
+    put = EventQueue.put
+
+    def counted(self: EventQueue, event: Any, t: float) -> None:
+        if isinstance(event, ExogFunctionChanged) and event.function == "battery":
+            wakes.append(t)
+        put(self, event, t)
+
+    read: list[Any] = []
+    ask = Ros2Platform._ask
+
+    def asked(self: Ros2Platform, *args: Any) -> Any:
+        value = ask(self, *args)
+        read.append(value)
+        return value
+
+    monkeypatch.setattr(EventQueue, "put", counted)
+    monkeypatch.setattr(Ros2Platform, "_ask", asked)
+    sent: list[float] = []
+
+    def drive() -> None:
+        assert publisher.ask("advertise /battery float64 keep_all") == "advertised"
+        assert publisher.ask("match /battery") == "matched"
+        _, began, ended = publisher.ask("ramp /battery 100 50").split()  # 0..99, 2 s
+        sent.extend((float(began), float(ended)))
+
+    finished(run_with(tmp_path, program, BATTERY + "max_rate = 5\n", drive))
+    gaps = [b - a for a, b in itertools.pairwise(wakes)]
+    assert len(wakes) >= 3, wakes
+    assert min(gaps) >= 1 / 5 - 1e-9, gaps  # never two wake-ups within 1/max_rate s
+    # Over the 2 s of messages (100 of them): about 10 wake-ups, not one a message.
+    assert len(wakes) <= 5 * (sent[1] - sent[0]) + 3, (len(wakes), sent)
+    assert read == sorted(read) and read[-1] == 99.0, read
+    assert len(set(read)) < 50, read  # the latest value, not each message in turn
 
 
 # ---------------------------------------------------------------- item 4: missing and stale values

@@ -23,6 +23,7 @@ from gpp.platform.ros2.bridge import Bridge
 from gpp.run.runner import RunOptions, RunOutcome, RunSetupError, run_program
 from gpp.runtime.events import UpdateEvent
 from gpp.runtime.executor import RunStatus
+from tests.platform.ros2.test_ros2_exog import Publisher, publisher  # noqa: F401 (fixtures)
 from tests.platform.ros2.test_ros2_processes import domain, ros_env, servers, trace_events  # noqa: F401 (fixtures)
 
 
@@ -136,10 +137,10 @@ procedure main() { test(heard() == "hello"); }
         time.sleep(0.5)
         late.append(ros.node.create_publisher(String, "/late_events", 10))
 
-    publisher = threading.Thread(target=publish_late)
-    publisher.start()
+    publishing = threading.Thread(target=publish_late)
+    publishing.start()
     outcome = run(tmp_path, program, discovery_timeout="0.2")
-    publisher.join(10)
+    publishing.join(10)
     assert outcome.result is not None and outcome.result.status is RunStatus.ERROR
     [(line, message, hint)] = r0007(outcome)
     assert line == 5 and "`std_msgs/String` has no field `dat`" in message and hint == "did you mean `data`?"
@@ -290,3 +291,97 @@ def test_a_mistyped_field_in_an_untyped_mapping_stops_the_run_before_any_goal(
     assert "Traceback" not in shown
     assert not [line for line in out.splitlines() if line.startswith(("request", "goal"))], out
     assert not [e for e in trace_events(trace) if e.get("event") == "start"]  # nothing ran
+
+
+# ---------------------------------------------------------------- a server that comes back with another type
+
+SWAP = """
+string fluent heard() { initially: () = ""; }
+exog_action said(string what) {
+mapping:
+    "/events : std_msgs/msg/String" { data = what }
+effect:
+    heard() = what;
+}
+action go(PARAMS) {
+mapping:
+    "/swap" { MAPPING }
+}
+procedure main() { test(heard() == "seen"); go(FIRST); test(heard() == "swapped"); go(SECOND); }
+"""
+
+
+def swap_servers(publisher: Publisher, tmp_path: Path, program: str) -> RunOutcome:  # noqa: F811
+    """Run `program` against a Fibonacci server on "/swap" in another process that, after the
+    first goal, goes and comes back as a NestedMessage server (then the program is told
+    "swapped" on /events)."""
+    path = tmp_path / "agent.gpp"
+    path.write_text(program, encoding="utf-8")
+    assert publisher.ask("serve /swap fib") == "serving"
+    assert publisher.ask("advertise /events string keep_all") == "advertised"
+    failure: list[BaseException] = []
+
+    def swap() -> None:
+        try:
+            # The first goal once the server's process sees the agent: discovery can be one-sided
+            # for a while (up to Fast DDS's next announcement, 3 s), and a goal request sent
+            # meanwhile is lost (a failed goal after ack_timeout, not what this test is about).
+            assert publisher.ask("node gpp_agent") == "found"
+            assert publisher.ask("match /events") == "matched"
+            time.sleep(0.3)
+            publisher.ask("send /events seen")
+            deadline = time.monotonic() + 60
+            while publisher.ask("goals /swap") != "goals 1":
+                assert time.monotonic() < deadline, "no goal on /swap"
+                time.sleep(0.02)
+            assert publisher.ask("unserve /swap") == "gone"
+            assert publisher.ask("serve /swap nested") == "serving"
+            assert publisher.ask("match /events") == "matched"
+            time.sleep(0.5)  # the agent's graph shows the change (it is not ordered with messages)
+            publisher.ask("send /events swapped")
+        except BaseException as e:
+            failure.append(e)
+
+    swapper = threading.Thread(target=swap)
+    swapper.start()
+    # Discovery across processes takes a moment, more on a busy machine: waited for generously.
+    outcome = run_program(path, RunOptions(platform="ros2", platform_options={"discovery_timeout": "30"}, timeout=60.0))
+    swapper.join(60)
+    assert not failure, failure
+    return outcome
+
+
+@pytest.mark.fault
+@pytest.mark.slow
+def test_a_server_that_comes_back_with_another_type_that_fits_gets_the_next_goal(
+    publisher: Publisher,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """No server of the kept type answers any more, and the graph shows another: the mapping
+    is checked against it, fits (it names no field), and the next goal goes to the new server."""
+    program = SWAP.replace("PARAMS", "").replace("MAPPING", "").replace("FIRST", "").replace("SECOND", "")
+    outcome = finished(swap_servers(publisher, tmp_path, program))
+    assert outcome.trace is not None
+    assert [u.status for u in outcome.trace.of(UpdateEvent)] == ["final", "final"]
+    assert publisher.ask("goals /swap") == "goals 2"
+
+
+@pytest.mark.fault
+@pytest.mark.slow
+def test_a_server_that_comes_back_with_another_type_is_checked_against_it(
+    publisher: Publisher,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """No server of the kept type (Fibonacci) answers any more; the graph shows NestedMessage,
+    which has no field `order`: the run stops with R0007 at the mapping, and the new server
+    never gets a goal."""
+    program = SWAP.replace("PARAMS", "number n").replace("MAPPING", "order = n")
+    outcome = swap_servers(publisher, tmp_path, program.replace("FIRST", "1").replace("SECOND", "2"))
+    assert outcome.result is not None and outcome.result.status is RunStatus.ERROR
+    [(line, message, _)] = r0007(outcome)
+    assert line == 11 and "test_msgs/NestedMessage" in message and "has no field `order`" in message, message
+    assert publisher.ask("goals /swap") == "goals 1"
+    assert outcome.trace is not None
+    updates = outcome.trace.of(UpdateEvent)
+    assert [u.status for u in updates] == ["final", "failed"], [u.reason for u in updates]
+    assert "nothing was sent" in (updates[1].reason or "")

@@ -544,7 +544,7 @@ def test_the_first_message_published_reaches_a_subscriber_that_was_up_before_the
 @pytest.mark.fault
 def test_a_message_published_with_no_subscriber_is_said_in_the_trace(ros: Any, tmp_path: Path) -> None:
     program = SAY.replace("/said", "/nobody_listens") + 'procedure main() { say("lost"); }\n'
-    outcome = ok(run(tmp_path, program))
+    outcome = ok(run(tmp_path, program, discovery_timeout="0.3"))  # the attach waits for a subscriber
     [update] = updates(outcome)
     assert update.status == "final"
     assert outcome.recording is not None
@@ -553,12 +553,24 @@ def test_a_message_published_with_no_subscriber_is_said_in_the_trace(ros: Any, t
     assert notice.message == 'published on "/nobody_listens" with no subscriber matched: nobody received it'
 
 
+@pytest.mark.fault
+def test_the_attach_waits_once_for_discovery_names_and_subscribers_alike(ros: Any, tmp_path: Path) -> None:
+    """A name mapped without a type that never appears and a topic nobody subscribes to: the
+    attach waits for both at once, at most `discovery_timeout` in all (not that and then a
+    wait for subscribers on top)."""
+    program = SAY.replace("/said", "/nobody_listens") + 'action poke() { mapping: "/nowhere" {} }\n'
+    program += "procedure main() { }\n"
+    started = time.monotonic()
+    ok(run(tmp_path, program, discovery_timeout="1.5"))
+    took = time.monotonic() - started
+    assert 1.5 <= took < 1.5 + 0.9, took  # two waits took 2.5 s and more
+
+
 def test_a_transient_local_publisher_keeps_its_message_for_a_late_joiner(ros: Any, tmp_path: Path) -> None:
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
     from std_msgs.msg import String
 
-    from gpp.platform.ros2.platform import SUBSCRIBER_WAIT
-
+    discovery_timeout = 0.5
     program = (
         SAY.replace("/said", "/late")
         + """
@@ -579,7 +591,7 @@ procedure main() { say("kept"); test(heard() == "done"); }
         while ros.node.count_publishers("/late") == 0 and time.monotonic() < deadline:
             time.sleep(0.01)
         # The message is published before anyone subscribes: after the attach's wait for one.
-        time.sleep(SUBSCRIBER_WAIT + 0.5)
+        time.sleep(discovery_timeout + 0.5)
         latched = QoSProfile(
             depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
         )
@@ -592,7 +604,7 @@ procedure main() { say("kept"); test(heard() == "done"); }
     joiner = threading.Thread(target=join_late)
     joiner.start()
     binding = '["/late"]\nqos = { durability = "transient_local", depth = 1 }\n'
-    outcome = ok(run(tmp_path, program, binding))
+    outcome = ok(run(tmp_path, program, binding, discovery_timeout=str(discovery_timeout)))
     joiner.join(15)
     assert got == ["kept"]
     assert outcome.recording is not None
