@@ -345,7 +345,8 @@ def swap_servers(publisher: Publisher, tmp_path: Path, program: str) -> RunOutco
     swapper = threading.Thread(target=swap)
     swapper.start()
     # Discovery across processes takes a moment, more on a busy machine: waited for generously.
-    outcome = run_program(path, RunOptions(platform="ros2", platform_options={"discovery_timeout": "30"}, timeout=60.0))
+    options = RunOptions(platform="ros2", platform_options={"discovery_timeout": "30"}, timeout=60.0, record=True)
+    outcome = run_program(path, options)
     swapper.join(60)
     assert not failure, failure
     return outcome
@@ -361,8 +362,8 @@ def test_a_server_that_comes_back_with_another_type_that_fits_gets_the_next_goal
     is checked against it, fits (it names no field), and the next goal goes to the new server."""
     program = SWAP.replace("PARAMS", "").replace("MAPPING", "").replace("FIRST", "").replace("SECOND", "")
     outcome = finished(swap_servers(publisher, tmp_path, program))
-    assert outcome.trace is not None
-    assert [u.status for u in outcome.trace.of(UpdateEvent)] == ["final", "final"]
+    assert outcome.recording is not None
+    assert [u.status for u in outcome.recording.of(UpdateEvent)] == ["final", "final"]
     assert publisher.ask("goals /swap") == "goals 2"
 
 
@@ -381,7 +382,7 @@ def test_a_server_that_comes_back_with_another_type_is_checked_against_it(
     [(line, message, _)] = r0007(outcome)
     assert line == 11 and "test_msgs/NestedMessage" in message and "has no field `order`" in message, message
     assert publisher.ask("goals /swap") == "goals 1"
-    assert outcome.trace is not None
-    updates = outcome.trace.of(UpdateEvent)
+    assert outcome.recording is not None
+    updates = outcome.recording.of(UpdateEvent)
     assert [u.status for u in updates] == ["final", "failed"], [u.reason for u in updates]
     assert "nothing was sent" in (updates[1].reason or "")
