@@ -5,7 +5,9 @@ is the pretty-printer's (printer.format_program), so the formatted program parse
 tree; the formatter then lines up the program's tokens with the printed ones (the same but for
 the spelling of literals and the redundant parentheses the printer drops), writes the comments
 and blank lines of each gap between two tokens into the matching gap of the printed text, and
-breaks lines longer than `WIDTH` at their loosest break points. The rules for comments, blank
+breaks lines longer than `WIDTH` at their loosest break points. A byte-order mark at the start
+is kept (and, as `gpp check` does, not read as part of the program), and so are the line
+endings of the file's first line (`\r\n` or `\n`) for all lines. The rules for comments, blank
 lines and line breaks, as users see them: docs/format.md.
 """
 
@@ -19,7 +21,7 @@ from enum import Enum
 from itertools import pairwise
 
 from gpp.base.diagnostics import Diagnostic
-from gpp.base.source import Source
+from gpp.base.source import BOM, Source
 from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
 from gpp.syntax.parser import parse
 from gpp.syntax.printer import INDENT, format_program
@@ -38,8 +40,40 @@ class FormatError(Exception):
 
 
 def format_text(text: str, path: str = "<input>") -> str:
-    """`text` formatted: the canonical layout with its comments. Raises FormatError when the
-    text has syntax errors (the text is then not formatted)."""
+    """`text` formatted: the canonical layout with its comments, its byte-order mark if it has
+    one, its first line's line ending on every line. Raises FormatError when the text has
+    syntax errors (the text is then not formatted); their positions count from after the
+    byte-order mark, as `gpp check`'s do."""
+    bom = BOM if text.startswith(BOM) else ""
+    body = text[len(bom) :]
+    formatted = _format(body, path)
+    if _first_line_ending(body) == "\r\n":
+        formatted = _crlf(formatted, path)
+    return bom + formatted
+
+
+def _first_line_ending(text: str) -> str:
+    """The line ending of the first line: `\r\n` or `\n` (also when there is no line break)."""
+    at = text.find("\n")
+    return "\r\n" if at > 0 and text[at - 1] == "\r" else "\n"
+
+
+def _crlf(text: str, path: str) -> str:
+    """Formatted `text` with `\r\n` line endings: every `\n` but those inside a string literal
+    (whose value must not change) becomes `\r\n`."""
+    tokens, _ = tokenize(Source(text, path))
+    parts: list[str] = []
+    pos = 0
+    for t in tokens:
+        if t.type == "STRING" and "\n" in t.value:
+            parts += [text[pos : t.start].replace("\n", "\r\n"), t.value]
+            pos = t.end
+    parts.append(text[pos:].replace("\n", "\r\n"))
+    return "".join(parts)
+
+
+def _format(text: str, path: str) -> str:
+    """`text` (without a byte-order mark) formatted, with `\n` line endings but in literals."""
     source = Source(text, path)
     result = parse(source)
     if not result.ok:

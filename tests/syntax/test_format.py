@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import random
 import re
+import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -186,6 +188,61 @@ def test_syntax_errors_raise_with_the_diagnostics() -> None:
         ("E0011", 2, "agent.gpp")
     ]
     assert str(caught.value) == "expected `;` after this statement"
+
+
+# ---------------------------------------------------------------- byte-order mark and line endings
+
+
+def test_a_byte_order_mark_is_kept_and_not_read_as_code() -> None:
+    assert format_text("\ufeffaction a( );\n") == "\ufeffaction a();\n"
+    assert format_text("\ufeffaction a();\n") == "\ufeffaction a();\n"
+    assert format_text("\ufeff") == "\ufeff"
+    assert format_text("action a();\n") == "action a();\n"  # none is added
+
+
+def test_syntax_errors_after_a_byte_order_mark_are_where_gpp_check_puts_them(tmp_path: Path) -> None:
+    path = tmp_path / "bom.gpp"
+    path.write_bytes(b"\xef\xbb\xbfprocedure main() { a() }\n")
+    with pytest.raises(FormatError) as caught:
+        format_text(path.read_text(encoding="utf-8"))
+    assert [(d.code, d.span.line, d.span.col) for d in caught.value.diagnostics] == [("E0011", 1, 23)]
+    assert "bom.gpp:1:23" in run_gpp("check", "bom.gpp", cwd=tmp_path).stdout
+
+
+CRLF = 'action go(); // c\r\nprocedure main() {go();\r\n  say("a\nb"); say("c\r\nd");}\r\n'
+CRLF_FORMATTED = (
+    'action go();  // c\r\nprocedure main() {\r\n    go();\r\n    say("a\nb");\r\n    say("c\r\nd");\r\n}\r\n'
+)
+
+
+def test_a_crlf_file_stays_crlf_but_inside_strings() -> None:
+    assert format_text(CRLF) == CRLF_FORMATTED
+    assert format_text(CRLF_FORMATTED) == CRLF_FORMATTED
+
+
+def test_the_first_line_ending_is_the_files() -> None:
+    assert format_text("action a();\r\naction b();\naction c();\n") == "action a();\r\naction b();\r\naction c();\r\n"
+    assert format_text("action a();\naction b();\r\n") == "action a();\naction b();\n"
+    assert format_text("\ufeffaction a();\r\n") == "\ufeffaction a();\r\n"
+
+
+def test_fmt_formats_a_file_with_a_byte_order_mark_or_crlf_line_endings(tmp_path: Path) -> None:
+    (tmp_path / "bom.gpp").write_bytes(b"\xef\xbb\xbfaction a( );\n")
+    (tmp_path / "crlf.gpp").write_bytes(CRLF.encode())
+    result = run_gpp("fmt", "bom.gpp", "crlf.gpp", cwd=tmp_path)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "2 files reformatted, 0 left unchanged\n", "")
+    assert (tmp_path / "bom.gpp").read_bytes() == b"\xef\xbb\xbfaction a();\n"
+    assert (tmp_path / "crlf.gpp").read_bytes() == CRLF_FORMATTED.encode()
+    again = run_gpp("fmt", "--check", "bom.gpp", "crlf.gpp", cwd=tmp_path)
+    assert (again.returncode, again.stdout) == (0, "0 files would be reformatted, 2 already formatted\n")
+
+
+def test_fmt_keeps_the_line_endings_of_standard_input(tmp_path: Path) -> None:
+    # A real process: the in-process runner reads its output in text mode.
+    done = subprocess.run(
+        [sys.executable, "-m", "gpp", "fmt", "-"], input=CRLF.encode(), capture_output=True, cwd=tmp_path, check=False
+    )
+    assert (done.returncode, done.stdout, done.stderr) == (0, CRLF_FORMATTED.encode(), b"")
 
 
 # ---------------------------------------------------------------- properties
