@@ -1,11 +1,11 @@
 """The formatter's mutation fuzzer, one of the fuzzers of `make fuzz` (bench/fuzz.py).
 
-A mutant is a program of examples/, stdlib/ or tests/programs/ (or of the benchmark generator)
-laid out anew at random (line breaks and spaces between tokens joined or split), with
-comments of every kind and `// gpp: allow` suppressions of the three kinds (at the end of a
-line, on a line of their own, `allow-file`) sprinkled between random tokens, and sometimes a
-token-level mutation of bench/fuzz.py that still parses. Mutants with syntax errors are
-skipped: the formatter refuses them.
+A mutant is a program of examples/, stdlib/, tests/programs/, of the lint tests (one per lint)
+or of the benchmark generator, laid out anew at random (line breaks and spaces between tokens
+joined or split), with comments of every kind and `// gpp: allow` suppressions of the three
+kinds (at the end of a line, on a line of their own, `allow-file`) sprinkled between random
+tokens, the suppressions allowing mostly the lints the program has; sometimes with `\r\n` line
+endings or a byte-order mark. Every mutant parses.
 
 The properties (`formatting_problems`): the formatted text parses to the same tree; it keeps
 every comment, in order, and the directives; formatting it again changes nothing; its line
@@ -138,23 +138,20 @@ class Mutant:
 
 
 class FormatterFuzzer:
-    """Formatter mutants from the repository's programs, one per call."""
+    """Formatter mutants of the repository's programs (`sources`)."""
 
-    def __init__(self, rnd: random.Random) -> None:
-        self.rnd = rnd
+    def __init__(self) -> None:
         self.sources = sources()
         self.codes = {path: lint_codes(text, path) for path, text in self.sources}
 
-    def __call__(self) -> Mutant:
-        rnd = self.rnd
+    def mutant(self, rnd: random.Random) -> Mutant:
         path, text = rnd.choice(self.sources)
         if rnd.random() < 0.7:
             text = relayout(text, rnd, rnd.choice((0.05, 0.2, 0.5, 1.0)))
         if rnd.random() < 0.6:
             text = sprinkle(text, rnd, rnd.randint(1, 30))
         text = sprinkle_suppressions(text, rnd, rnd.randint(1, 12), self.codes[path])
-        ending = rnd.random()
-        if ending < 0.15:
+        if rnd.random() < 0.15:
             text = text.replace("\n", "\r\n")
         if rnd.random() < 0.05:
             text = BOM + text
@@ -177,16 +174,19 @@ def comments(text: str) -> list[str]:
 
 
 _PARENS = frozenset({"LPAR", "RPAR"})
+_QUOTED = re.compile(r"`[^`]*`")
 
 
 def warnings(text: str, path: Path) -> Counter[tuple[str, str, int]]:
-    """The warnings of `gpp check` on `text`, each as its code, its message and the number of
-    tokens before it (parentheses, which formatting may drop, not counted)."""
+    """The warnings of `gpp check` on `text`, each as its code, its message (without the code
+    it quotes, which may have other spaces and comments) and the number of tokens before it
+    (parentheses, which formatting may drop, not counted)."""
     starts = [t.start for t in parse_text(text.removeprefix(BOM)).tokens if t.type not in _PARENS]
     found: Counter[tuple[str, str, int]] = Counter()
     for d in check_text(text.removeprefix(BOM), path).diagnostics:
         if d.severity is Severity.WARNING and d.span.source.identity == str(path):
-            found[(d.code, d.message, _before(starts, d))] += 1
+            message = _QUOTED.sub("`...`", d.message)
+            found[(d.code, message, _before(starts, d))] += 1
     return found
 
 

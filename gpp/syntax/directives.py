@@ -2,12 +2,19 @@
 code) that tell the tools how to run it, e.g. `// world: rescue` (the sim's world) or
 `// scenario: blocks.toml` (the dummy's scenario). A directive's value is one word; a comment
 with more words after the colon is an ordinary comment. The first occurrence of a key counts.
+
+Suppressions, `// gpp: allow CODES` and `// gpp: allow-file CODES`, are comments the checker
+reads too (gpp.check.suppress); `SUPPRESSION` matches their start, and the formatter keeps them
+on the lines they cover.
 """
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
+
+# The start of a suppression comment; group 1 is `allow` or `allow-file`.
+SUPPRESSION = re.compile(r"//[ \t]*gpp:[ \t]*(allow-file|allow)(?![\w-])")
 
 _DIRECTIVE = re.compile(r"^\s*//\s*([a-z][a-z0-9_-]*)\s*:\s*(\S+)\s*$")
 # Directives are read from the comment lines at the top; this many lines at most.

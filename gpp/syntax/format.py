@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import difflib
 import re
+from bisect import bisect_left
 from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -22,6 +23,7 @@ from itertools import pairwise
 
 from gpp.base.diagnostics import Diagnostic
 from gpp.base.source import BOM, Source
+from gpp.syntax.directives import SUPPRESSION
 from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
 from gpp.syntax.parser import parse
 from gpp.syntax.printer import INDENT, format_program
@@ -91,7 +93,9 @@ def _format(text: str, path: str) -> str:
         placed[target].extend(gap.comments)
         blank_before[target] |= gap.blank_before_token
         newline_before[target] |= gap.newline
-    return _Writer(printed, out_tokens, placed, blank_before, newline_before).run()
+    declarations = {d.span.start for d in result.program.declarations}
+    kept = _SuppressedLines.find(text, result.tokens, declarations).printed(token_map, len(out_tokens))
+    return _Writer(printed, out_tokens, placed, blank_before, newline_before, kept).run()
 
 
 def _keep_literal_spelling(
@@ -225,6 +229,69 @@ def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[
     return target
 
 
+# ---------------------------------------------------------------- lines that suppressions cover
+
+
+@dataclass(slots=True)
+class _SuppressedLines:
+    """The lines of code a `// gpp: allow` comment covers, to be kept as they are: by token
+    index, the tokens that must start a line (`first`) and those that must not (`joined`).
+
+    A suppression at the end of a line covers the lints that start on that line, and one on
+    a line of its own, above anything but a declaration, those that start on the next line
+    from its first token on (gpp.check.suppress). The formatter puts the comment where it was,
+    after the same token or above it, so it covers the same code if that line keeps the same
+    tokens: its first token starts a line, the others stay on it, and (for the line below a
+    comment) the token after its last starts a new line. A comment above a declaration covers
+    the declaration, wherever its lines go: nothing to keep."""
+
+    first: set[int]
+    joined: set[int]
+
+    @staticmethod
+    def find(text: str, tokens: list[Token], declarations: set[int]) -> _SuppressedLines:
+        lines = _SuppressedLines(set(), set())
+        if "gpp:" not in text:
+            return lines
+        starts = [t.start for t in tokens]
+        previous_end = 0
+        for g in range(len(tokens) + 1):
+            end = tokens[g].start if g < len(tokens) else len(text)
+            if "gpp:" in text[previous_end:end]:
+                for m in _COMMENT.finditer(text, previous_end, end):
+                    found = SUPPRESSION.match(m.group())
+                    if found is None or found.group(1) == "allow-file":
+                        continue
+                    line_start = text.rfind("\n", 0, m.start()) + 1
+                    if text[line_start : m.start()].strip() and previous_end > line_start:
+                        # At the end of a line: the tokens from the line's first on.
+                        lines.keep(bisect_left(starts, line_start), g)
+                    elif g < len(tokens) and tokens[g].start not in declarations:
+                        # Above a line: its tokens from the next one on.
+                        line_end = text.find("\n", tokens[g].start)
+                        last = bisect_left(starts, len(text) if line_end < 0 else line_end)
+                        lines.keep(g, last)
+                        if last < len(tokens):
+                            lines.first.add(last)
+            if g < len(tokens):
+                previous_end = tokens[g].end
+        return lines
+
+    def keep(self, lo: int, hi: int) -> None:
+        """Tokens lo..hi-1 stay one line of their own."""
+        if lo < hi:
+            self.first.add(lo)
+            self.joined.update(range(lo + 1, hi))
+
+    def printed(self, token_map: list[int], printed: int) -> _SuppressedLines:
+        """The same lines by printed token (`token_map`: original token -> printed one); a
+        printed token that must start a line and must not (two tokens map to it when the
+        printer drops a parenthesis) starts one."""
+        first = {token_map[i] for i in self.first if token_map[i] < printed}
+        joined = {token_map[i] for i in self.joined if token_map[i] < printed} - first
+        return _SuppressedLines(first, joined)
+
+
 # ---------------------------------------------------------------- writing
 
 
@@ -232,6 +299,7 @@ class _Mode(Enum):
     OWN_LINE = 1  # on a line of its own
     TRAILING = 2  # at the end of a line of code
     INLINE = 3  # between two tokens of one line
+    SAME_LINE = 4  # after a comment on a line of its own, on that line
 
 
 _OPENERS = frozenset({"LPAR", "LBRACKET", "LBRACE", "MAIN_LBRACE"})
@@ -255,11 +323,13 @@ class _Writer:
         comments: list[list[_Comment]],
         blank_before: list[bool],
         newline_before: list[bool],
+        kept: _SuppressedLines,
     ) -> None:
         self.printed = printed
         self.tokens = tokens
         self.comments = comments
         self.blank_before = blank_before
+        self.kept = kept
         n = len(tokens)
         # Per printed token: does it start a printed line, that line's indentation, and the
         # bracket depth before it relative to the start of its printed line.
@@ -286,7 +356,7 @@ class _Writer:
         stack: list[int] = []  # the brackets open at a token, opened on its printed line
         for k, t in enumerate(self.tokens):
             sep = self.printed[self.tokens[k - 1].end : t.start] if k else "\n"
-            if "\n" in sep:
+            if "\n" in sep and k not in self.kept.joined:
                 lines.append(k)
                 indent = sep[sep.rfind("\n") + 1 :]
                 depth = 0
@@ -306,8 +376,13 @@ class _Writer:
                 stack.append(k)
         # The program's own line breaks where a long line could be broken are kept; then
         # what is still too long is wrapped.
+        # So are the breaks that keep the lines suppressions cover.
         for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=False):
-            kept = [k for k in range(lo + 1, hi) if newline_before[k] and self._break_rank(k) is not None]
+            kept = [
+                k
+                for k in range(lo + 1, hi)
+                if (newline_before[k] and self._break_rank(k) is not None) or k in self.kept.first
+            ]
             self.breaks.update(kept)
             bounds = [lo, *kept, hi]
             for start, end in pairwise(bounds):
@@ -319,6 +394,7 @@ class _Writer:
                 self.exploded.add(self.enclosing[k][-1])
         for o in self.exploded:
             self.breaks.update((o + 1, self.closer_of[o]))
+        self.breaks -= self.kept.joined
 
     def continuation(self, k: int) -> str:
         """The indentation of token k when a line is broken before it: one step per exploded
@@ -337,6 +413,8 @@ class _Writer:
 
     def _span_length(self, lo: int, hi: int) -> int:
         text = self.printed[self.tokens[lo].start : self.tokens[hi - 1].end]
+        if any(k in self.kept.joined for k in range(lo + 1, hi)):
+            text = re.sub(r"\n *", " ", text)  # printed lines joined to keep a suppressed line
         return max(len(line) for line in text.split("\n"))
 
     def _wrap(self, lo: int, hi: int) -> None:
@@ -360,6 +438,8 @@ class _Writer:
 
     def _break_rank(self, k: int) -> int | None:
         """How loose a line break before token k is (lower is looser), None if no break fits."""
+        if k in self.kept.joined:
+            return None
         before = self.tokens[k - 1].type
         t = self.tokens[k].type
         if before == "EQ" and not self.indent[k]:
@@ -420,7 +500,8 @@ class _Writer:
         at_start = k == 0
         for c in comments:
             if at_start or c.own_line:
-                mode = _Mode.OWN_LINE
+                follows = not c.own_line and modes and modes[-1] in (_Mode.OWN_LINE, _Mode.SAME_LINE)
+                mode = _Mode.SAME_LINE if follows else _Mode.OWN_LINE
             elif c.ends_line:
                 mode = _Mode.TRAILING
             else:
@@ -454,7 +535,8 @@ class _Writer:
         elif last_inline:
             self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
         else:
-            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+            separator = self.printed[self.tokens[k - 1].end : self.tokens[k].start]
+            self.write(" " if "\n" in separator else separator)  # a line joined to keep a suppression
 
     def _comments(self, k: int, printed_break: bool, line_break: bool) -> tuple[bool, bool]:
         """Write the comments of gap k; whether token k now starts a line, and whether the
@@ -467,16 +549,23 @@ class _Writer:
             closing = self.tokens[k].type == "RBRACE" and indent == self.indent[k]
             comment_indent = indent + INDENT if closing else indent
         last_inline = False
-        for c, mode in zip(comments, self._modes(k, comments, line_break), strict=True):
+        modes = self._modes(k, comments, line_break)
+        for i, (c, mode) in enumerate(zip(comments, modes, strict=True)):
             last_inline = False
+            line_ends = i + 1 == len(modes) or modes[i + 1] is not _Mode.SAME_LINE
             if mode is _Mode.OWN_LINE:
                 if not self.at_line_start:
                     self.newline()
                 if c.blank_before:
                     self.blank_line()
                 self.write(comment_indent + _reindent(c, len(comment_indent)))
-                self.newline()
+                if line_ends:
+                    self.newline()
                 self.after_opener = False
+            elif mode is _Mode.SAME_LINE:
+                self.write(" " + _reindent(c, len(self.lines[-1]) + 1))
+                if line_ends:
+                    self.newline()
             elif mode is _Mode.TRAILING:
                 if "\n" not in c.text:
                     self.trailing_at[len(self.lines) - 1] = len(self.lines[-1])

@@ -9,20 +9,20 @@ parses to the same tree, keeps every comment in order, and is formatted already.
 from __future__ import annotations
 
 import random
-import re
 import subprocess
 import sys
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 
+from bench.fmtfuzz import FormatterFuzzer, formatting_problems, sprinkle, warnings
 from bench.genprog import generate_program
 from gpp.base.source import Source
 from gpp.syntax import ast
-from gpp.syntax.directives import directives
 from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
@@ -190,6 +190,71 @@ def test_syntax_errors_raise_with_the_diagnostics() -> None:
     assert str(caught.value) == "expected `;` after this statement"
 
 
+# ---------------------------------------------------------------- suppressions
+
+# A suppression covers a line (gpp/check/suppress.py): the formatter keeps that line's code on
+# one line of its own, however the layout would have split or joined it.
+SUPPRESSIONS: dict[str, tuple[str, str]] = {
+    "at the end of a line, the line's statements stay on it": (
+        "procedure main() { a(); b(); // gpp: allow W0105\n c(); }\n",
+        "procedure main() { a(); b();  // gpp: allow W0105\n    c();\n}\n",
+    ),
+    "at the end of the last line of an expression, that line stays apart": (
+        "procedure main() {\n    x() = 1 +\n    2; // gpp: allow W0107\n}\n",
+        "procedure main() {\n    x() = 1 +\n        2;  // gpp: allow W0107\n}\n",
+    ),
+    "after the last argument, the list is laid out to keep the line": (
+        "procedure main() { f(a,\n b); // gpp: allow W0107\n}\n",
+        "procedure main() {\n    f(\n        a,\n        b);  // gpp: allow W0107\n}\n",
+    ),
+    "above a line of statements, that line stays as it is": (
+        "procedure main() {\n// gpp: allow W0107\n  a(); b();\n  c(); }\n",
+        "procedure main() {\n    // gpp: allow W0107\n    a(); b();\n    c();\n}\n",
+    ),
+    "above a declaration, the declaration is laid out as any other": (
+        "// gpp: allow W0101\naction a() { effect: x() = 1; }\n",
+        "// gpp: allow W0101\naction a() {\neffect:\n    x() = 1;\n}\n",
+    ),
+    "after a comment on a line of its own, on that line": (
+        "action a();\n  /* c */ // gpp: allow W0107\n /* d\n   e */ /* f */ // g\naction b();\n",
+        "action a();\n/* c */ // gpp: allow W0107\n/* d\n  e */ /* f */ // g\naction b();\n",
+    ),
+}
+
+
+@pytest.mark.parametrize("source, expected", SUPPRESSIONS.values(), ids=SUPPRESSIONS.keys())
+def test_suppression_placement(source: str, expected: str) -> None:
+    assert format_text(source) == expected
+    assert format_text(expected) == expected
+
+
+def test_a_suppression_allows_the_same_lints_after_formatting() -> None:
+    # Both loops are busy waits (W0106); the suppression at the end of the line allows both.
+    source = "procedure main() {\n    while (true) {} while (true) {}  // gpp: allow W0106\n}\n"
+    path = ROOT / "tests" / "programs" / "busy.gpp"
+    assert warnings(source, path) == Counter()
+    assert warnings(format_text(source), path) == Counter()
+    # Without the suppression: the same two warnings, at the same tokens, before and after.
+    plain = source.replace("  // gpp: allow W0106", "")
+    assert sorted(warnings(plain, path)) == [
+        ("W0106", "this `...` loop never executes an action, a test or an assignment", n) for n in (3, 7)
+    ]
+    assert warnings(format_text(plain), path) == warnings(plain, path)
+
+
+# The formatter's mutation corpus (bench/fmtfuzz.py, also run by `make fuzz`): programs laid
+# out anew, with comments and suppressions of every kind at random places.
+MUTANTS = FormatterFuzzer()
+
+
+@settings(max_examples=examples(100), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.randoms(use_true_random=False))
+def test_formatting_a_mutant_keeps_its_tree_comments_line_endings_and_warnings(rnd: random.Random) -> None:
+    mutant = MUTANTS.mutant(rnd)
+    note(f"mutant of {mutant.path}: {mutant.text!r}")
+    assert formatting_problems(mutant.text, mutant.path) == []
+
+
 # ---------------------------------------------------------------- byte-order mark and line endings
 
 
@@ -247,20 +312,6 @@ def test_fmt_keeps_the_line_endings_of_standard_input(tmp_path: Path) -> None:
 
 # ---------------------------------------------------------------- properties
 
-COMMENT = re.compile(r"//[^\n]*|/\*[\s\S]*?\*/")
-
-
-def comments(text: str) -> list[str]:
-    """The comments of a program (between its tokens), whitespace normalised."""
-    found: list[str] = []
-    previous = 0
-    for token in [*parse_text(text).tokens, None]:
-        end = token.start if token is not None else len(text)
-        found.extend(" ".join(m.group().split()) for m in COMMENT.finditer(text, previous, end))
-        if token is not None:
-            previous = token.end
-    return found
-
 
 def reparse(text: str) -> ast.Program:
     result = parse_text(text)
@@ -269,12 +320,9 @@ def reparse(text: str) -> ast.Program:
 
 
 def assert_formats_faithfully(text: str) -> None:
-    """Formatting keeps the tree and the comments, and formatted text is formatted already."""
-    formatted = format_text(text)
-    assert reparse(formatted) == reparse(text), formatted
-    assert comments(formatted) == comments(text), formatted
-    assert directives(formatted) == directives(text), formatted
-    assert format_text(formatted) == formatted, formatted
+    """Formatting keeps the tree, the comments, the directives and the line endings, and
+    formatted text is formatted already (bench/fmtfuzz.py, without the lints)."""
+    assert formatting_problems(text, Path("<input>.gpp"), lints=False) == [], format_text(text)
 
 
 @pytest.mark.parametrize("path", REPO_PROGRAMS, ids=lambda p: str(p.relative_to(ROOT)))
@@ -286,34 +334,6 @@ def test_there_are_repository_programs() -> None:
     folders = {p.relative_to(ROOT).parts[0] for p in REPO_PROGRAMS}
     assert {"examples", "stdlib", "tests"} <= folders
     assert len(REPO_PROGRAMS) >= 60
-
-
-COMMENT_KINDS = (
-    "// c{}\n",
-    " // c{}\n",
-    "/* c{} */",
-    " /* c{} */ ",
-    "\n/* c{}\n   more */\n",
-    "\n\n// c{}\n\n",
-    "\n// c{}\n",
-    "/*c{}*/",
-    "\n",
-    "\n\n",
-)
-
-
-def sprinkle(text: str, rnd: random.Random, count: int) -> str:
-    """`text` with comments (and line breaks) inserted at `count` random token boundaries."""
-    tokens = parse_text(text).tokens
-    cuts = sorted(rnd.sample(range(len(tokens) + 1), min(count, len(tokens) + 1)))
-    out: list[str] = []
-    previous = 0
-    for i, cut in enumerate(cuts):
-        at = tokens[cut].start if cut < len(tokens) else len(text)
-        out += [text[previous:at], rnd.choice(COMMENT_KINDS).format(i)]
-        previous = at
-    out.append(text[previous:])
-    return "".join(out)
 
 
 SOURCES = [p.read_text(encoding="utf-8") for p in REPO_PROGRAMS] + [generate_program(70, seed=s) for s in (1, 2)]
