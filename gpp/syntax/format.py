@@ -23,10 +23,12 @@ from itertools import pairwise
 
 from gpp.base.diagnostics import Diagnostic
 from gpp.base.source import BOM, Source
+from gpp.syntax import ast
 from gpp.syntax.directives import SUPPRESSION
 from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
 from gpp.syntax.parser import parse
 from gpp.syntax.printer import INDENT, format_program
+from gpp.syntax.walk import walk
 
 # Printed lines longer than this are wrapped where the code allows it.
 WIDTH = 100
@@ -95,7 +97,8 @@ def _format(text: str, path: str) -> str:
         newline_before[target] |= gap.newline
     declarations = {d.span.start for d in result.program.declarations}
     kept = _SuppressedLines.find(text, result.tokens, declarations).printed(token_map, len(out_tokens))
-    return _Writer(printed, out_tokens, placed, blank_before, newline_before, kept).run()
+    greedy = [g.printed(token_map) for g in _greedy_forms(result.program, result.tokens)]
+    return _Writer(printed, out_tokens, placed, blank_before, newline_before, kept, greedy).run()
 
 
 def _keep_literal_spelling(
@@ -135,6 +138,7 @@ class _Comment:
     ends_line: bool  # nothing but whitespace after it on its line
     blank_before: bool  # a blank line right above it
     column: int  # where it started on its line
+    after_comment: bool  # it follows another comment on its line
 
 
 @dataclass(frozen=True, slots=True)
@@ -168,6 +172,7 @@ def _gaps(text: str, tokens: list[Token]) -> list[_Gap]:
                     ends_line=m.group().startswith("//") or "\n" in space or m.end() + len(space) == len(text),
                     blank_before=text[pos : m.start()].count("\n") >= 2,
                     column=m.start() - line_start,
+                    after_comment=bool(comments) and "\n" not in text[pos : m.start()],
                 )
             )
             pos = m.end()
@@ -227,6 +232,50 @@ def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[
         for i in range(i1, i2):
             target[i] = j1 + (i - i1) if op != "delete" and j1 + (i - i1) < j2 else j2
     return target
+
+
+# ---------------------------------------------------------------- conditionals and quantifiers
+
+
+@dataclass(frozen=True, slots=True)
+class _Greedy:
+    """A conditional expression `if (c) a else b` or a quantifier `exists(T x) body`, by token
+    index: its first token (`if`, `exists`), its break points (before the `then` branch and
+    before `else`; before the body), and the token after its last."""
+
+    first: int
+    points: tuple[int, ...]
+    end: int
+    conditional: bool
+
+    def printed(self, token_map: list[int]) -> _Greedy:
+        points = tuple(token_map[k] for k in self.points)
+        return _Greedy(token_map[self.first], points, token_map[self.end], self.conditional)
+
+
+def _greedy_forms(program: ast.Program, tokens: list[Token]) -> list[_Greedy]:
+    """The conditional expressions and quantifiers of the program, by token."""
+    if not any(t.type in ("ELSE", "QUANTIFIER") for t in tokens):
+        return []
+    starts = [t.start for t in tokens]
+
+    def first(at: int, kind: str) -> int:
+        k = bisect_left(starts, at)
+        while tokens[k].type != kind:  # after the parentheses around it
+            k += 1
+        return k
+
+    found: list[_Greedy] = []
+    for node in walk(program):
+        if type(node) is ast.Conditional:
+            then = bisect_left(starts, node.then.span.start)
+            points = (then, first(node.then.span.end, "ELSE"))
+            found.append(_Greedy(first(node.span.start, "IF"), points, bisect_left(starts, node.span.end), True))
+        elif type(node) is ast.Quantified:
+            body = bisect_left(starts, node.body.span.start)
+            end = bisect_left(starts, node.span.end)
+            found.append(_Greedy(first(node.span.start, "QUANTIFIER"), (body,), end, False))
+    return found
 
 
 # ---------------------------------------------------------------- lines that suppressions cover
@@ -324,6 +373,7 @@ class _Writer:
         blank_before: list[bool],
         newline_before: list[bool],
         kept: _SuppressedLines,
+        greedy: list[_Greedy],
     ) -> None:
         self.printed = printed
         self.tokens = tokens
@@ -331,6 +381,12 @@ class _Writer:
         self.blank_before = blank_before
         self.kept = kept
         n = len(tokens)
+        # Per printed token: how many conditionals and quantifiers it is inside, past their
+        # first token; their own break points (before a branch or body) count as outside.
+        self.nesting = [0] * n
+        self.greedy_breaks: dict[int, int] = {}  # break point -> the first token of its form
+        self.then_starts: set[int] = set()  # the break points before a conditional's `then`
+        self._nest(greedy)
         # Per printed token: does it start a printed line, that line's indentation, and the
         # bracket depth before it relative to the start of its printed line.
         self.starts_line = [False] * n
@@ -348,6 +404,28 @@ class _Writer:
         self.after_opener = False  # the last line written ends with `{` or a section keyword
 
     # ------------------------------------------------ the printed lines
+
+    def _nest(self, greedy: list[_Greedy]) -> None:
+        n = len(self.tokens)
+        change = [0] * (n + 1)
+        for g in greedy:
+            change[g.first + 1] += 1
+            change[g.end] -= 1
+        level = 0
+        for k in range(n):
+            level += change[k]
+            self.nesting[k] = level
+        for g in greedy:
+            for k in g.points:
+                if g.first < k < n:
+                    self.greedy_breaks[k] = g.first
+            if g.conditional:
+                self.then_starts.add(g.points[0])
+
+    def _level(self, k: int) -> int:
+        """How deep token k is in conditionals and quantifiers, as a break point."""
+        first = self.greedy_breaks.get(k)
+        return self.nesting[k] if first is None else self.nesting[first]
 
     def _analyse(self, newline_before: list[bool]) -> None:
         lines: list[int] = []  # the first token of each printed line
@@ -407,30 +485,41 @@ class _Writer:
             return self.indent[k] + INDENT * exploded
         if groups and groups[-1] in self.exploded and (k - 1 == groups[-1] or self.tokens[k - 1].type == "COMMA"):
             return self.indent[k] + INDENT * exploded
-        if not groups and (t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS):
+        statement_word = t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS
+        if not groups and statement_word and k not in self.greedy_breaks:  # not an expression's `else`
             return self.indent[k]
-        return self.indent[k] + INDENT * (1 + len(groups))
+        # A conditional's `then` branch one step deeper than its `else`.
+        deeper = 2 if k in self.then_starts and k in self.greedy_breaks else 1
+        return self.indent[k] + INDENT * (deeper + len(groups))
 
     def _span_length(self, lo: int, hi: int) -> int:
+        """The length of the longest line of tokens lo..hi-1 as written: the `/* */` comments
+        between them counted, with the space before each."""
         text = self.printed[self.tokens[lo].start : self.tokens[hi - 1].end]
         if any(k in self.kept.joined for k in range(lo + 1, hi)):
             text = re.sub(r"\n *", " ", text)  # printed lines joined to keep a suppressed line
-        return max(len(line) for line in text.split("\n"))
+        inline = sum(
+            len(c.text) + 1
+            for k in range(lo + 1, hi)
+            for c in self.comments[k]
+            if not (c.own_line or c.ends_line or "\n" in c.text)
+        )
+        return max(len(line) for line in text.split("\n")) + inline
 
     def _wrap(self, lo: int, hi: int) -> None:
         """Break the tokens lo..hi-1, which start a line, where they are longer than WIDTH."""
         indent = len(self.indent[lo]) + (len(INDENT) * (1 + self.depth[lo]) if lo in self.breaks else 0)
         if indent + self._span_length(lo, hi) <= WIDTH:
             return
-        candidates: list[tuple[int, int, int]] = []  # (depth, rank, token)
+        candidates: list[tuple[int, int, int, int]] = []  # (depth, conditional level, rank, token)
         for k in range(lo + 1, hi):
             rank = self._break_rank(k)
             if rank is not None:
-                candidates.append((self.depth[k], rank, k))
+                candidates.append((self.depth[k], self._level(k), rank, k))
         if not candidates:
             return
-        depth, rank, _ = min(candidates)
-        chosen = [k for d, r, k in candidates if d == depth and r == rank]
+        loosest = min(candidates)[:3]
+        chosen = [c[3] for c in candidates if c[:3] == loosest]
         self.breaks.update(chosen)
         bounds = [lo, *chosen, hi]
         for start, end in pairwise(bounds):
@@ -452,8 +541,14 @@ class _Writer:
             return 3
         if t == "AMP":
             return 4
-        if t == "ADD_OP" and before in _OPERAND_ENDS:
+        if t == "CMP_OP":
             return 5
+        if t == "ADD_OP" and before in _OPERAND_ENDS:
+            return 6
+        if t == "MUL_OP":
+            return 7
+        if k in self.greedy_breaks:
+            return 8  # a conditional or quantifier binds tighter than any operator outside it
         return None
 
     # ------------------------------------------------ output
@@ -500,7 +595,7 @@ class _Writer:
         at_start = k == 0
         for c in comments:
             if at_start or c.own_line:
-                follows = not c.own_line and modes and modes[-1] in (_Mode.OWN_LINE, _Mode.SAME_LINE)
+                follows = c.after_comment and modes and modes[-1] in (_Mode.OWN_LINE, _Mode.SAME_LINE)
                 mode = _Mode.SAME_LINE if follows else _Mode.OWN_LINE
             elif c.ends_line:
                 mode = _Mode.TRAILING

@@ -167,6 +167,53 @@ def test_line_breaks_elsewhere_are_not_kept() -> None:
     assert format_text(source) == "procedure main() {\n    a();\n    x() = 1 + 2;\n}\n"
 
 
+def test_long_conditional_breaks_before_its_branches() -> None:
+    source = f"procedure main() {{ y() = if (a > {WIDE}(a)) {WIDE}(a) * 2 else {WIDE}(a) * 3 + {WIDE}(1); }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = if (a > {WIDE}(a))\n            {WIDE}(a) * 2\n"
+        f"        else {WIDE}(a) * 3 + {WIDE}(1);\n}}\n"
+    )
+
+
+def test_long_else_if_chain_breaks_at_each_conditional() -> None:
+    source = f"number function f() = if (a() > {WIDE}()) {WIDE}() else if (b() > 1) {WIDE}() * 3 else {WIDE}()\n"
+    assert format_text(source) == (
+        f"number function f() =\n    if (a() > {WIDE}())\n        {WIDE}()\n"
+        f"    else if (b() > 1) {WIDE}() * 3 else {WIDE}()\n"
+    )
+
+
+def test_operators_outside_a_conditional_break_before_it() -> None:
+    source = f"procedure main() {{ y() = {WIDE} & if ({WIDE}) {WIDE} + {WIDE} else {WIDE}; }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = {WIDE}\n        & if ({WIDE})\n            {WIDE} + {WIDE}\n"
+        f"        else {WIDE};\n}}\n"
+    )
+
+
+def test_long_comparisons_and_products_break_before_their_operators() -> None:
+    compare = f"procedure main() {{ test({WIDE}(a) > {WIDE}(b) == {WIDE}(c) < {WIDE}(d)); }}\n"
+    assert format_text(compare) == (
+        f"procedure main() {{\n    test({WIDE}(a)\n            > {WIDE}(b)\n"
+        f"            == {WIDE}(c)\n            < {WIDE}(d));\n}}\n"
+    )
+    product = f"procedure main() {{ y() = {WIDE}(a) * {WIDE}(b) / {WIDE}(c) % {WIDE}(d); }}\n"
+    assert format_text(product) == (
+        f"procedure main() {{\n    y() = {WIDE}(a)\n        * {WIDE}(b)\n"
+        f"        / {WIDE}(c)\n        % {WIDE}(d);\n}}\n"
+    )
+
+
+def test_a_block_comment_inside_a_line_counts_towards_its_length() -> None:
+    # 92 characters of code, 112 with the comment.
+    source = f"procedure main() {{ y() = {WIDE}(a) + /* a comment of some length */ {WIDE}(b); }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = {WIDE}(a)\n        + /* a comment of some length */ {WIDE}(b);\n}}\n"
+    )
+    short = f"procedure main() {{\n    y() = {WIDE}(a) + /* short */ {WIDE}(b);\n}}\n"
+    assert format_text(short) == short
+
+
 def test_a_line_without_a_break_point_stays_long() -> None:
     name = "n" * 120
     assert format_text(f"action {name}();\n") == f"action {name}();\n"
