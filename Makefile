@@ -82,7 +82,8 @@ pathological: $(VENV)/.installed
 	$(BIN)/python bench/pathological.py
 
 # Fuzzing, outside `make test` (which runs a few seconds of the same fuzzers): 100,000 random
-# inputs through `gpp check`; reproducers of internal errors go to fuzz-findings/.
+# inputs through `gpp check`, one in seven a formatter mutant through `gpp fmt` (bench/fmtfuzz.py);
+# reproducers of internal errors and broken formatter properties go to fuzz-findings/.
 fuzz: $(VENV)/.installed
 	$(BIN)/python bench/fuzz.py --count 100000
 
