@@ -13,6 +13,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from gpp.base.source import BOM
+
 # The start of a suppression comment; group 1 is `allow` or `allow-file`.
 SUPPRESSION = re.compile(r"//[ \t]*gpp:[ \t]*(allow-file|allow)(?![\w-])")
 
@@ -22,9 +24,9 @@ _HEAD_LINES = 40
 
 
 def directives(text: str) -> dict[str, str]:
-    """The directives at the top of a program's text."""
+    """The directives at the top of a program's text (after its byte-order mark, if any)."""
     found: dict[str, str] = {}
-    for line in text.splitlines()[:_HEAD_LINES]:
+    for line in text.removeprefix(BOM).splitlines()[:_HEAD_LINES]:
         stripped = line.strip()
         if stripped and not stripped.startswith("//"):
             break

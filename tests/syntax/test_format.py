@@ -23,6 +23,7 @@ from bench.fmtfuzz import FormatterFuzzer, formatting_problems, sprinkle, warnin
 from bench.genprog import generate_program
 from gpp.base.source import Source
 from gpp.syntax import ast
+from gpp.syntax.directives import directives
 from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
@@ -552,3 +553,9 @@ def test_tokens_the_printer_adds_are_bridged_by_a_diff() -> None:
     original, _ = tokenize(Source("a(); b();", "x"))
     printed, _ = tokenize(Source("a(); { b(); }", "x"))
     assert _token_map(original, printed) == [0, 1, 2, 3, 5, 6, 7, 8, 10]
+
+
+def test_directives_after_a_byte_order_mark_are_read() -> None:
+    text = "\ufeff// world: rescue\n// scenario: s.toml\naction a();\n"
+    assert directives(text) == {"world": "rescue", "scenario": "s.toml"}
+    assert directives(format_text(text)) == directives(text)
