@@ -83,8 +83,9 @@ pathological: $(VENV)/.installed
 	$(BIN)/python bench/pathological.py
 
 # Fuzzing, outside `make test` (which runs a few seconds of the same fuzzers): 100,000 random
-# inputs through `gpp check`, then 2,000 random edits through the language server, each
-# compared with `gpp check`; reproducers go to fuzz-findings/.
+# inputs through `gpp check`, one in seven a formatter mutant through `gpp fmt` (bench/fmtfuzz.py),
+# then 2,000 random edits through the language server, each compared with `gpp check`;
+# reproducers of internal errors, broken formatter properties and mismatches go to fuzz-findings/.
 fuzz: $(VENV)/.installed-dev
 	$(BIN)/python bench/fuzz.py --count 100000
 	$(BIN)/python bench/lspfuzz.py --edits 2000

@@ -1,22 +1,27 @@
 """Fuzzing `gpp check`: many random inputs, any internal error written out as a reproducer.
 
-Run: .venv/bin/python bench/fuzz.py [--count N] [--seconds S] [--seed K] [--out DIR]
+Run: .venv/bin/python bench/fuzz.py [--count N] [--seconds S] [--seed K] [--out DIR] [--only KIND]
 (`make fuzz` runs 100,000 inputs; the test suite runs a few seconds' worth.)
 
-Four fuzzers take turns:
+Five fuzzers take turns (`--only` runs one of them):
 
 * mutation: a program of examples/ or tests/programs/ with 1 to 25 random token-level edits
   (delete, duplicate, swap, replace by a keyword or punctuation, insert odd characters, cut);
 * generation: a random program from a small generator of golog++ declarations, statements and
   expressions (nested a few levels), sometimes mutated too;
 * soup: keywords, punctuation and odd Unicode in random order;
-* bytes: random bytes in a file on disk, read through the loader like `gpp check FILE`.
+* bytes: random bytes in a file on disk, read through the loader like `gpp check FILE`;
+* formatter: a program of the repository laid out anew, with comments and `// gpp: allow`
+  suppressions at random places (bench/fmtfuzz.py); formatted, it must parse to the same
+  tree, keep its comments, directives, line endings and byte-order mark, be formatted already,
+  and give the same warnings (a suppression stays with what it suppressed).
 
-Each input is checked with lints in-process and its diagnostics rendered as text, JSON and
+Each input of the first four is checked with lints in-process and its diagnostics rendered as text, JSON and
 SARIF. An internal error is any exception, or a diagnostic that is malformed (an unregistered
 code, an empty message, a span outside its source). Each one is written to DIR (default
 fuzz-findings/) as the input that caused it plus a .txt with the traceback, at most three per
-distinct place of failure. The report gives inputs/s, the slowest inputs, and the findings.
+distinct place of failure; a formatter mutant that breaks a property is a finding too, its
+.txt saying which. The report gives inputs/s, the slowest inputs, and the findings.
 Exit code 1 when an internal error was found, else 0.
 """
 
@@ -43,6 +48,11 @@ from gpp.report.text import render_json, render_text
 from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, PUNCTUATION, SECTION_WORDS, tokenize
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # run as a script: bench.fmtfuzz and the tests' programs
+
+from bench.fmtfuzz import FormatterFuzzer, Mutant, formatting_problems  # noqa: E402
+
+KINDS = ("mutation", "generation", "soup", "bytes", "formatter")
 # A folder that does not exist: `#include`s in fuzzed text resolve there (nothing) or in stdlib/.
 FUZZ_PATH = Path("/nonexistent-gpp-fuzz-dir/fuzz.gpp")
 ODD = "(){}[];,.:=<>!&|+-*/%\\\"'#_aZ09 \t\n\r\x00\x0bé€\u2028\ufeff\u200b日🤖"
@@ -285,6 +295,16 @@ def check_and_render(diagnostics: list[Diagnostic], machine_formats: bool) -> No
         render_sarif(diagnostics)
 
 
+class FormattingProblem(AssertionError):
+    """A formatter mutant whose formatting breaks a property (bench/fmtfuzz.py)."""
+
+
+def check_formatting(mutant: Mutant) -> None:
+    problems = formatting_problems(mutant.text, mutant.path)
+    if problems:
+        raise FormattingProblem(f"{mutant.path.name}: " + "; ".join(problems))
+
+
 # ---------------------------------------------------------------- the run
 
 
@@ -298,6 +318,8 @@ class Finding:
 
 def place_of(e: BaseException) -> str:
     """The exception type and innermost gpp frame: the identity of a bug."""
+    if isinstance(e, FormattingProblem):
+        return "formatting: " + str(e).partition(": ")[2].partition(":")[0]
     frames = [f for f in traceback.extract_tb(e.__traceback__) if "/gpp/" in f.filename]
     frame = frames[-1] if frames else None
     where = f"{Path(frame.filename).name}:{frame.name}" if frame else "?"
@@ -310,22 +332,27 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, help="stop after this many seconds, even before --count")
     ap.add_argument("--seed", type=int, default=1, help="random seed (the same seed gives the same inputs)")
     ap.add_argument("--out", type=Path, default=Path("fuzz-findings"), help="folder for reproducers")
+    ap.add_argument("--only", choices=KINDS, help="run only this fuzzer")
     args = ap.parse_args(argv)
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))  # as the gpp command does
     rnd = random.Random(args.seed)
     fuzzers = Fuzzers(rnd)
-    kinds: list[tuple[str, Callable[[], str | bytes]]] = [
+    formatter = FormatterFuzzer()
+    kinds: list[tuple[str, Callable[[], str | bytes | Mutant]]] = [
         ("mutation", fuzzers.mutation),
         ("mutation", fuzzers.mutation),
         ("generation", fuzzers.generation),
         ("generation", fuzzers.generation),
         ("soup", fuzzers.soup),
         ("bytes", fuzzers.bytes),
+        ("formatter", lambda: formatter.mutant(rnd)),
     ]
+    if args.only:
+        kinds = [(kind, make) for kind, make in kinds if kind == args.only][:1]
     findings: dict[str, Finding] = {}
     counts: Counter[str] = Counter()
     codes: Counter[str] = Counter()
-    slowest: list[tuple[float, str, str | bytes]] = []
+    slowest: list[tuple[float, str, str | bytes | Mutant]] = []
     started = time.perf_counter()
     done = 0
     with tempfile.TemporaryDirectory() as folder:
@@ -336,13 +363,16 @@ def main(argv: list[str] | None = None) -> int:
             counts[kind] += 1
             t0 = time.perf_counter()
             try:
-                if isinstance(data, bytes):
+                if isinstance(data, Mutant):
+                    check_formatting(data)
+                elif isinstance(data, bytes):
                     disk.write_bytes(data)
                     diagnostics = check_program(disk).diagnostics
                 else:
                     diagnostics = check_text(data, FUZZ_PATH).diagnostics
-                check_and_render(diagnostics, done % 8 == 0)
-                codes.update(d.code for d in diagnostics)
+                if not isinstance(data, Mutant):
+                    check_and_render(diagnostics, done % 8 == 0)
+                    codes.update(d.code for d in diagnostics)
             except Exception as e:  # an internal error: what the fuzzer looks for
                 where = place_of(e)
                 finding = findings.get(where)
@@ -369,8 +399,9 @@ def main(argv: list[str] | None = None) -> int:
     print("  most frequent codes: " + ", ".join(f"{c} {n:,}" for c, n in codes.most_common(8)))
     for seconds, kind, data in slowest[:3]:
         path = write_input(args.out, "slow", data) if seconds > 1.0 else None
-        shown = path if path else repr(data[:60]) + ("..." if len(data) > 60 else "")
-        print(f"  slow: {seconds:.3f} s, {kind}, {len(data):,} characters: {shown}")
+        raw = data.text if isinstance(data, Mutant) else data
+        shown = path if path else repr(raw[:60]) + ("..." if len(raw) > 60 else "")
+        print(f"  slow: {seconds:.3f} s, {kind}, {len(raw):,} characters: {shown}")
     if not findings:
         print("no internal errors")
         return 0
@@ -383,7 +414,9 @@ def main(argv: list[str] | None = None) -> int:
     return 1
 
 
-def write_input(out: Path, prefix: str, data: str | bytes) -> Path:
+def write_input(out: Path, prefix: str, data: str | bytes | Mutant) -> Path:
+    if isinstance(data, Mutant):
+        data = data.text
     raw = data.encode("utf-8", errors="surrogatepass") if isinstance(data, str) else data
     out.mkdir(parents=True, exist_ok=True)
     path = out / f"{prefix}-{hashlib.sha256(raw).hexdigest()[:12]}.gpp"
@@ -391,10 +424,15 @@ def write_input(out: Path, prefix: str, data: str | bytes) -> Path:
     return path
 
 
-def write_reproducer(out: Path, data: str | bytes, e: BaseException) -> Path:
-    """The input as a file (`gpp check FILE` reproduces it) and the traceback beside it."""
+def write_reproducer(out: Path, data: str | bytes | Mutant, e: BaseException) -> Path:
+    """The input as a file (`gpp check FILE` or, for a formatter mutant, `gpp fmt --diff FILE`
+    beside the program it was made from reproduces it) and the traceback or problem beside it."""
     path = write_input(out, "crash", data)
-    path.with_suffix(".txt").write_text("".join(traceback.format_exception(e)), encoding="utf-8")
+    if isinstance(data, Mutant):
+        why = f"a mutant of {data.path}: {e}\n"
+    else:
+        why = "".join(traceback.format_exception(e))
+    path.with_suffix(".txt").write_text(why, encoding="utf-8")
     return path
 
 

@@ -24,10 +24,10 @@ from pathlib import Path
 from gpp import codes
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
+from gpp.syntax.directives import SUPPRESSION
 from gpp.syntax.loader import ParsedFile
 
 _COMMENTS = re.compile(r"/\*.*?\*/|//[^\n]*", re.DOTALL)
-_SUPPRESSION = re.compile(r"//[ \t]*gpp:[ \t]*(allow-file|allow)(?![\w-])")
 _ENTRY = re.compile(r"[ \t]*([A-Za-z][A-Za-z0-9_-]*)")
 _SEPARATOR = re.compile(r"[ \t]*,")
 
@@ -180,7 +180,7 @@ def _suppressions(f: ParsedFile) -> Iterator[_Suppression]:
 
 def _parse(source: Source, start: int, end: int, code_before: int, next_token: int | None) -> _Suppression | None:
     text = source.text
-    m = _SUPPRESSION.match(text, start, end)
+    m = SUPPRESSION.match(text, start, end)
     if m is None:
         return None
     line_start = text.rfind("\n", 0, start) + 1
@@ -225,7 +225,7 @@ def suppressed_code_at(source: Source, offset: int) -> tuple[Span, str] | None:
     text = source.text
     line_start = text.rfind("\n", 0, offset) + 1
     line_end = _line_end(text, offset)
-    m = _SUPPRESSION.search(text, line_start, line_end)
+    m = SUPPRESSION.search(text, line_start, line_end)
     if m is None:
         return None
     for span in _entry_spans(source, m.end(), line_end):

@@ -84,7 +84,7 @@ def fmt(
 def _format_stdin(check: bool, diff: bool) -> int:
     from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS
 
-    text = sys.stdin.read()
+    text = _read_stdin()
     formatted = _format(text, "<stdin>")
     if formatted is None:
         return EXIT_PROBLEMS
@@ -95,6 +95,17 @@ def _format_stdin(check: bool, diff: bool) -> int:
     if not (check or diff):
         sys.stdout.write(formatted)
     return EXIT_PROBLEMS if (check or diff) and formatted != text else EXIT_OK
+
+
+def _read_stdin() -> str:
+    """Standard input as it is, line endings included (text mode would turn `\r\n` into `\n`)."""
+    from gpp.cli.common import usage_error
+
+    raw = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read().encode("utf-8")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        usage_error("cannot read standard input: it is not UTF-8 text")
 
 
 def _format(text: str, path: str) -> str | None:

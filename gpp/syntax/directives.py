@@ -2,6 +2,10 @@
 code) that tell the tools how to run it, e.g. `// world: rescue` (the sim's world) or
 `// scenario: blocks.toml` (the dummy's scenario). A directive's value is one word; a comment
 with more words after the colon is an ordinary comment. The first occurrence of a key counts.
+
+Suppressions, `// gpp: allow CODES` and `// gpp: allow-file CODES`, are comments the checker
+reads too (gpp.check.suppress); `SUPPRESSION` matches their start, and the formatter keeps them
+on the lines they cover.
 """
 
 from __future__ import annotations
@@ -9,15 +13,20 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from gpp.base.source import BOM
+
+# The start of a suppression comment; group 1 is `allow` or `allow-file`.
+SUPPRESSION = re.compile(r"//[ \t]*gpp:[ \t]*(allow-file|allow)(?![\w-])")
+
 _DIRECTIVE = re.compile(r"^\s*//\s*([a-z][a-z0-9_-]*)\s*:\s*(\S+)\s*$")
 # Directives are read from the comment lines at the top; this many lines at most.
 _HEAD_LINES = 40
 
 
 def directives(text: str) -> dict[str, str]:
-    """The directives at the top of a program's text."""
+    """The directives at the top of a program's text (after its byte-order mark, if any)."""
     found: dict[str, str] = {}
-    for line in text.splitlines()[:_HEAD_LINES]:
+    for line in text.removeprefix(BOM).splitlines()[:_HEAD_LINES]:
         stripped = line.strip()
         if stripped and not stripped.startswith("//"):
             break

@@ -5,7 +5,9 @@ is the pretty-printer's (printer.format_program), so the formatted program parse
 tree; the formatter then lines up the program's tokens with the printed ones (the same but for
 the spelling of literals and the redundant parentheses the printer drops), writes the comments
 and blank lines of each gap between two tokens into the matching gap of the printed text, and
-breaks lines longer than `WIDTH` at their loosest break points. The rules for comments, blank
+breaks lines longer than `WIDTH` at their loosest break points. A byte-order mark at the start
+is kept (and, as `gpp check` does, not read as part of the program), and so are the line
+endings of the file's first line (`\r\n` or `\n`) for all lines. The rules for comments, blank
 lines and line breaks, as users see them: docs/format.md.
 """
 
@@ -13,16 +15,20 @@ from __future__ import annotations
 
 import difflib
 import re
+from bisect import bisect_left
 from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
 from itertools import pairwise
 
 from gpp.base.diagnostics import Diagnostic
-from gpp.base.source import Source
+from gpp.base.source import BOM, Source
+from gpp.syntax import ast
+from gpp.syntax.directives import SUPPRESSION
 from gpp.syntax.lexer import SECTION_WORDS, Token, tokenize, unescape_string
 from gpp.syntax.parser import parse
 from gpp.syntax.printer import INDENT, format_program
+from gpp.syntax.walk import walk
 
 # Printed lines longer than this are wrapped where the code allows it.
 WIDTH = 100
@@ -38,8 +44,40 @@ class FormatError(Exception):
 
 
 def format_text(text: str, path: str = "<input>") -> str:
-    """`text` formatted: the canonical layout with its comments. Raises FormatError when the
-    text has syntax errors (the text is then not formatted)."""
+    """`text` formatted: the canonical layout with its comments, its byte-order mark if it has
+    one, its first line's line ending on every line. Raises FormatError when the text has
+    syntax errors (the text is then not formatted); their positions count from after the
+    byte-order mark, as `gpp check`'s do."""
+    bom = BOM if text.startswith(BOM) else ""
+    body = text[len(bom) :]
+    formatted = _format(body, path)
+    if _first_line_ending(body) == "\r\n":
+        formatted = _crlf(formatted, path)
+    return bom + formatted
+
+
+def _first_line_ending(text: str) -> str:
+    """The line ending of the first line: `\r\n` or `\n` (also when there is no line break)."""
+    at = text.find("\n")
+    return "\r\n" if at > 0 and text[at - 1] == "\r" else "\n"
+
+
+def _crlf(text: str, path: str) -> str:
+    """Formatted `text` with `\r\n` line endings: every `\n` but those inside a string literal
+    (whose value must not change) becomes `\r\n`."""
+    tokens, _ = tokenize(Source(text, path))
+    parts: list[str] = []
+    pos = 0
+    for t in tokens:
+        if t.type == "STRING" and "\n" in t.value:
+            parts += [text[pos : t.start].replace("\n", "\r\n"), t.value]
+            pos = t.end
+    parts.append(text[pos:].replace("\n", "\r\n"))
+    return "".join(parts)
+
+
+def _format(text: str, path: str) -> str:
+    """`text` (without a byte-order mark) formatted, with `\n` line endings but in literals."""
     source = Source(text, path)
     result = parse(source)
     if not result.ok:
@@ -57,7 +95,10 @@ def format_text(text: str, path: str = "<input>") -> str:
         placed[target].extend(gap.comments)
         blank_before[target] |= gap.blank_before_token
         newline_before[target] |= gap.newline
-    return _Writer(printed, out_tokens, placed, blank_before, newline_before).run()
+    declarations = {d.span.start for d in result.program.declarations}
+    kept = _SuppressedLines.find(text, result.tokens, declarations).printed(token_map, len(out_tokens))
+    greedy = [g.printed(token_map) for g in _greedy_forms(result.program, result.tokens)]
+    return _Writer(printed, out_tokens, placed, blank_before, newline_before, kept, greedy).run()
 
 
 def _keep_literal_spelling(
@@ -97,6 +138,7 @@ class _Comment:
     ends_line: bool  # nothing but whitespace after it on its line
     blank_before: bool  # a blank line right above it
     column: int  # where it started on its line
+    after_comment: bool  # it follows another comment on its line
 
 
 @dataclass(frozen=True, slots=True)
@@ -130,6 +172,7 @@ def _gaps(text: str, tokens: list[Token]) -> list[_Gap]:
                     ends_line=m.group().startswith("//") or "\n" in space or m.end() + len(space) == len(text),
                     blank_before=text[pos : m.start()].count("\n") >= 2,
                     column=m.start() - line_start,
+                    after_comment=bool(comments) and "\n" not in text[pos : m.start()],
                 )
             )
             pos = m.end()
@@ -191,6 +234,113 @@ def _diff_map(a: list[tuple[str, object]], b: list[tuple[str, object]]) -> list[
     return target
 
 
+# ---------------------------------------------------------------- conditionals and quantifiers
+
+
+@dataclass(frozen=True, slots=True)
+class _Greedy:
+    """A conditional expression `if (c) a else b` or a quantifier `exists(T x) body`, by token
+    index: its first token (`if`, `exists`), its break points (before the `then` branch and
+    before `else`; before the body), and the token after its last."""
+
+    first: int
+    points: tuple[int, ...]
+    end: int
+    conditional: bool
+
+    def printed(self, token_map: list[int]) -> _Greedy:
+        points = tuple(token_map[k] for k in self.points)
+        return _Greedy(token_map[self.first], points, token_map[self.end], self.conditional)
+
+
+def _greedy_forms(program: ast.Program, tokens: list[Token]) -> list[_Greedy]:
+    """The conditional expressions and quantifiers of the program, by token."""
+    if not any(t.type in ("ELSE", "QUANTIFIER") for t in tokens):
+        return []
+    starts = [t.start for t in tokens]
+
+    def first(at: int, kind: str) -> int:
+        k = bisect_left(starts, at)
+        while tokens[k].type != kind:  # after the parentheses around it
+            k += 1
+        return k
+
+    found: list[_Greedy] = []
+    for node in walk(program):
+        if type(node) is ast.Conditional:
+            then = bisect_left(starts, node.then.span.start)
+            points = (then, first(node.then.span.end, "ELSE"))
+            found.append(_Greedy(first(node.span.start, "IF"), points, bisect_left(starts, node.span.end), True))
+        elif type(node) is ast.Quantified:
+            body = bisect_left(starts, node.body.span.start)
+            end = bisect_left(starts, node.span.end)
+            found.append(_Greedy(first(node.span.start, "QUANTIFIER"), (body,), end, False))
+    return found
+
+
+# ---------------------------------------------------------------- lines that suppressions cover
+
+
+@dataclass(slots=True)
+class _SuppressedLines:
+    """The lines of code a `// gpp: allow` comment covers, to be kept as they are: by token
+    index, the tokens that must start a line (`first`) and those that must not (`joined`).
+
+    A suppression at the end of a line covers the lints that start on that line, and one on
+    a line of its own, above anything but a declaration, those that start on the next line
+    from its first token on (gpp.check.suppress). The formatter puts the comment where it was,
+    after the same token or above it, so it covers the same code if that line keeps the same
+    tokens: its first token starts a line, the others stay on it, and (for the line below a
+    comment) the token after its last starts a new line. A comment above a declaration covers
+    the declaration, wherever its lines go: nothing to keep."""
+
+    first: set[int]
+    joined: set[int]
+
+    @staticmethod
+    def find(text: str, tokens: list[Token], declarations: set[int]) -> _SuppressedLines:
+        lines = _SuppressedLines(set(), set())
+        if "gpp:" not in text:
+            return lines
+        starts = [t.start for t in tokens]
+        previous_end = 0
+        for g in range(len(tokens) + 1):
+            end = tokens[g].start if g < len(tokens) else len(text)
+            if "gpp:" in text[previous_end:end]:
+                for m in _COMMENT.finditer(text, previous_end, end):
+                    found = SUPPRESSION.match(m.group())
+                    if found is None or found.group(1) == "allow-file":
+                        continue
+                    line_start = text.rfind("\n", 0, m.start()) + 1
+                    if text[line_start : m.start()].strip() and previous_end > line_start:
+                        # At the end of a line: the tokens from the line's first on.
+                        lines.keep(bisect_left(starts, line_start), g)
+                    elif g < len(tokens) and tokens[g].start not in declarations:
+                        # Above a line: its tokens from the next one on.
+                        line_end = text.find("\n", tokens[g].start)
+                        last = bisect_left(starts, len(text) if line_end < 0 else line_end)
+                        lines.keep(g, last)
+                        if last < len(tokens):
+                            lines.first.add(last)
+            if g < len(tokens):
+                previous_end = tokens[g].end
+        return lines
+
+    def keep(self, lo: int, hi: int) -> None:
+        """Tokens lo..hi-1 stay one line of their own."""
+        if lo < hi:
+            self.first.add(lo)
+            self.joined.update(range(lo + 1, hi))
+
+    def printed(self, token_map: list[int], printed: int) -> _SuppressedLines:
+        """The same lines by printed token (`token_map`: original token -> printed one); a
+        printed token that must start a line and must not (two tokens map to it when the
+        printer drops a parenthesis) starts one."""
+        first = {token_map[i] for i in self.first if token_map[i] < printed}
+        joined = {token_map[i] for i in self.joined if token_map[i] < printed} - first
+        return _SuppressedLines(first, joined)
+
+
 # ---------------------------------------------------------------- writing
 
 
@@ -198,6 +348,7 @@ class _Mode(Enum):
     OWN_LINE = 1  # on a line of its own
     TRAILING = 2  # at the end of a line of code
     INLINE = 3  # between two tokens of one line
+    SAME_LINE = 4  # after a comment on a line of its own, on that line
 
 
 _OPENERS = frozenset({"LPAR", "LBRACKET", "LBRACE", "MAIN_LBRACE"})
@@ -221,12 +372,21 @@ class _Writer:
         comments: list[list[_Comment]],
         blank_before: list[bool],
         newline_before: list[bool],
+        kept: _SuppressedLines,
+        greedy: list[_Greedy],
     ) -> None:
         self.printed = printed
         self.tokens = tokens
         self.comments = comments
         self.blank_before = blank_before
+        self.kept = kept
         n = len(tokens)
+        # Per printed token: how many conditionals and quantifiers it is inside, past their
+        # first token; their own break points (before a branch or body) count as outside.
+        self.nesting = [0] * n
+        self.greedy_breaks: dict[int, int] = {}  # break point -> the first token of its form
+        self.then_starts: set[int] = set()  # the break points before a conditional's `then`
+        self._nest(greedy)
         # Per printed token: does it start a printed line, that line's indentation, and the
         # bracket depth before it relative to the start of its printed line.
         self.starts_line = [False] * n
@@ -245,6 +405,28 @@ class _Writer:
 
     # ------------------------------------------------ the printed lines
 
+    def _nest(self, greedy: list[_Greedy]) -> None:
+        n = len(self.tokens)
+        change = [0] * (n + 1)
+        for g in greedy:
+            change[g.first + 1] += 1
+            change[g.end] -= 1
+        level = 0
+        for k in range(n):
+            level += change[k]
+            self.nesting[k] = level
+        for g in greedy:
+            for k in g.points:
+                if g.first < k < n:
+                    self.greedy_breaks[k] = g.first
+            if g.conditional:
+                self.then_starts.add(g.points[0])
+
+    def _level(self, k: int) -> int:
+        """How deep token k is in conditionals and quantifiers, as a break point."""
+        first = self.greedy_breaks.get(k)
+        return self.nesting[k] if first is None else self.nesting[first]
+
     def _analyse(self, newline_before: list[bool]) -> None:
         lines: list[int] = []  # the first token of each printed line
         indent = ""
@@ -252,7 +434,7 @@ class _Writer:
         stack: list[int] = []  # the brackets open at a token, opened on its printed line
         for k, t in enumerate(self.tokens):
             sep = self.printed[self.tokens[k - 1].end : t.start] if k else "\n"
-            if "\n" in sep:
+            if "\n" in sep and k not in self.kept.joined:
                 lines.append(k)
                 indent = sep[sep.rfind("\n") + 1 :]
                 depth = 0
@@ -272,8 +454,13 @@ class _Writer:
                 stack.append(k)
         # The program's own line breaks where a long line could be broken are kept; then
         # what is still too long is wrapped.
+        # So are the breaks that keep the lines suppressions cover.
         for lo, hi in zip(lines, [*lines[1:], len(self.tokens)], strict=False):
-            kept = [k for k in range(lo + 1, hi) if newline_before[k] and self._break_rank(k) is not None]
+            kept = [
+                k
+                for k in range(lo + 1, hi)
+                if (newline_before[k] and self._break_rank(k) is not None) or k in self.kept.first
+            ]
             self.breaks.update(kept)
             bounds = [lo, *kept, hi]
             for start, end in pairwise(bounds):
@@ -285,6 +472,7 @@ class _Writer:
                 self.exploded.add(self.enclosing[k][-1])
         for o in self.exploded:
             self.breaks.update((o + 1, self.closer_of[o]))
+        self.breaks -= self.kept.joined
 
     def continuation(self, k: int) -> str:
         """The indentation of token k when a line is broken before it: one step per exploded
@@ -297,28 +485,41 @@ class _Writer:
             return self.indent[k] + INDENT * exploded
         if groups and groups[-1] in self.exploded and (k - 1 == groups[-1] or self.tokens[k - 1].type == "COMMA"):
             return self.indent[k] + INDENT * exploded
-        if not groups and (t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS):
+        statement_word = t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS
+        if not groups and statement_word and k not in self.greedy_breaks:  # not an expression's `else`
             return self.indent[k]
-        return self.indent[k] + INDENT * (1 + len(groups))
+        # A conditional's `then` branch one step deeper than its `else`.
+        deeper = 2 if k in self.then_starts and k in self.greedy_breaks else 1
+        return self.indent[k] + INDENT * (deeper + len(groups))
 
     def _span_length(self, lo: int, hi: int) -> int:
+        """The length of the longest line of tokens lo..hi-1 as written: the `/* */` comments
+        between them counted, with the space before each."""
         text = self.printed[self.tokens[lo].start : self.tokens[hi - 1].end]
-        return max(len(line) for line in text.split("\n"))
+        if any(k in self.kept.joined for k in range(lo + 1, hi)):
+            text = re.sub(r"\n *", " ", text)  # printed lines joined to keep a suppressed line
+        inline = sum(
+            len(c.text) + 1
+            for k in range(lo + 1, hi)
+            for c in self.comments[k]
+            if not (c.own_line or c.ends_line or "\n" in c.text)
+        )
+        return max(len(line) for line in text.split("\n")) + inline
 
     def _wrap(self, lo: int, hi: int) -> None:
         """Break the tokens lo..hi-1, which start a line, where they are longer than WIDTH."""
         indent = len(self.indent[lo]) + (len(INDENT) * (1 + self.depth[lo]) if lo in self.breaks else 0)
         if indent + self._span_length(lo, hi) <= WIDTH:
             return
-        candidates: list[tuple[int, int, int]] = []  # (depth, rank, token)
+        candidates: list[tuple[int, int, int, int]] = []  # (depth, conditional level, rank, token)
         for k in range(lo + 1, hi):
             rank = self._break_rank(k)
             if rank is not None:
-                candidates.append((self.depth[k], rank, k))
+                candidates.append((self.depth[k], self._level(k), rank, k))
         if not candidates:
             return
-        depth, rank, _ = min(candidates)
-        chosen = [k for d, r, k in candidates if d == depth and r == rank]
+        loosest = min(candidates)[:3]
+        chosen = [c[3] for c in candidates if c[:3] == loosest]
         self.breaks.update(chosen)
         bounds = [lo, *chosen, hi]
         for start, end in pairwise(bounds):
@@ -326,6 +527,8 @@ class _Writer:
 
     def _break_rank(self, k: int) -> int | None:
         """How loose a line break before token k is (lower is looser), None if no break fits."""
+        if k in self.kept.joined:
+            return None
         before = self.tokens[k - 1].type
         t = self.tokens[k].type
         if before == "EQ" and not self.indent[k]:
@@ -338,8 +541,14 @@ class _Writer:
             return 3
         if t == "AMP":
             return 4
-        if t == "ADD_OP" and before in _OPERAND_ENDS:
+        if t == "CMP_OP":
             return 5
+        if t == "ADD_OP" and before in _OPERAND_ENDS:
+            return 6
+        if t == "MUL_OP":
+            return 7
+        if k in self.greedy_breaks:
+            return 8  # a conditional or quantifier binds tighter than any operator outside it
         return None
 
     # ------------------------------------------------ output
@@ -386,7 +595,8 @@ class _Writer:
         at_start = k == 0
         for c in comments:
             if at_start or c.own_line:
-                mode = _Mode.OWN_LINE
+                follows = c.after_comment and modes and modes[-1] in (_Mode.OWN_LINE, _Mode.SAME_LINE)
+                mode = _Mode.SAME_LINE if follows else _Mode.OWN_LINE
             elif c.ends_line:
                 mode = _Mode.TRAILING
             else:
@@ -420,7 +630,8 @@ class _Writer:
         elif last_inline:
             self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
         else:
-            self.write(self.printed[self.tokens[k - 1].end : self.tokens[k].start])
+            separator = self.printed[self.tokens[k - 1].end : self.tokens[k].start]
+            self.write(" " if "\n" in separator else separator)  # a line joined to keep a suppression
 
     def _comments(self, k: int, printed_break: bool, line_break: bool) -> tuple[bool, bool]:
         """Write the comments of gap k; whether token k now starts a line, and whether the
@@ -433,16 +644,23 @@ class _Writer:
             closing = self.tokens[k].type == "RBRACE" and indent == self.indent[k]
             comment_indent = indent + INDENT if closing else indent
         last_inline = False
-        for c, mode in zip(comments, self._modes(k, comments, line_break), strict=True):
+        modes = self._modes(k, comments, line_break)
+        for i, (c, mode) in enumerate(zip(comments, modes, strict=True)):
             last_inline = False
+            line_ends = i + 1 == len(modes) or modes[i + 1] is not _Mode.SAME_LINE
             if mode is _Mode.OWN_LINE:
                 if not self.at_line_start:
                     self.newline()
                 if c.blank_before:
                     self.blank_line()
                 self.write(comment_indent + _reindent(c, len(comment_indent)))
-                self.newline()
+                if line_ends:
+                    self.newline()
                 self.after_opener = False
+            elif mode is _Mode.SAME_LINE:
+                self.write(" " + _reindent(c, len(self.lines[-1]) + 1))
+                if line_ends:
+                    self.newline()
             elif mode is _Mode.TRAILING:
                 if "\n" not in c.text:
                     self.trailing_at[len(self.lines) - 1] = len(self.lines[-1])

@@ -322,4 +322,22 @@ def test_the_fuzzers_of_make_fuzz_find_no_internal_error_in_a_few_seconds(tmp_pa
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "no internal errors" in proc.stdout, proc.stdout
     assert "by fuzzer: bytes " in proc.stdout and " generation " in proc.stdout, proc.stdout
+    assert " formatter " in proc.stdout, proc.stdout
+    assert list(tmp_path.glob("crash-*")) == []
+
+
+@pytest.mark.slow
+def test_the_formatter_fuzzer_of_make_fuzz_finds_no_problem_in_a_few_seconds(tmp_path: Path) -> None:
+    # Formatter mutants (bench/fmtfuzz.py): suppressions stay with what they suppressed, the
+    # tree, the comments and the line endings are kept, and formatting is idempotent.
+    command = [sys.executable, str(ROOT / "bench" / "fuzz.py"), "--only", "formatter", "--seconds", "4"]
+    proc = subprocess.run(
+        [*command, "--seed", "7", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "no internal errors" in proc.stdout, proc.stdout
+    assert "by fuzzer: formatter " in proc.stdout, proc.stdout
     assert list(tmp_path.glob("crash-*")) == []

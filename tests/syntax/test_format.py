@@ -9,14 +9,17 @@ parses to the same tree, keeps every comment in order, and is formatted already.
 from __future__ import annotations
 
 import random
-import re
+import subprocess
+import sys
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 
+from bench.fmtfuzz import FormatterFuzzer, formatting_problems, sprinkle, warnings
 from bench.genprog import generate_program
 from gpp.base.source import Source
 from gpp.syntax import ast
@@ -165,6 +168,53 @@ def test_line_breaks_elsewhere_are_not_kept() -> None:
     assert format_text(source) == "procedure main() {\n    a();\n    x() = 1 + 2;\n}\n"
 
 
+def test_long_conditional_breaks_before_its_branches() -> None:
+    source = f"procedure main() {{ y() = if (a > {WIDE}(a)) {WIDE}(a) * 2 else {WIDE}(a) * 3 + {WIDE}(1); }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = if (a > {WIDE}(a))\n            {WIDE}(a) * 2\n"
+        f"        else {WIDE}(a) * 3 + {WIDE}(1);\n}}\n"
+    )
+
+
+def test_long_else_if_chain_breaks_at_each_conditional() -> None:
+    source = f"number function f() = if (a() > {WIDE}()) {WIDE}() else if (b() > 1) {WIDE}() * 3 else {WIDE}()\n"
+    assert format_text(source) == (
+        f"number function f() =\n    if (a() > {WIDE}())\n        {WIDE}()\n"
+        f"    else if (b() > 1) {WIDE}() * 3 else {WIDE}()\n"
+    )
+
+
+def test_operators_outside_a_conditional_break_before_it() -> None:
+    source = f"procedure main() {{ y() = {WIDE} & if ({WIDE}) {WIDE} + {WIDE} else {WIDE}; }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = {WIDE}\n        & if ({WIDE})\n            {WIDE} + {WIDE}\n"
+        f"        else {WIDE};\n}}\n"
+    )
+
+
+def test_long_comparisons_and_products_break_before_their_operators() -> None:
+    compare = f"procedure main() {{ test({WIDE}(a) > {WIDE}(b) == {WIDE}(c) < {WIDE}(d)); }}\n"
+    assert format_text(compare) == (
+        f"procedure main() {{\n    test({WIDE}(a)\n            > {WIDE}(b)\n"
+        f"            == {WIDE}(c)\n            < {WIDE}(d));\n}}\n"
+    )
+    product = f"procedure main() {{ y() = {WIDE}(a) * {WIDE}(b) / {WIDE}(c) % {WIDE}(d); }}\n"
+    assert format_text(product) == (
+        f"procedure main() {{\n    y() = {WIDE}(a)\n        * {WIDE}(b)\n"
+        f"        / {WIDE}(c)\n        % {WIDE}(d);\n}}\n"
+    )
+
+
+def test_a_block_comment_inside_a_line_counts_towards_its_length() -> None:
+    # 92 characters of code, 112 with the comment.
+    source = f"procedure main() {{ y() = {WIDE}(a) + /* a comment of some length */ {WIDE}(b); }}\n"
+    assert format_text(source) == (
+        f"procedure main() {{\n    y() = {WIDE}(a)\n        + /* a comment of some length */ {WIDE}(b);\n}}\n"
+    )
+    short = f"procedure main() {{\n    y() = {WIDE}(a) + /* short */ {WIDE}(b);\n}}\n"
+    assert format_text(short) == short
+
+
 def test_a_line_without_a_break_point_stays_long() -> None:
     name = "n" * 120
     assert format_text(f"action {name}();\n") == f"action {name}();\n"
@@ -188,21 +238,127 @@ def test_syntax_errors_raise_with_the_diagnostics() -> None:
     assert str(caught.value) == "expected `;` after this statement"
 
 
+# ---------------------------------------------------------------- suppressions
+
+# A suppression covers a line (gpp/check/suppress.py): the formatter keeps that line's code on
+# one line of its own, however the layout would have split or joined it.
+SUPPRESSIONS: dict[str, tuple[str, str]] = {
+    "at the end of a line, the line's statements stay on it": (
+        "procedure main() { a(); b(); // gpp: allow W0105\n c(); }\n",
+        "procedure main() { a(); b();  // gpp: allow W0105\n    c();\n}\n",
+    ),
+    "at the end of the last line of an expression, that line stays apart": (
+        "procedure main() {\n    x() = 1 +\n    2; // gpp: allow W0107\n}\n",
+        "procedure main() {\n    x() = 1 +\n        2;  // gpp: allow W0107\n}\n",
+    ),
+    "after the last argument, the list is laid out to keep the line": (
+        "procedure main() { f(a,\n b); // gpp: allow W0107\n}\n",
+        "procedure main() {\n    f(\n        a,\n        b);  // gpp: allow W0107\n}\n",
+    ),
+    "above a line of statements, that line stays as it is": (
+        "procedure main() {\n// gpp: allow W0107\n  a(); b();\n  c(); }\n",
+        "procedure main() {\n    // gpp: allow W0107\n    a(); b();\n    c();\n}\n",
+    ),
+    "above a declaration, the declaration is laid out as any other": (
+        "// gpp: allow W0101\naction a() { effect: x() = 1; }\n",
+        "// gpp: allow W0101\naction a() {\neffect:\n    x() = 1;\n}\n",
+    ),
+    "after a comment on a line of its own, on that line": (
+        "action a();\n  /* c */ // gpp: allow W0107\n /* d\n   e */ /* f */ // g\naction b();\n",
+        "action a();\n/* c */ // gpp: allow W0107\n/* d\n  e */ /* f */ // g\naction b();\n",
+    ),
+}
+
+
+@pytest.mark.parametrize("source, expected", SUPPRESSIONS.values(), ids=SUPPRESSIONS.keys())
+def test_suppression_placement(source: str, expected: str) -> None:
+    assert format_text(source) == expected
+    assert format_text(expected) == expected
+
+
+def test_a_suppression_allows_the_same_lints_after_formatting() -> None:
+    # Both loops are busy waits (W0106); the suppression at the end of the line allows both.
+    source = "procedure main() {\n    while (true) {} while (true) {}  // gpp: allow W0106\n}\n"
+    path = ROOT / "tests" / "programs" / "busy.gpp"
+    assert warnings(source, path) == Counter()
+    assert warnings(format_text(source), path) == Counter()
+    # Without the suppression: the same two warnings, at the same tokens, before and after.
+    plain = source.replace("  // gpp: allow W0106", "")
+    assert sorted(warnings(plain, path)) == [
+        ("W0106", "this `...` loop never executes an action, a test or an assignment", n) for n in (3, 7)
+    ]
+    assert warnings(format_text(plain), path) == warnings(plain, path)
+
+
+# The formatter's mutation corpus (bench/fmtfuzz.py, also run by `make fuzz`): programs laid
+# out anew, with comments and suppressions of every kind at random places.
+MUTANTS = FormatterFuzzer()
+
+
+@settings(max_examples=examples(100), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.randoms(use_true_random=False))
+def test_formatting_a_mutant_keeps_its_tree_comments_line_endings_and_warnings(rnd: random.Random) -> None:
+    mutant = MUTANTS.mutant(rnd)
+    note(f"mutant of {mutant.path}: {mutant.text!r}")
+    assert formatting_problems(mutant.text, mutant.path) == []
+
+
+# ---------------------------------------------------------------- byte-order mark and line endings
+
+
+def test_a_byte_order_mark_is_kept_and_not_read_as_code() -> None:
+    assert format_text("\ufeffaction a( );\n") == "\ufeffaction a();\n"
+    assert format_text("\ufeffaction a();\n") == "\ufeffaction a();\n"
+    assert format_text("\ufeff") == "\ufeff"
+    assert format_text("action a();\n") == "action a();\n"  # none is added
+
+
+def test_syntax_errors_after_a_byte_order_mark_are_where_gpp_check_puts_them(tmp_path: Path) -> None:
+    path = tmp_path / "bom.gpp"
+    path.write_bytes(b"\xef\xbb\xbfprocedure main() { a() }\n")
+    with pytest.raises(FormatError) as caught:
+        format_text(path.read_text(encoding="utf-8"))
+    assert [(d.code, d.span.line, d.span.col) for d in caught.value.diagnostics] == [("E0011", 1, 23)]
+    assert "bom.gpp:1:23" in run_gpp("check", "bom.gpp", cwd=tmp_path).stdout
+
+
+CRLF = 'action go(); // c\r\nprocedure main() {go();\r\n  say("a\nb"); say("c\r\nd");}\r\n'
+CRLF_FORMATTED = (
+    'action go();  // c\r\nprocedure main() {\r\n    go();\r\n    say("a\nb");\r\n    say("c\r\nd");\r\n}\r\n'
+)
+
+
+def test_a_crlf_file_stays_crlf_but_inside_strings() -> None:
+    assert format_text(CRLF) == CRLF_FORMATTED
+    assert format_text(CRLF_FORMATTED) == CRLF_FORMATTED
+
+
+def test_the_first_line_ending_is_the_files() -> None:
+    assert format_text("action a();\r\naction b();\naction c();\n") == "action a();\r\naction b();\r\naction c();\r\n"
+    assert format_text("action a();\naction b();\r\n") == "action a();\naction b();\n"
+    assert format_text("\ufeffaction a();\r\n") == "\ufeffaction a();\r\n"
+
+
+def test_fmt_formats_a_file_with_a_byte_order_mark_or_crlf_line_endings(tmp_path: Path) -> None:
+    (tmp_path / "bom.gpp").write_bytes(b"\xef\xbb\xbfaction a( );\n")
+    (tmp_path / "crlf.gpp").write_bytes(CRLF.encode())
+    result = run_gpp("fmt", "bom.gpp", "crlf.gpp", cwd=tmp_path)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "2 files reformatted, 0 left unchanged\n", "")
+    assert (tmp_path / "bom.gpp").read_bytes() == b"\xef\xbb\xbfaction a();\n"
+    assert (tmp_path / "crlf.gpp").read_bytes() == CRLF_FORMATTED.encode()
+    again = run_gpp("fmt", "--check", "bom.gpp", "crlf.gpp", cwd=tmp_path)
+    assert (again.returncode, again.stdout) == (0, "0 files would be reformatted, 2 already formatted\n")
+
+
+def test_fmt_keeps_the_line_endings_of_standard_input(tmp_path: Path) -> None:
+    # A real process: the in-process runner reads its output in text mode.
+    done = subprocess.run(
+        [sys.executable, "-m", "gpp", "fmt", "-"], input=CRLF.encode(), capture_output=True, cwd=tmp_path, check=False
+    )
+    assert (done.returncode, done.stdout, done.stderr) == (0, CRLF_FORMATTED.encode(), b"")
+
+
 # ---------------------------------------------------------------- properties
-
-COMMENT = re.compile(r"//[^\n]*|/\*[\s\S]*?\*/")
-
-
-def comments(text: str) -> list[str]:
-    """The comments of a program (between its tokens), whitespace normalised."""
-    found: list[str] = []
-    previous = 0
-    for token in [*parse_text(text).tokens, None]:
-        end = token.start if token is not None else len(text)
-        found.extend(" ".join(m.group().split()) for m in COMMENT.finditer(text, previous, end))
-        if token is not None:
-            previous = token.end
-    return found
 
 
 def reparse(text: str) -> ast.Program:
@@ -212,12 +368,9 @@ def reparse(text: str) -> ast.Program:
 
 
 def assert_formats_faithfully(text: str) -> None:
-    """Formatting keeps the tree and the comments, and formatted text is formatted already."""
-    formatted = format_text(text)
-    assert reparse(formatted) == reparse(text), formatted
-    assert comments(formatted) == comments(text), formatted
-    assert directives(formatted) == directives(text), formatted
-    assert format_text(formatted) == formatted, formatted
+    """Formatting keeps the tree, the comments, the directives and the line endings, and
+    formatted text is formatted already (bench/fmtfuzz.py, without the lints)."""
+    assert formatting_problems(text, Path("<input>.gpp"), lints=False) == [], format_text(text)
 
 
 @pytest.mark.parametrize("path", REPO_PROGRAMS, ids=lambda p: str(p.relative_to(ROOT)))
@@ -229,34 +382,6 @@ def test_there_are_repository_programs() -> None:
     folders = {p.relative_to(ROOT).parts[0] for p in REPO_PROGRAMS}
     assert {"examples", "stdlib", "tests"} <= folders
     assert len(REPO_PROGRAMS) >= 60
-
-
-COMMENT_KINDS = (
-    "// c{}\n",
-    " // c{}\n",
-    "/* c{} */",
-    " /* c{} */ ",
-    "\n/* c{}\n   more */\n",
-    "\n\n// c{}\n\n",
-    "\n// c{}\n",
-    "/*c{}*/",
-    "\n",
-    "\n\n",
-)
-
-
-def sprinkle(text: str, rnd: random.Random, count: int) -> str:
-    """`text` with comments (and line breaks) inserted at `count` random token boundaries."""
-    tokens = parse_text(text).tokens
-    cuts = sorted(rnd.sample(range(len(tokens) + 1), min(count, len(tokens) + 1)))
-    out: list[str] = []
-    previous = 0
-    for i, cut in enumerate(cuts):
-        at = tokens[cut].start if cut < len(tokens) else len(text)
-        out += [text[previous:at], rnd.choice(COMMENT_KINDS).format(i)]
-        previous = at
-    out.append(text[previous:])
-    return "".join(out)
 
 
 SOURCES = [p.read_text(encoding="utf-8") for p in REPO_PROGRAMS] + [generate_program(70, seed=s) for s in (1, 2)]
@@ -428,3 +553,9 @@ def test_tokens_the_printer_adds_are_bridged_by_a_diff() -> None:
     original, _ = tokenize(Source("a(); b();", "x"))
     printed, _ = tokenize(Source("a(); { b(); }", "x"))
     assert _token_map(original, printed) == [0, 1, 2, 3, 5, 6, 7, 8, 10]
+
+
+def test_directives_after_a_byte_order_mark_are_read() -> None:
+    text = "\ufeff// world: rescue\n// scenario: s.toml\naction a();\n"
+    assert directives(text) == {"world": "rescue", "scenario": "s.toml"}
+    assert directives(format_text(text)) == directives(text)
