@@ -64,23 +64,21 @@ browser:
 
 test: browser lint typecheck pytest
 
+# The benches, their figures written into docs/performance.md: bench/performance.py runs each
+# bench with the options below (bench/performance.py's BENCHES keeps them) and replaces the text
+# between the bench's markers, `<!-- bench: NAME -->` ... `<!-- /bench: NAME -->`, with what it
+# printed, stamped with the date, the machine's cores and load and the git revision. In order:
+# startup, parse_speed, incparse, lints (--sizes 1000 10000), lint_reuse, model_speed, lsp,
+# planner, sim, ros2, soak. A few: `bench/performance.py --only soak sim`; `--quick` for the
+# benches' smoke-run options.
 bench: $(VENV)/.installed
-	$(BIN)/python bench/startup.py
-	$(BIN)/python bench/parse_speed.py
-	$(BIN)/python bench/incparse.py
-	$(BIN)/python bench/lints.py --sizes 1000 10000
-	$(BIN)/python bench/lint_reuse.py
-	$(BIN)/python bench/model_speed.py
-	$(BIN)/python bench/lsp.py
-	$(BIN)/python bench/planner.py
-	$(BIN)/python bench/sim.py
-	$(BIN)/python bench/ros2.py
-	$(BIN)/python bench/soak.py
+	$(BIN)/python bench/performance.py
 
 # Pathological inputs (deep nesting, long lines, binary files, ...) at four sizes each: time,
-# peak memory and growth exponent per family. Takes a while; `--quick` for a smoke run.
+# peak memory and growth exponent per family, written into docs/performance.md as `make bench`
+# does. Takes a while; `bench/pathological.py --quick` for a smoke run.
 pathological: $(VENV)/.installed
-	$(BIN)/python bench/pathological.py
+	$(BIN)/python bench/performance.py --only pathological
 
 # Fuzzing, outside `make test` (which runs a few seconds of the same fuzzers): 100,000 random
 # inputs through `gpp check`, one in seven a formatter mutant through `gpp fmt` (bench/fmtfuzz.py),

@@ -1,6 +1,6 @@
 """Parse speed of gpp's front end: throughput for growing programs and growing nesting depth.
 
-Run: .venv/bin/python bench/parse_speed.py [--quick]
+Run: .venv/bin/python bench/parse_speed.py [--quick] [--markdown]
 
 Prints lines/s and the per-line cost relative to the smallest program (1.00 means perfectly
 linear), and the same for nesting depth per token. For comparison it also times lark's own
@@ -73,20 +73,40 @@ def lark_baseline() -> Callable[[Source], object]:
     return lambda source: lark.parse(source)  # type: ignore[arg-type]
 
 
+def table(markdown: bool, header: list[str], caption: str) -> None:
+    """Print a table's caption and header: Markdown, or aligned text (the columns' widths)."""
+    print()
+    print(caption)
+    if markdown:
+        print()
+        print("| " + " | ".join(h for h in header) + " |")
+        print("|" + "|".join("---:" for _ in header) + "|")
+    else:
+        print(" ".join(f"{h:>{max(9, len(h))}}" for h in header))
+
+
+def row(markdown: bool, header: list[str], cells: list[str]) -> None:
+    if markdown:
+        print("| " + " | ".join(cells) + " |")
+    else:
+        print(" ".join(f"{c:>{max(9, len(h))}}" for c, h in zip(cells, header, strict=True)))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--quick", action="store_true", help="smaller sizes, for a smoke run")
+    ap.add_argument("--markdown", action="store_true", help="print the tables as Markdown (docs/performance.md)")
     args = ap.parse_args()
+    md = args.markdown
     sizes = [500, 2_000, 10_000] if args.quick else [500, 2_000, 10_000, 50_000]
     # Up to just below the nesting limit (gpp.syntax.depth.MAX_NESTING, 2,000 levels).
     depths = [10, 100, 1_000] if args.quick else [10, 100, 1_000, 1_900]
     repeat = 3
     baseline = lark_baseline()
 
-    print("parse (tokenize + LALR + AST), best of", repeat)
-    print(
-        f"{'lines':>8} {'tokens':>9} {'seconds':>9} {'lines/s':>9} {'cost/line':>10} {'lark tree':>10} {'speed-up':>9}"
-    )
+    header = ["lines", "tokens", "parse s", "lines/s", "cost/line", "lark tree s", "lark / gpp"]
+    caption = f"Parse (tokenize + LALR + syntax tree), best of {repeat}; lark's LALR and tree on the same tokens:"
+    table(md, header, caption)
     first_cost = None
     checks: list[tuple[int, float, float]] = []
     for lines in sizes:
@@ -104,28 +124,24 @@ def main() -> None:
             lark_seconds = best_of(1 if lines > 10_000 else repeat, baseline, source)
         finally:
             gc.enable()
-        print(
-            f"{n_lines:>8,} {n_tokens:>9,} {seconds:>9.3f} {n_lines / seconds:>9,.0f} "
-            f"{cost / first_cost:>10.2f} {lark_seconds:>9.3f}s {lark_seconds / seconds:>8.1f}x"
-        )
+        cells = [f"{n_lines:,}", f"{n_tokens:,}", f"{seconds:.3f}", f"{n_lines / seconds:,.0f}"]
+        cells += [f"{cost / first_cost:.2f}", f"{lark_seconds:.3f}", f"{lark_seconds / seconds:.1f}x"]
+        row(md, header, cells)
         runs = 1 if lines > 10_000 else repeat
         checks.append((n_lines, time_check(source, runs, lint=False), time_check(source, runs, lint=True)))
 
-    print()
-    print("parse + check (resolve names, types) and with lints, best of", repeat)
-    print(f"{'lines':>8} {'check s':>9} {'lines/s':>9} {'cost/line':>10} {'+lints s':>9} {'lines/s':>9}")
+    header = ["lines", "check s", "lines/s", "cost/line", "+ lints s", "lines/s"]
+    table(md, header, f"Parse + check (names, types), and with lints, best of {repeat}:")
     first_check = None
     for n_lines, check_seconds, lint_seconds in checks:
         per_line = check_seconds / n_lines
         first_check = first_check or per_line
-        print(
-            f"{n_lines:>8,} {check_seconds:>9.3f} {n_lines / check_seconds:>9,.0f} {per_line / first_check:>10.2f} "
-            f"{lint_seconds:>9.3f} {n_lines / lint_seconds:>9,.0f}"
-        )
+        cells = [f"{n_lines:,}", f"{check_seconds:.3f}", f"{n_lines / check_seconds:,.0f}"]
+        cells += [f"{per_line / first_check:.2f}", f"{lint_seconds:.3f}", f"{n_lines / lint_seconds:,.0f}"]
+        row(md, header, cells)
 
-    print()
-    print("nesting depth: parentheses and blocks nested N deep")
-    print(f"{'depth':>8} {'tokens':>9} {'seconds':>9} {'µs/token':>9} {'cost/token':>11}")
+    header = ["depth", "tokens", "parse s", "µs/token", "cost/token"]
+    table(md, header, "Nesting depth: parentheses and blocks nested N deep:")
     first = None
     for depth in depths:
         source = Source(nested_expression_program(depth), f"deep{depth}.gpp")
@@ -135,7 +151,8 @@ def main() -> None:
         seconds = best_of(repeat, parse, source)
         per_token = seconds / n_tokens
         first = first or per_token
-        print(f"{depth:>8,} {n_tokens:>9,} {seconds:>9.4f} {per_token * 1e6:>9.2f} {per_token / first:>11.2f}")
+        cells = [f"{depth:,}", f"{n_tokens:,}", f"{seconds:.4f}", f"{per_token * 1e6:.2f}", f"{per_token / first:.2f}"]
+        row(md, header, cells)
 
 
 if __name__ == "__main__":

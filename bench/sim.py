@@ -1,7 +1,7 @@
 """Speed of the sim platform: physics steps per second and how much faster than real time the
 example agents run.
 
-Run: .venv/bin/python bench/sim.py [--repeat N]
+Run: .venv/bin/python bench/sim.py [--repeat N] [--markdown]
 
 For each sim example it runs the whole program (check, plan, execute with physics) and
 prints the physics steps, steps per second while stepping, sim time, wall time (the whole
@@ -53,22 +53,44 @@ def raw_scene(world: str, moves: list[tuple[str, dict[str, str]]], rounds: int) 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="runs per example (the best counts)")
+    parser.add_argument("--markdown", action="store_true", help="print the tables as Markdown (docs/performance.md)")
     options = parser.parse_args()
-    print(f"{'example':<24} {'steps':>6} {'steps/s':>9} {'sim s':>7} {'wall s':>7} {'sim/wall':>9}  postcond")
+    if options.markdown:
+        print(f"Examples (best wall time of {options.repeat} runs):")
+        print()
+        print("| example | physics steps | steps/s | sim time | wall time | × real time | postcond |")
+        print("|---|---:|---:|---:|---:|---:|---|")
+    else:
+        print(f"{'example':<24} {'steps':>6} {'steps/s':>9} {'sim s':>7} {'wall s':>7} {'sim/wall':>9}  postcond")
     for name in EXAMPLES:
         wall, sim_time, steps, rate, ok = run_example(name, options.repeat)
-        print(
-            f"{name:<24} {steps:>6} {rate:>9,.0f} {sim_time:>7.1f} {wall:>7.3f} {sim_time / wall:>8.0f}x  "
-            + ("holds" if ok else "FAILS")
-        )
+        holds = "holds" if ok else "FAILS"
+        if options.markdown:
+            print(
+                f"| {name.removesuffix('.gpp')} | {steps:,} | {rate:,.0f} | {sim_time:.1f} s | {wall:.3f} s "
+                f"| {sim_time / wall:.0f}× | {holds} |"
+            )
+        else:
+            times = f"{sim_time:>7.1f} {wall:>7.3f} {sim_time / wall:>8.0f}x"
+            print(f"{name:<24} {steps:>6} {rate:>9,.0f} {times}  {holds}")
     print()
-    print("raw scenes (dt = 1/60 s, stepping only)")
+    print("Raw scenes (dt = 1/60 s, stepping only):" if options.markdown else "raw scenes (dt = 1/60 s, stepping only)")
     shuffle = [("/stack", {"block": "a", "location": "t3"}), ("/stack", {"block": "a", "location": "b"})]
     bench_rate = raw_scene("blocksworld", [("/navigate_to_frame", {"frame": "table"}), *shuffle * 5], 1)
-    print(f"  workbench, 10 stacks, iterations 30: {bench_rate:>9,.0f} steps/s = {bench_rate / 60:>5.0f}x real time")
+    if options.markdown:
+        print()
+        print("| scene | steps/s | × real time |")
+        print("|---|---:|---:|")
+        print(f"| workbench, 10 stacks, iterations 30 | {bench_rate:,.0f} | {bench_rate / 60:.0f}× |")
+    else:
+        rate = f"{bench_rate:>9,.0f} steps/s = {bench_rate / 60:>5.0f}x real time"
+        print(f"  workbench, 10 stacks, iterations 30: {rate}")
     rooms = [("/navigate_to_frame", {"frame": room}) for room in ("room3", "room4", "home")]
     nav_rate = raw_scene("rescue", rooms, 1)
-    print(f"  map, 3 drives, iterations 10:        {nav_rate:>9,.0f} steps/s = {nav_rate / 60:>5.0f}x real time")
+    if options.markdown:
+        print(f"| map, 3 drives, iterations 10 | {nav_rate:,.0f} | {nav_rate / 60:.0f}× |")
+    else:
+        print(f"  map, 3 drives, iterations 10:        {nav_rate:>9,.0f} steps/s = {nav_rate / 60:>5.0f}x real time")
 
 
 if __name__ == "__main__":

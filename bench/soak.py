@@ -1,7 +1,7 @@
 """Soak: does a long run stay the same size and speed? 1,000,000 steps of a one-action loop on
 the dummy platform, without a trace file and with one (split into 10 MB parts).
 
-Run: .venv/bin/python bench/soak.py [--steps N] [--keep-trace]
+Run: .venv/bin/python bench/soak.py [--steps N] [--keep-trace] [--markdown]
 
 A step is a step of the executor (`steps` in the summary of `gpp run`): each round of the loop
 is two, the action's start and its end. Each run is a fresh process, so that its peak memory is
@@ -125,6 +125,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=1_000_000, help="executor steps per run (default 1,000,000)")
     parser.add_argument("--keep-trace", action="store_true", help="keep the trace parts (in a temporary folder)")
+    parser.add_argument("--markdown", action="store_true", help="print the table as Markdown (docs/performance.md)")
     parser.add_argument("--one", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--trace", type=Path, help=argparse.SUPPRESS)
     options = parser.parse_args()
@@ -132,10 +133,19 @@ def main() -> None:
         print(json.dumps(one_run(options.steps, options.trace)))
         return
     checkpoints = [c for c in CHECKPOINTS if c <= options.steps]
-    print(f"soak: {options.steps:,} steps of a one-action loop on the dummy platform")
-    print("memory: peak resident set size (ru_maxrss) of the run's own process, MB")
-    header = "".join(f"{f'{c // 1000}k steps':>12}" for c in checkpoints)
-    print(f"{'run':<22}{header}{'growth':>10}{'first 10%':>12}{'last 10%':>11}{'ratio':>7}  trace")
+    md = options.markdown
+    if md:
+        print(f"{options.steps:,} steps of a one-action loop on the dummy platform; memory is the peak resident set")
+        print("size of the run's own process, time per step its CPU time over the first and the last 10% of the steps:")
+        print()
+        steps = " | ".join(f"{c // 1_000_000}M steps" if c % 1_000_000 == 0 else f"{c // 1000}k steps" for c in checkpoints)
+        print(f"| run | {steps} | growth | first 10% | last 10% | ratio |")
+        print("|---|" + "---:|" * (len(checkpoints) + 4))
+    else:
+        print(f"soak: {options.steps:,} steps of a one-action loop on the dummy platform")
+        print("memory: peak resident set size (ru_maxrss) of the run's own process, MB")
+        header = "".join(f"{f'{c // 1000}k steps':>12}" for c in checkpoints)
+        print(f"{'run':<22}{header}{'growth':>10}{'first 10%':>12}{'last 10%':>11}{'ratio':>7}  trace")
     folder = Path(tempfile.mkdtemp(prefix="gpp-soak-"))
     ok = True
     for name, trace in (("no trace", None), ("--trace (10 MB parts)", folder / "soak.jsonl")):
@@ -148,8 +158,13 @@ def main() -> None:
         ratio = last / first
         ok = ok and growth <= MEMORY_TARGET_MB and ratio <= TIME_TARGET
         written = f"{found['parts']} parts, {int(str(found['bytes'])) / 1e6:,.0f} MB" if trace else "-"
-        cells = "".join(f"{m:>12.1f}" for m in mb)
-        print(f"{name:<22}{cells}{growth:>+10.1f}{first:>10.1f}us{last:>9.1f}us{ratio:>7.2f}  {written}")
+        if md:
+            label = "no trace file" if trace is None else f"`--trace` split into 10 MB parts ({written})"
+            cells = " | ".join(f"{m:.1f} MB" for m in mb)
+            print(f"| {label} | {cells} | {growth:+.1f} MB | {first:.1f} µs | {last:.1f} µs | {ratio:.2f} |")
+        else:
+            cells = "".join(f"{m:>12.1f}" for m in mb)
+            print(f"{name:<22}{cells}{growth:>+10.1f}{first:>10.1f}us{last:>9.1f}us{ratio:>7.2f}  {written}")
         if trace is not None and not options.keep_trace:
             for part in trace_parts(trace):
                 part.unlink()
@@ -157,8 +172,10 @@ def main() -> None:
         print(f"trace parts kept in {folder}")
     else:
         folder.rmdir()
+    if md:
+        print()
     print(
-        f"targets: growth from {checkpoints[0] // 1000}k to {checkpoints[-1] // 1000}k steps "
+        f"{'Targets' if md else 'targets'}: growth from {checkpoints[0] // 1000}k to {checkpoints[-1] // 1000}k steps "
         f"<= {MEMORY_TARGET_MB:g} MB, "
         f"last/first 10% time per step <= {TIME_TARGET:g}: {'met' if ok else 'NOT met'}"
     )

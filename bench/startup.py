@@ -1,6 +1,6 @@
 """Start-up time of `gpp check` and `gpp run` on a small program, as a whole process.
 
-Run: .venv/bin/python bench/startup.py [--repeat N]
+Run: .venv/bin/python bench/startup.py [--repeat N] [--markdown]
 
 Each command runs N times as a fresh process (`python -m gpp ...` with this interpreter); the
 minimum wall time counts (the least disturbed by other work on the machine). Byte code is
@@ -45,6 +45,7 @@ def best_of(args: list[str], repeat: int, env: dict[str, str]) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=15, help="runs per command (the minimum counts)")
+    parser.add_argument("--markdown", action="store_true", help="the table is Markdown anyway (for bench/performance.py)")
     options = parser.parse_args()
     with tempfile.TemporaryDirectory() as cache:
         env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
