@@ -138,7 +138,7 @@ def main() -> None:
         print(f"{options.steps:,} steps of a one-action loop on the dummy platform; memory is the peak resident set")
         print("size of the run's own process, time per step its CPU time over the first and the last 10% of the steps:")
         print()
-        steps = " | ".join(f"{c // 1_000_000}M steps" if c % 1_000_000 == 0 else f"{c // 1000}k steps" for c in checkpoints)
+        steps = " | ".join(f"{c // 10**6}M steps" if c % 10**6 == 0 else f"{c // 1000}k steps" for c in checkpoints)
         print(f"| run | {steps} | growth | first 10% | last 10% | ratio |")
         print("|---|" + "---:|" * (len(checkpoints) + 4))
     else:

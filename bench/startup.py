@@ -45,7 +45,7 @@ def best_of(args: list[str], repeat: int, env: dict[str, str]) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=15, help="runs per command (the minimum counts)")
-    parser.add_argument("--markdown", action="store_true", help="the table is Markdown anyway (for bench/performance.py)")
+    parser.add_argument("--markdown", action="store_true", help="(the table is Markdown anyway)")
     options = parser.parse_args()
     with tempfile.TemporaryDirectory() as cache:
         env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
