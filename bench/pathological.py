@@ -223,7 +223,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="sizes of 1, 4 and 16 KB, for a smoke run")
     ap.add_argument("--family", action="append", help="only this family (repeatable)")
     ap.add_argument("--timeout", type=float, help="seconds a case may take (default 120, quick 30)")
-    ap.add_argument("--markdown", action="store_true", help="print the table as Markdown (for the README)")
+    ap.add_argument("--markdown", action="store_true", help="print the table as Markdown (docs/performance.md)")
     ap.add_argument("--child", nargs=2, metavar=("FAMILY", "N"), help=argparse.SUPPRESS)
     ap.add_argument("--run", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -240,6 +240,7 @@ def main() -> None:
     print(f"nesting limit of the parser: {limit if limit is not None else 'none'}; timeout {timeout:g} s per case")
     header = ["family", "n", "KB", "diagnostics", "check s", "growth", "render s", "run s", "peak MB"]
     if args.markdown:
+        print()  # a table after a paragraph needs the blank line
         print("| " + " | ".join(header) + " |")
         print("|" + "|".join("---" for _ in header) + "|")
     else:
