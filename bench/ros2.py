@@ -128,6 +128,16 @@ def start_up(context: Context, repeat: int = 5) -> tuple[float, float]:
     return first, best
 
 
+def goal(platform: Ros2Platform, activity: Activity) -> ActivityUpdate:
+    """Start `activity` and wait (at most 5 s between events) for its update."""
+    platform.start(activity)
+    while True:
+        assert platform.queue.wait(5.0), "no answer within 5 s"
+        for _, event in platform.queue.drain():
+            if isinstance(event, ActivityUpdate):
+                return event
+
+
 def round_trips(context: Context, action: str, args: dict[str, object], n: int) -> list[float]:
     """`args`: the mapped arguments (goal or request fields) of the action's one parameter."""
     platform = Ros2Platform(context=context)
@@ -138,13 +148,7 @@ def round_trips(context: Context, action: str, args: dict[str, object], n: int) 
             ground = GroundAction(action, tuple(args.values()))  # type: ignore[arg-type]
             activity = Activity(i + 1, ground, "", args)  # type: ignore[arg-type]
             started = time.perf_counter()
-            platform.start(activity)
-            update = None
-            while update is None:
-                assert platform.queue.wait(5.0), "no answer within 5 s"
-                for _, event in platform.queue.drain():
-                    if isinstance(event, ActivityUpdate):
-                        update = event
+            update = goal(platform, activity)
             assert update.status.value == "final", update
             if i >= 5:  # the first goals include discovery and client creation
                 times.append(time.perf_counter() - started)
@@ -166,13 +170,7 @@ def typed_and_untyped(context: Context, n: int) -> tuple[list[float], list[float
             args: dict[str, object] = {"order": 1}
             activity = Activity(i + 1, GroundAction("count", (1,)), "", args)  # type: ignore[arg-type]
             started = time.perf_counter()
-            platform.start(activity)
-            update = None
-            while update is None:
-                assert platform.queue.wait(5.0), "no answer within 5 s"
-                for _, event in platform.queue.drain():
-                    if isinstance(event, ActivityUpdate):
-                        update = event
+            update = goal(platform, activity)
             assert update.status.value == "final", update
             if i >= 10:  # the first goals include client creation
                 times[i % 2].append(time.perf_counter() - started)
@@ -195,13 +193,7 @@ def first_goals(context: Context, mapped: str, repeat: int = 10) -> list[float]:
             args: dict[str, object] = {"order": 1}
             activity = Activity(i + 1, GroundAction("count", (1,)), mapped, args)  # type: ignore[arg-type]
             started = time.perf_counter()
-            platform.start(activity)
-            update = None
-            while update is None:
-                assert platform.queue.wait(5.0), "no answer within 5 s"
-                for _, event in platform.queue.drain():
-                    if isinstance(event, ActivityUpdate):
-                        update = event
+            update = goal(platform, activity)
             times.append(time.perf_counter() - started)
             assert update.status.value == "final", update
         finally:

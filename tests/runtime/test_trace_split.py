@@ -13,6 +13,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 
+from bench import soak
 from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import (
     AssignEvent,
@@ -36,22 +37,7 @@ from gpp.runtime.trace import Recording, TraceSplit, part_path, trace_parts
 from gpp.traceview.model import build_run_model, load_trace
 from tests.support.cli import run
 
-LOOP = """\
-number fluent done() {
-initially:
-    () = 0;
-}
-
-action tick() {
-effect:
-    done() = done() + 1;
-}
-
-procedure main(number rounds) {
-    while (done() < rounds)
-        tick();
-}
-"""
+LOOP = soak.PROGRAM  # rounds of `tick()` until `done()` reaches the given number
 
 WAIT = """\
 // scenario: wait.toml
