@@ -177,21 +177,27 @@ def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: P
 @pytest.mark.slow
 @pytest.mark.skipif(os.name != "posix", reason="signals")
 def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
+    trace = tmp_path / "run.jsonl"
     process = subprocess.Popen(
-        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime"],
+        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime", "--trace", str(trace)],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
     try:
-        time.sleep(3)
+        deadline = time.monotonic() + 60
+        # Ctrl-C while an activity runs (not a fixed delay: under load start-up takes longer).
+        while not (trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8")):
+            assert time.monotonic() < deadline, "no activity started"
+            time.sleep(0.05)
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=30)
     finally:
         if process.poll() is None:
             process.kill()
     assert process.returncode == 130, out + err
+    assert err.endswith("interrupted\n")
 
 
 # ---------------------------------------------------------------- parameters of main
