@@ -32,6 +32,7 @@ from action_msgs.msg import GoalStatus
 from action_msgs.srv import CancelGoal
 from rclpy.action.client import ActionClient
 from rclpy.context import Context
+from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
@@ -191,8 +192,11 @@ class Bridge:
         return time.monotonic() - self.t0
 
     def close(self, grace: float = 1.0) -> None:
-        """Cancel what still runs (waiting at most `grace` s for the servers to confirm), stop
-        and join the spin thread, destroy the node, shut the context down (if it is ours)."""
+        """Cancel what still runs and let the subscribers acknowledge what was published
+        (waiting at most `grace` s in all for the servers and subscribers), stop and join the
+        spin thread, destroy the node, shut the context down (if it is ours). A message
+        published just before the end is still on its way: destroying its publisher at once
+        would lose it."""
         if self._closed:
             return
         if self.thread.is_alive():
@@ -201,6 +205,12 @@ class Bridge:
             deadline = time.monotonic() + grace
             while time.monotonic() < deadline and any(j.phase == "running" for j in list(self.jobs)):
                 time.sleep(0.01)
+            for publisher in list(self._publishers.values()):
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    break
+                with contextlib.suppress(Exception):  # best effort publishers are acknowledged at once
+                    publisher.wait_for_all_acked(Duration(nanoseconds=int(left * 1e9)))
         self._closed = True
         self._stopping = True
         self.executor.wake()

@@ -72,16 +72,16 @@ def start(command: list[str], env: dict[str, str], ready: str, timeout: float = 
 
 
 def stop(process: subprocess.Popen[str]) -> str:
-    """Stop the process (SIGTERM, then SIGKILL after 10 s); what it wrote to stdout since last read."""
+    """Stop the process (SIGTERM, then SIGKILL after 10 s); what it wrote to stdout since last
+    read (also when it had ended already: its output is still in the pipe)."""
     if process.poll() is None:
         process.send_signal(signal.SIGTERM)
-        try:
-            out, _ = process.communicate(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            out, _ = process.communicate(timeout=10)
-        return out or ""
-    return ""
+    try:
+        out, _ = process.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        out, _ = process.communicate(timeout=10)
+    return out or ""
 
 
 @pytest.fixture
