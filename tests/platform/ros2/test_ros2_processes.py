@@ -278,24 +278,32 @@ def test_the_robot_interfaces_build_without_colcon(robot_interfaces: list[str]) 
     assert result.stdout.strip() == "['block', 'location'] ['location']"
 
 
+def run_on_the_example_robot(
+    program: Path, trace: Path, domain: int, robot_interfaces: list[str], timeout: float
+) -> subprocess.CompletedProcess[str]:
+    """`gpp run program --platform ros2 --trace trace` against the example robot
+    (examples/ros2/robot.py) in a process of its own, stopped afterwards."""
+    env = ros_env(domain, robot_interfaces)
+    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
+    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
+    try:
+        return subprocess.run(
+            [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
+    finally:
+        stop(robot)
+
+
 def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str], domain: int, tmp_path: Path) -> None:
     example = ROOT / "examples" / "blocksworld.gpp"
     on_sim = run_program(example, RunOptions(record=True, platform="sim"))
     assert on_sim.ok and on_sim.recording is not None
-    env = ros_env(domain, robot_interfaces)
-    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
-    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
     trace = tmp_path / "trace.jsonl"
-    try:
-        agent = subprocess.run(
-            [sys.executable, "-m", "gpp", "run", str(example), "--platform", "ros2", "--trace", str(trace)],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
-    finally:
-        stop(robot)
+    agent = run_on_the_example_robot(example, trace, domain, robot_interfaces, timeout=300)
     assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
     events = trace_events(trace)
     plans = [tuple(e["policy"]) for e in events if e.get("event") == "plan"]
@@ -339,20 +347,8 @@ def test_a_nav2_style_error_code_decides_what_the_program_does(
     error_code 9004 (GOAL_OUTSIDE_MAP); `on_fail` reads it."""
     program = tmp_path / "agent.gpp"
     program.write_text(NAV2)
-    env = ros_env(domain, robot_interfaces)
-    env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
-    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
     trace = tmp_path / "trace.jsonl"
-    try:
-        agent = subprocess.run(
-            [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=120,
-        )
-    finally:
-        stop(robot)
+    agent = run_on_the_example_robot(program, trace, domain, robot_interfaces, timeout=120)
     assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
     assert "postcond()         holds" in agent.stdout, agent.stdout
     failed = [e for e in trace_events(trace) if e.get("event") == "update" and e["status"] == "failed"]
