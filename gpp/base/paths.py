@@ -70,14 +70,16 @@ def write_problem(path: Path) -> str | None:
     return None
 
 
-def write_atomically(path: Path, text: str) -> None:
-    """Replace the file's text in one step: written to a temporary file beside it, then renamed
-    over it (keeping its permissions), so a reader never sees half a file."""
+def write_atomically(path: Path, data: str | bytes) -> None:
+    """Write the file in one step: to a temporary file beside it, then renamed over it (keeping
+    the permissions of the file it replaces), so a reader never sees half a file. Text is
+    written as UTF-8 with its line endings as they are."""
     fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
-            out.write(text)
-        os.chmod(temporary, path.stat().st_mode & 0o7777)
+        with os.fdopen(fd, "wb") as out:
+            out.write(data.encode("utf-8") if isinstance(data, str) else data)
+        if path.exists():
+            os.chmod(temporary, path.stat().st_mode & 0o7777)
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)

@@ -7,7 +7,6 @@ installed wheel carries them inside the package (gpp/_data/). Both layouts are s
 from __future__ import annotations
 
 import os
-import tempfile
 from functools import cache
 from pathlib import Path
 
@@ -36,12 +35,11 @@ def cache_dir() -> Path:
 def write_cache_file(path: Path, data: bytes) -> None:
     """Write a cache file atomically (a reader never sees half of it); a cache that cannot be
     written (a read-only home) is left alone: it only costs the time to build it again."""
+    from gpp.base.paths import write_atomically
+
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-")
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
+        write_atomically(path, data)
     except OSError:
         pass
 
