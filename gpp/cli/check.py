@@ -28,6 +28,7 @@ from gpp.cli.common import (
     files_to_check,
     load_config,
     require_readable,
+    require_writable,
     usage_error,
 )
 
@@ -247,7 +248,7 @@ def _plan(paths: Sequence[Path], configs: dict[Path, Config]) -> _Plan:
 def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[CheckResult], str]:
     """Fix in memory; write the files (`write`) or print the diff and exit (1 when it is not
     empty). The final check, and the line that says what was fixed."""
-    from gpp.base.paths import write_atomically, write_problem
+    from gpp.base.paths import write_atomically
     from gpp.check import merged_diagnostics
     from gpp.check.fixes import fix_programs, unified_diff
     from gpp.syntax.loader import display_path
@@ -260,9 +261,7 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
         sys.stdout.flush()
         print(f"would fix {_problems(outcome.applied)} in {files}", file=sys.stderr)
         raise SystemExit(EXIT_PROBLEMS if changed else EXIT_OK)
-    problems = [write_problem(Path(display_path(path))) for path in changed]
-    if any(problems):
-        usage_error("; ".join(p for p in problems if p is not None) + ": no file was changed")
+    require_writable([Path(display_path(path)) for path in changed])
     for path in changed:
         try:
             write_atomically(path, outcome.fixed[path])

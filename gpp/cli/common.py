@@ -80,6 +80,16 @@ def require_readable(path: Path) -> None:
         usage_error(f"cannot read '{path}': {e.strerror or e}")
 
 
+def require_writable(paths: Sequence[Path]) -> None:
+    """A usage error naming every file that could not be written, before any is (paths as the
+    user should see them)."""
+    from gpp.base.paths import write_problem
+
+    problems = [problem for problem in map(write_problem, paths) if problem is not None]
+    if problems:
+        usage_error("; ".join(problems) + ": no file was changed")
+
+
 def usage_error(message: str) -> NoReturn:
     print(f"error: {message}", file=sys.stderr)
     raise SystemExit(EXIT_USAGE)

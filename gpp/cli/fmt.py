@@ -39,7 +39,7 @@ def fmt(
     ] = False,
 ) -> None:
     """Format golog++ files in the canonical layout, keeping their comments."""
-    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, files_to_check, usage_error
+    from gpp.cli.common import EXIT_OK, EXIT_PROBLEMS, EXIT_USAGE, files_to_check, require_writable, usage_error
 
     paths = paths or []
     if any(str(p) == STDIN for p in paths):
@@ -64,7 +64,7 @@ def fmt(
                 print(f"would reformat: {path}")
     unwritten: list[Path] = []
     if not (check or diff):
-        _require_writable([path for path, _ in changed])
+        require_writable([path for path, _ in changed])
         unwritten = [path for path, formatted in changed if not _write(path, formatted)]
     unchanged = len(files) - len(changed) - failed
     if check or diff:
@@ -130,16 +130,6 @@ def _read(path: Path) -> str:
         usage_error(f"cannot read '{path}': {e.strerror or e}")
     except UnicodeDecodeError:
         usage_error(f"cannot read '{path}': it is not UTF-8 text")
-
-
-def _require_writable(paths: list[Path]) -> None:
-    """A usage error naming every file that could not be written, before any is."""
-    from gpp.base.paths import write_problem
-    from gpp.cli.common import usage_error
-
-    problems = [problem for problem in map(write_problem, paths) if problem is not None]
-    if problems:
-        usage_error("; ".join(problems) + ": no file was changed")
 
 
 def _write(path: Path, text: str) -> bool:
