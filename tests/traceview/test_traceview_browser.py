@@ -172,8 +172,8 @@ def test_the_page_loads_cleanly_and_draws_every_activity(opened: Opened, blocksw
     exog = [e.action for e in events if isinstance(e, ExogEvent)]
     assert opened.attr("g.exog", "data-action") == exog
     assert opened.page.locator("g.plan").count() == 1
-    assert opened.attr("g.series", "data-name") == ["battery_report(·)"]
-    assert opened.attr("g.series", "data-samples") == [str(len(exog))]
+    assert opened.attr("g.series", "data-name") == ["battery()", "battery_report(·)"]
+    assert opened.attr("g.series", "data-samples") == [str(len(exog))] * 2
     # The page around the chart.
     assert opened.page.inner_text("#status") == "FINISHED"
     assert "13 activities in 4 lanes" in opened.page.inner_text("#meta")
