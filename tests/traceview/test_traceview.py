@@ -207,13 +207,13 @@ def test_states_of_the_model(retries: Path) -> None:
     [state] = model.states
     assert state.name == "robot_at()"
     assert [(s.start, s.stop, s.value, s.label) for s in state.segments] == [
-        (6.0, 10.0, "room1", "goto(room1)"),
-        (10.0, 14.0, "room2", "goto(room2)"),
-        (14.0, 14.0, "lobby", "goto(lobby)"),
+        (7.0, 11.0, "room1", "goto(room1)"),
+        (11.0, 15.0, "room2", "goto(room2)"),
+        (15.0, 15.0, "lobby", "goto(lobby)"),
     ]
     assert [(s.name, [x.value for x in s.samples]) for s in model.series] == [
         ("waiting()", [1, 2]),
-        ("greeted_visitors_count()", [123456.5]),
+        ("visitors_greeted_so_far()", [1, 2]),
     ]
 
 
