@@ -4,7 +4,8 @@ embedded as JSON, no network access needed to open it).
 The page is the template `viewer.html` with `viewer.css`, `viewer.js` and the data put in.
 The data (`page_data`) is plain JSON: the run's lanes, activities, exogenous events, plans,
 fluent changes, waits, problems, numeric series, the bands of the other fluents' values, and
-the source lines the records point at (read from the program files at generation time, when they can be found).
+the source lines the records point at (read from the program files at generation time, when
+they can be found).
 """
 
 from __future__ import annotations
