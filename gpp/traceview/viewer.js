@@ -281,14 +281,15 @@
     };
   }
 
-  // Marks closer than a few pixels, as one: [{px, items}] (items in time order). Simultaneous
-  // events get one mark, one label and one tooltip listing them all.
-  function together(items, pxOf) {
+  // Marks that would overlap (closer than `gap` pixels to the first of them), as one: [{px,
+  // items}] (items in time order). Simultaneous events get one mark, one label and one tooltip
+  // listing them all.
+  function together(items, pxOf, gap) {
     const out = [];
     for (const i of items) {
       const px = pxOf(i);
       const last = out[out.length - 1];
-      if (last && px - last.px < 4) last.items.push(i);
+      if (last && px - last.px < gap) last.items.push(i);
       else out.push({ px: px, items: [i] });
     }
     return out;
@@ -302,7 +303,7 @@
 
   function drawExog(out, row) {
     const cy = row.y + row.h / 2;
-    const marks = together(row.items, (i) => x(D.exog[i].t));
+    const marks = together(row.items, (i) => x(D.exog[i].t), 12);
     const label = labeller(marks.map((m) => m.px));
     for (const m of marks) {
       if (!visible(m.px)) continue;
@@ -342,7 +343,7 @@
   // it fits whole (beside the marks, or below them where only other labels are in the way).
   function drawChanges(out, row) {
     const cy = row.y + 11;
-    const marks = together(D.changes.map((c, i) => i), (i) => x(D.changes[i].t));
+    const marks = together(D.changes.map((c, i) => i), (i) => x(D.changes[i].t), 9);
     const beside = labeller(marks.map((m) => m.px));
     const below = labeller([]);
     for (const m of marks) {
