@@ -152,6 +152,16 @@ class E0045(Code, name="legacy-exog-function-body", summary="an `exog_function` 
         return Message(cls.code, f"exogenous function `{name}` has a body, which is legacy golog++")
 
 
+class E0046(
+    Code,
+    name="legacy-untyped-variable",
+    summary="a variable of `exists`, `forall` or `pick` without a type: legacy golog++",
+):
+    @classmethod
+    def untyped(cls, keyword: str, name: str) -> Message:
+        return Message(cls.code, f"the `{keyword}` variable `{name}` has no type")
+
+
 class E0030(Code, name="include-not-found", summary="an `#include` whose file cannot be found or read"):
     @classmethod
     def not_found(cls, name: str) -> Message:

@@ -11,7 +11,11 @@ syntax errors; the rest of the file is checked as if it were modern. The forms:
 * E0042 `senses: f()` without an assignment (the action's result went into the fluent);
 * E0043 a `domain:` section restricting parameters (`domain: room in rooms;`);
 * E0044 a function with a block body of `return` statements;
-* E0045 an `exog_function` with a body.
+* E0045 an `exog_function` with a body;
+* E0046 a variable of `exists`, `forall` or `pick` without a type (`exists(z) loc(z) == x`,
+  `pick (x in {a, b})`), as the 2019 sigil syntax leaves it once its sigils are removed: typed
+  by its use (an argument of a fluent, function or action whose parameter has a type, or
+  compared with a typed parameter), else by the values of a literal `in {...}` set.
 
 Every fix is safe (`gpp check --fix` applies it): its edits write exactly the modern program
 that the rewrite hands the parser, so the fixed file means what gpp already took the legacy one
@@ -27,7 +31,7 @@ from collections.abc import Iterator
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
-from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045
+from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046
 from gpp.syntax.lexer import Token
 
 SIGIL_TYPES = {
@@ -56,6 +60,8 @@ def modernize(source: Source, tokens: list[Token]) -> tuple[list[Token], list[di
     if has_sigils:
         tokens = rewriter.sigils(tokens)
     tokens = rewriter.structure(tokens)
+    if _untyped_variables(tokens):
+        tokens = rewriter.variables(tokens)
     rewriter.report_sigils()
     return tokens, rewriter.diagnostics
 
@@ -80,8 +86,32 @@ def _percent_sigil(tokens: list[Token], types: list[str]) -> bool:
     )
 
 
+def _untyped_variables(tokens: list[Token]) -> bool:
+    """Whether a variable of `exists`, `forall` or `pick` is written without a type."""
+    return any(i > 0 and _untyped_variable(tokens, i) for i, t in enumerate(tokens) if t.type == "LPAR")
+
+
+def _untyped_variable(tokens: list[Token], i: int) -> bool:
+    """Whether the `(` at `i` opens `exists (z)`, `forall (z)`, `pick (x in ...)` or `pick (x)`."""
+    before = tokens[i - 1].type
+    if before not in ("QUANTIFIER", "PICK") or i + 2 >= len(tokens) or tokens[i + 1].type != "NAME":
+        return False
+    after = tokens[i + 2].type
+    return after == "RPAR" or (before == "PICK" and after == "IN")
+
+
 def _structural_candidates(types: list[str]) -> bool:
     n = len(types)
+    for i in _positions(types, "LPAR"):
+        # `exists (z)`, `pick (x in ...)`: a variable without a type
+        if (
+            i > 0
+            and types[i - 1] in ("QUANTIFIER", "PICK")
+            and i + 2 < n
+            and types[i + 1] == "NAME"
+            and (types[i + 2] == "RPAR" or (types[i - 1] == "PICK" and types[i + 2] == "IN"))
+        ):
+            return True
     if any(i + 1 < n and types[i + 1] == "NAME" for i in _positions(types, "MAPPING")):
         return True
     for i in _positions(types, "SENSES"):
@@ -235,14 +265,18 @@ class _Rewriter:
                 continue
             if t.type == "SENSES":
                 end = self.statement_end(tokens, i + 1)
+                last = end is None  # `senses: f(x)` as the action's last item, without its `;`
+                if last:
+                    end = self.section_end(tokens, i + 1)
                 if end is not None and not any(tok.type == "EQ" for tok in self.top_level(tokens, i + 1, end)):
                     out.append(t)
-                    out.extend(self.senses(tokens, i + 1, end, out, declaration_start))
-                    i = end + 1
+                    out.extend(self.senses(tokens, i + 1, end, out, declaration_start, last))
+                    i = end if last else end + 1
                     continue
             if t.type == "DOMAIN" and i + 1 < n and tokens[i + 1].type == "COLON" and depth > 0:
                 end = self.statement_end(tokens, i + 2)
                 if end is not None:
+                    end = self.domain_entries_end(tokens, end)
                     self.domain_section(tokens, i, end, out, declaration_start)
                     i = end + 1
                     continue
@@ -281,6 +315,38 @@ class _Rewriter:
                 return j
         return None
 
+    def section_end(self, tokens: list[Token], i: int) -> int | None:
+        """The index of the `}` that ends the section starting at `i` when no `;` ends it first
+        (the last item of an action), or None: the section is one statement up to that brace."""
+        depth = 0
+        for j in range(i, len(tokens)):
+            kind = tokens[j].type
+            if kind in ("LPAR", "LBRACKET", "LBRACE"):
+                depth += 1
+            elif kind in ("RPAR", "RBRACKET"):
+                depth -= 1
+            elif kind == "RBRACE":
+                if depth == 0:
+                    return j if j > i else None
+                depth -= 1
+            elif kind in ("SEMI", "COLON") and depth == 0:
+                return None
+        return None
+
+    def domain_entries_end(self, tokens: list[Token], end: int) -> int:
+        """The `;` of the last entry of a `domain:` section whose first entry ends at `end`:
+        `domain: x in blocks; y in locations;` has one entry a line, each ending in `;`."""
+        while True:
+            j = end + 1
+            if j < len(tokens) and tokens[j].type in _TYPE_TOKENS - {"NAME"}:
+                j += 1  # `symbol y in locations;`
+            if not (j + 2 < len(tokens) and tokens[j].type == "NAME" and tokens[j + 1].type == "IN"):
+                return end
+            following = self.statement_end(tokens, j)
+            if following is None:
+                return end
+            end = following
+
     def top_level(self, tokens: list[Token], start: int, end: int) -> Iterator[Token]:
         depth = 0
         for t in tokens[start:end]:
@@ -297,6 +363,100 @@ class _Rewriter:
 
     def declaration_kind(self, out: list[Token], start: int) -> str | None:
         return next((t.type for t in out[start:] if t.type in _DECLARES), None)
+
+    # E0046
+    def variables(self, tokens: list[Token]) -> list[Token]:
+        """Each untyped variable of `exists`, `forall` and `pick` gets the type its use or its
+        `in {...}` values give it (see `variable_type`); one without is left for the parser."""
+        signatures = _signatures(tokens)
+        out: list[Token] = []
+        for i, t in enumerate(tokens):
+            if t.type == "NAME" and i > 1 and tokens[i - 1].type == "LPAR" and _untyped_variable(tokens, i - 1):
+                found = self.variable_type(tokens, i, signatures)
+                if found is not None:
+                    type_tokens, how = found
+                    out.extend(_synthetic(k.type, k.value, t.start) for k in type_tokens)
+                    self.report_variable(tokens[i - 2], t, _type_text(type_tokens), how)
+                else:
+                    self.report_variable(tokens[i - 2], t, None, "")
+            out.append(t)
+        return out
+
+    def variable_type(
+        self, tokens: list[Token], at: int, signatures: dict[str, list[list[Token] | None]]
+    ) -> tuple[list[Token], str] | None:
+        """The type of the variable at `at` and how it was found: the parameter type of the first
+        fluent, function or action it is an argument of, else of a parameter it is compared with
+        (`==`, `!=`), in the rest of the declaration; else, for `pick (x in {...})`, the type of
+        the set's values (`number`, `string`, `bool`, `symbol`); else None."""
+        name = tokens[at].value
+        params = _enclosing_parameters(tokens, at)
+        depth = 0
+        for j in range(at + 1, len(tokens)):
+            t = tokens[j]
+            if t.type in ("LBRACE", "MAIN_LBRACE"):
+                depth += 1
+            elif t.type == "RBRACE":
+                depth -= 1
+                if depth < 0:
+                    break
+            elif depth == 0 and t.type in _DECLARES:
+                break
+            if t.type != "NAME" or t.value != name:
+                continue
+            call = _argument_of(tokens, j)
+            if call is not None:
+                callee, position = call
+                declared = signatures.get(callee)
+                if declared is not None and position < len(declared) and declared[position] is not None:
+                    return list(declared[position] or ()), f"it is argument {position + 1} of `{callee}`"
+            compared = [
+                tokens[k]
+                for k, op in ((j - 2, j - 1), (j + 2, j + 1))
+                if 0 <= k < len(tokens) and tokens[op].type == "CMP_OP" and tokens[op].value in ("==", "!=")
+            ]
+            for other in compared:
+                if other.type == "NAME" and other.value in params:
+                    return params[other.value], f"it is compared with the parameter `{other.value}`"
+        if tokens[at + 1].type == "IN":
+            kinds = _set_value_types(tokens, at + 2)
+            if kinds is not None:
+                return kinds, "the values it is picked from"
+        return None
+
+    def report_variable(self, keyword: Token, name: Token, type_text: str | None, how: str) -> None:
+        """E0046 for an untyped variable, with the type as a fix; a variable that came with a
+        sigil has its sigil's edit write the type instead (E0040 reports it)."""
+        sigil_at = next((k for k, e in self.sigil_edits.items() if e.span.end == name.start), None)
+        if sigil_at is not None and type_text is not None:
+            self.sigil_edits[sigil_at] = self.edit(sigil_at, name.start, type_text + " ")
+            return
+        kind = keyword.value
+        where = self.span(name.start, name.end)
+        if type_text is None:
+            self.diagnostics.append(
+                diag.error(
+                    E0046.untyped(kind, name.value),
+                    where,
+                    "no type",
+                    help=f"write its type before it: `{kind} (T {name.value} ...)` (`gpp explain {E0046.code}`)",
+                )
+            )
+            return
+        self.diagnostics.append(
+            diag.error(
+                E0046.untyped(kind, name.value),
+                where,
+                "no type",
+                notes=[f"`{type_text}`: {how}"],
+                help=f"write `{type_text} {name.value}` (`gpp explain {E0046.code}`)",
+                fix=diag.Fix(
+                    f"write its type `{type_text}`",
+                    (self.edit(name.start, name.start, type_text + " "),),
+                    diag.Applicability.SAFE,
+                ),
+            )
+        )
 
     # E0041
     def mapping_name(self, name: Token) -> Token:
@@ -316,10 +476,11 @@ class _Rewriter:
 
     # E0042
     def senses(
-        self, tokens: list[Token], start: int, end: int, out: list[Token], declaration_start: int
+        self, tokens: list[Token], start: int, end: int, out: list[Token], declaration_start: int, last: bool = False
     ) -> list[Token]:
         """`senses: f(args);` becomes `senses: f(args) = sensed_f();` with a new exogenous
-        function of the fluent's type declared before the action."""
+        function of the fluent's type declared before the action. With `last`, the section is
+        the action's last item and `end` is the action's `}`: no `;` ended it, one is added."""
         target = tokens[start:end]
         fluent = target[0].value if target and target[0].type == "NAME" else None
         fluent_type = self.fluent_type(tokens, fluent) if fluent else None
@@ -360,7 +521,7 @@ class _Rewriter:
                     f"assign the result of a new exogenous function `{function}`",
                     (
                         self.edit(line_start, line_start, declaration),
-                        self.edit(where.end, where.end, f" = {function}()"),
+                        self.edit(where.end, where.end, f" = {function}()" + (";" if last else "")),
                     ),
                     diag.Applicability.SAFE,
                 ),
@@ -383,7 +544,7 @@ class _Rewriter:
             _synthetic("NAME", function, e),
             _synthetic("LPAR", "(", e),
             _synthetic("RPAR", ")", e),
-            tokens[end],
+            _synthetic("SEMI", ";", e) if last else tokens[end],
         ]
 
     def fluent_type(self, tokens: list[Token], fluent: str) -> list[Token] | None:
@@ -414,7 +575,7 @@ class _Rewriter:
             if k + 2 < len(items) and items[k].type == "NAME" and items[k + 1].type == "IN":
                 restrictions.append((items[k], items[k + 2]))
                 k += 3
-                if k < len(items) and items[k].type == "COMMA":
+                if k < len(items) and items[k].type in ("COMMA", "SEMI"):
                     k += 1
                 continue
             restrictions = []
@@ -572,6 +733,120 @@ class _Rewriter:
             )
         )
         return _synthetic("SEMI", ";", brace.start, brace.end)
+
+
+def _type_text(type_tokens: list[Token]) -> str:
+    return " ".join(t.value for t in type_tokens).replace("[ ", "[").replace(" ]", "]").replace(" [", "[")
+
+
+def _parameters(tokens: list[Token], open_: int) -> tuple[list[tuple[list[Token] | None, str]], int] | None:
+    """The parameters of the list that opens at `open_` (`(blocks x, symbol y)`): (type tokens,
+    or None when untyped, name) each, and the index of its `)`; None when it is not a list of
+    parameters."""
+    params: list[tuple[list[Token] | None, str]] = []
+    current: list[Token] = []
+    depth = 0
+    for j in range(open_ + 1, len(tokens)):
+        t = tokens[j]
+        if t.type == "LBRACKET":
+            depth += 1
+        elif t.type == "RBRACKET":
+            depth -= 1
+        if depth == 0 and t.type in ("COMMA", "RPAR"):
+            if current:
+                if current[-1].type != "NAME":
+                    return None
+                params.append((current[:-1] or None, current[-1].value))
+            current = []
+            if t.type == "RPAR":
+                return params, j
+            continue
+        if t.type not in (*_TYPE_TOKENS, "LIST", "LBRACKET", "RBRACKET"):
+            return None
+        current.append(t)
+    return None
+
+
+def _signatures(tokens: list[Token]) -> dict[str, list[list[Token] | None]]:
+    """The parameter types of every fluent, function, action and procedure declared in the
+    tokens, by name (None for an untyped parameter)."""
+    found: dict[str, list[list[Token] | None]] = {}
+    for i, t in enumerate(tokens):
+        if (
+            t.type in _DECLARES
+            and i + 2 < len(tokens)
+            and tokens[i + 1].type == "NAME"
+            and tokens[i + 2].type == "LPAR"
+        ):
+            params = _parameters(tokens, i + 2)
+            if params is not None:
+                found.setdefault(tokens[i + 1].value, [p for p, _ in params[0]])
+    return found
+
+
+def _enclosing_parameters(tokens: list[Token], at: int) -> dict[str, list[Token]]:
+    """The typed parameters of the declaration the token at `at` is in, by name."""
+    for i in range(at - 1, -1, -1):
+        if tokens[i].type in _DECLARES and i + 2 < len(tokens) and tokens[i + 2].type == "LPAR":
+            params = _parameters(tokens, i + 2)
+            if params is None:
+                return {}
+            return {name: kind for kind, name in params[0] if kind is not None}
+    return {}
+
+
+def _argument_of(tokens: list[Token], j: int) -> tuple[str, int] | None:
+    """(callee, argument position) when the name at `j` is a whole argument of a call
+    (`loc(z)`, `stack(x, z)`), else None."""
+    if not (
+        0 < j < len(tokens) - 1 and tokens[j - 1].type in ("LPAR", "COMMA") and tokens[j + 1].type in ("COMMA", "RPAR")
+    ):
+        return None
+    position = 0
+    depth = 0
+    for i in range(j - 1, 0, -1):
+        kind = tokens[i].type
+        if kind in ("RPAR", "RBRACKET", "RBRACE"):
+            depth += 1
+        elif kind in ("LBRACKET", "LBRACE") or (kind == "LPAR" and depth > 0):
+            depth -= 1
+        elif kind == "LPAR":
+            return (tokens[i - 1].value, position) if tokens[i - 1].type == "NAME" else None
+        elif kind == "COMMA" and depth == 0:
+            position += 1
+        elif kind == "SEMI":
+            return None
+    return None
+
+
+_LITERAL_TYPES = {"NUMBER": "NUMBER_KW", "STRING": "STRING_KW", "TRUE": "BOOL", "FALSE": "BOOL", "NAME": "SYMBOL"}
+_TYPE_WORDS = {"NUMBER_KW": "number", "STRING_KW": "string", "BOOL": "bool", "SYMBOL": "symbol"}
+
+
+def _set_value_types(tokens: list[Token], i: int) -> list[Token] | None:
+    """The type of the values of the literal set `{a, b}` at `i`, when they are all of one
+    kind (numbers, strings, truth values, symbols), as type tokens; else None."""
+    if i >= len(tokens) or tokens[i].type != "LBRACE":
+        return None
+    kinds: set[str] = set()
+    expect_value = True
+    for t in tokens[i + 1 :]:
+        if t.type == "RBRACE":
+            if len(kinds) != 1:
+                return None
+            (kind,) = kinds
+            return [Token(kind, _TYPE_WORDS[kind], t.start, t.start)]
+        if expect_value:
+            literal = _LITERAL_TYPES.get(t.type)
+            if literal is None:
+                if t.type == "ADD_OP" and t.value == "-":
+                    continue
+                return None
+            kinds.add(literal)
+        elif t.type != "COMMA":
+            return None
+        expect_value = not expect_value
+    return None
 
 
 def _closing(tokens: list[Token], i: int, openers: tuple[str, ...], closer: str) -> int | None:
