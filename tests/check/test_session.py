@@ -141,7 +141,7 @@ def test_every_program_that_sees_a_file_is_found_for_a_rename(tmp_path: Path, mo
     assert (shared / "far.gpp").resolve() in Session().programs_seeing(lib)
     # A workspace larger than what is read: the answer would be incomplete.
     monkeypatch.setattr(session_module, "MAX_WORKSPACE_FILES", 3)
-    with pytest.raises(session_module.IncompleteSearch, match="more than 3 .gpp files"):
+    with pytest.raises(session_module.IncompleteSearch, match=r"more than 3 \.gpp files"):
         Session([ws]).programs_seeing(lib)
 
 
