@@ -162,6 +162,16 @@ class E0046(
         return Message(cls.code, f"the `{keyword}` variable `{name}` has no type")
 
 
+class E0047(
+    Code,
+    name="legacy-overloaded-name",
+    summary="one global name declared twice with different numbers of parameters: legacy golog++",
+):
+    @classmethod
+    def overloaded(cls, name: str, arities: str) -> Message:
+        return Message(cls.code, f"`{name}` is declared with {arities} parameters")
+
+
 class E0030(Code, name="include-not-found", summary="an `#include` whose file cannot be found or read"):
     @classmethod
     def not_found(cls, name: str) -> Message:

@@ -19,7 +19,11 @@ syntax errors; the rest of the file is checked as if it were modern. The forms:
 
 Every fix is safe (`gpp check --fix` applies it): its edits write exactly the modern program
 that the rewrite hands the parser, so the fixed file means what gpp already took the legacy one
-to mean.
+to mean. Each fix is whole on its own: E0040 writes every sigil of the file, also those inside
+a `domain:` section or a function body that E0043 or E0044 rewrites as a whole, so the fixes
+overlap there and `--fix` applies the second in its next round.
+E0047 (overloaded names) and E0013 (a type word as a parameter name) are in
+gpp.syntax.legacy_names.
 
 Everything here works on tokens (gpp.syntax.lexer.Token): the parser and the grammar do not
 know about legacy syntax.
@@ -32,7 +36,8 @@ from collections.abc import Iterator
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
 from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046
-from gpp.syntax.lexer import Token
+from gpp.syntax.legacy_names import positions, rename_legacy_names
+from gpp.syntax.lexer import SECTION_WORDS, Token
 
 SIGIL_TYPES = {
     "%": ("number", "NUMBER_KW"),
@@ -40,6 +45,8 @@ SIGIL_TYPES = {
     "$": ("string", "STRING_KW"),
     "§": ("symbol", "SYMBOL"),
 }
+_SECTIONS = frozenset(SECTION_WORDS.values())
+_ENDS_SECTION = _SECTIONS | {"SEMI"}
 _TYPE_TOKENS = frozenset({"NAME", "BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID"})
 _DECLARES = frozenset({"FLUENT", "FUNCTION", "EXOG_FUNCTION", "DOMAIN", "ACTION", "EXOG_ACTION", "PROCEDURE"})
 # Declarations that start with a type.
@@ -52,10 +59,11 @@ def modernize(source: Source, tokens: list[Token]) -> tuple[list[Token], list[di
     """The tokens with every legacy construct rewritten, and one error per construct (one for
     all the sigils of a file). Modern files cost a scan of the token types for the few places
     a legacy form can start."""
+    tokens, renamed = rename_legacy_names(source, tokens)
     types = [t.type for t in tokens]
     has_sigils = "SIGIL" in types or ("MUL_OP" in types and _percent_sigil(tokens, types))
     if not has_sigils and not _structural_candidates(types):
-        return tokens, []
+        return tokens, renamed
     rewriter = _Rewriter(source)
     if has_sigils:
         tokens = rewriter.sigils(tokens)
@@ -63,17 +71,7 @@ def modernize(source: Source, tokens: list[Token]) -> tuple[list[Token], list[di
     if _untyped_variables(tokens):
         tokens = rewriter.variables(tokens)
     rewriter.report_sigils()
-    return tokens, rewriter.diagnostics
-
-
-def _positions(types: list[str], kind: str) -> Iterator[int]:
-    i = -1
-    while True:
-        try:
-            i = types.index(kind, i + 1)
-        except ValueError:
-            return
-        yield i
+    return tokens, renamed + rewriter.diagnostics
 
 
 def _percent_sigil(tokens: list[Token], types: list[str]) -> bool:
@@ -82,7 +80,7 @@ def _percent_sigil(tokens: list[Token], types: list[str]) -> bool:
         and i + 1 < len(tokens)
         and tokens[i + 1].start == tokens[i].end
         and (types[i + 1] == "NAME" or types[i + 1] in _DECLARES)
-        for i in _positions(types, "MUL_OP")
+        for i in positions(types, "MUL_OP")
     )
 
 
@@ -102,7 +100,7 @@ def _untyped_variable(tokens: list[Token], i: int) -> bool:
 
 def _structural_candidates(types: list[str]) -> bool:
     n = len(types)
-    for i in _positions(types, "LPAR"):
+    for i in positions(types, "LPAR"):
         # `exists (z)`, `pick (x in ...)`: a variable without a type
         if (
             i > 0
@@ -112,19 +110,19 @@ def _structural_candidates(types: list[str]) -> bool:
             and (types[i + 2] == "RPAR" or (types[i - 1] == "PICK" and types[i + 2] == "IN"))
         ):
             return True
-    if any(i + 1 < n and types[i + 1] == "NAME" for i in _positions(types, "MAPPING")):
+    if any(i + 1 < n and types[i + 1] == "NAME" for i in positions(types, "MAPPING")):
         return True
-    for i in _positions(types, "SENSES"):
+    for i in positions(types, "SENSES"):
         # `senses: f(...) = ...;` is modern: an `=` before the `;` (or the section's end)
         j = i + 1
-        while j < n and types[j] not in ("EQ", "SEMI", "RBRACE"):
+        while j < n and types[j] not in ("EQ", "SEMI", "RBRACE") and types[j] not in _SECTIONS:
             j += 1
         if j == n or types[j] != "EQ":
             return True
-    if any(i + 1 < n and types[i + 1] == "COLON" for i in _positions(types, "DOMAIN")):
+    if any(i + 1 < n and types[i + 1] == "COLON" for i in positions(types, "DOMAIN")):
         return True
     for kind in ("FUNCTION", "EXOG_FUNCTION"):
-        for i in _positions(types, kind):
+        for i in positions(types, kind):
             j = i + 2
             if j < n and types[j] == "LPAR":
                 try:
@@ -184,12 +182,6 @@ class _Rewriter:
             text = text[: e.span.start - start] + e.text + text[e.span.end - start :]
         return text
 
-    def replaced(self, start: int, end: int) -> None:
-        """A fix replaces the text from `start` to `end` as a whole: the sigils inside it need no
-        edit of their own (their edits would overlap)."""
-        for offset in [k for k in self.sigil_edits if start <= k < end]:
-            del self.sigil_edits[offset]
-
     # ---------------------------------------------------------------- E0040 sigils
 
     def sigils(self, tokens: list[Token]) -> list[Token]:
@@ -211,8 +203,10 @@ class _Rewriter:
                 t.value == "%"
                 and nxt is not None
                 and nxt.start == t.end
-                and (nxt.type == "NAME" or nxt.type in _DECLARES)
-                and (not out or out[-1].type not in _ENDS_OPERAND)
+                and (
+                    nxt.type in _DECLARES  # `%function`: never a remainder, a keyword is no operand
+                    or (nxt.type == "NAME" and (not out or out[-1].type not in _ENDS_OPERAND))
+                )
             )
             if not is_sigil:
                 out.append(t)
@@ -264,10 +258,9 @@ class _Rewriter:
                 i += 2
                 continue
             if t.type == "SENSES":
-                end = self.statement_end(tokens, i + 1)
-                last = end is None  # `senses: f(x)` as the action's last item, without its `;`
-                if last:
-                    end = self.section_end(tokens, i + 1)
+                end = self.section_end(tokens, i + 1)
+                # `senses: f(x)` without its `;`: the action's last item, or another section follows
+                last = end is not None and tokens[end].type != "SEMI"
                 if end is not None and not any(tok.type == "EQ" for tok in self.top_level(tokens, i + 1, end)):
                     out.append(t)
                     out.extend(self.senses(tokens, i + 1, end, out, declaration_start, last))
@@ -316,8 +309,9 @@ class _Rewriter:
         return None
 
     def section_end(self, tokens: list[Token], i: int) -> int | None:
-        """The index of the `}` that ends the section starting at `i` when no `;` ends it first
-        (the last item of an action), or None: the section is one statement up to that brace."""
+        """The index of the token that ends the section starting at `i`: its `;`, or, when it
+        has none, the action's `}` or the next section's word (`mapping:`); None when nothing
+        is there to end it."""
         depth = 0
         for j in range(i, len(tokens)):
             kind = tokens[j].type
@@ -329,7 +323,9 @@ class _Rewriter:
                 if depth == 0:
                     return j if j > i else None
                 depth -= 1
-            elif kind in ("SEMI", "COLON") and depth == 0:
+            elif depth == 0 and (kind in _ENDS_SECTION or (kind == "DOMAIN" and _is_colon(tokens, j + 1))):
+                return j if j > i else None
+            elif kind == "COLON" and depth == 0:
                 return None
         return None
 
@@ -367,7 +363,8 @@ class _Rewriter:
     # E0046
     def variables(self, tokens: list[Token]) -> list[Token]:
         """Each untyped variable of `exists`, `forall` and `pick` gets the type its use or its
-        `in {...}` values give it (see `variable_type`); one without is left for the parser."""
+        `in {...}` values give it (see `variable_type`); one without is an
+        error without a fix, read on as `symbol`."""
         signatures = _signatures(tokens)
         out: list[Token] = []
         for i, t in enumerate(tokens):
@@ -378,6 +375,8 @@ class _Rewriter:
                     out.extend(_synthetic(k.type, k.value, t.start) for k in type_tokens)
                     self.report_variable(tokens[i - 2], t, _type_text(type_tokens), how)
                 else:
+                    # no fix; a type the parser reads on (a program with errors is not checked further)
+                    out.append(_synthetic("SYMBOL", "symbol", t.start))
                     self.report_variable(tokens[i - 2], t, None, "")
             out.append(t)
         return out
@@ -597,6 +596,7 @@ class _Rewriter:
                         self.sigil_edits[type_token.start] = self.edit(
                             type_token.start, type_token.end, domain.value + " "
                         )
+                        edits.append(self.sigil_edits[type_token.start])
                     else:
                         edits.append(self.edit(type_token.start, type_token.end, domain.value))
                     out[declaration_start + j - 1] = Token("NAME", domain.value, type_token.start, type_token.end)
@@ -611,7 +611,6 @@ class _Rewriter:
         fix = None
         if resolved:
             edits.append(self.edit(removal_start, removal_end, ""))
-            self.replaced(removal_start, removal_end)  # the section's sigils go with it
             fix = diag.Fix("type the parameters with their domains", tuple(edits), diag.Applicability.SAFE)
         self.diagnostics.append(
             diag.error(
@@ -642,7 +641,6 @@ class _Rewriter:
             )
             return [_synthetic("EQ", "=", brace.start, brace.end), _synthetic("NULL", "null", brace.end)]
         new_tokens, text = converted
-        self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
                 E0044.block_body(name),
@@ -721,7 +719,6 @@ class _Rewriter:
     def exog_function_body(self, tokens: list[Token], open_: int, close: int, name: str) -> Token:
         brace = tokens[open_]
         whole = self.span(brace.start, tokens[close].end)
-        self.replaced(whole.start, whole.end)
         self.diagnostics.append(
             diag.error(
                 E0045.body(name),
@@ -847,6 +844,10 @@ def _set_value_types(tokens: list[Token], i: int) -> list[Token] | None:
             return None
         expect_value = not expect_value
     return None
+
+
+def _is_colon(tokens: list[Token], i: int) -> bool:
+    return i < len(tokens) and tokens[i].type == "COLON"
 
 
 def _closing(tokens: list[Token], i: int, openers: tuple[str, ...], closer: str) -> int | None:

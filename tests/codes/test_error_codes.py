@@ -245,6 +245,23 @@ CASES = [
             "end the declaration with `;` (`gpp explain E0045`)",
         ),
     ),
+    case(
+        "E0046-untyped-quantifier-variable",
+        "number fluent at(symbol r) { initially: (r) = 0; }\nprocedure main() { test(exists (z) at(z) == 0); }\n",
+        E("E0046", 2, 33, "the `exists` variable `z` has no type", "write `symbol z` (`gpp explain E0046`)"),
+    ),
+    case(
+        "E0047-name-overloaded-by-arity",
+        "number fluent level() { initially: () = 0; }\nexog_action level(number v) {\neffect:\n    level() = v;\n}\n"
+        "procedure main() { test(level() == 0); }\n",
+        E(
+            "E0047",
+            2,
+            13,
+            "`level` is declared with 0 and 1 parameters",
+            "rename the exog_action and the calls with 1 arguments to `level_event` (`gpp explain E0047`)",
+        ),
+    ),
     # ------------------------------------------------------------ names (E01xx)
     case(
         "E0101-misspelled-symbol",

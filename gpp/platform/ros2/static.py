@@ -68,6 +68,8 @@ def typed_mappings(model: Model) -> dict[str, str]:
         section = symbol.decl.section(ast.MappingSection)
         if not isinstance(section, ast.MappingSection) or ":" not in section.mapping.name.value:
             continue
+        if "::" in section.mapping.name.value:
+            continue  # Fawkes's `Interface::id` (golog++ on Fawkes), never a ROS name with a type
         try:
             mapped = parse_mapped(section.mapping.name.value)
         except NameError_:
