@@ -17,7 +17,7 @@ from gpp.base import diagnostics as diag
 from gpp.base.perf import paused_gc, with_deep_stack
 from gpp.base.source import Span
 from gpp.check.suppress import apply_suppressions
-from gpp.codes import E0101, E0102, E0103, E0105, E0106, E0107
+from gpp.codes import E0047, E0101, E0102, E0103, E0105, E0106, E0107
 from gpp.model.build import build_model
 from gpp.model.model import Model
 from gpp.syntax.loader import LoadResult, ParseCache, load
@@ -28,6 +28,9 @@ if TYPE_CHECKING:
 # After a syntax error the parser may have skipped a declaration; names declared there would
 # then be reported as unknown. These follow-on reports are held back until the syntax is fixed.
 _NAME_CODES = frozenset(c.code for c in (E0101, E0102, E0103, E0105, E0106, E0107))
+# Errors of the parse whose rewrite leaves the whole program (a name overloaded by arity, each
+# declaration renamed): the checker goes on as without a syntax error, lints included.
+_WHOLE_PROGRAM = frozenset({E0047.code})
 
 
 @dataclass
@@ -61,7 +64,7 @@ def check_loaded(
 
 def _check_loaded(loaded: LoadResult, lint: bool, allow: Collection[str], memo: LintMemo | None) -> CheckResult:
     model, model_diagnostics = build_model(loaded.files)
-    syntax_errors = [d for d in loaded.diagnostics if d.is_error]
+    syntax_errors = [d for d in loaded.diagnostics if d.is_error and d.code not in _WHOLE_PROGRAM]
     found = list(loaded.diagnostics)
     roots = {f.path for f in loaded.files if f.path in loaded.roots}
     if syntax_errors:

@@ -91,6 +91,11 @@ _TERMINAL_WORDS.update(
 )
 
 _KEYWORD_TYPES = frozenset(KEYWORDS.values()) | frozenset(PLATFORM_KEYWORDS.values())
+# What stands before a name that is being declared: a declaration's keyword or a type.
+_DECLARING = frozenset(
+    {"ACTION", "EXOG_ACTION", "FLUENT", "FUNCTION", "EXOG_FUNCTION", "PROCEDURE", "DOMAIN", "COMPOUND"}
+    | {"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID", "NAME", "RBRACKET"}
+)
 # Brackets and what closes them. Not derived: the tables list the terminals of a rule, not
 # which of them pair up as brackets.
 _CLOSERS = {"LPAR": "RPAR", "LBRACKET": "RBRACKET", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE"}
@@ -550,13 +555,16 @@ class _Parser:
             and not any(self.simulate(ss, [c, *ahead[:2]]) for c in _INSERTABLE)
             and not any(self.progress(ss, [*fill, *ahead]) - len(fill) >= as_name for fill in _COMPLETIONS)
         ):
+            # Another name is the help only where a name is declared (`action test()`, `number
+            # string`); elsewhere the keyword may begin a form the recovery does not know.
+            declared = prev is not None and prev.type in _DECLARING
             self.report(
                 i,
                 diag.error(
                     E0013.reserved(tok.value),
                     self.span(tok),
                     "reserved word",
-                    help=f"choose another name, such as `{tok.value}_`",
+                    help=f"choose another name, such as `{tok.value}_`" if declared else None,
                 ),
             )
             tok.type = "NAME"

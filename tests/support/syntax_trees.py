@@ -457,6 +457,24 @@ def declarations() -> st.SearchStrategy[ast.Decl]:
     )
 
 
+def not_overloaded(decls: list[ast.Decl]) -> list[ast.Decl]:
+    """The declarations with a name given twice with different numbers of parameters (legacy
+    golog++, E0047, which the parser renames) made distinct by the number."""
+    arities: dict[str, int] = {}
+    distinct: list[ast.Decl] = []
+    for d in decls:
+        params = getattr(d, "params", None)
+        name = getattr(d, "name", None)
+        if isinstance(params, tuple) and isinstance(name, ast.Ident) and not isinstance(d, ast.DomainDecl):
+            text = name.name
+            while arities.setdefault(text, len(params)) != len(params):
+                text += str(len(params))
+            if text != name.name:
+                d = replace(d, name=replace(name, name=text))  # type: ignore[call-arg]
+        distinct.append(d)
+    return distinct
+
+
 def make_program(decls: list[ast.Decl], main: ast.Block | None) -> ast.Program:
     if main is not None:
         # Lexer limitation (see the report): after a definition that can end in a name or `)`,
@@ -464,7 +482,7 @@ def make_program(decls: list[ast.Decl], main: ast.Block | None) -> ast.Program:
         if decls and isinstance(decls[-1], ast.FunctionDecl | ast.DomainDecl):
             decls = [*decls, ast.ProcedureDecl(span=SPAN, name=ast.Ident(span=SPAN, name="p2"), params=(), body=None)]
         decls = [*decls, ast.MainBlock(span=SPAN, body=main)]
-    return ast.Program(span=SPAN, declarations=tuple(decls))
+    return ast.Program(span=SPAN, declarations=tuple(not_overloaded(decls)))
 
 
 programs = st.builds(
