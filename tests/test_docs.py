@@ -130,3 +130,75 @@ def test_the_scenario_and_world_files_of_the_guide_load(example: Example) -> Non
         World.from_data(data)
     else:
         Scenario.from_data(data)
+
+
+# ---------------------------------------------------------------- the README
+
+README = ROOT / "README.md"
+README_TEXT = README.read_text(encoding="utf-8")
+# What differs between two runs of the same program: the wall-clock figures.
+WALL = [
+    (re.compile(r"\[(\d+) nodes, [\d.]+ s\]"), r"[\1 nodes, … s]"),
+    (re.compile(r"[\d.]+ s wall \([^)]*real time\)"), "… s wall (…x real time)"),
+]
+
+
+def _wall_clock_out(text: str) -> str:
+    for pattern, replacement in WALL:
+        text = pattern.sub(replacement, text)
+    return text
+
+
+def test_the_readme_starts_with_the_two_set_up_commands() -> None:
+    lines = README_TEXT.splitlines()
+    assert lines[0].startswith("# ")
+    first = next(i for i, line in enumerate(lines[1:], 1) if line.strip())
+    assert lines[first] == "```", "the README starts with the set-up commands"
+    end = lines.index("```", first + 1)
+    commands = [line.split("#")[0].strip() for line in lines[first + 1 : end]]
+    assert commands == ["make run", "make test"]
+    makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
+    assert "\nrun:" in makefile and "\ntest:" in makefile
+
+
+def test_the_readme_is_short_and_says_how_to_put_gpp_on_the_path() -> None:
+    assert len(README_TEXT.splitlines()) <= 150
+    assert "source .venv/bin/activate" in README_TEXT
+    assert "(docs/differences.md)" in README_TEXT  # the differences from the original stay findable
+
+
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a heading."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+@pytest.mark.parametrize("page", [README, *PAGES], ids=lambda p: p.name)
+def test_the_links_between_the_pages_resolve(page: Path) -> None:
+    text = page.read_text(encoding="utf-8")
+    for target in re.findall(r"\]\(([^)\s]+)\)", text):
+        if re.match(r"[a-z]+:", target):
+            continue  # a web address
+        file, _, anchor = target.partition("#")
+        path = (page.parent / file).resolve() if file else page
+        assert path.exists(), f"{page.name}: a link to {target}, which does not exist"
+        if anchor and path.suffix == ".md":
+            headings = re.findall(r"^#+ (.*)$", path.read_text(encoding="utf-8"), re.MULTILINE)
+            assert anchor in {_slug(h) for h in headings}, f"{page.name}: no heading for the anchor of {target}"
+
+
+def test_the_readme_agent_checks_runs_and_prints_what_the_readme_shows(tmp_path: Path) -> None:
+    from tests.support.cli import run as gpp
+
+    (agent,) = [m.group(3) for m in FENCE.finditer(README_TEXT) if m.group(2).strip() == "gpp"]
+    name = re.match(r"// (\S+\.gpp)", agent)
+    assert name is not None, "the README's agent starts with a comment naming its file"
+    (tmp_path / name.group(1)).write_text(agent, encoding="utf-8")
+    (session,) = [m.group(3) for m in FENCE.finditer(README_TEXT) if m.group(3).startswith("$ gpp check")]
+    shown = re.split(r"^\$ (.*)\n", session, flags=re.MULTILINE)[1:]
+    commands = shown[0::2]
+    assert commands == [f"gpp check {name.group(1)}", f"gpp run {name.group(1)}"]
+    for command, output in zip(commands, shown[1::2], strict=True):
+        result = gpp(*command.split()[1:], cwd=tmp_path)
+        assert result.returncode == 0, result.stdout + result.stderr
+        assert _wall_clock_out(result.stdout + result.stderr) == _wall_clock_out(output), command
