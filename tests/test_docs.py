@@ -8,6 +8,8 @@ A fenced block's info string says what it is (docs/language.md, "About the examp
                      for a program with a `// world:` line), with `postcond()` holding;
 * ```gpp fragment   statements: checked inside `procedure main() { ... }`, without errors;
 * ```gpp error=CODE a program that shows a mistake: checking it reports CODE;
+* ```gpp test name=P a test program of a `gpp new` project, saved as P in a fresh one: it checks
+                     cleanly and `gpp test` passes it with the project's own test;
 * ```toml name=F    a file the programs of the same page can name (`// scenario: F`);
 * `allow=CODE` after `gpp` or `gpp run`: that warning is expected (a lint the example shows).
 
@@ -60,6 +62,7 @@ def examples() -> list[Example]:
 
 EXAMPLES = examples()
 GPP = [e for e in EXAMPLES if e.info.split(" ")[0] == "gpp"]
+PROJECT_TESTS = [e for e in GPP if e.info.split(" ")[1:2] == ["test"]]
 
 
 def test_the_guide_has_its_pages_and_checked_examples() -> None:
@@ -82,6 +85,7 @@ def write(example: Example, folder: Path) -> Path:
     for other in EXAMPLES:
         named = re.fullmatch(r"toml name=(\S+)", other.info)
         if other.page == example.page and named:
+            (folder / named.group(1)).parent.mkdir(parents=True, exist_ok=True)
             (folder / named.group(1)).write_text(other.text, encoding="utf-8")
     text = example.text
     if example.info == "gpp fragment":
@@ -91,7 +95,7 @@ def write(example: Example, folder: Path) -> Path:
     return path
 
 
-@pytest.mark.parametrize("example", GPP, ids=lambda e: e.id)
+@pytest.mark.parametrize("example", [e for e in GPP if e not in PROJECT_TESTS], ids=lambda e: e.id)
 def test_the_example_does_what_the_guide_says(example: Example, tmp_path: Path) -> None:
     words = [w for w in example.info.split() if not w.startswith("allow=")]
     allowed = {w.removeprefix("allow=") for w in example.info.split() if w.startswith("allow=")}
@@ -115,6 +119,46 @@ def test_the_example_does_what_the_guide_says(example: Example, tmp_path: Path) 
         assert outcome.result is not None, f"{example.id}: {render_text(outcome.diagnostics)}"
         assert outcome.result.status is RunStatus.FINISHED, f"{example.id}: {render_text(outcome.diagnostics)}"
         assert outcome.postcond is not False, f"{example.id}: postcond() does not hold"
+
+
+def shown_session(page: Path, command: str) -> str:
+    """The output a page shows for `$ command` (in an untagged block, up to the next `$ `)."""
+    for e in EXAMPLES:
+        if e.page == page and not e.info and f"$ {command}\n" in e.text:
+            return e.text.split(f"$ {command}\n", 1)[1].split("\n$ ", 1)[0]
+    raise AssertionError(f"{page.name} shows no `$ {command}`")
+
+
+@pytest.mark.parametrize("example", PROJECT_TESTS, ids=lambda e: e.id)
+def test_the_test_programs_of_the_guide_pass_in_a_new_project(example: Example, tmp_path: Path) -> None:
+    from tests.support.cli import run as gpp
+
+    created = gpp("new", "courier", cwd=tmp_path)
+    assert created.returncode == 0, created.stderr
+    assert created.stdout == shown_session(example.page, "gpp new courier")
+    project = tmp_path / "courier"
+    name = example.info.split("name=", 1)[1]
+    program = write(example, project).rename(project / name)
+    assert gpp("check", str(program), cwd=project).stdout == "no problems found\n"
+    result = gpp("test", cwd=project)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.splitlines()[-1] == shown_session(example.page, "gpp test").splitlines()[-1]
+    assert Path(name).name in result.stdout
+
+
+def test_the_tutorials_look_at_a_run_shows_what_gpp_trace_prints(tmp_path: Path) -> None:
+    from tests.support.cli import run as gpp
+
+    tutorial = ROOT / "docs" / "tutorial.md"
+    (fetch,) = [e for e in GPP if e.page == tutorial and "take_sample();" in e.text]
+    write(fetch, tmp_path).rename(tmp_path / "fetch.gpp")
+    assert gpp("run", "-q", "fetch.gpp", "--trace", "run.jsonl", cwd=tmp_path).returncode == 0
+    summary = gpp("trace", "summary", "run.jsonl", cwd=tmp_path)
+    assert summary.returncode == 0, summary.stderr
+    # The header lines; the timeline's bars depend on the width of the terminal.
+    shown = shown_session(tutorial, "gpp trace summary run.jsonl").splitlines()
+    assert summary.stdout.splitlines()[:2] == shown[:2]
+    assert gpp("trace", "html", "run.jsonl", "-o", "run.html", cwd=tmp_path).returncode == 0
 
 
 @pytest.mark.parametrize("example", [e for e in EXAMPLES if e.info.startswith("toml name=")], ids=lambda e: e.id)
@@ -202,3 +246,15 @@ def test_the_readme_agent_checks_runs_and_prints_what_the_readme_shows(tmp_path:
         result = gpp(*command.split()[1:], cwd=tmp_path)
         assert result.returncode == 0, result.stdout + result.stderr
         assert _wall_clock_out(result.stdout + result.stderr) == _wall_clock_out(output), command
+
+
+def test_the_tutorial_goes_from_a_first_agent_to_a_tested_project() -> None:
+    text = (ROOT / "docs" / "tutorial.md").read_text(encoding="utf-8")
+    chapters = re.findall(r"^## \d+\. (.*)$", text, re.MULTILINE)
+    assert len(chapters) == 8
+    assert "failures" in chapters[5] and "project" in chapters[6] and "run" in chapters[7]
+    # Each chapter has a program that the docs test checks (chapter 8 runs chapter 6's).
+    sections = re.split(r"^## \d+\. .*$", text, flags=re.MULTILINE)[1:8]
+    assert all("```gpp" in section for section in sections)
+    # Chapter 3 says how the scenario's result reaches the sensing function.
+    assert "answers with that result" in sections[2]
