@@ -280,6 +280,8 @@ class SimPlatform(Platform):
                         if deadline is not None and deadline > self.clock:
                             self.clock = deadline
                         return False
+                    if self.realtime and due > self.clock:
+                        time.sleep(due - self.clock)  # a scripted greeting takes its time too
                     self.clock = max(self.clock, due)
                     continue
                 self._step()

@@ -200,3 +200,18 @@ def test_navigation_needs_no_battery(tmp_path: Path, platform: str) -> None:
     )
     outcome = finished(run(program, platform))
     assert steps(outcome)[2] == []  # no battery, no reports
+
+
+def test_a_scripted_activity_can_be_cancelled_on_the_sim(tmp_path: Path) -> None:
+    write(tmp_path, "corridor.toml", CORRIDOR)
+    write(tmp_path, "slow.toml", '[[action]]\nmatch = "greet"\nduration = 30\n')
+    program = write(
+        tmp_path,
+        "agent.gpp",
+        "// world: corridor.toml\n// scenario: slow.toml\n"
+        "action greet() { }\n"
+        "procedure main() { start(greet()); test(context_time() >= 2); cancel(greet()); end(greet()); }\n"
+        "bool function postcond() = context_time() == 2\n",
+    )
+    outcome = finished(run(program, "sim"))
+    assert steps(outcome)[1] == [("greet()", "cancelled", "preempted")]
