@@ -47,10 +47,10 @@ BATTERY_EVENT = "/battery"
 
 def produced_events(world: World) -> dict[str, tuple[str, ...]]:
     """Exogenous events the world can produce -> their field names. The battery's event is
-    known in every world with a map: without `[map.battery]` it never happens."""
+    known in every world (sim/navigation.gpp maps it): without `[map.battery]` it never
+    happens."""
     events = world.region_events()
-    if world.map is not None:
-        events[BATTERY_EVENT] = ("level",)
+    events[BATTERY_EVENT] = ("level",)
     return dict(sorted(events.items()))
 
 
