@@ -148,6 +148,8 @@ def _check_action(name: str, binding: ActionBinding, world: World, served_note: 
         problems.append(
             Problem(f'action `{name}`: the mapping to "{mapped}" must give {_names(missing)}', binding.span)
         )
+    if mapped == "/navigate_to_frame" and world.map is not None:
+        problems.extend(_unknown_frames(binding, world))
     if binding.sensing is not None:
         if not service.senses:
             problems.append(Problem(f'action `{name}` senses a value, but "{mapped}" returns no result', binding.span))
@@ -160,6 +162,28 @@ def _signatures(items: Mapping[str, tuple[str, ...]]) -> str:
     if not items:
         return "nothing"
     return ", ".join(f'"{name}" {{{", ".join(args)}}}' for name, args in sorted(items.items()))
+
+
+def _unknown_frames(binding: ActionBinding, world: World) -> list[Problem]:
+    """Every value the `frame` argument can take must be a frame of the world's map."""
+    assert world.map is not None
+    frames = [f.name for f in world.map.frames]
+    problems: list[Problem] = []
+    for arg in binding.args:
+        if arg.name != "frame" or not isinstance(arg.type, DomainType):
+            continue
+        missing = [str(getattr(v, "name", v)) for v in arg.type.values if getattr(v, "name", v) not in frames]
+        if missing:
+            problems.append(
+                Problem(
+                    f"action `{binding.name}`: world `{world.name}` has no frame {_names(missing)} "
+                    f"(its frames: {_names(frames)})",
+                    arg.span,
+                    "not a frame of the map",
+                    help="run it in a world that has these frames (`--world`), or add them as `[[map.frame]]`",
+                )
+            )
+    return problems
 
 
 def _sensed_type(binding: ActionBinding, t: Type, world: World) -> list[Problem]:

@@ -215,3 +215,15 @@ def test_a_scripted_activity_can_be_cancelled_on_the_sim(tmp_path: Path) -> None
     )
     outcome = finished(run(program, "sim"))
     assert steps(outcome)[1] == [("greet()", "cancelled", "preempted")]
+
+
+def test_frames_the_world_lacks_are_reported_before_the_run() -> None:
+    # The receptionist in the default world (the blocksworld), whose map has other frames.
+    outcome = run(RECEPTIONIST, "sim")
+    assert outcome.result is None
+    (error,) = [d for d in outcome.diagnostics if d.code == "R0007"]
+    assert error.message == (
+        "action `goto`: world `blocksworld` has no frame `lobby`, `room1`, `room2` (its frames: `home`, `table`)"
+    )
+    assert error.span.text == "frame = p"
+    assert error.help is not None and "--world" in error.help
