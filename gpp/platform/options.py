@@ -57,6 +57,14 @@ class SimOptions:
         metadata=about("a world name from stdlib/worlds or a TOML file (default: the `// world:` line)", Flag()),
     )
     seed: int | None = field(default=None, metadata=about("seed for simulated faults (default: the world's)", Flag()))
+    scenario: Path | None = field(
+        default=None,
+        metadata=about(
+            "a TOML file scripting what the world does not model: the actions without a mapping the sim serves, "
+            "exogenous events, answers (default: the `// scenario:` line)",
+            Flag(),
+        ),
+    )
     record: Path | None = field(
         default=None, metadata=about("write an animated GIF of the run here", Flag(single_run=True), output=True)
     )
