@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 _TOKEN = r"[A-Za-z_][A-Za-z0-9_]*"
 # `~`, `~/a/b`, `/a/b` or `a/b`: tokens of letters, digits and `_` (not starting with a digit).
@@ -29,6 +29,8 @@ class NameError_(ValueError):
 class MappedName:
     name: str  # absolute: "/stack"
     type: str | None  # "pkg/action/Type" as written, or None: looked up in the graph
+    # The name as written ("stack", "~/said"), resolved again under the node's namespace.
+    written: str = field(default="", compare=False)
 
 
 def is_name(name: str) -> bool:
@@ -94,4 +96,4 @@ def parse_mapped(text: str) -> MappedName:
     t = type_name.strip() if sep else None
     if sep and not t:
         raise NameError_(f'"{text}": the type after `:` is missing (write "/name : package/action/Type")')
-    return MappedName(resolve(name), t)
+    return MappedName(resolve(name), t, name)
