@@ -301,6 +301,9 @@ def run(
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
 
+    On platform ros2, the ROS arguments follow `--ros-args` (up to `--` or the end), as for any
+    ROS node: `--ros-args -r __ns:=/robot1 -r navigate:=move_base -p n:=3 --params-file p.yaml`.
+
     Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise, 130 on Ctrl-C,
     143 on SIGTERM."""
     from gpp.base import signals

@@ -160,6 +160,7 @@ class Ros2Platform(Platform):
         # The ROS arguments (after `--ros-args`), parsed by rcl when the node starts.
         self.arguments = tuple(arguments)
         self.duplicate_warned = False
+        self._resolved: dict[str, str] = {}  # a name as written -> as the node resolves it
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
@@ -802,8 +803,12 @@ class Ros2Platform(Platform):
             raise PlatformError(f"{what}: {e}") from None
 
     def _resolve(self, name: str) -> str:
-        """`name` as the agent's node resolves it (gpp.platform.ros2.names.resolve)."""
-        return self.bridge.resolve(name) if self.bridge is not None else normalize(name)
+        """`name` as the agent's node resolves it (gpp.platform.ros2.names.resolve), once."""
+        found = self._resolved.get(name)
+        if found is None:
+            found = self.bridge.resolve(name) if self.bridge is not None else normalize(name)
+            self._resolved[name] = found
+        return found
 
     def now(self) -> float:
         return time.monotonic() - self.t0

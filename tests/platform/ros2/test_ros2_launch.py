@@ -317,3 +317,53 @@ def test_launched_as_launch_ros_launches_a_node_it_drives_the_robot_in_its_names
             )
         ],
     ]
+
+
+WAITS = """
+bool fluent seen() { initially: () = false; }
+exog_action ev(string s) {
+mapping:
+    "ev : std_msgs/msg/String" { data = s }
+effect:
+    seen() = true;
+}
+procedure main() { test(seen()); }
+"""
+
+
+@pytest.mark.slow
+def test_two_agents_of_one_name_on_one_domain_both_warn(own_domain: int, tmp_path: Path) -> None:
+    """Two agent processes, both /gpp_agent, each waiting 8 s (discovery across processes can
+    take 3 s): each warns, once it sees the other; then agents of two names, which do not."""
+    program = tmp_path / "agent.gpp"
+    program.write_text(WAITS, encoding="utf-8")
+    env = ros_env(own_domain)
+
+    def warned(*extra: str) -> list[list[str]]:
+        def command(n: int) -> list[str]:
+            trace = ["--timeout", "8", "--trace", str(tmp_path / f"trace{n}.jsonl")]
+            gpp = [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "-q"]
+            return [*gpp, *trace, *(extra if n == 2 else ())]
+
+        first = subprocess.Popen(command(1), env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            second = subprocess.run(command(2), env=env, capture_output=True, text=True, timeout=60)
+            _, first_err = first.communicate(timeout=60)
+        finally:
+            if first.poll() is None:
+                first.kill()
+                first.communicate(timeout=10)
+        # Both end at their timeout (exit 1), waiting for an event nobody sends.
+        assert (first.returncode, second.returncode) == (1, 1), first_err + second.stderr
+        found = []
+        for n in (1, 2):
+            records = [json.loads(line) for line in (tmp_path / f"trace{n}.jsonl").read_text().splitlines()]
+            found.append([r["message"] for r in records if r["event"] == "warning"])
+        return found
+
+    message = (
+        'platform `ros2`: another node on this ROS domain is called "/gpp_agent", as the agent\'s node is: '
+        "ROS tools cannot tell the two apart"
+    )
+    assert warned() == [[message], [message]]
+    assert warned("--ros-args", "-r", "__node:=second_agent") == [[], []]
