@@ -96,10 +96,20 @@ def test_a_relative_name_under_a_namespace_reaches_the_server_its_remapping_rule
     """`count` on node /robot1/courier is /robot1/count; the rule takes it to the test
     robot's /fib; `n` comes from a parameter file as launch_ros writes one."""
     params = tmp_path / "launch_params_x"
-    params.write_text(json.dumps({"/**": {"ros__parameters": {"n": 4}}}), encoding="utf-8")  # JSON is YAML
+    entries = {"/**": {"ros__parameters": {"n": 4}}, "/robot1/other": {"ros__parameters": {"n": 9}}}
+    params.write_text(json.dumps(entries), encoding="utf-8")  # JSON is YAML
     arguments = ("-r", "__node:=courier", "-r", "__ns:=/robot1", "--params-file", str(params), "-r", "count:=/fib")
     [update] = finished(run(tmp_path, COUNT, arguments))
     assert (update.action, update.status) == ("count(4)", "final")
+
+
+def test_a_name_is_remapped_once_as_ros_remaps_it(ros: Any, tmp_path: Path) -> None:
+    """With `count:=hop` and `hop:=/fib`, `count` is /hop (the first rule that matches, not
+    on to /fib): the client is made so that rcl does not apply the rules a second time."""
+    [update] = finished(run(tmp_path, COUNT, ("-p", "n:=1", "-r", "count:=hop", "-r", "hop:=/fib")))
+    assert update.status == "failed" and 'no action server "/hop"' in (update.reason or ""), update
+    [update] = finished(run(tmp_path, COUNT, ("-p", "n:=1", "-r", "count:=/fib", "-r", "hop:=/nothing")))
+    assert update.status == "final", update
 
 
 def test_without_the_rule_the_name_is_the_namespaced_one(ros: Any, tmp_path: Path) -> None:
