@@ -147,6 +147,7 @@ def warnings(outcome: RunOutcome) -> list[str]:
     return [w.message for w in outcome.recording.of(WarningEvent)]
 
 
+@pytest.mark.fault
 @pytest.mark.parametrize(("other", "warned"), [("/gpp_agent", True), ("/robot1/gpp_agent", False), ("/agent", False)])
 def test_another_node_with_the_agents_name_is_warned_about(ros: Any, tmp_path: Path, other: str, warned: bool) -> None:
     import rclpy
@@ -186,6 +187,7 @@ def ros_cli_env(**extra: str) -> dict[str, str]:
     return {name: os.environ[name] for name in names if name in os.environ} | extra
 
 
+@pytest.mark.fault
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [
@@ -341,6 +343,7 @@ procedure main() { test(seen()); }
 """
 
 
+@pytest.mark.fault
 @pytest.mark.slow
 def test_two_agents_of_one_name_on_one_domain_both_warn(own_domain: int, tmp_path: Path) -> None:
     """Two agent processes, both /gpp_agent, each waiting 8 s (discovery across processes can
