@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import json
 import os
+import runpy
 import subprocess
 import sys
+import types
 from pathlib import Path
 from typing import Any
 
@@ -275,43 +277,73 @@ def test_a_bad_ros_namespace_variable_is_a_usage_error(tmp_path: Path, own_domai
 # ---------------------------------------------------------------- launched as launch_ros launches a node
 
 
-def launch_command(program: Path, parameters: dict[str, Any], params_dir: Path) -> list[str]:
-    """The command line launch_ros's `Node(executable="gpp", arguments=["run", PROGRAM,
-    "--platform", "ros2"], name="courier", namespace="/robot1", parameters=[PARAMETERS],
-    remappings=[("navigate", "navigate_to_pose")])` starts (launch_ros/actions/node.py): the
-    arguments, `--ros-args`, the name and namespace rules, a parameter file it writes for the
-    dictionary (`/**: ros__parameters:`), the remapping rules. As examples/ros2/agent.launch.py."""
-    params = params_dir / "launch_params_courier"
-    params.write_text(json.dumps({"/**": {"ros__parameters": parameters}}), encoding="utf-8")
-    return [
-        sys.executable, "-m", "gpp",
-        "run", str(program), "--platform", "ros2",
-        "--ros-args",
-        "-r", "__node:=courier",
-        "-r", "__ns:=/robot1",
-        "--params-file", str(params),
+def example_nodes(monkeypatch: pytest.MonkeyPatch) -> dict[str, dict[str, Any]]:
+    """The `Node(...)`s of examples/ros2/agent.launch.py by name, as their keyword arguments
+    (read with stand-ins for launch and launch_ros, which the pip wheels do not have)."""
+    launch = types.ModuleType("launch")
+    launch.LaunchDescription = list  # type: ignore[attr-defined]
+    actions = types.ModuleType("launch_ros.actions")
+    actions.Node = dict  # type: ignore[attr-defined]
+    launch_ros = types.ModuleType("launch_ros")
+    launch_ros.actions = actions  # type: ignore[attr-defined]
+    for name, module in (("launch", launch), ("launch_ros", launch_ros), ("launch_ros.actions", actions)):
+        monkeypatch.setitem(sys.modules, name, module)
+    found = runpy.run_path(str(ROOT / "examples" / "ros2" / "agent.launch.py"))
+    return {node["name"]: node for node in found["generate_launch_description"]()}
+
+
+def launch_command(node: dict[str, Any], params_dir: Path) -> list[str]:
+    """The command line launch_ros's `Node` starts for these keyword arguments
+    (launch_ros/actions/node.py): the executable and its arguments, `--ros-args`, the name and
+    namespace rules, a parameter file it writes for each dictionary (`/**: ros__parameters:`),
+    the remapping rules."""
+    command = [node["executable"], *node.get("arguments", []), "--ros-args"]
+    command += ["-r", f"__node:={node['name']}", "-r", f"__ns:={node['namespace']}"]
+    for i, parameters in enumerate(node.get("parameters", [])):
+        params = params_dir / f"launch_params_{node['name']}_{i}"
+        params.write_text(json.dumps({"/**": {"ros__parameters": parameters}}), encoding="utf-8")  # JSON is YAML
+        command += ["--params-file", str(params)]
+    for source, target in node.get("remappings", []):
+        command += ["-r", f"{source}:={target}"]
+    return command
+
+
+def test_the_example_launch_file_starts_gpp_as_the_docs_say(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    agent = example_nodes(monkeypatch)["courier"]
+    params = str(tmp_path / "launch_params_courier_0")
+    assert launch_command(agent, tmp_path) == [
+        "gpp", "run", str(ROOT / "examples" / "ros2" / "courier.gpp"), "--platform", "ros2",
+        "--ros-args", "-r", "__node:=courier", "-r", "__ns:=/robot1", "--params-file", params,
         "-r", "navigate:=navigate_to_pose",
     ]  # fmt: skip
+    assert json.loads(Path(params).read_text()) == {"/**": {"ros__parameters": {"x": 3.0, "y": 4.0}}}
+
+
+# The executables of the example's nodes, here.
+EXECUTABLES = {"gpp": [sys.executable, "-m", "gpp"], "python3": [sys.executable]}
 
 
 @pytest.mark.slow
-def test_launched_as_launch_ros_launches_a_node_it_drives_the_robot_in_its_namespace(
-    robot_interfaces: list[str], own_domain: int, tmp_path: Path
+def test_the_example_launch_file_drives_the_robot_in_its_namespace(
+    robot_interfaces: list[str], own_domain: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The example robot under /robot1 and the agent as launch_ros starts it under /robot1:
-    `navigate` is /robot1/navigate, remapped to the robot's /robot1/navigate_to_pose (no
-    server of /navigate, /navigate_to_pose or /robot1/navigate exists); x and y come from the
-    parameter file. Off the map (x = 50) the robot's abort names the goal it got."""
-    program = ROOT / "examples" / "ros2" / "courier.gpp"
+    """The nodes of examples/ros2/agent.launch.py started as launch_ros starts them: the robot
+    and the agent under /robot1. `navigate` is /robot1/navigate, remapped to the robot's
+    /robot1/navigate_to_pose (no server of /navigate, /navigate_to_pose or /robot1/navigate
+    exists); x and y come from the parameter file. Off the map (x = 50) the robot's abort
+    names the goal it got."""
+    nodes = example_nodes(monkeypatch)
     env = ros_env(own_domain, robot_interfaces)
     env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
-    robot_command = [sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"]
-    robot = start([*robot_command, "--ros-args", "-r", "__ns:=/robot1"], env, "robot ready")
+    robot_command = launch_command(nodes["robot"], tmp_path)
+    robot = start([*EXECUTABLES[robot_command[0]], *robot_command[1:]], env, "robot ready")
     try:
         results = []
-        for x in (3, 50):
-            trace = tmp_path / f"trace{x}.jsonl"
-            command = [*launch_command(program, {"x": x, "y": 4.0}, tmp_path), "--", "--trace", str(trace)]
+        for x in (3.0, 50.0):
+            trace = tmp_path / f"trace{x:g}.jsonl"
+            agent_node = nodes["courier"] | {"parameters": [{"x": x, "y": 4.0}]}
+            command = launch_command(agent_node, tmp_path)
+            command = [*EXECUTABLES[command[0]], *command[1:], "--", "--trace", str(trace)]
             agent = subprocess.run(command, env=env, capture_output=True, text=True, timeout=120)
             assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
             records = [json.loads(line) for line in trace.read_text().splitlines()]
@@ -319,10 +351,10 @@ def test_launched_as_launch_ros_launches_a_node_it_drives_the_robot_in_its_names
     finally:
         stop(robot)
     assert results == [
-        [("navigate(3,4.0)", "final", None)],
+        [("navigate(3.0,4.0)", "final", None)],
         [
             (
-                "navigate(50,4.0)",
+                "navigate(50.0,4.0)",
                 "failed",
                 'the action server "/robot1/navigate_to_pose" aborted the goal (its result: '
                 '{error_code = 9004, error_msg = "goal (50, 4) is outside the map"})',
