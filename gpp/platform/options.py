@@ -84,7 +84,13 @@ class Ros2Options:
     server_timeout: float | None = field(
         default=None, metadata=about("s to wait for a server to appear (default: the binding file's, else 5)")
     )
-    node_name: str = field(default="gpp_agent", metadata=about("the name of the agent's ROS node"))
+    node_name: str | None = field(
+        default=None, metadata=about("the name of the agent's ROS node (default: gpp_agent; or `-r __node:=NAME`)")
+    )
+    namespace: str | None = field(
+        default=None,
+        metadata=about("the namespace of the agent's ROS node (default: $ROS_NAMESPACE, else /; or `-r __ns:=NS`)"),
+    )
     discovery_timeout: float | None = field(
         default=None,
         metadata=about(
@@ -93,7 +99,9 @@ class Ros2Options:
             "file's, else 5)"
         ),
     )
-    log_level: str = field(default="warn", metadata=about("rclpy's log level (debug, info, warn, error)"))
+    log_level: str | None = field(
+        default=None, metadata=about("rclpy's log level (debug, info, warn, error; default: warn; or `--log-level`)")
+    )
 
 
 @dataclass(frozen=True)
