@@ -34,6 +34,7 @@ from rclpy.action.client import ActionClient
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
@@ -118,6 +119,7 @@ class Bridge:
         domain_id: int | None = None,
         node_name: str = "gpp_agent",
         log_level: str = "warn",
+        use_sim_time: bool = False,
     ) -> None:
         self.own_context = context is None
         if context is None:
@@ -129,7 +131,13 @@ class Bridge:
                 signal_handler_options=SignalHandlerOptions.NO,
             )
         self.context = context
-        self.node = rclpy.create_node(node_name, context=context, start_parameter_services=False)
+        overrides = [Parameter("use_sim_time", Parameter.Type.BOOL, True)] if use_sim_time else []
+        self.node = rclpy.create_node(
+            node_name, context=context, start_parameter_services=False, parameter_overrides=overrides
+        )
+        # The option or the ROS parameter (`--ros-args -p use_sim_time:=true`): rclpy's clock
+        # of the node follows /clock (the stamps it fills in); the platform's clock does too.
+        self.sim_time = bool(self.node.get_parameter("use_sim_time").value)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
         self.jobs: list[Job] = []

@@ -61,8 +61,10 @@ from gpp.platform.ros2.binding import (
     NameEntry,
     find_binding,
 )
+from gpp.platform.ros2.live import LiveTopics
 from gpp.platform.ros2.names import NameError_, parse_mapped
 from gpp.platform.values import ConversionError, to_value
+from gpp.runtime.events import TraceEvent
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
@@ -75,6 +77,10 @@ log = logging.getLogger("gpp.platform.ros2")
 
 # s between two looks at the graph for the types of names mapped without one, not yet seen
 TARGET_LOOK = 0.1
+CLOCK_TOPIC = "/clock"
+# s (wall clock) at most between two looks at the simulator's clock while a program waits for
+# a time: the clock's callback wakes the wait, this only bounds a wake-up that came just before.
+SIM_SLICE = 0.02
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
@@ -140,6 +146,8 @@ class Ros2Platform(Platform):
         domain_id: int | None = None,
         node_name: str = "gpp_agent",
         log_level: str = "warn",
+        use_sim_time: bool = False,
+        publish_trace: bool = True,
     ) -> None:
         super().__init__()
         self.binding = binding or Binding()
@@ -159,6 +167,16 @@ class Ros2Platform(Platform):
         self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
         self.exog_received = 0
         self._next_target_look = 0.0
+        self.use_sim_time = use_sim_time
+        self.live_topics = LiveTopics() if publish_trace else None
+        # Sim time (the option or the node's use_sim_time parameter): the platform's clock is
+        # the /clock time since its first message, never going back; `_deadline` is what a
+        # waiting program waits for (the clock's callback wakes it).
+        self.sim_time = False
+        self._clock_lock = threading.Lock()
+        self._sim_origin: float | None = None
+        self._sim_now = 0.0
+        self._deadline: float | None = None
 
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
@@ -182,7 +200,15 @@ class Ros2Platform(Platform):
                     f"not {options.discovery_timeout:g}"
                 )
             binding.discovery_timeout = options.discovery_timeout
-        return cls(binding, None, options.domain_id, options.node_name, options.log_level)
+        return cls(
+            binding,
+            None,
+            options.domain_id,
+            options.node_name,
+            options.log_level,
+            options.use_sim_time,
+            options.publish_trace,
+        )
 
     # ---------------------------------------------------------------- attach
 
@@ -193,15 +219,25 @@ class Ros2Platform(Platform):
         self.interface = interface
         problems: list[Problem] = []
         try:
-            self.bridge = Bridge(self.context, self.domain_id, self.node_name, self.log_level)
+            self.bridge = Bridge(self.context, self.domain_id, self.node_name, self.log_level, self.use_sim_time)
         except Exception as e:
             return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
         bridge = self.bridge
         self.t0 = bridge.t0
+        if self.live_topics is not None:
+            try:
+                self.live_topics.attach(bridge)
+            except Exception as e:
+                return [Problem(f"cannot publish the run's records: {type(e).__name__}: {e}")]
         # One wait for discovery, at most discovery_timeout in all: first for the names mapped
         # without a type (their mappings are checked against the types the graph shows), then
         # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
+        # With sim time, the first /clock message comes first.
         deadline = time.monotonic() + self.binding.discovery_timeout
+        if bridge.sim_time:
+            problem = self._follow_clock(deadline)
+            if problem is not None:
+                return [problem]
         graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
         for name, binding in sorted(interface.actions.items()):
             target, found = checks.action_target(binding, self.binding, graph)
@@ -265,6 +301,41 @@ class Ros2Platform(Platform):
         bridge.watchers.append(self._watch_sources)
         self._wait_for_subscribers(deadline)
         return []
+
+    def _follow_clock(self, deadline: float) -> Problem | None:
+        """Subscribe to /clock and wait (until `deadline`) for its first message: from then on
+        the platform's clock is the simulator's."""
+        from rosgraph_msgs.msg import Clock
+
+        from gpp.platform.ros2.binding import Qos
+
+        assert self.bridge is not None
+        bridge = self.bridge
+        self.sim_time = True
+        qos = Qos(reliability="best_effort", durability="volatile")
+        bridge.call(bridge.subscribe, CLOCK_TOPIC, Clock, self._clock, qos, 1, timeout=5.0)
+        while time.monotonic() < deadline:
+            with self._clock_lock:
+                if self._sim_origin is not None:
+                    return None
+            time.sleep(0.01)
+        return Problem(
+            f"use_sim_time is set, but no message on {CLOCK_TOPIC} arrived within "
+            f"{self.binding.discovery_timeout:g} s (discovery_timeout): start the simulator (what publishes "
+            f"{CLOCK_TOPIC}) first"
+        )
+
+    def _clock(self, msg: Any) -> None:
+        """On the spin thread: the simulator's clock moved; a program waiting for a time it has
+        reached is woken."""
+        seconds = msg.clock.sec + msg.clock.nanosec * 1e-9
+        with self._clock_lock:
+            if self._sim_origin is None:
+                self._sim_origin = seconds
+            self._sim_now = max(self._sim_now, seconds - self._sim_origin)
+            due = self._deadline is not None and self._sim_now >= self._deadline
+        if due:
+            self.queue.wake()
 
     def _wait_for_subscribers(self, deadline: float) -> None:
         """Make the publishers of the actions that publish now, and wait (until `deadline`, the
@@ -718,29 +789,48 @@ class Ros2Platform(Platform):
             raise PlatformError(f"{what}: {e}") from None
 
     def now(self) -> float:
+        if self.sim_time:
+            with self._clock_lock:
+                return self._sim_now
         return time.monotonic() - self.t0
 
     def wait(self, deadline: float | None) -> bool:
-        while True:
-            if len(self.queue):
-                return True
-            if deadline is None and not self.live():
-                return False  # nothing can arrive, and the program waits for no moment
-            slice_ = 0.1
-            if deadline is not None:
-                slice_ = min(slice_, deadline - self.now())
-                if slice_ <= 0:
-                    return False
-            if self.queue.wait(slice_):
-                return True
+        with self._clock_lock:
+            self._deadline = deadline
+        try:
+            while True:
+                if len(self.queue):
+                    return True
+                if deadline is None and not self.live():
+                    return False  # nothing can arrive, and the program waits for no moment
+                slice_ = 0.1
+                if deadline is not None:
+                    left = deadline - self.now()
+                    if left <= 0:
+                        return False
+                    # In sim time the clock's callback wakes the wait; left is simulated time.
+                    slice_ = SIM_SLICE if self.sim_time else min(slice_, left)
+                if self.queue.wait(slice_):
+                    return True
+        finally:
+            with self._clock_lock:
+                self._deadline = None
 
     def live(self) -> bool:
         with self._lock:
             running = bool(self._jobs)
         return running or bool(self.topics) or any(s.watched for s in self.sources.values())
 
+    def trace_listener(self) -> Callable[[TraceEvent], None] | None:
+        return self.live_topics
+
     def close(self) -> None:
         if self.bridge is not None:
+            if self.live_topics is not None:
+                try:
+                    self.live_topics.flush()
+                except Exception as e:
+                    log.warning("ros2: the last records were not published: %s: %s", type(e).__name__, e)
             self.bridge.close()
 
 
