@@ -4,7 +4,8 @@ ROS"). Both are `std_msgs/String` holding JSON: a record exactly as its trace li
 as one object (`RunState.as_json`).
 
 `LiveTopics` is a trace listener: it is told each record on the interpreter's thread, keeps
-the record's line and the newest state, and hands the publishing to the spin thread. The
+the record's line and the newest state, and hands the publishing to the spin thread (one task
+for all the records that come before it runs; the states in between are not published). The
 records the run writes before the node is up (its header) wait for it.
 """
 
@@ -134,6 +135,7 @@ class LiveTopics:
         self._lock = threading.Lock()
         self._lines: deque[str] = deque()
         self._state_due = False
+        self._posted = False  # a `_publish` is on its way to the spin thread
         self._bridge: Bridge | None = None
         self._events: Any = None
         self._state: Any = None
@@ -147,7 +149,8 @@ class LiveTopics:
             self._lines.append(line)
             self.state.apply(event)
             self._state_due = True
-            bridge = self._bridge
+            bridge = self._bridge if not self._posted else None
+            self._posted = self._posted or bridge is not None
         if bridge is not None:
             bridge.post(self._publish)
 
@@ -180,6 +183,7 @@ class LiveTopics:
     def _publish(self) -> None:
         """On the spin thread: every record that waits, in order, then the newest state."""
         with self._lock:
+            self._posted = False
             lines = list(self._lines)
             self._lines.clear()
             state = json.dumps(self.state.as_json(), ensure_ascii=False) if self._state_due else None

@@ -5,6 +5,8 @@ test worker's own, discovery on localhost only):
   `/gpp_agent/events` as the run goes, in order, exactly the trace file's lines; one that
   joins while the program waits gets the latched state on `/gpp_agent/state` (what runs, what
   the program waits for) and only then lets the run go on;
+* in one process (one context, discovery off), the topics are named after the node and
+  `publish_trace=false` turns them off;
 * with `use_sim_time` (the platform option, or the ROS parameter in the node's arguments) the
   platform's clock, a `wait_for` of stdlib/time.gpp and the stamps of the messages it sends
   follow `/clock` from another process, faster and slower than real time.
@@ -32,8 +34,6 @@ from gpp.run.runner import RunOptions, run_program
 from gpp.runtime.events import AssignEvent, TraceEvent, WaitingEvent
 
 HERE = Path(__file__).resolve().parent
-
-pytestmark = pytest.mark.slow
 
 LATE_JOINER = """
 bool fluent went() {
@@ -76,6 +76,7 @@ def listened(process: subprocess.Popen[str]) -> list[tuple[str, float, dict[str,
     return found
 
 
+@pytest.mark.slow
 def test_subscribers_in_another_process_follow_the_run_live_and_a_late_one_sees_where_it_is(
     servers: subprocess.Popen[str],  # noqa: F811
     domain: int,  # noqa: F811
@@ -206,6 +207,7 @@ def run_on_sim_time(
     }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("rate", "seconds", "how"),
     [(10.0, 10.0, "option"), (0.25, 1.0, "parameter")],
@@ -235,6 +237,7 @@ def test_sim_time_follows_clock_faster_and_slower_than_real_time(
     assert SIM_START <= stamp < SIM_START + 3600
 
 
+@pytest.mark.slow
 @pytest.mark.fault
 def test_sim_time_without_a_clock_is_an_error_naming_clock(domain: int, tmp_path: Path) -> None:  # noqa: F811
     program = tmp_path / "agent.gpp"
@@ -244,3 +247,51 @@ def test_sim_time_without_a_clock_is_an_error_naming_clock(domain: int, tmp_path
     assert outcome.result is None
     [message] = [d.message for d in outcome.diagnostics]
     assert "use_sim_time is set, but no message on /clock arrived within 0.5 s" in message
+
+
+def test_the_topics_follow_the_node_name_and_can_be_turned_off(ros: Any, tmp_path: Path) -> None:
+    """A subscriber on the shared context (its own node and thread) hears every record of a run
+    as `/courier/events` when the node is `courier`, and nothing when publishing is off."""
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    program = tmp_path / "agent.gpp"
+    program.write_text(
+        'action count(number n) { mapping: "/fib : test_msgs/action/Fibonacci" { order = n } }\n'
+        "procedure main() { count(3); count(2); }\n",
+        encoding="utf-8",
+    )
+    node = rclpy.create_node("test_listener", context=ros.node.context, start_parameter_services=False)
+    executor = SingleThreadedExecutor(context=ros.node.context)
+    executor.add_node(node)
+    heard: dict[str, list[str]] = {"/courier/events": [], "/gpp_agent/events": []}
+    qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    for topic, lines in heard.items():
+        node.create_subscription(String, topic, lambda msg, lines=lines: lines.append(msg.data), qos)
+    stopping = threading.Event()
+
+    def spin() -> None:
+        while not stopping.is_set():
+            executor.spin_once(timeout_sec=0.05)
+
+    spinner = threading.Thread(target=spin, daemon=True)
+    spinner.start()
+    try:
+        for name, publish in (("courier", "true"), ("gpp_agent", "false")):
+            trace = tmp_path / f"{name}.jsonl"
+            options: dict[str, Any] = {"node_name": name, "publish_trace": publish}
+            outcome = run_program(program, RunOptions(platform="ros2", trace=trace, platform_options=options))
+            assert outcome.ok, outcome.diagnostics
+        deadline = time.monotonic() + 10
+        expected = (tmp_path / "courier.jsonl").read_text(encoding="utf-8").splitlines()
+        while heard["/courier/events"] != expected and time.monotonic() < deadline:
+            time.sleep(0.02)
+    finally:
+        stopping.set()
+        spinner.join(5)
+        executor.shutdown(timeout_sec=0)
+        node.destroy_node()
+    assert heard["/courier/events"] == expected
+    assert heard["/gpp_agent/events"] == []
