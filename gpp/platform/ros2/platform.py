@@ -437,9 +437,11 @@ class Ros2Platform(Platform):
         source.next_wake = now + 1.0 / rate if rate is not None else 0.0
         self.queue.put(ExogFunctionChanged(source.name), now)
 
-    def _watch_sources(self, now: float) -> None:
+    def _watch_sources(self, tick: float) -> None:
         """On the spin thread, every tick: held-back wake-ups, values that just became too old,
-        and polled services wake a waiting program."""
+        and polled services wake a waiting program. In the platform's time, as the values'
+        arrival (the simulator's with sim time; the bridge's `tick` is wall-clock time)."""
+        now = self.now()
         for source in self.sources.values():
             entry = source.entry
             if source.wake_held and now >= source.next_wake:
