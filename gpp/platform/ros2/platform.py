@@ -169,12 +169,15 @@ class Ros2Platform(Platform):
         self._next_target_look = 0.0
         self.use_sim_time = use_sim_time
         self.live_topics = LiveTopics() if publish_trace else None
-        # Sim time (the option or the node's use_sim_time parameter): the platform's clock is
-        # the /clock time since its first message, never going back; `_deadline` is what a
-        # waiting program waits for (the clock's callback wakes it).
+        # Sim time (the option or the node's use_sim_time parameter): the platform's clock goes
+        # on from the last time it told before (`_sim_base`: the header's) by the /clock time
+        # since its first message, never going back; `_deadline` is what a waiting program
+        # waits for (the clock's callback wakes it).
         self.sim_time = False
+        self._told = 0.0
         self._clock_lock = threading.Lock()
         self._sim_origin: float | None = None
+        self._sim_base = 0.0
         self._sim_now = 0.0
         self._deadline: float | None = None
 
@@ -223,7 +226,8 @@ class Ros2Platform(Platform):
         except Exception as e:
             return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
         bridge = self.bridge
-        self.t0 = bridge.t0
+        if not bridge.sim_time:
+            self.t0 = bridge.t0
         if self.live_topics is not None:
             try:
                 self.live_topics.attach(bridge)
@@ -311,6 +315,8 @@ class Ros2Platform(Platform):
 
         assert self.bridge is not None
         bridge = self.bridge
+        with self._clock_lock:
+            self._sim_base = self._sim_now = self._told
         self.sim_time = True
         qos = Qos(reliability="best_effort", durability="volatile")
         bridge.call(bridge.subscribe, CLOCK_TOPIC, Clock, self._clock, qos, 1, timeout=5.0)
@@ -332,7 +338,7 @@ class Ros2Platform(Platform):
         with self._clock_lock:
             if self._sim_origin is None:
                 self._sim_origin = seconds
-            self._sim_now = max(self._sim_now, seconds - self._sim_origin)
+            self._sim_now = max(self._sim_now, self._sim_base + seconds - self._sim_origin)
             due = self._deadline is not None and self._sim_now >= self._deadline
         if due:
             self.queue.wake()
@@ -794,7 +800,9 @@ class Ros2Platform(Platform):
         if self.sim_time:
             with self._clock_lock:
                 return self._sim_now
-        return time.monotonic() - self.t0
+        now = time.monotonic() - self.t0
+        self._told = max(self._told, now)
+        return now
 
     def wait(self, deadline: float | None) -> bool:
         with self._clock_lock:
