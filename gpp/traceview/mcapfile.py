@@ -4,9 +4,13 @@ record's JSON line, each channel with the JSON Schema of its kind, and each mess
 the run's start (the header's `started`) plus the record's `t`.
 
 The schemas are made from the trace's one JSON Schema (gpp/trace.schema.json, checked field
-for field against gpp.runtime.events): a kind's definition with every `$ref` written out in
-place, since Foxglove does not follow references. A recursive definition (a golog++ value
-holds values) is written out once; where it would recur, any JSON value is allowed.
+for field against gpp.runtime.events), in the subset of JSON Schema Foxglove reads (it turns a
+channel's schema into the field types its panels offer, and refuses the channel when a field
+has a type it does not know): a kind's definition with every `$ref` written out in place;
+each field with one `type` (boolean, string, number, integer, object, array): a field that may
+be null has its other type, a `const` or `enum` the type of its values, an object its
+`properties` (none for a map such as `args`); a field that holds any golog++ value (`value`,
+`result`) has no one type and is left out, with a word in the schema's description.
 """
 
 from __future__ import annotations
@@ -30,20 +34,85 @@ def schema_name(kind: str) -> str:
     return f"gpp.trace.{kind}"
 
 
+# The types Foxglove gives a JSON Schema field, and the keywords kept beside them.
+FIELD_TYPES = ("boolean", "string", "number", "integer", "object", "array")
+_KEPT = ("title", "description", "const", "enum", "minimum", "pattern", "format")
+
+
 def record_schemas() -> dict[str, dict[str, Any]]:
-    """Every record kind's JSON Schema, standing alone (no `$ref`), in the trace's order."""
+    """Every record kind's JSON Schema as Foxglove reads it (see the module's docstring), in
+    the trace's order."""
     schema = load_schema()
     definitions: Mapping[str, Any] = schema["$defs"]
     found: dict[str, dict[str, Any]] = {}
     for kind in EVENT_TYPES:
         standalone = _inline(definitions[kind], definitions, (kind,))
-        assert isinstance(standalone, dict)
+        typed = _typed(standalone)
+        assert typed is not None and typed["type"] == "object"
         found[kind] = {
             "$schema": schema["$schema"],
             "title": f"gpp trace record `{kind}` (schema {TRACE_SCHEMA_VERSION})",
-            **standalone,
+            **typed,
         }
     return found
+
+
+def _typed(node: Mapping[str, Any]) -> dict[str, Any] | None:
+    """A field's schema with one Foxglove type, or None when its values have no one type."""
+    kind = _one_type(node)
+    if kind is None:
+        return None
+    typed: dict[str, Any] = {key: node[key] for key in _KEPT if key in node}
+    typed["type"] = kind
+    if kind == "object":
+        fields = {name: _typed(sub) for name, sub in node.get("properties", {}).items()}
+        typed["properties"] = {name: sub for name, sub in fields.items() if sub is not None}
+        untyped = ", ".join(f"`{name}`" for name, sub in fields.items() if sub is None)
+        if untyped:
+            note = f"Not typed here (any golog++ value): {untyped}."
+            typed["description"] = f"{typed.get('description', '')} {note}".lstrip()
+        required = [name for name in node.get("required", ()) if name in typed["properties"]]
+        if required:
+            typed["required"] = required
+    elif kind == "array":
+        items = _typed(node.get("items", {}))
+        if items is None:
+            return None
+        typed["items"] = items
+    return typed
+
+
+def _one_type(node: Mapping[str, Any]) -> str | None:
+    """The one type (other than null) a field's values have, if they have one."""
+    declared = node.get("type")
+    if isinstance(declared, list):
+        others = [t for t in declared if t != "null"]
+        declared = others[0] if len(others) == 1 else None
+    if declared is None and "const" in node:
+        declared = _json_type(node["const"])
+    if declared is None and "enum" in node:
+        kinds = {_json_type(v) for v in node["enum"]}
+        declared = kinds.pop() if len(kinds) == 1 else None
+    if declared is None:
+        alternatives = node.get("anyOf", node.get("oneOf"))
+        if isinstance(alternatives, list) and alternatives:
+            kinds = {_one_type(a) for a in alternatives}
+            declared = kinds.pop() if len(kinds) == 1 else None
+            if declared in ("object", "array"):
+                declared = None  # alternatives of different shapes
+    return declared if declared in FIELD_TYPES else None
+
+
+def _json_type(value: Any) -> str | None:
+    if isinstance(value, bool):
+        return "boolean"
+    if isinstance(value, int):
+        return "integer"
+    if isinstance(value, float):
+        return "number"
+    if isinstance(value, str):
+        return "string"
+    return None
 
 
 def _inline(node: Any, definitions: Mapping[str, Any], expanding: tuple[str, ...]) -> Any:

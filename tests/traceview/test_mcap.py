@@ -1,7 +1,7 @@
 """`gpp trace mcap`: a run's trace as an MCAP file for Foxglove, read back with the `mcap`
 package's own reader: every record in order on the channel of its kind, each channel with the
-JSON Schema of its kind (made from gpp/trace.schema.json, no `$ref` left), log times from the
-trace; a split trace converts as one run."""
+JSON Schema of its kind (made from gpp/trace.schema.json, in the subset Foxglove reads: no
+`$ref`, one type per field), log times from the trace; a split trace converts as one run."""
 
 from __future__ import annotations
 
@@ -24,6 +24,44 @@ from gpp.traceview.model import load_trace
 from tests.support.cli import run
 
 ROOT = Path(__file__).resolve().parents[2]
+
+
+def foxglove_problems(schema: dict[str, Any], path: str = "") -> list[str]:
+    """What Foxglove would refuse in a channel's JSON Schema: it reads an object's
+    `properties`, each field's one `type` (or a `oneOf` of numbers) and an array's `items`, and
+    refuses the channel on anything else (foxglove/studio, mcap-support/parseJsonSchema.ts)."""
+    if schema.get("type") != "object" or not isinstance(schema.get("properties"), dict):
+        return [f"{path or 'the record'}: not an object with properties"]
+    problems = []
+    for name, field in schema["properties"].items():
+        where = f"{path}.{name}" if path else name
+        kind = field.get("type")
+        if kind == "object":
+            problems += foxglove_problems(field, where)
+        elif kind == "array":
+            items = field.get("items", {})
+            if items.get("type") == "object":
+                problems += foxglove_problems(items, where)
+            elif items.get("type") not in ("boolean", "string", "number", "integer"):
+                problems.append(f"{where}: array items of type {items.get('type')!r}")
+        elif kind not in ("boolean", "string", "number", "integer"):
+            problems.append(f"{where}: type {kind!r}")
+    return problems
+
+
+def nullable(schema: Any) -> Any:
+    """The schema with null allowed wherever it names a type: Foxglove types a field that may
+    be null (`at`) by its other type."""
+    if isinstance(schema, list):
+        return [nullable(item) for item in schema]
+    if not isinstance(schema, dict):
+        return schema
+    copy = {key: nullable(value) for key, value in schema.items()}
+    if isinstance(copy.get("type"), str):
+        copy["type"] = [copy["type"], "null"]
+        if "const" in copy or "enum" in copy:
+            copy["enum"] = [*copy.pop("enum", [copy.pop("const", None)]), None]
+    return copy
 
 
 def read_mcap(path: Path) -> list[tuple[Any, Any, Any]]:
@@ -51,7 +89,8 @@ def check_conversion(trace: Path, mcap: Path, prefix: str = "/gpp") -> set[str]:
         assert (schema.name, schema.encoding) == (schema_name(kind), "jsonschema")
         assert json.loads(schema.data) == schemas[kind]
         record = json.loads(message.data)
-        errors = [e.message for e in jsonschema.Draft202012Validator(schemas[kind]).iter_errors(record)]
+        validator = jsonschema.Draft202012Validator(nullable(schemas[kind]))
+        errors = [e.message for e in validator.iter_errors(record)]
         assert not errors, (record, errors)
         assert message.log_time == message.publish_time == start + round(event.t * 10**9)
         assert message.sequence == sequence.get(kind, 0)
@@ -61,22 +100,30 @@ def check_conversion(trace: Path, mcap: Path, prefix: str = "/gpp") -> set[str]:
     return set(sequence)
 
 
-def test_each_kind_has_a_standalone_schema_made_from_the_trace_schema() -> None:
+def test_each_kind_has_a_schema_foxglove_reads_made_from_the_trace_schema() -> None:
     trace_schema = load_schema()
     schemas = record_schemas()
     assert list(schemas) == list(EVENT_TYPES)
+    golog_value = {"$ref": "#/$defs/value"}
     for kind, schema in schemas.items():
         jsonschema.Draft202012Validator.check_schema(schema)
         assert '"$ref"' not in json.dumps(schema), kind  # Foxglove does not follow references
+        assert foxglove_problems(schema) == [], kind
         definition = trace_schema["$defs"][kind]
-        assert list(schema["properties"]) == list(definition["properties"]), kind
-        assert schema["required"] == definition["required"], kind
-        assert schema["additionalProperties"] is False
-    # A reference is written out with what it refers to, and a recursive one allows any value.
-    time = schemas["start"]["properties"]["t"]
-    assert time["type"] == "number" and time["minimum"] == 0
-    value = schemas["sense"]["properties"]["value"]
-    assert value["anyOf"][1]["items"] == {"description": trace_schema["$defs"]["value"]["description"]}
+        # Every field, in order, but those holding any golog++ value, which the description names.
+        untyped = [n for n, f in definition["properties"].items() if f.get("$ref") == golog_value["$ref"]]
+        assert list(schema["properties"]) == [n for n in definition["properties"] if n not in untyped], kind
+        assert schema["required"] == [n for n in definition["required"] if n not in untyped], kind
+        for name in untyped:
+            assert f"`{name}`" in schema["description"], (kind, name)
+    # A reference is written out with what it refers to; a field that may be null has its other
+    # type, a `const` or `enum` the type of its values; a map is an object without properties.
+    start = schemas["start"]["properties"]
+    assert start["t"] == {**trace_schema["$defs"]["time"], "type": "number"}
+    assert start["at"]["type"] == "string" and start["silent"] == {**start["silent"], "type": "boolean"}
+    assert start["args"]["properties"] == {} and schemas["end"]["properties"]["status"]["type"] == "string"
+    change = schemas["end"]["properties"]["changes"]["items"]
+    assert list(change["properties"]) == ["fluent"] and "`value`" in change["description"]
 
 
 @pytest.mark.parametrize(
