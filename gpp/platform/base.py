@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, TypeVar, Union
@@ -45,6 +45,7 @@ from gpp.runtime.contract import (
     Problem,
     ProgramInterface,
 )
+from gpp.runtime.events import TraceEvent
 from gpp.runtime.values import Value
 
 __all__ = [
@@ -168,6 +169,11 @@ class Platform:
 
     def close(self) -> None:
         """Stop threads and release resources. Called once, also after errors."""
+
+    def trace_listener(self) -> Callable[[TraceEvent], None] | None:
+        """A listener the run adds to its trace, told every record as it is written (a platform
+        that shows the run to its own tools), or None."""
+        return None
 
     def facts(self) -> RunFacts:
         """The world, scenario and seed of this run, where the platform has them."""

@@ -102,6 +102,17 @@ class Ros2Options:
     log_level: str | None = field(
         default=None, metadata=about("rclpy's log level (debug, info, warn, error; default: warn; or `--log-level`)")
     )
+    use_sim_time: bool = field(
+        default=False,
+        metadata=about(
+            "follow the simulator's clock on /clock (as the ROS parameter use_sim_time does): context_time(), the "
+            "trace's times, time stamps and time-based waits"
+        ),
+    )
+    publish_trace: bool = field(
+        default=True,
+        metadata=about("publish the run's records on ~/events and its state on ~/state (latched), as JSON"),
+    )
 
 
 @dataclass(frozen=True)

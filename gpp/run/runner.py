@@ -152,6 +152,9 @@ def run_program(
         if options.record:
             outcome.recording = Recording()
             listeners = [outcome.recording, *(listeners or [])]
+        platform_listener = platform.trace_listener()
+        if platform_listener is not None:
+            listeners = [*(listeners or []), platform_listener]
         trace = outcome.trace = Trace(options.trace, listeners, options.trace_split)
         trace.emit(header)
         from gpp.planner.policy import PolicyPlanner

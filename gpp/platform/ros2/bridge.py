@@ -35,6 +35,7 @@ from rclpy.action.client import ActionClient
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
@@ -122,6 +123,7 @@ class Bridge:
         log_level: str = "warn",
         namespace: str | None = None,
         arguments: Sequence[str] = (),
+        use_sim_time: bool = False,
     ) -> None:
         """`arguments`: the ROS arguments (those after `--ros-args`: remapping rules,
         parameters, parameter files, log levels), parsed by rcl; on a context of its own they
@@ -132,6 +134,7 @@ class Bridge:
             context = Context()
             _init(context, ["--ros-args", "--log-level", log_level, *arguments], domain_id)
         self.context = context
+        overrides = [Parameter("use_sim_time", Parameter.Type.BOOL, True)] if use_sim_time else []
         try:
             self.node = rclpy.create_node(
                 node_name,
@@ -139,12 +142,16 @@ class Bridge:
                 context=context,
                 cli_args=["--ros-args", *arguments] if arguments and not self.own_context else None,
                 start_parameter_services=False,
+                parameter_overrides=overrides,
                 automatically_declare_parameters_from_overrides=True,
             )
         except Exception as e:
             if self.own_context:
                 context.try_shutdown()
             raise ArgumentError(_rcl_message(e)) from None
+        # The option or the ROS parameter (`--ros-args -p use_sim_time:=true`): rclpy's clock
+        # of the node follows /clock (the stamps it fills in); the platform's clock does too.
+        self.sim_time = bool(self.node.get_parameter("use_sim_time").value)
         # The names the node resolved (with its remapping rules) -> as they were expanded
         # before: an entity is made with the expanded name, so that rcl remaps it once.
         self._expanded: dict[str, str] = {}

@@ -64,8 +64,10 @@ from gpp.platform.ros2.binding import (
     NameEntry,
     find_binding,
 )
+from gpp.platform.ros2.live import LiveTopics
 from gpp.platform.ros2.names import DEFAULT_NODE_NAME, NameError_, is_namespace, normalize, parse_mapped
 from gpp.platform.values import ConversionError, to_value
+from gpp.runtime.events import TraceEvent
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
@@ -82,6 +84,10 @@ TARGET_LOOK = 0.1
 NODE_NAME_LOOK = 1.0
 # The parameters every node has (rclpy declares them): not the entry procedure's.
 NODE_PARAMETERS = frozenset({"use_sim_time", "start_type_description_service"})
+CLOCK_TOPIC = "/clock"
+# s (wall clock) at most between two looks at the simulator's clock while a program waits for
+# a time: the clock's callback wakes the wait, this only bounds a wake-up that came just before.
+SIM_SLICE = 0.02
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
@@ -149,6 +155,8 @@ class Ros2Platform(Platform):
         log_level: str = "warn",
         namespace: str | None = None,
         arguments: Sequence[str] = (),
+        use_sim_time: bool = False,
+        publish_trace: bool = True,
     ) -> None:
         super().__init__()
         self.binding = binding or Binding()
@@ -173,6 +181,19 @@ class Ros2Platform(Platform):
         self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
         self.exog_received = 0
         self._next_target_look = 0.0
+        self.use_sim_time = use_sim_time
+        self.live_topics = LiveTopics() if publish_trace else None
+        # Sim time (the option or the node's use_sim_time parameter): the platform's clock goes
+        # on from the last time it told before (`_sim_base`: the header's) by the /clock time
+        # since its first message, never going back; `_deadline` is what a waiting program
+        # waits for (the clock's callback wakes it).
+        self.sim_time = False
+        self._told = 0.0
+        self._clock_lock = threading.Lock()
+        self._sim_origin: float | None = None
+        self._sim_base = 0.0
+        self._sim_now = 0.0
+        self._deadline: float | None = None
 
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
@@ -204,6 +225,8 @@ class Ros2Platform(Platform):
             options.log_level or "warn",
             namespace_of(options),
             check_arguments(options, config.arguments),
+            options.use_sim_time,
+            options.publish_trace,
         )
         platform.start_node()
         return platform
@@ -217,13 +240,20 @@ class Ros2Platform(Platform):
             return
         try:
             self.bridge = Bridge(
-                self.context, self.domain_id, self.node_name, self.log_level, self.namespace, self.arguments
+                self.context,
+                self.domain_id,
+                self.node_name,
+                self.log_level,
+                self.namespace,
+                self.arguments,
+                self.use_sim_time,
             )
         except ArgumentError as e:
             raise PlatformError(
                 f"--ros-args: {e}" if self.arguments else f"cannot start the agent's node: {e}"
             ) from None
-        self.t0 = self.bridge.t0
+        if not self.bridge.sim_time:
+            self.t0 = self.bridge.t0
 
     def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
         """The node's ROS parameters (`-p n:=3`, `--params-file`) but those every node has:
@@ -256,10 +286,20 @@ class Ros2Platform(Platform):
             return [Problem(f"binding file: {e}")]
         self.interface = interface
         self._check_node_name()
+        if self.live_topics is not None:
+            try:
+                self.live_topics.attach(bridge)
+            except Exception as e:
+                return [Problem(f"cannot publish the run's records: {type(e).__name__}: {e}")]
         # One wait for discovery, at most discovery_timeout in all: first for the names mapped
         # without a type (their mappings are checked against the types the graph shows), then
         # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
+        # With sim time, the first /clock message comes first.
         deadline = time.monotonic() + self.binding.discovery_timeout
+        if bridge.sim_time:
+            problem = self._follow_clock(deadline)
+            if problem is not None:
+                return [problem]
         graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
         for name, binding in sorted(interface.actions.items()):
             target, found = checks.action_target(binding, self.binding, graph)
@@ -350,6 +390,43 @@ class Ros2Platform(Platform):
         with contextlib.suppress(Exception):
             bridge.call(look, 0.0, timeout=5.0)
         bridge.watchers.append(look)
+
+    def _follow_clock(self, deadline: float) -> Problem | None:
+        """Subscribe to /clock and wait (until `deadline`) for its first message: from then on
+        the platform's clock is the simulator's."""
+        from rosgraph_msgs.msg import Clock
+
+        from gpp.platform.ros2.binding import Qos
+
+        assert self.bridge is not None
+        bridge = self.bridge
+        with self._clock_lock:
+            self._sim_base = self._sim_now = self._told
+        self.sim_time = True
+        qos = Qos(reliability="best_effort", durability="volatile")
+        bridge.call(bridge.subscribe, CLOCK_TOPIC, Clock, self._clock, qos, 1, timeout=5.0)
+        while time.monotonic() < deadline:
+            with self._clock_lock:
+                if self._sim_origin is not None:
+                    return None
+            time.sleep(0.01)
+        return Problem(
+            f"use_sim_time is set, but no message on {CLOCK_TOPIC} arrived within "
+            f"{self.binding.discovery_timeout:g} s (discovery_timeout): start the simulator (what publishes "
+            f"{CLOCK_TOPIC}) first"
+        )
+
+    def _clock(self, msg: Any) -> None:
+        """On the spin thread: the simulator's clock moved; a program waiting for a time it has
+        reached is woken."""
+        seconds = msg.clock.sec + msg.clock.nanosec * 1e-9
+        with self._clock_lock:
+            if self._sim_origin is None:
+                self._sim_origin = seconds
+            self._sim_now = max(self._sim_now, self._sim_base + seconds - self._sim_origin)
+            due = self._deadline is not None and self._sim_now >= self._deadline
+        if due:
+            self.queue.wake()
 
     def _wait_for_subscribers(self, deadline: float) -> None:
         """Make the publishers of the actions that publish now, and wait (until `deadline`, the
@@ -451,9 +528,11 @@ class Ros2Platform(Platform):
         source.next_wake = now + 1.0 / rate if rate is not None else 0.0
         self.queue.put(ExogFunctionChanged(source.name), now)
 
-    def _watch_sources(self, now: float) -> None:
+    def _watch_sources(self, tick: float) -> None:
         """On the spin thread, every tick: held-back wake-ups, values that just became too old,
-        and polled services wake a waiting program."""
+        and polled services wake a waiting program. In the platform's time, as the values'
+        arrival (the simulator's with sim time; the bridge's `tick` is wall-clock time)."""
+        now = self.now()
         for source in self.sources.values():
             entry = source.entry
             if source.wake_held and now >= source.next_wake:
@@ -811,29 +890,50 @@ class Ros2Platform(Platform):
         return found
 
     def now(self) -> float:
-        return time.monotonic() - self.t0
+        if self.sim_time:
+            with self._clock_lock:
+                return self._sim_now
+        now = time.monotonic() - self.t0
+        self._told = max(self._told, now)
+        return now
 
     def wait(self, deadline: float | None) -> bool:
-        while True:
-            if len(self.queue):
-                return True
-            if deadline is None and not self.live():
-                return False  # nothing can arrive, and the program waits for no moment
-            slice_ = 0.1
-            if deadline is not None:
-                slice_ = min(slice_, deadline - self.now())
-                if slice_ <= 0:
-                    return False
-            if self.queue.wait(slice_):
-                return True
+        with self._clock_lock:
+            self._deadline = deadline
+        try:
+            while True:
+                if len(self.queue):
+                    return True
+                if deadline is None and not self.live():
+                    return False  # nothing can arrive, and the program waits for no moment
+                slice_ = 0.1
+                if deadline is not None:
+                    left = deadline - self.now()
+                    if left <= 0:
+                        return False
+                    # In sim time the clock's callback wakes the wait; left is simulated time.
+                    slice_ = SIM_SLICE if self.sim_time else min(slice_, left)
+                if self.queue.wait(slice_):
+                    return True
+        finally:
+            with self._clock_lock:
+                self._deadline = None
 
     def live(self) -> bool:
         with self._lock:
             running = bool(self._jobs)
         return running or bool(self.topics) or any(s.watched for s in self.sources.values())
 
+    def trace_listener(self) -> Callable[[TraceEvent], None] | None:
+        return self.live_topics
+
     def close(self) -> None:
         if self.bridge is not None:
+            if self.live_topics is not None:
+                try:
+                    self.live_topics.flush()
+                except Exception as e:
+                    log.warning("ros2: the last records were not published: %s: %s", type(e).__name__, e)
             self.bridge.close()
 
 
