@@ -17,7 +17,9 @@ Each goal becomes an activity of the sim's world (the same scenes and physics as
     gpp run examples/blocksworld.gpp --platform ros2
 
 `--speed` is sim time per wall time (0: as fast as the CPU allows). The node knows nothing
-about golog++: any ROS 2 client can drive it.
+about golog++: any ROS 2 client can drive it. Its names are relative, so the ROS arguments
+after `--ros-args` put them in a namespace as for any node: with `--ros-args -r
+__ns:=/robot1` it serves `/robot1/stack`, ... (examples/ros2/two_robots.gpp drives two).
 """
 
 from __future__ import annotations
@@ -128,16 +130,16 @@ class SimThread:
 class Robot:
     def __init__(self, context: Context, world: World, speed: float) -> None:
         self.node = rclpy.create_node("blocksworld_robot", context=context, start_parameter_services=False)
-        self.battery = self.node.create_publisher(Battery, "/battery", LATCHED)
+        self.battery = self.node.create_publisher(Battery, "battery", LATCHED)
         self.sim = SimThread(world, speed, lambda level: self.battery.publish(Battery(level=level)))
         group = ReentrantCallbackGroup()
         accept = {"cancel_callback": lambda _: CancelResponse.ACCEPT, "callback_group": group}
         self.servers = [
-            ActionServer(self.node, Stack, "/stack", execute_callback=self._stack, **accept),
-            ActionServer(self.node, GetBlockPose, "/get_block_pose", execute_callback=self._pose, **accept),
-            ActionServer(self.node, NavigateToFrame, "/navigate_to_frame", execute_callback=self._navigate, **accept),
-            ActionServer(self.node, GripperHome, "/gripper_home", execute_callback=self._home, **accept),
-            ActionServer(self.node, NavigateToPose, "/navigate_to_pose", execute_callback=self._drive, **accept),
+            ActionServer(self.node, Stack, "stack", execute_callback=self._stack, **accept),
+            ActionServer(self.node, GetBlockPose, "get_block_pose", execute_callback=self._pose, **accept),
+            ActionServer(self.node, NavigateToFrame, "navigate_to_frame", execute_callback=self._navigate, **accept),
+            ActionServer(self.node, GripperHome, "gripper_home", execute_callback=self._home, **accept),
+            ActionServer(self.node, NavigateToPose, "navigate_to_pose", execute_callback=self._drive, **accept),
         ]
         self.speed = speed
         self.base = (0.0, 0.0)
@@ -219,16 +221,26 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0] if __doc__ else None)
     parser.add_argument("--world", default="blocksworld", help="a world of stdlib/worlds or a TOML file")
     parser.add_argument("--speed", type=float, default=1.0, help="sim time per wall time (0: unpaced)")
+    argv = sys.argv[1:] if argv is None else argv
+    # The ROS arguments (`--ros-args ...` up to `--` or the end) are rclpy's.
+    ros_args: list[str] = []
+    if "--ros-args" in argv:
+        at = argv.index("--ros-args")
+        end = argv.index("--", at) if "--" in argv[at:] else len(argv)
+        ros_args, argv = argv[at:end], argv[:at] + argv[end + 1 :]
     args = parser.parse_args(argv)
     context = Context()
     rclpy.init(
-        context=context, args=["--ros-args", "--log-level", "warn"], signal_handler_options=SignalHandlerOptions.NO
+        context=context,
+        args=["robot", "--ros-args", "--log-level", "warn", *ros_args],
+        signal_handler_options=SignalHandlerOptions.NO,
     )
     robot = Robot(context, World.load(args.world), args.speed)
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     signal.signal(signal.SIGINT, lambda *_: stop.set())
-    print(f"robot ready: world {args.world}, speed {args.speed:g}", flush=True)
+    where = robot.node.get_namespace()
+    print(f"robot ready: world {args.world}, speed {args.speed:g}, namespace {where}", flush=True)
     while not stop.wait(0.2):
         pass
     robot.close()

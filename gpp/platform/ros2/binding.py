@@ -199,6 +199,11 @@ class Binding:
                     binding.functions[fname] = _function(fname, _table(entry, at(fkey)), at(fkey), spans.get(fkey))
             elif key.startswith("/") or key.startswith("~"):
                 name = normalize(key)
+                if "{" in key or "}" in key:
+                    raise BindingError(
+                        f"{at(key)}: a table of the binding file is for one ROS name and cannot have a placeholder: "
+                        'write a table for each name the mapping stands for, such as ["/robot1/navigate"]'
+                    )
                 try:
                     parse_mapped(key)
                 except NameError_ as e:
@@ -263,7 +268,7 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
             hint = "; a topic's value has a maximum age (`max_age`) instead" if key == "timeout" else ""
             raise BindingError(f"{at} {key}: only a {' or '.join(applies)} source takes `{key}`{hint}")
     try:
-        source = parse_mapped(_text(table[kind], f"{at} {kind}"))
+        source = parse_mapped(_text(table[kind], f"{at} {kind}"), placeholders=True)
     except NameError_ as e:
         raise BindingError(f"{at} {kind}: {e}") from None
     entry = FunctionEntry(name, source, kind, span=span)

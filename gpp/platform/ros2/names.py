@@ -31,11 +31,17 @@ def normalize(name: str) -> str:
     return name if name.startswith("/") else "/" + name
 
 
-def parse_mapped(text: str) -> MappedName:
-    """`"/name"` or `"/name : pkg/kind/Type"`."""
+_PLACEHOLDER = re.compile(r"\{[A-Za-z_][A-Za-z0-9_]*\}")
+
+
+def parse_mapped(text: str, placeholders: bool = False) -> MappedName:
+    """`"/name"` or `"/name : pkg/kind/Type"`; with `placeholders`, the name may have
+    placeholders (`"/{r}/battery"`: gpp.platform.ros2.placeholders), kept in `name`."""
     name, sep, type_name = text.partition(":")
     name = name.strip()
-    if not _NAME.match(name):
+    if placeholders and "{" in type_name:
+        raise NameError_(f'"{text}": the type after `:` cannot have a placeholder (it is the same for every name)')
+    if not _NAME.match(_PLACEHOLDER.sub("x", name) if placeholders else name):
         raise NameError_(
             f'"{text}" is not a ROS 2 name: write "/name" or "/name : package/action/Type" '
             "(names are letters, digits and `_`, separated by `/`)"

@@ -24,6 +24,7 @@ install the ROS packages) where they are missing.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import re
 import threading
@@ -54,6 +55,7 @@ from gpp.platform.base import (
     parse_options,
 )
 from gpp.platform.options import BUILTIN, Ros2Options
+from gpp.platform.ros2 import placeholders
 from gpp.platform.ros2.binding import (
     Binding,
     BindingError,
@@ -67,6 +69,7 @@ from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
+    from gpp.platform.ros2 import checks
     from gpp.platform.ros2.bridge import Bridge, Job, Outcome
     from gpp.platform.ros2.checks import Target
     from gpp.platform.ros2.interfaces import Interface
@@ -86,7 +89,11 @@ class Topic:
 
     name: str
     interface: Interface | None
-    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]]]] = field(default_factory=list)
+    # Each exogenous action its messages become: the message field that fills each parameter
+    # (path, parameter, type), and the parameters filled from the topic's name (placeholders).
+    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]], Mapping[str, Value]]] = field(
+        default_factory=list
+    )
     qos_entry: NameEntry | None = None
     subscription: Any = None
     warned: bool = False
@@ -100,7 +107,7 @@ class Source:
 
     entry: FunctionEntry
     signature_type: Type
-    params: tuple[str, ...]
+    params: tuple[str, ...]  # those a service request is asked with (not the name's placeholders)
     interface: Interface | None = None
     span: Span | None = None  # the function's declaration
     latest: Any = None
@@ -150,9 +157,13 @@ class Ros2Platform(Platform):
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
-        self.targets: dict[str, Target] = {}
+        # (action, its mapped name with the placeholders filled) -> how it is served
+        self.targets: dict[tuple[str, str], Target] = {}
         self.topics: dict[str, Topic] = {}
+        # exogenous function (with its placeholders' values: `battery(robot1)`) -> its source
         self.sources: dict[str, Source] = {}
+        # exogenous function whose source has placeholders -> their parameters
+        self._source_params: dict[str, tuple[str, ...]] = {}
         self._jobs: dict[int, Job] = {}
         self._lock = threading.Lock()
         self._results: dict[int, Value] = {}
@@ -203,16 +214,46 @@ class Ros2Platform(Platform):
         # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
         deadline = time.monotonic() + self.binding.discovery_timeout
         graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
-        for name, binding in sorted(interface.actions.items()):
-            target, found = checks.action_target(binding, self.binding, graph)
-            problems.extend(found)
-            if target is not None:
-                self.targets[name] = target
-        for name, exog in sorted(interface.exog_actions.items()):
-            found_topic, found = checks.exog_route(exog, self.binding, graph)
-            problems.extend(found)
-            if found_topic is None:
+        # A mapped name with placeholders is served as one mapping per name it stands for.
+        unserved = placeholders.mapping_problems(interface)
+        problems.extend(p for name in sorted(unserved) for p in unserved[name])
+        for name, action in sorted(interface.actions.items()):
+            if name in unserved:
                 continue
+            for instance, binding in placeholders.bound_instances(action):
+                target, found = checks.action_target(binding, self.binding, graph)
+                problems.extend(p for p in found if p not in problems)
+                if target is not None:
+                    self.targets[name, instance.text] = target
+        for name, exog_action in sorted(interface.exog_actions.items()):
+            if name in unserved:
+                continue
+            for instance, exog in placeholders.bound_instances(exog_action):
+                problems.extend(self._route(exog, instance.values, graph))
+        self._sources(interface, graph, problems)
+        problems.extend(checks.unused_entries(self.binding, interface))
+        if problems:
+            return problems
+        try:
+            bridge.call(self._subscribe_all, timeout=5.0)
+        except Exception as e:
+            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
+        bridge.watchers.append(self._watch_topics)
+        bridge.watchers.append(self._watch_targets)
+        bridge.watchers.append(self._watch_sources)
+        self._wait_for_subscribers(deadline)
+        return []
+
+    def _route(self, exog: ExogActionBinding, from_name: Mapping[str, Value], graph: checks.Graph) -> list[Problem]:
+        """Route the messages of an exogenous action's topic to it (`from_name`: the values of
+        the parameters its topic's name fills); the problems found."""
+        from gpp.platform.ros2 import checks
+
+        name = exog.name
+        problems: list[Problem] = []
+        found_topic, found = checks.exog_route(exog, self.binding, graph, from_name)
+        problems.extend(found)
+        if found_topic is not None:
             topic_name, iface, routes = found_topic
             topic = self.topics.get(topic_name)
             if topic is None:
@@ -226,45 +267,50 @@ class Ros2Platform(Platform):
                         exog.span,
                     )
                 )
-                continue
+                return problems
             topic.interface = topic.interface or iface
-            topic.routes.append((exog, routes))
-        for fname, entry in sorted(self.binding.functions.items()):
+            topic.routes.append((exog, routes, from_name))
+        return problems
+
+    def _sources(self, interface: ProgramInterface, graph: checks.Graph, problems: list[Problem]) -> None:
+        """The sources of the exogenous functions the binding file declares, one per name a
+        source with placeholders stands for; the problems found go to `problems`."""
+        from gpp.platform.ros2 import checks
+
+        for fname, template in sorted(self.binding.functions.items()):
             signature = interface.exog_functions.get(fname)
             if signature is None:
                 problems.append(
                     Problem(
                         f"binding file: [exog_function.{fname}]: the program declares no exogenous function `{fname}`",
-                        entry.span,
+                        template.span,
                         "not in the program",
                         help=did_you_mean(fname, interface.exog_functions),
                     )
                 )
                 continue
-            known = None
-            if entry.kind == "feedback":
-                known, found = self._feedback_type(entry)
-                problems.extend(found)
-                if found:
-                    continue
-            source, found = checks.function_source(entry, signature, graph, known)
-            problems.extend(found)
-            if source is not None:
-                self.sources[fname] = Source(
-                    entry, signature.return_type, signature.param_names, source, signature.span
-                )
-        problems.extend(checks.unused_entries(self.binding, interface))
-        if problems:
-            return problems
-        try:
-            bridge.call(self._subscribe_all, timeout=5.0)
-        except Exception as e:
-            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
-        bridge.watchers.append(self._watch_topics)
-        bridge.watchers.append(self._watch_targets)
-        bridge.watchers.append(self._watch_sources)
-        self._wait_for_subscribers(deadline)
-        return []
+            what = f"binding file: [exog_function.{fname}] {template.kind}"
+            unserved = placeholders.problems(what, template.source.name, signature.params, template.span)
+            if unserved:
+                problems.extend(unserved)
+                continue
+            in_name = placeholders.placeholders(template.source.name)
+            if in_name:
+                self._source_params[fname] = in_name
+            for instance in placeholders.instances(template.source.name, signature.params):
+                entry = dataclasses.replace(template, source=dataclasses.replace(template.source, name=instance.text))
+                known = None
+                if entry.kind == "feedback":
+                    known, found = self._feedback_type(entry)
+                    problems.extend(found)
+                    if found:
+                        continue
+                source, found = checks.function_source(entry, signature, graph, known, frozenset(in_name))
+                problems.extend(p for p in found if p not in problems)
+                if source is not None:
+                    asked = tuple(p for p in signature.param_names if p not in in_name or p in entry.request.values())
+                    key = _source_key(fname, in_name, instance.values)
+                    self.sources[key] = Source(entry, signature.return_type, asked, source, signature.span)
 
     def _wait_for_subscribers(self, deadline: float) -> None:
         """Make the publishers of the actions that publish now, and wait (until `deadline`, the
@@ -326,7 +372,7 @@ class Ros2Platform(Platform):
             lost=lambda n: self._lost(topic, n),
         )
         if (qos is None or qos.reliability is None) and self.bridge.best_effort_publishers(topic.name):
-            for exog, _ in topic.routes:
+            for exog, *_ in topic.routes:
                 self._warn(
                     f'topic "{topic.name}" has a best-effort publisher: a message it sends can be lost on the way '
                     f"(each loss the middleware notices is a `dropped` record for `{exog.name}`)",
@@ -408,10 +454,12 @@ class Ros2Platform(Platform):
                 interface = load_interface(found)
             except InterfaceError as e:
                 topic.unusable = True  # never subscribed: each exogenous action says why
-                for exog, _ in topic.routes:
+                for exog, *_ in topic.routes:
                     self.queue.put(MessageDropped(topic.name, exog.name, str(e), exog.span), self.now())
                 continue
-            problems = [p for exog, routes in topic.routes for p in route_problems(exog, topic.name, interface, routes)]
+            problems = [
+                p for exog, routes, _ in topic.routes for p in route_problems(exog, topic.name, interface, routes)
+            ]
             if problems:
                 topic.unusable = True  # never subscribed: the run stops
                 self.queue.put(PlatformFault(tuple(problems)), self.now())
@@ -468,11 +516,11 @@ class Ros2Platform(Platform):
 
         plain = to_plain(msg)
         now = self.now()
-        for exog, routes in topic.routes:
-            args: list[Value] = []
+        for exog, routes, from_name in topic.routes:
+            values = dict(from_name)
             for path, param, t in routes:
                 try:
-                    args.append(to_value(pick(plain, path), t))
+                    values[param] = to_value(pick(plain, path), t)
                 except KeyError:
                     reason, help_ = self._no_field(topic, path)
                     self.queue.put(
@@ -493,7 +541,7 @@ class Ros2Platform(Platform):
                     break
             else:
                 self.exog_received += 1
-                self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
+                self.queue.put(ExogOccurrence(exog.name, tuple(values[p] for p in exog.param_names)), now)
 
     @staticmethod
     def _no_field(topic: Topic, path: str) -> tuple[str, str | None]:
@@ -512,7 +560,7 @@ class Ros2Platform(Platform):
         if count <= 0:
             return
         now = self.now()
-        for exog, _ in topic.routes:
+        for exog, *_ in topic.routes:
             self.queue.put(
                 MessageDropped(
                     topic.name,
@@ -537,9 +585,11 @@ class Ros2Platform(Platform):
 
         if self.bridge is None:
             raise PlatformError("the ros2 platform is not attached to a program")
-        target = self.targets.get(activity.action.name)
+        # (The runner fills a mapped name's placeholders: "/robot1/navigate" for "/{r}/navigate".)
+        mapped = activity.mapped_name
+        target = self.targets.get((activity.action.name, mapped))
         if target is None:
-            raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{activity.mapped_name}")')
+            raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{mapped}")')
         entries = list(activity.args.items())
         name = target.name.name
         b = self.binding
@@ -643,7 +693,8 @@ class Ros2Platform(Platform):
     def exog_function(
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
-        source = self.sources.get(name)
+        in_name = self._source_params.get(name)
+        source = self.sources.get(name if in_name is None else _source_key(name, in_name, args))
         if source is not None:
             return self._ask(source, args, return_type)
         if activity is not None:
@@ -742,6 +793,14 @@ class Ros2Platform(Platform):
     def close(self) -> None:
         if self.bridge is not None:
             self.bridge.close()
+
+
+def _source_key(function: str, in_name: tuple[str, ...], values: Mapping[str, Value]) -> str:
+    """The key of an exogenous function's source: its name, with the values of the parameters
+    its source's name has as placeholders (`battery(robot1)`)."""
+    if not in_name:
+        return function
+    return f"{function}({','.join(str(placeholders.name_text(values.get(p))) for p in in_name)})"
 
 
 def _waiting_for_subscriber(bridge: Bridge, publisher: Any) -> bool:
