@@ -17,7 +17,7 @@ def gpp(*args: str, cwd: Path = ROOT) -> Result:
 def test_every_example_passes_on_its_platform() -> None:
     result = gpp("test", "examples")
     assert result.returncode == 0, result.stdout + result.stderr
-    examples = sorted((ROOT / "examples").glob("*.gpp"))
+    examples = sorted((ROOT / "examples").rglob("*.gpp"))
     assert result.stdout.strip().splitlines()[-1] == f"{len(examples)} passed, 0 failed"
 
 
