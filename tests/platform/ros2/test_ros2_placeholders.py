@@ -7,6 +7,9 @@ against two robot processes in test_ros2_processes.py."""
 
 from __future__ import annotations
 
+import threading
+import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +17,9 @@ import pytest
 
 from gpp.model.declarations import fill_placeholders, placeholders_in
 from gpp.model.types import Sym
-from gpp.run.runner import RunOptions, run_program
+from gpp.run.runner import RunOptions, RunOutcome, run_program
+from gpp.runtime.events import ExogEvent, StartEvent
+from gpp.runtime.executor import RunStatus
 from tests.support.cli import run
 
 DOMAINS = """symbol domain Robot = {robot1, robot2}
@@ -118,8 +123,6 @@ def test_the_dummy_platform_sees_the_filled_name(tmp_path: Path) -> None:
         DOMAINS + 'action go(Robot r) {\nmapping:\n    "/{r}/go" { }\n}\n' + "procedure main() { go(robot2); }\n",
         encoding="utf-8",
     )
-    from gpp.runtime.events import StartEvent
-
     outcome = run_program(path, RunOptions(record=True, platform="dummy"))
     assert outcome.recording is not None
     assert [e.mapped for e in outcome.recording.of(StartEvent)] == ["/robot2/go"]
@@ -175,3 +178,163 @@ def test_a_binding_file_table_cannot_have_a_placeholder(tmp_path: Path) -> None:
         f'{path}:1: ["/{{r}}/battery"]: a table of the binding file is for one ROS name and cannot have a '
         'placeholder: write a table for each name the mapping stands for, such as ["/robot1/navigate"]'
     )
+
+
+# ---------------------------------------------------------------- two robots' topics and services, in one process
+
+FLEET = """symbol domain Robot = {robot1, robot2}
+string fluent said(Robot r) { initially: (r) = ""; }
+exog_action heard(Robot r, string what) {
+mapping:
+    "/{r}/chatter : std_msgs/msg/String" { data = what }
+effect:
+    said(r) = what;
+}
+string exog_function last(Robot r);
+string exog_function who(Robot r, bool on);
+procedure main() {
+    test(said(robot1) == "one" & said(robot2) == "two");
+    test(last(robot1) == "one" & last(robot2) == "two");
+    test(who(robot2, true) == "robot2 on" & who(robot1, false) == "robot1 off");
+}
+"""
+
+FLEET_BINDING = """[exog_function.last]
+topic = "/{r}/chatter : std_msgs/msg/String"
+field = "data"
+
+[exog_function.who]
+service = "/{r}/set_bool : std_srvs/srv/SetBool"
+request = { data = "on" }
+field = "message"
+"""
+
+
+class Fleet:
+    """A node of two robots' interfaces (`/robot1/...`, `/robot2/...`) on the test's context:
+    make them on `node`, then `spin`."""
+
+    def __init__(self, context: Any) -> None:
+        import rclpy
+        from rclpy.executors import MultiThreadedExecutor
+
+        self.node = rclpy.create_node("fleet", context=context, start_parameter_services=False)
+        self.executor = MultiThreadedExecutor(num_threads=2, context=context)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.executed: list[tuple[str, int]] = []
+
+    def spin(self) -> None:
+        self.executor.add_node(self.node)
+        self.thread.start()
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=2)
+        if self.thread.is_alive():
+            self.thread.join(5)
+        self.node.destroy_node()
+
+
+@pytest.fixture
+def fleet(ros: Any) -> Iterator[Fleet]:
+    made = Fleet(ros.node.context)
+    try:
+        yield made
+    finally:
+        made.close()
+
+
+def run_fleet(tmp_path: Path, program: str, binding: str) -> RunOutcome:
+    path = tmp_path / "agent.gpp"
+    path.write_text(program, encoding="utf-8")
+    (tmp_path / "agent.ros2.toml").write_text(binding, encoding="utf-8")
+    outcome = run_program(path, RunOptions(record=True, platform="ros2", timeout=15))
+    messages = [d.message for d in outcome.diagnostics]
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED, messages
+    assert outcome.recording is not None
+    return outcome
+
+
+def test_topics_and_services_of_two_robots_answer_for_their_robot(fleet: Fleet, tmp_path: Path) -> None:
+    """On /robot1/chatter and /robot2/chatter: a message fills `r` of the exogenous action
+    with the robot whose topic it came on, and answers `last(r)` of that robot; `who(r, on)`
+    calls the service of robot r with the other parameter in the request."""
+    from ros2_servers import KEEP_ALL
+    from std_msgs.msg import String
+    from std_srvs.srv import SetBool
+
+    publishers = {r: fleet.node.create_publisher(String, f"/{r}/chatter", KEEP_ALL) for r in ("robot1", "robot2")}
+    for robot in publishers:
+
+        def answer(request: Any, response: Any, robot: str = robot) -> Any:
+            response.success = True
+            response.message = f"{robot} {'on' if request.data else 'off'}"
+            return response
+
+        fleet.node.create_service(SetBool, f"/{robot}/set_bool", answer)
+    fleet.spin()
+
+    def publish() -> None:
+        # Each topic has two subscriptions once the agent attached: the exogenous action's and
+        # the function's.
+        deadline = time.monotonic() + 10
+        while any(p.get_subscription_count() < 2 for p in publishers.values()) and time.monotonic() < deadline:
+            time.sleep(0.005)
+        publishers["robot1"].publish(String(data="one"))
+        publishers["robot2"].publish(String(data="two"))
+
+    publisher = threading.Thread(target=publish)
+    publisher.start()
+    try:
+        outcome = run_fleet(tmp_path, FLEET, FLEET_BINDING)
+    finally:
+        publisher.join(15)
+    assert outcome.recording is not None
+    assert sorted(e.action for e in outcome.recording.of(ExogEvent)) == ['heard(robot1,"one")', 'heard(robot2,"two")']
+
+
+COUNT = """symbol domain Robot = {robot1, robot2}
+list[number] exog_function progress(Robot r);
+number fluent seen() { initially: () = 0; }
+action count(Robot r, number n) {
+mapping:
+    "/{r}/fib : test_msgs/action/Fibonacci" { order = n }
+}
+procedure main() {
+    start(count(robot2, 5));
+    test(length(progress(robot2)) >= 2);
+    seen() = length(progress(robot2));
+    end(count(robot2, 5));
+    count(robot1, 3);
+}
+bool function postcond() = seen() >= 2
+"""
+
+
+def test_goals_go_to_their_robots_server_and_its_feedback_answers_for_it(fleet: Fleet, tmp_path: Path) -> None:
+    """`count(robot2, 5)` is a goal on /robot2/fib, whose feedback answers `progress(robot2)`
+    (a feedback source with a placeholder); `count(robot1, 3)` goes to /robot1/fib."""
+    from rclpy.action.server import ActionServer
+    from test_msgs.action import Fibonacci
+
+    servers = []
+    for robot in ("robot1", "robot2"):
+
+        def execute(handle: Any, robot: str = robot) -> Any:
+            fleet.executed.append((robot, handle.request.order))
+            for i in range(handle.request.order):
+                handle.publish_feedback(Fibonacci.Feedback(sequence=list(range(i + 1))))
+                time.sleep(0.05)
+            handle.succeed()
+            return Fibonacci.Result(sequence=[])
+
+        servers.append(ActionServer(fleet.node, Fibonacci, f"/{robot}/fib", execute_callback=execute))
+    fleet.spin()
+    binding = '[exog_function.progress]\nfeedback = "/{r}/fib"\nfield = "sequence"\n'
+    outcome = run_fleet(tmp_path, COUNT, binding)
+    assert outcome.postcond is True
+    assert fleet.executed == [("robot2", 5), ("robot1", 3)]
+    starts = outcome.recording.of(StartEvent) if outcome.recording is not None else []
+    assert [e.mapped for e in starts] == [
+        "/robot2/fib : test_msgs/action/Fibonacci",
+        "/robot1/fib : test_msgs/action/Fibonacci",
+    ]
