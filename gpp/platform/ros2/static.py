@@ -3,7 +3,7 @@ placeholders of mapped names (`"/{r}/navigate"`: gpp.platform.ros2.placeholders)
 that names its type (`"/stack : my_robot/action/Stack" { ... }`) is checked against the
 message classes as at attach (fields with a did-you-mean, value types, constants' ranges, the
 sensed result), where the ROS 2 packages are installed. Without them, or without such a
-mapping, nothing is reported and nothing of ROS is imported; a type whose package is not
+mapping, nothing of ROS is imported and only the placeholders are checked; a type whose package is not
 installed here is left to the run (a robot's own package may be importable only there).
 """
 

@@ -100,6 +100,21 @@ mapping:
     assert check(tmp_path, program) == []
 
 
+def test_the_language_server_session_reports_them_as_you_type(tmp_path: Path) -> None:
+    from gpp.check.session import Session
+    from gpp.platform.static import static_diagnostics
+
+    path = (tmp_path / "agent.gpp").resolve()
+    text = DOMAINS + 'action go(Robot r) {\nmapping:\n    "/{robot}/go" { }\n}\nprocedure main() { go(robot1); }\n'
+    session = Session(extra_checks=static_diagnostics)
+    session.open(path, text, 1)
+    [result] = session.results_for(path)
+    assert [(d.span.line, d.code) for d in result.diagnostics if d.is_error] == [(6, "R0007")]
+    session.edit(path, [(((5, 7), (5, 12)), "r")], 2)
+    [result] = session.results_for(path)
+    assert [d for d in result.diagnostics if d.is_error] == []
+
+
 def test_a_typed_mapping_with_placeholders_is_checked_once_against_its_type(tmp_path: Path) -> None:
     pytest.importorskip("rclpy")
     program = """action count(Robot r, number n) {
