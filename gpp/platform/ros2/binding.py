@@ -110,6 +110,9 @@ class FunctionEntry:
     max_rate: float | None = None
     # Service: a waiting program asks again every `poll` seconds.
     poll: float | None = None
+    # The source as written (`"/{r}/battery : pkg/msg/T"`): a source with placeholders stands
+    # for one name per value (gpp.platform.ros2.placeholders).
+    written: str = ""
 
 
 @dataclass
@@ -268,10 +271,11 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
             hint = "; a topic's value has a maximum age (`max_age`) instead" if key == "timeout" else ""
             raise BindingError(f"{at} {key}: only a {' or '.join(applies)} source takes `{key}`{hint}")
     try:
-        source = parse_mapped(_text(table[kind], f"{at} {kind}"), placeholders=True)
+        written = _text(table[kind], f"{at} {kind}")
+        source = parse_mapped(written, placeholders=True)
     except NameError_ as e:
         raise BindingError(f"{at} {kind}: {e}") from None
-    entry = FunctionEntry(name, source, kind, span=span)
+    entry = FunctionEntry(name, source, kind, span=span, written=written)
     if "field" in table:
         entry.field = _text(table["field"], f"{at} field")
     if "request" in table:

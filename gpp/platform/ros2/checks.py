@@ -146,8 +146,11 @@ def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
         signature = interface.exog_functions.get(f.function)
         if f.source.type is None:
             params = signature.params if signature is not None else ()
-            for instance in _instances(f.source.name, params):
-                names[instance.text] = False
+            for instance in _instances(f.written or f.source.name, params):
+                try:
+                    names[parse_mapped(instance.text).name] = False
+                except NameError_:
+                    continue
     return names
 
 

@@ -39,6 +39,12 @@ class Instance:
     text: str  # the mapped name with its placeholders filled ("/robot1/navigate : pkg/action/T")
     values: Mapping[str, Value] = field(default_factory=dict)  # parameter -> its value in the name
 
+    @property
+    def key(self) -> tuple[str | None, ...]:
+        """What tells this name from the others of its mapping: its placeholders' values, in
+        the order of the placeholders (`instance_key` of a call with these values)."""
+        return tuple(name_text(v) for v in self.values.values())
+
 
 def has_braces(text: str) -> bool:
     return "{" in text or "}" in text
@@ -98,6 +104,13 @@ def instances(text: str, params: Sequence[Parameter]) -> list[Instance]:
         values = dict(zip(names, combination, strict=True))
         found.append(Instance(expand(text, values), values))
     return found
+
+
+def instance_key(text: str, params: Sequence[Parameter], args: Sequence[Value]) -> tuple[str | None, ...]:
+    """The `Instance.key` of the name that mapped name `text` stands for when the parameters
+    have the values `args` (in order): () without placeholders."""
+    values = dict(zip((p.name for p in params), args, strict=False))
+    return tuple(name_text(values.get(p)) for p in placeholders(text))
 
 
 Bound = TypeVar("Bound", ActionBinding, ExogActionBinding)

@@ -157,8 +157,8 @@ class Ros2Platform(Platform):
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
-        # (action, its mapped name with the placeholders filled) -> how it is served
-        self.targets: dict[tuple[str, str], Target] = {}
+        # (action, the values of its mapped name's placeholders: () without) -> how it is served
+        self.targets: dict[tuple[str, tuple[str | None, ...]], Target] = {}
         self.topics: dict[str, Topic] = {}
         # exogenous function (with its placeholders' values: `battery(robot1)`) -> its source
         self.sources: dict[str, Source] = {}
@@ -224,7 +224,7 @@ class Ros2Platform(Platform):
                 target, found = checks.action_target(binding, self.binding, graph)
                 problems.extend(p for p in found if p not in problems)
                 if target is not None:
-                    self.targets[name, instance.text] = target
+                    self.targets[name, instance.key] = target
         for name, exog_action in sorted(interface.exog_actions.items()):
             if name in unserved:
                 continue
@@ -290,15 +290,15 @@ class Ros2Platform(Platform):
                 )
                 continue
             what = f"binding file: [exog_function.{fname}] {template.kind}"
-            unserved = placeholders.problems(what, template.source.name, signature.params, template.span)
+            unserved = placeholders.problems(what, template.written, signature.params, template.span)
             if unserved:
                 problems.extend(unserved)
                 continue
-            in_name = placeholders.placeholders(template.source.name)
+            in_name = placeholders.placeholders(template.written)
             if in_name:
                 self._source_params[fname] = in_name
-            for instance in placeholders.instances(template.source.name, signature.params):
-                entry = dataclasses.replace(template, source=dataclasses.replace(template.source, name=instance.text))
+            for instance in placeholders.instances(template.written, signature.params):
+                entry = dataclasses.replace(template, source=parse_mapped(instance.text))
                 known = None
                 if entry.kind == "feedback":
                     known, found = self._feedback_type(entry)
@@ -585,11 +585,11 @@ class Ros2Platform(Platform):
 
         if self.bridge is None:
             raise PlatformError("the ros2 platform is not attached to a program")
-        # (The runner fills a mapped name's placeholders: "/robot1/navigate" for "/{r}/navigate".)
-        mapped = activity.mapped_name
-        target = self.targets.get((activity.action.name, mapped))
+        action = self.interface.actions.get(activity.action.name) if self.interface is not None else None
+        key = placeholders.instance_key(action.mapped_name, action.params, activity.action.args) if action else ()
+        target = self.targets.get((activity.action.name, key))
         if target is None:
-            raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{mapped}")')
+            raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{activity.mapped_name}")')
         entries = list(activity.args.items())
         name = target.name.name
         b = self.binding
