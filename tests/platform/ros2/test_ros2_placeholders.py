@@ -353,3 +353,33 @@ def test_goals_go_to_their_robots_server_and_its_feedback_answers_for_it(fleet: 
         "/robot2/fib : test_msgs/action/Fibonacci",
         "/robot1/fib : test_msgs/action/Fibonacci",
     ]
+
+
+@pytest.mark.fault
+def test_each_robots_name_is_checked_against_the_type_the_graph_shows_for_it(fleet: Fleet, tmp_path: Path) -> None:
+    """A mapping without a type is checked once per robot: /robot2/fib is of another type, whose
+    goal has no field `order`: one error, about robot2's name; the run does not start."""
+    from rclpy.action.server import ActionServer
+    from test_msgs.action import Fibonacci, NestedMessage
+
+    def execute(handle: Any) -> Any:
+        fleet.executed.append(("any", 0))
+        handle.succeed()
+        return handle.request
+
+    servers = [
+        ActionServer(fleet.node, Fibonacci, "/robot1/fib", execute_callback=execute),
+        ActionServer(fleet.node, NestedMessage, "/robot2/fib", execute_callback=execute),
+    ]
+    fleet.spin()
+    path = tmp_path / "agent.gpp"
+    path.write_text(
+        'symbol domain Robot = {robot1, robot2}\naction count(Robot r, number n) {\nmapping:\n    "/{r}/fib" '
+        "{ order = n }\n}\nprocedure main() { count(robot1, 3); }\n",
+        encoding="utf-8",
+    )
+    outcome = run_program(path, RunOptions(platform="ros2", timeout=15))
+    errors = [d.message for d in outcome.diagnostics if d.severity.name.lower() == "error"]
+    assert len(errors) == 1 and errors[0].startswith('action `count`: "/robot2/fib" (test_msgs/action/NestedMessage)')
+    assert "has no field `order`" in errors[0]
+    assert fleet.executed == [] and len(servers) == 2

@@ -54,10 +54,20 @@ def ros_env(domain: int, extra_path: list[str] | None = None) -> dict[str, str]:
 
 
 def start(command: list[str], env: dict[str, str], ready: str, timeout: float = 60.0) -> subprocess.Popen[str]:
-    process = subprocess.Popen(
+    return wait_ready(spawn(command, env), ready, timeout)
+
+
+def spawn(command: list[str], env: dict[str, str]) -> subprocess.Popen[str]:
+    return subprocess.Popen(
         command, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
-    assert process.stdout is not None
+
+
+def wait_ready(process: subprocess.Popen[str], ready: str, timeout: float = 60.0) -> subprocess.Popen[str]:
+    """The process, once it wrote a line with `ready` (it fails the test if it did not within
+    `timeout` s)."""
+    command = process.args
+    assert process.stdout is not None and isinstance(command, list)
     deadline = time.monotonic() + timeout
     line = ""
     while time.monotonic() < deadline:
@@ -293,11 +303,11 @@ def run_on_the_example_robot(
     env = ros_env(domain, robot_interfaces)
     env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
     robot = [sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", str(speed)]
-    robots = [
-        start(robot + (["--ros-args", "-r", f"__ns:={ns}"] if ns else []), env, "robot ready")
-        for ns in namespaces or ("",)
-    ]
+    # Started side by side: each takes a second or so to import rclpy and the sim.
+    spawned = [spawn(robot + (["--ros-args", "-r", f"__ns:={ns}"] if ns else []), env) for ns in namespaces or ("",)]
     try:
+        for process in spawned:
+            wait_ready(process, "robot ready")
         return subprocess.run(
             [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
             env=env,
@@ -306,7 +316,7 @@ def run_on_the_example_robot(
             timeout=timeout,
         )
     finally:
-        for process in robots:
+        for process in spawned:
             stop(process)
 
 
@@ -374,14 +384,14 @@ def test_two_robots_from_one_declaration_of_each_action(
     robot_interfaces: list[str], domain: int, tmp_path: Path
 ) -> None:
     """examples/ros2/two_robots.gpp against the example robot started twice, under /robot1
-    and /robot2 (at 10 times real time, so that a stack takes a moment): each goal goes to
+    and /robot2 (at 20 times real time, so that a stack takes a moment): each goal goes to
     its robot's server by the placeholder `{r}`, both robots work at once, and the battery
     messages of each robot's topic fill `r` of the exogenous action and answer
     `battery_level(r)` (each robot's first `test(battery_level(r) > 20)` waits for it)."""
     trace = tmp_path / "trace.jsonl"
     example = ROOT / "examples" / "ros2" / "two_robots.gpp"
     agent = run_on_the_example_robot(
-        example, trace, domain, robot_interfaces, timeout=120, namespaces=("/robot1", "/robot2"), speed=10
+        example, trace, domain, robot_interfaces, timeout=120, namespaces=("/robot1", "/robot2"), speed=20
     )
     assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
     assert "postcond()         holds" in agent.stdout, agent.stdout
