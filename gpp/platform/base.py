@@ -89,6 +89,8 @@ class PlatformConfig:
     directives: Mapping[str, str] = field(default_factory=dict)
     # Platform options: `--platform-opt key=value` and the CLI's shorthand flags.
     options: Mapping[str, OptionValue] = field(default_factory=dict)
+    # The platform's own command-line arguments (for ros2: those after `--ros-args`).
+    arguments: tuple[str, ...] = ()
 
     def directive_path(self, key: str) -> Path | None:
         """A directive naming a file, resolved against the program's folder."""
@@ -170,6 +172,12 @@ class Platform:
     def facts(self) -> RunFacts:
         """The world, scenario and seed of this run, where the platform has them."""
         return RunFacts()
+
+    def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
+        """Values the platform was given for the entry procedure's parameters, by name, each
+        with how it was given (for messages): the ros2 platform's ROS parameters (`-p n:=3`).
+        Read once, after `create` and before `attach`."""
+        return {}
 
 
 # ---------------------------------------------------------------- options

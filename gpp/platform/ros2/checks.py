@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -42,7 +42,6 @@ from gpp.platform.ros2.interfaces import (
     type_problem,
 )
 from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
-from gpp.platform.ros2.placeholders import Instance
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
@@ -127,13 +126,17 @@ def snapshot(bridge: Bridge) -> tuple[dict[str, tuple[str, str]], dict[str, str]
     return known, listened
 
 
-def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
+def untyped_names(
+    interface: ProgramInterface, b: Binding, resolve: Callable[[str], str] | None = None
+) -> dict[str, bool]:
     """The ROS names the program maps without a type (in the mapping or the binding file):
     their types come from the graph. True: only actions use the name, and a topic's
     subscribers tell its type as well as a publisher."""
     names: dict[str, bool] = {}
-    mapped = [(i.text, True) for a in interface.actions.values() for i in _instances(a.mapped_name, a.params)]
-    mapped += [(i.text, False) for e in interface.exog_actions.values() for i in _instances(e.mapped_name, e.params)]
+    mapped = [(i, True) for a in interface.actions.values() for i in _instances(a.mapped_name, a.params, resolve)]
+    mapped += [
+        (i, False) for e in interface.exog_actions.values() for i in _instances(e.mapped_name, e.params, resolve)
+    ]
     for text, by_action in mapped:
         try:
             name = parse_mapped(text)
@@ -146,20 +149,23 @@ def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
         signature = interface.exog_functions.get(f.function)
         if f.source.type is None:
             params = signature.params if signature is not None else ()
-            for instance in _instances(f.written or f.source.name, params):
+            for text in _instances(f.source.written or f.source.name, params, resolve):
                 try:
-                    names[parse_mapped(instance.text).name] = False
+                    names[parse_mapped(text).name] = False
                 except NameError_:
                     continue
     return names
 
 
-def _instances(text: str, params: Sequence[Parameter]) -> list[Instance]:
-    """The names a mapped name stands for; none while its placeholders cannot be served (they
-    are reported)."""
+def _instances(text: str, params: Sequence[Parameter], resolve: Callable[[str], str] | None = None) -> list[str]:
+    """The names a mapped name stands for (`text` itself without placeholders; none while its
+    placeholders cannot be served: they are reported), each resolved by `resolve` (the node's
+    resolution of a mapped name, for those with placeholders) when given."""
+    if not placeholders.has_braces(text):
+        return [text]
     if placeholders.problems("", text, params, None):
         return []
-    return placeholders.instances(text, params)
+    return [resolve(i.text) if resolve is not None else i.text for i in placeholders.instances(text, params)]
 
 
 def _parse(mapped: str, span: Span, what: str) -> tuple[MappedName | None, list[Problem]]:
@@ -451,11 +457,13 @@ def function_source(
     return iface, problems
 
 
-def unused_entries(b: Binding, interface: ProgramInterface) -> list[Problem]:
+def unused_entries(
+    b: Binding, interface: ProgramInterface, resolve: Callable[[str], str] | None = None
+) -> list[Problem]:
     """Binding file entries for ROS names that no mapping of the program uses."""
     used: set[str] = set()
-    mapped = [i.text for a in interface.actions.values() for i in _instances(a.mapped_name, a.params)]
-    mapped += [i.text for e in interface.exog_actions.values() for i in _instances(e.mapped_name, e.params)]
+    mapped = [t for a in interface.actions.values() for t in _instances(a.mapped_name, a.params, resolve)]
+    mapped += [t for e in interface.exog_actions.values() for t in _instances(e.mapped_name, e.params, resolve)]
     for text in mapped:
         try:
             used.add(parse_mapped(text).name)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TypeVar
 
@@ -116,11 +116,14 @@ def instance_key(text: str, params: Sequence[Parameter], args: Sequence[Value]) 
 Bound = TypeVar("Bound", ActionBinding, ExogActionBinding)
 
 
-def bound_instances(binding: Bound) -> list[tuple[Instance, Bound]]:
+def bound_instances(binding: Bound, resolve: Callable[[str], str] | None = None) -> list[tuple[Instance, Bound]]:
     """The mapping of an action or exogenous action once per name it stands for, each with
-    that name as its mapped name."""
+    that name as its mapped name (resolved by `resolve` when given: a name is resolved once its
+    placeholders are filled)."""
+    if not has_braces(binding.mapped_name):
+        return [(Instance(binding.mapped_name), binding)]
     return [
-        (instance, dataclasses.replace(binding, mapped_name=instance.text))
+        (instance, dataclasses.replace(binding, mapped_name=resolve(instance.text) if resolve else instance.text))
         for instance in instances(binding.mapped_name, binding.params)
     ]
 

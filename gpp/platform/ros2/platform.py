@@ -24,12 +24,14 @@ install the ROS packages) where they are missing.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import logging
+import os
 import re
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -63,7 +65,7 @@ from gpp.platform.ros2.binding import (
     NameEntry,
     find_binding,
 )
-from gpp.platform.ros2.names import NameError_, parse_mapped
+from gpp.platform.ros2.names import DEFAULT_NODE_NAME, NameError_, is_namespace, normalize, parse_mapped
 from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
@@ -78,6 +80,10 @@ log = logging.getLogger("gpp.platform.ros2")
 
 # s between two looks at the graph for the types of names mapped without one, not yet seen
 TARGET_LOOK = 0.1
+# s between two looks at the graph for another node with the agent node's name
+NODE_NAME_LOOK = 1.0
+# The parameters every node has (rclpy declares them): not the entry procedure's.
+NODE_PARAMETERS = frozenset({"use_sim_time", "start_type_description_service"})
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
@@ -145,8 +151,10 @@ class Ros2Platform(Platform):
         binding: Binding | None = None,
         context: Any = None,
         domain_id: int | None = None,
-        node_name: str = "gpp_agent",
+        node_name: str = DEFAULT_NODE_NAME,
         log_level: str = "warn",
+        namespace: str | None = None,
+        arguments: Sequence[str] = (),
     ) -> None:
         super().__init__()
         self.binding = binding or Binding()
@@ -154,6 +162,11 @@ class Ros2Platform(Platform):
         self.domain_id = domain_id
         self.node_name = node_name
         self.log_level = log_level
+        self.namespace = namespace
+        # The ROS arguments (after `--ros-args`), parsed by rcl when the node starts.
+        self.arguments = tuple(arguments)
+        self.duplicate_warned = False
+        self._resolved: dict[str, str] = {}  # a name as written -> as the node resolves it
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
@@ -193,34 +206,79 @@ class Ros2Platform(Platform):
                     f"not {options.discovery_timeout:g}"
                 )
             binding.discovery_timeout = options.discovery_timeout
-        return cls(binding, None, options.domain_id, options.node_name, options.log_level)
+        platform = cls(
+            binding,
+            None,
+            options.domain_id,
+            options.node_name or DEFAULT_NODE_NAME,
+            options.log_level or "warn",
+            namespace_of(options),
+            check_arguments(options, config.arguments),
+        )
+        platform.start_node()
+        return platform
+
+    def start_node(self) -> None:
+        """Start the agent's node (and its spin thread), unless it runs: rcl parses the ROS
+        arguments then. PlatformError, one line, for arguments rcl refuses."""
+        from gpp.platform.ros2.bridge import ArgumentError, Bridge
+
+        if self.bridge is not None:
+            return
+        try:
+            self.bridge = Bridge(
+                self.context, self.domain_id, self.node_name, self.log_level, self.namespace, self.arguments
+            )
+        except ArgumentError as e:
+            raise PlatformError(
+                f"--ros-args: {e}" if self.arguments else f"cannot start the agent's node: {e}"
+            ) from None
+        self.t0 = self.bridge.t0
+
+    def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
+        """The node's ROS parameters (`-p n:=3`, `--params-file`) but those every node has:
+        the values of the entry procedure's parameters."""
+        if self.bridge is None:
+            return {}
+        return {
+            name: (value, f"the ROS parameter `{name}`")
+            for name, value in self.bridge.parameters().items()
+            if name not in NODE_PARAMETERS
+        }
 
     # ---------------------------------------------------------------- attach
 
     def attach(self, interface: ProgramInterface) -> list[Problem]:
         from gpp.platform.ros2 import checks
-        from gpp.platform.ros2.bridge import Bridge
 
-        self.interface = interface
         problems: list[Problem] = []
         try:
-            self.bridge = Bridge(self.context, self.domain_id, self.node_name, self.log_level)
-        except Exception as e:
-            return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
+            self.start_node()
+        except PlatformError as e:
+            return [Problem(str(e))]
+        assert self.bridge is not None
         bridge = self.bridge
-        self.t0 = bridge.t0
+        # The names as the node resolves them: under its namespace, with its remapping rules.
+        interface = resolved_interface(interface, bridge.resolve)
+        try:
+            self.binding = self.binding.resolved(bridge.resolve)
+        except NameError_ as e:
+            return [Problem(f"binding file: {e}")]
+        self.interface = interface
+        self._check_node_name()
         # One wait for discovery, at most discovery_timeout in all: first for the names mapped
         # without a type (their mappings are checked against the types the graph shows), then
         # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
         deadline = time.monotonic() + self.binding.discovery_timeout
-        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
+        resolve = self._resolve_mapped
+        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding, resolve), deadline)
         # A mapped name with placeholders is served as one mapping per name it stands for.
         unserved = placeholders.mapping_problems(interface)
         problems.extend(p for name in sorted(unserved) for p in unserved[name])
         for name, action in sorted(interface.actions.items()):
             if name in unserved:
                 continue
-            for instance, binding in placeholders.bound_instances(action):
+            for instance, binding in placeholders.bound_instances(action, resolve):
                 target, found = checks.action_target(binding, self.binding, graph)
                 problems.extend(p for p in found if p not in problems)
                 if target is not None:
@@ -228,10 +286,10 @@ class Ros2Platform(Platform):
         for name, exog_action in sorted(interface.exog_actions.items()):
             if name in unserved:
                 continue
-            for instance, exog in placeholders.bound_instances(exog_action):
+            for instance, exog in placeholders.bound_instances(exog_action, resolve):
                 problems.extend(self._route(exog, instance.values, graph))
         self._sources(interface, graph, problems)
-        problems.extend(checks.unused_entries(self.binding, interface))
+        problems.extend(checks.unused_entries(self.binding, interface, resolve))
         if problems:
             return problems
         try:
@@ -290,15 +348,19 @@ class Ros2Platform(Platform):
                 )
                 continue
             what = f"binding file: [exog_function.{fname}] {template.kind}"
-            unserved = placeholders.problems(what, template.written, signature.params, template.span)
+            written = template.source.written or template.source.name
+            unserved = placeholders.problems(what, written, signature.params, template.span)
             if unserved:
                 problems.extend(unserved)
                 continue
-            in_name = placeholders.placeholders(template.written)
+            in_name = placeholders.placeholders(written)
             if in_name:
                 self._source_params[fname] = in_name
-            for instance in placeholders.instances(template.written, signature.params):
-                entry = dataclasses.replace(template, source=parse_mapped(instance.text))
+            for instance in placeholders.instances(written, signature.params):
+                source_name = template.source
+                if in_name:  # resolved once its placeholders are filled
+                    source_name = parse_mapped(self._resolve_mapped(instance.text))
+                entry = dataclasses.replace(template, source=source_name)
                 known = None
                 if entry.kind == "feedback":
                     known, found = self._feedback_type(entry)
@@ -311,6 +373,33 @@ class Ros2Platform(Platform):
                     asked = tuple(p for p in signature.param_names if p not in in_name or p in entry.request.values())
                     key = _source_key(fname, in_name, instance.values)
                     self.sources[key] = Source(entry, signature.return_type, asked, source, signature.span)
+
+    def _check_node_name(self) -> None:
+        """Warn (once) when another node on the domain has the agent's name and namespace: ROS
+        tools cannot tell them apart, and their parameters and logs mix. Looked at when the
+        program attaches and then every second, for an agent or node that comes later."""
+        assert self.bridge is not None
+        bridge = self.bridge
+        next_look = [0.0]
+
+        def look(now: float) -> None:
+            if self.duplicate_warned or now < next_look[0]:
+                return
+            next_look[0] = now + NODE_NAME_LOOK
+            if bridge.same_name_nodes() > 0:
+                self.duplicate_warned = True
+                name = bridge.node.get_fully_qualified_name()
+                self._warn(
+                    f'another node on this ROS domain is called "{name}", as the agent\'s node is: '
+                    "ROS tools cannot tell the two apart",
+                    None,
+                    help="give each agent a name of its own: `-r __node:=NAME` or `-r __ns:=/NAMESPACE` after "
+                    "--ros-args, or -o node_name=NAME",
+                )
+
+        with contextlib.suppress(Exception):
+            bridge.call(look, 0.0, timeout=5.0)
+        bridge.watchers.append(look)
 
     def _wait_for_subscribers(self, deadline: float) -> None:
         """Make the publishers of the actions that publish now, and wait (until `deadline`, the
@@ -708,7 +797,7 @@ class Ros2Platform(Platform):
         for value in args.values():
             if isinstance(value, str):
                 try:
-                    mapped = parse_mapped(value).name
+                    mapped = self._resolve(parse_mapped(value).written)
                 except NameError_:
                     continue
                 if mapped in self._last:
@@ -768,6 +857,18 @@ class Ros2Platform(Platform):
         except (KeyError, ConversionError) as e:
             raise PlatformError(f"{what}: {e}") from None
 
+    def _resolve_mapped(self, text: str) -> str:
+        """A mapped name (with its type) whose placeholders were filled, as the node resolves it."""
+        return resolved_mapped(text, self._resolve)
+
+    def _resolve(self, name: str) -> str:
+        """`name` as the agent's node resolves it (gpp.platform.ros2.names.resolve), once."""
+        found = self._resolved.get(name)
+        if found is None:
+            found = self.bridge.resolve(name) if self.bridge is not None else normalize(name)
+            self._resolved[name] = found
+        return found
+
     def now(self) -> float:
         return time.monotonic() - self.t0
 
@@ -793,6 +894,76 @@ class Ros2Platform(Platform):
     def close(self) -> None:
         if self.bridge is not None:
             self.bridge.close()
+
+
+def resolved_mapped(text: str, resolve: Callable[[str], str]) -> str:
+    """Mapped name `text` (`"name"` or `"name : pkg/kind/Type"`) with its name resolved by
+    `resolve` (its type kept); one that is not a ROS name (or has placeholders, resolved per
+    name it stands for) stays as it is."""
+    try:
+        mapped = parse_mapped(text)
+        name = resolve(mapped.written)
+    except NameError_:
+        return text
+    return f"{name} : {mapped.type}" if mapped.type is not None else name
+
+
+def resolved_interface(interface: ProgramInterface, resolve: Callable[[str], str]) -> ProgramInterface:
+    """The program's interface with each mapped name resolved by `resolve` (its type kept); a
+    mapped name that is not a ROS name stays as it is (its mapping's check reports it)."""
+
+    def resolved(text: str) -> str:
+        return resolved_mapped(text, resolve)
+
+    return dataclasses.replace(
+        interface,
+        actions={k: dataclasses.replace(a, mapped_name=resolved(a.mapped_name)) for k, a in interface.actions.items()},
+        exog_actions={
+            k: dataclasses.replace(e, mapped_name=resolved(e.mapped_name)) for k, e in interface.exog_actions.items()
+        },
+    )
+
+
+def namespace_of(options: Ros2Options) -> str | None:
+    """The agent node's namespace: the option's, else $ROS_NAMESPACE (made absolute), else
+    None (the root, unless `-r __ns:=` says otherwise)."""
+    if options.namespace is not None:
+        return options.namespace
+    found = os.environ.get("ROS_NAMESPACE", "").strip()
+    if not found:
+        return None
+    namespace = found if found.startswith("/") else "/" + found
+    if not is_namespace(namespace):
+        raise PlatformError(
+            f'$ROS_NAMESPACE must be a ROS namespace (such as "/robot1": letters, digits and `_` between `/`), '
+            f'not "{found}"'
+        )
+    return namespace
+
+
+# What the ROS arguments set of the platform's options: a remapping rule's left side (or the
+# flag) -> the option.
+_SET_BY_ARGUMENTS = {"__node": "node_name", "__name": "node_name", "__ns": "namespace", "--log-level": "log_level"}
+
+
+def check_arguments(options: Ros2Options, arguments: Sequence[str]) -> tuple[str, ...]:
+    """The ROS arguments, refused (PlatformError) when they set what an option given with -o
+    sets too (the node's name or namespace, the log level)."""
+    for i, flag in enumerate(arguments):
+        value = arguments[i + 1] if i + 1 < len(arguments) else ""
+        if flag in ("-r", "--remap"):
+            key = value.partition(":=")[0].rpartition(":")[2]
+        elif flag == "--log-level":
+            key = flag
+        else:
+            continue
+        option = _SET_BY_ARGUMENTS.get(key)
+        if option is not None and getattr(options, option) is not None:
+            raise PlatformError(
+                f"the {option.replace('_', ' ')} is given twice: by -o {option}={getattr(options, option)} "
+                f"and by `{flag} {value}` after --ros-args"
+            )
+    return tuple(arguments)
 
 
 def _source_key(function: str, in_name: tuple[str, ...], values: Mapping[str, Value]) -> str:
@@ -822,12 +993,17 @@ def check_options(options: Ros2Options) -> None:
             f"option `domain_id` of platform `ros2` must be a whole number from 0 to {MAX_DOMAIN_ID}, "
             f"not {options.domain_id}"
         )
-    if not _NODE_NAME.match(options.node_name):
+    if options.namespace is not None and not is_namespace(options.namespace):
+        raise PlatformError(
+            f'option `namespace` of platform `ros2` must be an absolute ROS namespace (such as "/robot1": letters, '
+            f'digits and `_` between `/`), not "{options.namespace}"'
+        )
+    if options.node_name is not None and not _NODE_NAME.match(options.node_name):
         raise PlatformError(
             f"option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting "
             f'with a digit; no `/` or namespace), not "{options.node_name}"'
         )
-    if options.log_level.lower() not in LOG_LEVELS:
+    if options.log_level is not None and options.log_level.lower() not in LOG_LEVELS:
         hint = did_you_mean(options.log_level, LOG_LEVELS)
         raise PlatformError(
             f"option `log_level` of platform `ros2` must be one of {', '.join(LOG_LEVELS)}, "

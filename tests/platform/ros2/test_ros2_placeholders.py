@@ -383,3 +383,33 @@ def test_each_robots_name_is_checked_against_the_type_the_graph_shows_for_it(fle
     assert len(errors) == 1 and errors[0].startswith('action `count`: "/robot2/fib" (test_msgs/action/NestedMessage)')
     assert "has no field `order`" in errors[0]
     assert fleet.executed == [] and len(servers) == 2
+
+
+def test_a_relative_name_is_resolved_under_the_agents_namespace_once_its_placeholders_are_filled(
+    fleet: Fleet, tmp_path: Path
+) -> None:
+    """`"{r}/fib"` on an agent in namespace /fleet: `count(robot2, 2)` goes to
+    /fleet/robot2/fib (placeholders filled first, then the name resolved as ROS resolves it)."""
+    from rclpy.action.server import ActionServer
+    from test_msgs.action import Fibonacci
+
+    servers = []
+    for robot in ("robot1", "robot2"):
+
+        def execute(handle: Any, robot: str = robot) -> Any:
+            fleet.executed.append((robot, handle.request.order))
+            handle.succeed()
+            return Fibonacci.Result(sequence=[])
+
+        servers.append(ActionServer(fleet.node, Fibonacci, f"/fleet/{robot}/fib", execute_callback=execute))
+    fleet.spin()
+    path = tmp_path / "agent.gpp"
+    path.write_text(
+        'symbol domain Robot = {robot1, robot2}\naction count(Robot r, number n) {\nmapping:\n    "{r}/fib" '
+        "{ order = n }\n}\nprocedure main() { count(robot2, 2); count(robot1, 1); }\n",
+        encoding="utf-8",
+    )
+    outcome = run_program(path, RunOptions(platform="ros2", platform_options={"namespace": "/fleet"}, timeout=15))
+    messages = [d.message for d in outcome.diagnostics]
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED, messages
+    assert fleet.executed == [("robot2", 2), ("robot1", 1)] and len(servers) == 2
