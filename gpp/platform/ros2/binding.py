@@ -137,8 +137,11 @@ class Binding:
         for entry in self.names.values():
             name = resolve(entry.written or entry.name)
             names[name] = dataclasses.replace(entry, name=name)
+        # A source with placeholders is resolved per name it stands for, once they are filled.
         functions = {
-            fname: dataclasses.replace(
+            fname: f
+            if "{" in (f.source.written or f.source.name)
+            else dataclasses.replace(
                 f, source=dataclasses.replace(f.source, name=resolve(f.source.written or f.source.name))
             )
             for fname, f in self.functions.items()
@@ -217,6 +220,11 @@ class Binding:
                     fkey = f"exog_function.{fname}"
                     binding.functions[fname] = _function(fname, _table(entry, at(fkey)), at(fkey), spans.get(fkey))
             elif key.strip().startswith(("/", "~")) or (is_name(key.strip()) and not did_you_mean(key, _TABLES)):
+                if "{" in key or "}" in key:
+                    raise BindingError(
+                        f"{at(key)}: a table of the binding file is for one ROS name and cannot have a placeholder: "
+                        'write a table for each name the mapping stands for, such as ["/robot1/navigate"]'
+                    )
                 try:
                     parse_mapped(key)
                 except NameError_ as e:
@@ -283,7 +291,7 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
             hint = "; a topic's value has a maximum age (`max_age`) instead" if key == "timeout" else ""
             raise BindingError(f"{at} {key}: only a {' or '.join(applies)} source takes `{key}`{hint}")
     try:
-        source = parse_mapped(_text(table[kind], f"{at} {kind}"))
+        source = parse_mapped(_text(table[kind], f"{at} {kind}"), placeholders=True)
     except NameError_ as e:
         raise BindingError(f"{at} {kind}: {e}") from None
     entry = FunctionEntry(name, source, kind, span=span)

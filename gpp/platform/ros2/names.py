@@ -83,12 +83,21 @@ def normalize(name: str) -> str:
         return name if name.startswith("/") else "/" + name
 
 
-def parse_mapped(text: str) -> MappedName:
+_PLACEHOLDER = re.compile(r"\{[A-Za-z_][A-Za-z0-9_]*\}")
+
+
+def parse_mapped(text: str, placeholders: bool = False) -> MappedName:
     """`"name"` or `"name : pkg/kind/Type"`, its name resolved in the root namespace (the
-    platform resolves the names under the node's namespace with `resolve`)."""
+    platform resolves the names under the node's namespace with `resolve`). With
+    `placeholders`, the name may have placeholders (`"/{r}/battery"`:
+    gpp.platform.ros2.placeholders): such a name is kept as written, and each name it stands
+    for is resolved once its placeholders are filled."""
     name, sep, type_name = text.partition(":")
     name = name.strip()
-    if not _NAME.match(name):
+    if placeholders and "{" in type_name:
+        raise NameError_(f'"{text}": the type after `:` cannot have a placeholder (it is the same for every name)')
+    checked = _PLACEHOLDER.sub("x", name) if placeholders else name
+    if not _NAME.match(checked):
         raise NameError_(
             f'"{text}" is not a ROS 2 name: write "/name" or "/name : package/action/Type" '
             "(names are letters, digits and `_`, separated by `/`)"
@@ -96,4 +105,6 @@ def parse_mapped(text: str) -> MappedName:
     t = type_name.strip() if sep else None
     if sep and not t:
         raise NameError_(f'"{text}": the type after `:` is missing (write "/name : package/action/Type")')
+    if checked != name:
+        return MappedName(name, t, name)  # placeholders: resolved once filled
     return MappedName(resolve(name), t, name)

@@ -57,6 +57,7 @@ from gpp.platform.base import (
     parse_options,
 )
 from gpp.platform.options import BUILTIN, Ros2Options
+from gpp.platform.ros2 import placeholders
 from gpp.platform.ros2.binding import (
     Binding,
     BindingError,
@@ -72,6 +73,7 @@ from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
+    from gpp.platform.ros2 import checks
     from gpp.platform.ros2.bridge import Bridge, Job, Outcome
     from gpp.platform.ros2.checks import Target
     from gpp.platform.ros2.interfaces import Interface
@@ -99,7 +101,11 @@ class Topic:
 
     name: str
     interface: Interface | None
-    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]]]] = field(default_factory=list)
+    # Each exogenous action its messages become: the message field that fills each parameter
+    # (path, parameter, type), and the parameters filled from the topic's name (placeholders).
+    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]], Mapping[str, Value]]] = field(
+        default_factory=list
+    )
     qos_entry: NameEntry | None = None
     subscription: Any = None
     warned: bool = False
@@ -113,7 +119,7 @@ class Source:
 
     entry: FunctionEntry
     signature_type: Type
-    params: tuple[str, ...]
+    params: tuple[str, ...]  # those a service request is asked with (not the name's placeholders)
     interface: Interface | None = None
     span: Span | None = None  # the function's declaration
     latest: Any = None
@@ -172,9 +178,13 @@ class Ros2Platform(Platform):
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
-        self.targets: dict[str, Target] = {}
+        # (action, the values of its mapped name's placeholders: () without) -> how it is served
+        self.targets: dict[tuple[str, tuple[str | None, ...]], Target] = {}
         self.topics: dict[str, Topic] = {}
+        # exogenous function (with its placeholders' values: `battery(robot1)`) -> its source
         self.sources: dict[str, Source] = {}
+        # exogenous function whose source has placeholders -> their parameters
+        self._source_params: dict[str, tuple[str, ...]] = {}
         self._jobs: dict[int, Job] = {}
         self._lock = threading.Lock()
         self._results: dict[int, Value] = {}
@@ -300,17 +310,48 @@ class Ros2Platform(Platform):
             problem = self._follow_clock(deadline)
             if problem is not None:
                 return [problem]
-        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
-        for name, binding in sorted(interface.actions.items()):
-            target, found = checks.action_target(binding, self.binding, graph)
-            problems.extend(found)
-            if target is not None:
-                self.targets[name] = target
-        for name, exog in sorted(interface.exog_actions.items()):
-            found_topic, found = checks.exog_route(exog, self.binding, graph)
-            problems.extend(found)
-            if found_topic is None:
+        resolve = self._resolve_mapped
+        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding, resolve), deadline)
+        # A mapped name with placeholders is served as one mapping per name it stands for.
+        unserved = placeholders.mapping_problems(interface)
+        problems.extend(p for name in sorted(unserved) for p in unserved[name])
+        for name, action in sorted(interface.actions.items()):
+            if name in unserved:
                 continue
+            for instance, binding in placeholders.bound_instances(action, resolve):
+                target, found = checks.action_target(binding, self.binding, graph)
+                problems.extend(p for p in found if p not in problems)
+                if target is not None:
+                    self.targets[name, instance.key] = target
+        for name, exog_action in sorted(interface.exog_actions.items()):
+            if name in unserved:
+                continue
+            for instance, exog in placeholders.bound_instances(exog_action, resolve):
+                problems.extend(self._route(exog, instance.values, graph))
+        self._sources(interface, graph, problems)
+        problems.extend(checks.unused_entries(self.binding, interface, resolve))
+        if problems:
+            return problems
+        try:
+            bridge.call(self._subscribe_all, timeout=5.0)
+        except Exception as e:
+            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
+        bridge.watchers.append(self._watch_topics)
+        bridge.watchers.append(self._watch_targets)
+        bridge.watchers.append(self._watch_sources)
+        self._wait_for_subscribers(deadline)
+        return []
+
+    def _route(self, exog: ExogActionBinding, from_name: Mapping[str, Value], graph: checks.Graph) -> list[Problem]:
+        """Route the messages of an exogenous action's topic to it (`from_name`: the values of
+        the parameters its topic's name fills); the problems found."""
+        from gpp.platform.ros2 import checks
+
+        name = exog.name
+        problems: list[Problem] = []
+        found_topic, found = checks.exog_route(exog, self.binding, graph, from_name)
+        problems.extend(found)
+        if found_topic is not None:
             topic_name, iface, routes = found_topic
             topic = self.topics.get(topic_name)
             if topic is None:
@@ -324,45 +365,54 @@ class Ros2Platform(Platform):
                         exog.span,
                     )
                 )
-                continue
+                return problems
             topic.interface = topic.interface or iface
-            topic.routes.append((exog, routes))
-        for fname, entry in sorted(self.binding.functions.items()):
+            topic.routes.append((exog, routes, from_name))
+        return problems
+
+    def _sources(self, interface: ProgramInterface, graph: checks.Graph, problems: list[Problem]) -> None:
+        """The sources of the exogenous functions the binding file declares, one per name a
+        source with placeholders stands for; the problems found go to `problems`."""
+        from gpp.platform.ros2 import checks
+
+        for fname, template in sorted(self.binding.functions.items()):
             signature = interface.exog_functions.get(fname)
             if signature is None:
                 problems.append(
                     Problem(
                         f"binding file: [exog_function.{fname}]: the program declares no exogenous function `{fname}`",
-                        entry.span,
+                        template.span,
                         "not in the program",
                         help=did_you_mean(fname, interface.exog_functions),
                     )
                 )
                 continue
-            known = None
-            if entry.kind == "feedback":
-                known, found = self._feedback_type(entry)
-                problems.extend(found)
-                if found:
-                    continue
-            source, found = checks.function_source(entry, signature, graph, known)
-            problems.extend(found)
-            if source is not None:
-                self.sources[fname] = Source(
-                    entry, signature.return_type, signature.param_names, source, signature.span
-                )
-        problems.extend(checks.unused_entries(self.binding, interface))
-        if problems:
-            return problems
-        try:
-            bridge.call(self._subscribe_all, timeout=5.0)
-        except Exception as e:
-            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
-        bridge.watchers.append(self._watch_topics)
-        bridge.watchers.append(self._watch_targets)
-        bridge.watchers.append(self._watch_sources)
-        self._wait_for_subscribers(deadline)
-        return []
+            what = f"binding file: [exog_function.{fname}] {template.kind}"
+            written = template.source.written or template.source.name
+            unserved = placeholders.problems(what, written, signature.params, template.span)
+            if unserved:
+                problems.extend(unserved)
+                continue
+            in_name = placeholders.placeholders(written)
+            if in_name:
+                self._source_params[fname] = in_name
+            for instance in placeholders.instances(written, signature.params):
+                source_name = template.source
+                if in_name:  # resolved once its placeholders are filled
+                    source_name = parse_mapped(self._resolve_mapped(instance.text))
+                entry = dataclasses.replace(template, source=source_name)
+                known = None
+                if entry.kind == "feedback":
+                    known, found = self._feedback_type(entry)
+                    problems.extend(found)
+                    if found:
+                        continue
+                source, found = checks.function_source(entry, signature, graph, known, frozenset(in_name))
+                problems.extend(p for p in found if p not in problems)
+                if source is not None:
+                    asked = tuple(p for p in signature.param_names if p not in in_name or p in entry.request.values())
+                    key = _source_key(fname, in_name, instance.values)
+                    self.sources[key] = Source(entry, signature.return_type, asked, source, signature.span)
 
     def _check_node_name(self) -> None:
         """Warn (once) when another node on the domain has the agent's name and namespace: ROS
@@ -488,7 +538,7 @@ class Ros2Platform(Platform):
             lost=lambda n: self._lost(topic, n),
         )
         if (qos is None or qos.reliability is None) and self.bridge.best_effort_publishers(topic.name):
-            for exog, _ in topic.routes:
+            for exog, *_ in topic.routes:
                 self._warn(
                     f'topic "{topic.name}" has a best-effort publisher: a message it sends can be lost on the way '
                     f"(each loss the middleware notices is a `dropped` record for `{exog.name}`)",
@@ -572,10 +622,12 @@ class Ros2Platform(Platform):
                 interface = load_interface(found)
             except InterfaceError as e:
                 topic.unusable = True  # never subscribed: each exogenous action says why
-                for exog, _ in topic.routes:
+                for exog, *_ in topic.routes:
                     self.queue.put(MessageDropped(topic.name, exog.name, str(e), exog.span), self.now())
                 continue
-            problems = [p for exog, routes in topic.routes for p in route_problems(exog, topic.name, interface, routes)]
+            problems = [
+                p for exog, routes, _ in topic.routes for p in route_problems(exog, topic.name, interface, routes)
+            ]
             if problems:
                 topic.unusable = True  # never subscribed: the run stops
                 self.queue.put(PlatformFault(tuple(problems)), self.now())
@@ -632,11 +684,11 @@ class Ros2Platform(Platform):
 
         plain = to_plain(msg)
         now = self.now()
-        for exog, routes in topic.routes:
-            args: list[Value] = []
+        for exog, routes, from_name in topic.routes:
+            values = dict(from_name)
             for path, param, t in routes:
                 try:
-                    args.append(to_value(pick(plain, path), t))
+                    values[param] = to_value(pick(plain, path), t)
                 except KeyError:
                     reason, help_ = self._no_field(topic, path)
                     self.queue.put(
@@ -657,7 +709,7 @@ class Ros2Platform(Platform):
                     break
             else:
                 self.exog_received += 1
-                self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
+                self.queue.put(ExogOccurrence(exog.name, tuple(values[p] for p in exog.param_names)), now)
 
     @staticmethod
     def _no_field(topic: Topic, path: str) -> tuple[str, str | None]:
@@ -676,7 +728,7 @@ class Ros2Platform(Platform):
         if count <= 0:
             return
         now = self.now()
-        for exog, _ in topic.routes:
+        for exog, *_ in topic.routes:
             self.queue.put(
                 MessageDropped(
                     topic.name,
@@ -701,7 +753,9 @@ class Ros2Platform(Platform):
 
         if self.bridge is None:
             raise PlatformError("the ros2 platform is not attached to a program")
-        target = self.targets.get(activity.action.name)
+        action = self.interface.actions.get(activity.action.name) if self.interface is not None else None
+        key = placeholders.instance_key(action.mapped_name, action.params, activity.action.args) if action else ()
+        target = self.targets.get((activity.action.name, key))
         if target is None:
             raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{activity.mapped_name}")')
         entries = list(activity.args.items())
@@ -807,7 +861,8 @@ class Ros2Platform(Platform):
     def exog_function(
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
-        source = self.sources.get(name)
+        in_name = self._source_params.get(name)
+        source = self.sources.get(name if in_name is None else _source_key(name, in_name, args))
         if source is not None:
             return self._ask(source, args, return_type)
         if activity is not None:
@@ -881,6 +936,10 @@ class Ros2Platform(Platform):
         except (KeyError, ConversionError) as e:
             raise PlatformError(f"{what}: {e}") from None
 
+    def _resolve_mapped(self, text: str) -> str:
+        """A mapped name (with its type) whose placeholders were filled, as the node resolves it."""
+        return resolved_mapped(text, self._resolve)
+
     def _resolve(self, name: str) -> str:
         """`name` as the agent's node resolves it (gpp.platform.ros2.names.resolve), once."""
         found = self._resolved.get(name)
@@ -937,17 +996,24 @@ class Ros2Platform(Platform):
             self.bridge.close()
 
 
+def resolved_mapped(text: str, resolve: Callable[[str], str]) -> str:
+    """Mapped name `text` (`"name"` or `"name : pkg/kind/Type"`) with its name resolved by
+    `resolve` (its type kept); one that is not a ROS name (or has placeholders, resolved per
+    name it stands for) stays as it is."""
+    try:
+        mapped = parse_mapped(text)
+        name = resolve(mapped.written)
+    except NameError_:
+        return text
+    return f"{name} : {mapped.type}" if mapped.type is not None else name
+
+
 def resolved_interface(interface: ProgramInterface, resolve: Callable[[str], str]) -> ProgramInterface:
     """The program's interface with each mapped name resolved by `resolve` (its type kept); a
     mapped name that is not a ROS name stays as it is (its mapping's check reports it)."""
 
     def resolved(text: str) -> str:
-        try:
-            mapped = parse_mapped(text)
-            name = resolve(mapped.written)
-        except NameError_:
-            return text
-        return f"{name} : {mapped.type}" if mapped.type is not None else name
+        return resolved_mapped(text, resolve)
 
     return dataclasses.replace(
         interface,
@@ -998,6 +1064,14 @@ def check_arguments(options: Ros2Options, arguments: Sequence[str]) -> tuple[str
                 f"and by `{flag} {value}` after --ros-args"
             )
     return tuple(arguments)
+
+
+def _source_key(function: str, in_name: tuple[str, ...], values: Mapping[str, Value]) -> str:
+    """The key of an exogenous function's source: its name, with the values of the parameters
+    its source's name has as placeholders (`battery(robot1)`)."""
+    if not in_name:
+        return function
+    return f"{function}({','.join(str(placeholders.name_text(values.get(p))) for p in in_name)})"
 
 
 def _waiting_for_subscriber(bridge: Bridge, publisher: Any) -> bool:
