@@ -205,6 +205,51 @@ def test_long_comparisons_and_products_break_before_their_operators() -> None:
     )
 
 
+def test_compound_literals_in_a_long_else_if_chain_stay_on_one_line() -> None:
+    # The user's file, after an earlier format-on-save broke it after each field's `=`.
+    broken = (
+        "Pos function spot(Room visitor_destination) = if (visitor_destination == lobby) Pos { x =\n"
+        "    0, y =\n    0 } else if (visitor_destination == room1) Pos { x = 4, y = 2 }"
+        " else if (visitor_destination == room2) Pos { x = 8, y = 2 } else Pos { x = 1, y = 7 }\n"
+    )
+    formatted = (
+        "Pos function spot(Room visitor_destination) =\n"
+        "    if (visitor_destination == lobby)\n"
+        "        Pos { x = 0, y = 0 }\n"
+        "    else if (visitor_destination == room1)\n"
+        "        Pos { x = 4, y = 2 }\n"
+        "    else if (visitor_destination == room2) Pos { x = 8, y = 2 } else Pos { x = 1, y = 7 }\n"
+    )
+    assert format_text(broken) == formatted
+    assert format_text(" ".join(broken.split())) == formatted
+    assert format_text(formatted) == formatted
+
+
+def test_a_long_compound_literal_breaks_at_its_commas_not_after_its_fields_equals_signs() -> None:
+    literal = f"Pos {{ x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1, y = {WIDE} }}"
+    source = f"Pos function where(Room r) = {literal}\n"
+    assert format_text(source) == (
+        "Pos function where(Room r) =\n"
+        "    Pos {\n"
+        f"        x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1,\n"
+        f"        y = {WIDE}\n"
+        "    }\n"
+    )
+
+
+def test_an_exploded_bracket_on_a_continued_line_is_indented_from_that_line() -> None:
+    source = f"number function f() = g({WIDE}(1), {WIDE}(2), {WIDE}(3), {WIDE}(4))\n"
+    assert format_text(source) == (
+        "number function f() =\n"
+        "    g(\n"
+        f"        {WIDE}(1),\n"
+        f"        {WIDE}(2),\n"
+        f"        {WIDE}(3),\n"
+        f"        {WIDE}(4)\n"
+        "    )\n"
+    )
+
+
 def test_a_block_comment_inside_a_line_counts_towards_its_length() -> None:
     # 92 characters of code, 112 with the comment.
     source = f"procedure main() {{ y() = {WIDE}(a) + /* a comment of some length */ {WIDE}(b); }}\n"
