@@ -28,7 +28,7 @@ from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
-from tests.support import disks
+from tests.support import TYPO_CORPUS, disks
 from tests.support.budget import examples
 from tests.support.cli import Result, run
 from tests.support.syntax_trees import programs
@@ -36,9 +36,14 @@ from tests.support.syntax_trees import programs
 ROOT = Path(__file__).resolve().parents[2]
 
 # Every program of the repository but those in the older syntax (tests/legacy: syntax errors
-# until `gpp check --fix` upgrades them, so there is nothing to format).
+# until `gpp check --fix` upgrades them, so there is nothing to format) and the typos of the
+# fix-it corpus.
 LEGACY = ROOT / "tests" / "legacy"
-REPO_PROGRAMS = sorted(p for p in ROOT.glob("**/*.gpp") if ".venv" not in p.parts and LEGACY not in p.parents)
+REPO_PROGRAMS = sorted(
+    p
+    for p in ROOT.glob("**/*.gpp")
+    if ".venv" not in p.parts and LEGACY not in p.parents and TYPO_CORPUS not in p.parents
+)
 
 
 # ---------------------------------------------------------------- where comments go
