@@ -199,8 +199,8 @@ _SECTION_LIST = sorted(SECTION_WORDS)
 _WORD_TYPES = {**KEYWORDS, **PLATFORM_KEYWORDS, **SECTION_WORDS}
 # A guessed keyword before an error is tried by parsing the file with it: so many times per
 # file at most, in files of at most so many characters.
-_FIX_TRIALS = 4
-_FIX_TRIAL_SIZE = 200_000
+_FIX_TRIALS = 2
+_FIX_TRIAL_SIZE = 50_000
 
 
 def describe_found(token: Token) -> str:
