@@ -460,9 +460,16 @@ class TypeChecker(Regrouper):
             elif (t := self.expr(reward)) is not ERROR and base(t) is not NUMBER:
                 self.error(E0212.reward_not_number(t), reward.span)
         else:
-            self.expr(reward)
-            self.error(E0212.reward_not_call(), reward.span)
+            t = self.expr(reward)
+            # `solve(2, reward)`: the missing `()` is reported (E0102, with its fix).
+            if not (isinstance(reward, ast.Name) and t is ERROR and self.names_function(reward)):
+                self.error(E0212.reward_not_call(), reward.span)
         self.stmt(s.body)
+
+    def names_function(self, e: ast.Name) -> bool:
+        """Is `e` the name of a function (not a variable or symbol)?"""
+        g = self.model.globals.get(e.name)
+        return g is not None and g.kind is _FUNCTION and e.name not in self.variables and e.name not in self.symbols
 
     def assign_target(self, e: ast.Expr) -> Type:
         """Check an assignment's left side (a fluent, or a field/element path from one) and
