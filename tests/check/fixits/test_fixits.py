@@ -32,6 +32,7 @@ FAMILIES = {
     "missing_semicolon_": 4,
     "misspelled_": 6,
     "legacy_": 6,
+    "lint_": 4,  # the lints with a fix
 }
 # What a legacy recogniser (gpp.syntax.legacy) reports: every one has a file.
 LEGACY_CODES = {"E0040", "E0041", "E0042", "E0043", "E0044", "E0045"}
