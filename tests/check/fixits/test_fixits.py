@@ -174,6 +174,23 @@ def test_a_syntax_error_that_hid_a_misspelled_name_is_said_so(tmp_path: Path) ->
     )
 
 
+def test_a_problem_that_a_fix_brings_about_and_the_next_round_fixes_is_said_so(tmp_path: Path) -> None:
+    """Calling `patrol` makes the suppression of its `unused` warning unused (W0116), which the
+    second round removes: the check showed one problem, two were fixed."""
+    agent = tmp_path / "agent.gpp"
+    agent.write_text(
+        "action go() {\n}\n// gpp: allow unused\nprocedure patrol() {\n    go();\n}\n"
+        "procedure main() {\n    patrl();\n}\n"
+    )
+    shown = run("check", "--color", "never", str(agent))
+    assert shown.stdout.strip().splitlines()[-1] == "error: 1 error"
+    fixed = run("check", "--fix", "--color", "never", str(agent))
+    assert fixed.stdout.strip().splitlines()[-1] == (
+        "fixed 2 problems (1 of them found after the first fixes) in 1 file, 0 remaining"
+    )
+    assert "// gpp: allow" not in agent.read_text() and "    patrol();" in agent.read_text()
+
+
 def test_the_issue_typos_get_the_fixes_that_fix_them() -> None:
     """The three typos of issue 24: each fix is the one a person would make."""
     cases = {
