@@ -126,6 +126,15 @@ def test_each_fix_alone_removes_its_problem_and_adds_none(path: Path) -> None:
     assert fix_violations(text, path, Expected.of(text).reveals) == []
 
 
+# The legacy programs of tests/legacy hold several legacy forms each: the property holds there too.
+LEGACY_PROGRAMS = sorted((Path(__file__).parents[2] / "legacy").glob("*.gpp"))
+
+
+@pytest.mark.parametrize("path", LEGACY_PROGRAMS, ids=lambda p: p.stem)
+def test_the_fixes_of_the_legacy_programs_remove_their_problems(path: Path) -> None:
+    assert fix_violations(path.read_text(), path, frozenset()) == []
+
+
 _REPORT = re.compile(
     r"(?:fixed (\d+) problems?"
     r"(?: \((?:(\d+) of them )?(hidden by a syntax error|found after the first fixes).*?\))?"
