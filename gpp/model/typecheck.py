@@ -471,6 +471,17 @@ class TypeChecker(Regrouper):
         g = self.model.globals.get(e.name)
         return g is not None and g.kind is _FUNCTION and e.name not in self.variables and e.name not in self.symbols
 
+    def not_assignable(self, root: ast.Expr, symbol: Symbol) -> Type:
+        """E0306 on an assignment to a declaration that is not a fluent (`f() = 1`, `f = 1`)."""
+        self.error(
+            E0306.declaration(symbol.name, symbol.kind),
+            root.span,
+            "not a fluent",
+            secondary=self.declared_here(symbol),
+            help="only fluents (and their fields and elements) can be assigned",
+        )
+        return ERROR
+
     def assign_target(self, e: ast.Expr) -> Type:
         """Check an assignment's left side (a fluent, or a field/element path from one) and
         return its type."""
@@ -481,14 +492,7 @@ class TypeChecker(Regrouper):
             symbol = self.model.globals.get(root.name.name)
             if symbol is not None and symbol.kind is not _FLUENT:
                 self.resolve_misused_call(root, symbol)
-                self.error(
-                    E0306.declaration(symbol.name, symbol.kind),
-                    root.span,
-                    "not a fluent",
-                    secondary=self.declared_here(symbol),
-                    help="only fluents (and their fields and elements) can be assigned",
-                )
-                return ERROR
+                return self.not_assignable(root, symbol)
             return self.expr(e)
         if isinstance(root, ast.Name):
             self.expr(root)
@@ -500,14 +504,7 @@ class TypeChecker(Regrouper):
                 # not the assignment (after `robot_at() = p` it is a fluent's).
                 return ERROR
             if target.kind in EXPRESSION_CALLABLE:
-                self.error(
-                    E0306.declaration(target.name, target.kind),
-                    root.span,
-                    "not a fluent",
-                    secondary=self.declared_here(target),
-                    help="only fluents (and their fields and elements) can be assigned",
-                )
-                return ERROR
+                return self.not_assignable(root, target)
             if target.kind is SymbolKind.SYMBOL:
                 help = "a symbol is a constant; assign a fluent that holds symbols instead"
             else:

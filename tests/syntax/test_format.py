@@ -230,29 +230,29 @@ def test_compound_literals_in_a_long_else_if_chain_stay_on_one_line() -> None:
     assert format_text(formatted) == formatted
 
 
-def test_a_long_compound_literal_breaks_at_its_commas_not_after_its_fields_equals_signs() -> None:
-    literal = f"Pos {{ x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1, y = {WIDE} }}"
-    source = f"Pos function where(Room r) = {literal}\n"
-    assert format_text(source) == (
-        "Pos function where(Room r) =\n"
-        "    Pos {\n"
-        f"        x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1,\n"
-        f"        y = {WIDE}\n"
-        "    }\n"
-    )
+_LONG_LITERAL = f"Pos {{ x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1, y = {WIDE} }}"
 
 
-def test_an_exploded_bracket_on_a_continued_line_is_indented_from_that_line() -> None:
-    source = f"number function f() = g({WIDE}(1), {WIDE}(2), {WIDE}(3), {WIDE}(4))\n"
-    assert format_text(source) == (
-        "number function f() =\n"
-        "    g(\n"
-        f"        {WIDE}(1),\n"
-        f"        {WIDE}(2),\n"
-        f"        {WIDE}(3),\n"
-        f"        {WIDE}(4)\n"
-        "    )\n"
-    )
+@pytest.mark.parametrize(
+    ("source", "expected"),
+    [
+        # A compound literal breaks at its commas, not after its fields' `=`.
+        (
+            f"Pos function where(Room r) = {_LONG_LITERAL}\n",
+            "Pos function where(Room r) =\n    Pos {\n"
+            f"        x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1,\n        y = {WIDE}\n    }}\n",
+        ),
+        # Its parts are one level deeper than the line the bracket opens on, a continued one.
+        (
+            f"number function f() = g({WIDE}(1), {WIDE}(2), {WIDE}(3), {WIDE}(4))\n",
+            f"number function f() =\n    g(\n        {WIDE}(1),\n        {WIDE}(2),\n"
+            f"        {WIDE}(3),\n        {WIDE}(4)\n    )\n",
+        ),
+    ],
+    ids=["compound literal", "argument list"],
+)
+def test_a_long_bracket_on_a_continued_line_is_laid_out_one_part_per_line(source: str, expected: str) -> None:
+    assert format_text(source) == expected
 
 
 def test_a_block_comment_inside_a_line_counts_towards_its_length() -> None:
