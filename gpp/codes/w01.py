@@ -84,7 +84,7 @@ class W0109(Code, name="solve-without-choice", summary="a `solve` whose program 
 class W0110(Code, name="mixed-precedence", summary="an operator chain that the original golog++ reads differently"):
     @classmethod
     def reads_as(cls, shape: str) -> Message:
-        return Message(cls.code, f"golog++ reads this as `{shape}`")
+        return Message(cls.code, f"the original C++ golog++ reads this as `{shape}`")
 
 
 class W0111(Code, name="shadowed-symbol", summary="a parameter or variable named like a domain symbol"):

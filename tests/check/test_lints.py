@@ -357,7 +357,7 @@ def precedence(expression: str, type_: str = "number") -> list[tuple[str, tuple[
 )
 def test_arithmetic_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
     [(message, notes, fixed)] = precedence(expression)
-    assert message == f"golog++ reads this as `{golog}`"
+    assert message == f"the original C++ golog++ reads this as `{golog}`"
     assert notes == (f"gpp uses standard precedence: `{standard}`",)
     assert fixed == f"number function f() = {standard}"
 
@@ -372,7 +372,7 @@ def test_arithmetic_chains_read_differently_are_reported(expression: str, golog:
 )
 def test_boolean_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
     [(message, notes, fixed)] = precedence(expression, "bool")
-    assert message == f"golog++ reads this as `{golog}`"
+    assert message == f"the original C++ golog++ reads this as `{golog}`"
     assert notes == (f"gpp uses standard precedence: `{standard}`",)
     assert fixed == f"bool function f() = {standard}"
 
@@ -411,7 +411,7 @@ def test_boolean_chains_read_alike_are_not_reported(expression: str) -> None:
 def test_boolean_equality_takes_part_in_the_chain() -> None:
     # `==` between bools is iff, at the loosest level: gpp reads `(p & q) == (r | s)`.
     [(message, notes, _)] = precedence("p() & q() == r() | s()", "bool")
-    assert message == "golog++ reads this as `((p() & q()) == r()) | s()`"
+    assert message == "the original C++ golog++ reads this as `((p() & q()) == r()) | s()`"
     assert notes == ("gpp uses standard precedence: `(p() & q()) == (r() | s())`",)
 
 
