@@ -1417,3 +1417,176 @@ def _negated(e: ast.Expr) -> str:
         return text[1:-1] if e.operand.parenthesized and text[:1] + text[-1:] == "()" else text
     atomic = e.parenthesized or isinstance(e, ast.Call | ast.Name | ast.FieldAccess | ast.Index | ast.BoolLit)
     return f"!{e.span.text}" if atomic else f"!({e.span.text})"
+
+
+# ---------------------------------------------------------------- W0118 goal paid again
+
+
+# Global: the reward's functions, the actions' effects and the procedures the `solve` calls are
+# read wherever they are declared.
+@_lint(codes.W0118, local=False)
+def goal_paid_again(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for solve in program.root_statements(ast.Solve):
+        for goal, bonus in _goal_bonuses(model, solve.reward, set()):
+            read = _fluents_read(program, goal)
+            steps = _sequence(solve.body)
+            writers = [i for i, s in enumerate(steps) if _may_write(program, s, read, set())]
+            if not read or not writers:
+                continue
+            after = next((s for s in steps[writers[-1] + 1 :] if _costs(program, s, set())), None)
+            if after is None:
+                continue
+            goal_text, bonus_text = format_expr(goal), format_expr(bonus)
+            yield diag.warning(
+                codes.W0118.paid_again(goal_text, bonus_text),
+                after.span,
+                f"a step after `{goal_text}` may have become true",
+                secondary=[
+                    diag.Label(steps[writers[-1]].span, f"can make `{goal_text}` true"),
+                    diag.Label(solve.reward.span, "paid in the state before every step and after each one"),
+                ],
+                notes=[
+                    "the value of a plan adds up the reward of every state it passes through, so a goal that "
+                    f"still holds pays `{bonus_text}` once per step made after it was reached"
+                ],
+                help="make this step before the one that reaches the goal, or after the `solve`, "
+                "if the goal should count once",
+            )
+
+
+def _goal_bonuses(model: Model, e: ast.Expr, seen: set[int]) -> Iterator[tuple[ast.Expr, ast.Expr]]:
+    """The `if (goal) bonus else ...` terms of a reward expression, through the functions
+    without parameters it calls: a constant bonus above 0 and above the other branch when that
+    is a constant."""
+    e = model.effective(e)
+    match e:
+        case ast.Conditional():
+            bonus = _number_constant(e.then)
+            other = _number_constant(e.otherwise)
+            if bonus is not None and bonus > 0 and (other is None or bonus > other):
+                yield e.condition, e.then
+        case ast.Binary() if e.op in (Op.ADD, Op.SUB):
+            yield from _goal_bonuses(model, e.left, seen)
+            if e.op is Op.ADD:
+                yield from _goal_bonuses(model, e.right, seen)
+        case ast.Call() if not e.args:
+            symbol = model.target(e)
+            decl = symbol.decl if symbol is not None else None
+            if isinstance(decl, ast.FunctionDecl) and decl.body is not None and id(decl) not in seen:
+                seen.add(id(decl))
+                yield from _goal_bonuses(model, decl.body, seen)
+        case _:
+            pass
+
+
+def _number_constant(e: ast.Expr) -> float | None:
+    if isinstance(e, ast.NumberLit):
+        return e.value
+    if isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NEG and isinstance(e.operand, ast.NumberLit):
+        return -e.operand.value
+    return None
+
+
+def _sequence(s: ast.Statement) -> list[ast.Statement]:
+    """The statements `s` runs one after the other (nested blocks flattened)."""
+    if not isinstance(s, ast.Block):
+        return [s]
+    return [x for b in s.body for x in _sequence(b)]
+
+
+def _may_write(program: _Program, s: ast.Statement, fluents: set[int], seen: set[int]) -> bool:
+    """Can `s` (or an action or procedure it calls) assign one of `fluents` (ids)? An
+    assignment whose fluent is not clear may."""
+    model = program.model
+    for node in walk(s):
+        if isinstance(node, ast.Assign | ast.ListStmt):
+            fluent = _assigned_fluent(model, node)
+            if fluent is None or id(fluent) in fluents:
+                return True
+        elif isinstance(node, ast.Call):
+            symbol = model.target(node)
+            decl = symbol.decl if symbol is not None else None
+            if decl is None or id(decl) in seen:
+                continue
+            seen.add(id(decl))
+            if isinstance(decl, ast.ActionDecl):
+                sections = (n for n in walk(decl) if isinstance(n, ast.Effect | ast.SensesSection))
+                written = {_written_fluent(model, n) for n in sections}
+                if -1 in written or written & fluents:
+                    return True
+            elif (
+                isinstance(decl, ast.ProcedureDecl)
+                and decl.body is not None
+                and _may_write(program, decl.body, fluents, seen)
+            ):
+                return True
+    return False
+
+
+def _written_fluent(model: Model, node: ast.Effect | ast.SensesSection) -> int:
+    """The id of the fluent an effect or a sensing section assigns; -1 when it is not clear."""
+    e = node.target
+    while isinstance(e, ast.FieldAccess | ast.Index):
+        e = e.subject
+    symbol = model.target(e) if isinstance(e, ast.Call) else None
+    return id(symbol) if symbol is not None and symbol.kind is SymbolKind.FLUENT else -1
+
+
+def _costs(program: _Program, s: ast.Statement, seen: set[int]) -> bool:
+    """Can `s` make a step that uses up the horizon (an action, a hook, an assignment)?"""
+    model = program.model
+    for node in walk(s):
+        if isinstance(node, ast.Assign | ast.ListStmt | ast.HookStmt | ast.During):
+            return True
+        if isinstance(node, ast.CallStmt):
+            symbol = model.target(node.call)
+            if symbol is None or symbol.kind is SymbolKind.ACTION:
+                return True
+            decl = symbol.decl
+            if isinstance(decl, ast.ProcedureDecl) and decl.body is not None and id(decl) not in seen:
+                seen.add(id(decl))
+                if _costs(program, decl.body, seen):
+                    return True
+    return False
+
+
+# ---------------------------------------------------------------- W0119 unwatched activity
+
+
+# Local: the `during` statement alone.
+@_lint(codes.W0119, local=True)
+def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
+    for node in program.nodes(ast.During):
+        if node.until is not None:
+            continue
+        body = node.body.body if isinstance(node.body, ast.Block) else (node.body,)
+        if len(body) < 2:
+            continue
+        *before, test, cancel = body
+        if not (
+            isinstance(test, ast.Test)
+            and isinstance(cancel, ast.HookStmt)
+            and cancel.hook is ast.Hook.CANCEL
+            and format_expr(cancel.action) == format_expr(node.action)
+        ):
+            continue
+        action, condition = node.action.span.text, test.condition.span.text
+        replacement = f"during ({action}) until ({condition}) {{}}"
+        fix = None
+        if not before:
+            head = Span(node.span.source, node.span.start, node.body.span.end)
+            fix = diag.Fix(f"write `{replacement}`", (diag.Edit(head, replacement),), diag.Applicability.SAFE)
+        yield diag.warning(
+            codes.W0119.hangs(format_expr(test.condition), format_expr(node.action)),
+            test.span,
+            "waits here after the activity ended",
+            secondary=[diag.Label(cancel.span, "needs the activity still running")],
+            notes=[
+                "the body of a `during` is not interrupted when its activity ends, and its handlers run only "
+                "after the body ended"
+            ],
+            help=f"watch the activity with `until`: `{replacement}` cancels it when the condition holds while "
+            "it runs, and leaves the body when it ends, so a handler always runs",
+            fix=fix,
+        )

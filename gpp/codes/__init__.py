@@ -83,6 +83,8 @@ from gpp.codes.w01 import (
     W0115,
     W0116,
     W0117,
+    W0118,
+    W0119,
 )
 
 # Every registered code, in the order `gpp explain --list` and docs/codes.md show them: by
@@ -189,6 +191,8 @@ __all__ = [
     "W0115",
     "W0116",
     "W0117",
+    "W0118",
+    "W0119",
     "Code",
     "CodeInfo",
     "Message",

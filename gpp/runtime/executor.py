@@ -67,6 +67,7 @@ from gpp.runtime.semantics import (
     StartStep,
     Step,
     TestStep,
+    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace, TraceWriteError
@@ -840,7 +841,7 @@ def _head_span(p: Prog) -> Span | None:
                 p = Rest(block, 0, p.frame)
             case Code():
                 return p.stmt.span
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return p.span
             case Planned():
                 return p.session.stmt.span

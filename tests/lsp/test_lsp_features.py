@@ -858,6 +858,18 @@ def test_completion_in_a_platform_model() -> None:
     assert at("state(depth_cam) = on", 0)[:3] == ["state", "during", "start"]
 
 
+def test_completion_after_a_during_head_offers_until(tmp_path: Path) -> None:
+    watched = "    during (stack(a, table)) @\n    build(a);\n"
+    after_head = labels(complete(BLOCKS.replace("    build(a);\n", watched), tmp_path))
+    assert "until" in after_head and "while" in after_head
+    # After the `until (..)` clause a statement follows; `until` is not offered again.
+    watched = "    during (stack(a, table)) until (clear(a)) @\n    build(a);\n"
+    after_until = labels(complete(BLOCKS.replace("    build(a);\n", watched), tmp_path))
+    assert "until" not in after_until and "while" in after_until
+    elsewhere = labels(complete(BLOCKS.replace("    build(a);\n", "    build(a);\n    @\n"), tmp_path))
+    assert "until" not in elsewhere
+
+
 def test_completion_items_show_parameters_and_type_beside_the_name(tmp_path: Path) -> None:
     items = {i.label: i for i in complete(BLOCKS.replace("clear(x) &", "clear(@x) &"), tmp_path)}
     details = {k: (v.label_details.detail, v.label_details.description) for k, v in items.items() if v.label_details}
