@@ -409,6 +409,14 @@ def decode(data: list[int]) -> list[tuple[int, int, int, str, set[str]]]:
     return out
 
 
+def test_the_until_of_a_during_is_a_keyword_and_its_condition_is_read(tmp_path: Path) -> None:
+    text = BLOCKS.replace("    build(a);\n", "    during (stack(a, table)) until (clear(a)) {}\n")
+    doc = Doc.check(text, tmp_path / "c.gpp")
+    found = {(line, char): t for line, char, _, t, _ in decode(F.semantic_tokens(doc.result, doc.path))}
+    assert found[doc.pos(doc.at("until ("))] == "keyword"
+    assert found[doc.pos(doc.at("clear(a)"))] == "fluent"
+
+
 def test_semantic_tokens_classify_names_by_kind(blocks: Doc) -> None:
     found = {
         (line, char): (length, t, m)
