@@ -1590,3 +1590,28 @@ def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
             "it runs, and leaves the body when it ends, so a handler always runs",
             fix=fix,
         )
+
+
+# ---------------------------------------------------------------- W0120 unrun watch body
+
+
+# Global: a procedure runs only while planning when every call to it is planned.
+@_lint(codes.W0120, local=False)
+def unrun_watch_body(program: _Program) -> Iterator[diag.Diagnostic]:
+    for owner, found in program.body_statements(program.root_files):
+        planned_procedure = owner is not None and id(owner) in program.planning_only
+        for s, planning in found:
+            if not isinstance(s, ast.During) or s.until is None or not (planning or planned_procedure):
+                continue
+            if not _costs(program, s.body, set()) and not any(isinstance(n, ast.Test) for n in walk(s.body)):
+                continue
+            yield diag.warning(
+                codes.W0120.never_runs(),
+                s.body.span,
+                "never runs: the plan lets the activity end first",
+                notes=[
+                    "while planning, an activity ends the moment it starts, so a watched `during` leaves its body "
+                    "before the body's first step; the plan, and its execution, have none of its steps"
+                ],
+                help="make these steps before or after the `during`, or in its handlers",
+            )

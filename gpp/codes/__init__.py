@@ -85,6 +85,7 @@ from gpp.codes.w01 import (
     W0117,
     W0118,
     W0119,
+    W0120,
 )
 
 # Every registered code, in the order `gpp explain --list` and docs/codes.md show them: by
@@ -193,6 +194,7 @@ __all__ = [
     "W0117",
     "W0118",
     "W0119",
+    "W0120",
     "Code",
     "CodeInfo",
     "Message",

@@ -188,3 +188,13 @@ class W0119(
             f"this `during` waits for `{condition}` even after `{action}` has ended: "
             "if the activity ends or fails first, the program waits for ever",
         )
+
+
+class W0120(
+    Code,
+    name="unrun-watch-body",
+    summary="a `during ... until` inside `solve` or `search` whose body never runs",
+):
+    @classmethod
+    def never_runs(cls) -> Message:
+        return Message(cls.code, "the body of this `during ... until` never runs: it is planned by `solve` or `search`")

@@ -1,4 +1,4 @@
-"""The lints (W0101-W0119): for each, a tiny program that triggers it, with the exact code,
+"""The lints (W0101-W0120): for each, a tiny program that triggers it, with the exact code,
 position and message, and a clean counterpart that does not; `allow` suppresses a lint by code
 or by name; declarations of included files are never linted."""
 
@@ -26,6 +26,7 @@ from tests.support.lint_triggers import (
     TRIGGERS,
     UNENDED,
     UNREACHABLE,
+    UNRUN_WATCH_BODY,
     UNUSED,
     UNUSED_VARIABLES,
     UNWATCHED,
@@ -729,6 +730,43 @@ def test_other_bodies_are_not_reported(body: str) -> None:
 def test_the_until_form_is_not_reported() -> None:
     text = UNWATCHED.replace("during (roll(1)) {", "during (roll(1)) until (guest_left()) {")
     assert found(text, "W0119") == []
+
+
+# ---------------------------------------------------------------- W0120 unrun watch body
+
+
+def test_a_watched_body_in_a_plan_is_reported() -> None:
+    d = the(UNRUN_WATCH_BODY, "W0120")
+    assert (d.span.line, d.span.col) == (7, 49)
+    assert d.message == "the body of this `during ... until` never runs: it is planned by `solve` or `search`"
+
+
+def test_a_watched_body_in_a_procedure_only_plans_call_is_reported() -> None:
+    text = UNRUN_WATCH_BODY.replace(
+        """        during (ride(1)) until (path_blocked()) {
+            announce_ride();
+        }
+""",
+        "        watch();\n",
+    ).replace(
+        "procedure main()",
+        "procedure watch() { during (ride(2)) until (path_blocked()) test(true); }\nprocedure main()",
+    )
+    assert found(text, "W0120") == [
+        "5:61 the body of this `during ... until` never runs: it is planned by `solve` or `search`"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("announce_ride();", ""),  # an empty body
+        ("solve(2, zero_reward()) {", "{"),  # online: the body runs while the activity does
+        ("until (path_blocked()) ", ""),  # a plain `during` runs its body while planning too
+    ],
+)
+def test_watched_bodies_that_run_or_do_nothing_are_not_reported(old: str, new: str) -> None:
+    assert found(UNRUN_WATCH_BODY.replace(old, new), "W0120") == []
 
 
 # ---------------------------------------------------------------- allow, no-lint, includes

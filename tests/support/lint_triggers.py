@@ -221,6 +221,20 @@ procedure main() {
 }
 """
 
+UNRUN_WATCH_BODY = """\
+bool fluent path_blocked() { initially: () = false; }
+action ride(number room) { }
+action announce_ride() { }
+number function zero_reward() = 0
+procedure main() {
+    solve(2, zero_reward()) {
+        during (ride(1)) until (path_blocked()) {
+            announce_ride();
+        }
+    }
+}
+"""
+
 
 TRIGGERS = {
     "W0101": UNUSED,
@@ -240,4 +254,5 @@ TRIGGERS = {
     "W0115": looping("!done()", "{ }"),
     "W0118": GOAL_PAID_AGAIN,
     "W0119": UNWATCHED,
+    "W0120": UNRUN_WATCH_BODY,
 }
