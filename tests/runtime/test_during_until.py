@@ -162,3 +162,13 @@ def test_in_solve_the_watch_cancels_and_the_rest_is_planned_again(tmp_path: Path
     [replan] = outcome.recording.of(ReplanEvent)
     assert replan.policy == ("log() = 3", "log() = 103")
     assert logged(outcome) == [3, 103]
+
+
+def test_a_deadline_on_the_clock_cancels_the_activity_when_the_clock_gets_there(tmp_path: Path) -> None:
+    program = WATCHED.replace("until (visitor_left())", "until (context_time() >= 2.5)")
+    outcome = run(tmp_path, program, DRIVE_10_LEAVES_AT_3)
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
+    assert outcome.recording is not None
+    [cancel] = outcome.recording.of(CancelEvent)
+    assert cancel.t == 2.5
+    assert logged(outcome) == [1, 3, 30]
