@@ -1430,29 +1430,51 @@ def goal_paid_again(program: _Program) -> Iterator[diag.Diagnostic]:
     for solve in program.root_statements(ast.Solve):
         for goal, bonus in _goal_bonuses(model, solve.reward, set()):
             read = _fluents_read(program, goal)
-            steps = _sequence(solve.body)
-            writers = [i for i, s in enumerate(steps) if _may_write(program, s, read, set())]
-            if not read or not writers:
-                continue
-            after = next((s for s in steps[writers[-1] + 1 :] if _costs(program, s, set())), None)
-            if after is None:
+            if not read:
                 continue
             goal_text, bonus_text = format_expr(goal), format_expr(bonus)
-            yield diag.warning(
-                codes.W0118.paid_again(goal_text, bonus_text),
-                after.span,
-                f"a step after `{goal_text}` may have become true",
-                secondary=[
-                    diag.Label(steps[writers[-1]].span, f"can make `{goal_text}` true"),
-                    diag.Label(solve.reward.span, "paid in the state before every step and after each one"),
-                ],
-                notes=[
-                    "the value of a plan adds up the reward of every state it passes through, so a goal that "
-                    f"still holds pays `{bonus_text}` once per step made after it was reached"
-                ],
-                help="make this step before the one that reaches the goal, or after the `solve`, "
-                "if the goal should count once",
-            )
+            for writer, after in _steps_after_goal(program, solve.body, read):
+                yield _goal_paid_again(solve, goal_text, bonus_text, writer, after)
+
+
+def _steps_after_goal(
+    program: _Program, body: ast.Statement, goal_fluents: set[int]
+) -> Iterator[tuple[ast.Statement, ast.Statement]]:
+    """In each sequence of statements of `body` (its own, and each block inside it): the last
+    statement that can assign a fluent the goal reads, and the first statement after it that
+    makes a costed step, when there is one (it cannot assign them)."""
+    sequences = [n for n in walk(body) if isinstance(n, ast.Block)]
+    if not isinstance(body, ast.Block):
+        sequences.insert(0, ast.Block(span=body.span, body=(body,)))
+    seen: set[int] = set()
+    for block in sequences:
+        steps = _sequence(block)
+        writers = [i for i, s in enumerate(steps) if _may_write(program, s, goal_fluents, set())]
+        if not writers:
+            continue
+        after = next((s for s in steps[writers[-1] + 1 :] if _costs(program, s, set())), None)
+        if after is not None and id(after) not in seen:  # a nested block is also part of its parent's
+            seen.add(id(after))
+            yield steps[writers[-1]], after
+
+
+def _goal_paid_again(
+    solve: ast.Solve, goal_text: str, bonus_text: str, writer: ast.Statement, after: ast.Statement
+) -> diag.Diagnostic:
+    return diag.warning(
+        codes.W0118.paid_again(goal_text, bonus_text),
+        after.span,
+        f"a step after `{goal_text}` may have become true",
+        secondary=[
+            diag.Label(writer.span, f"can make `{goal_text}` true"),
+            diag.Label(solve.reward.span, "paid in the state before every step and after each one"),
+        ],
+        notes=[
+            "the value of a plan adds up the reward of every state it passes through, so a goal that "
+            f"still holds pays `{bonus_text}` once per step made after it was reached"
+        ],
+        help="make this step before the one that reaches the goal, or after the `solve`, if the goal should count once",
+    )
 
 
 def _goal_bonuses(model: Model, e: ast.Expr, seen: set[int]) -> Iterator[tuple[ast.Expr, ast.Expr]]:

@@ -646,6 +646,13 @@ def goal_solve(reward: str, body: str) -> str:
     )
 
 
+def test_a_step_after_the_goal_in_a_loop_body_is_reported_once() -> None:
+    body = """        while (!served()) { { pick (Desk r) drive(r); served() = at_desk() == room1; } visits() = 1; }
+"""
+    text = goal_solve("if (served()) 100 else -1", body)
+    assert [m.split(" ", 1)[0] for m in found(text, "W0118")] == ["9:88"]  # `visits() = 1;`
+
+
 @pytest.mark.parametrize(
     ("reward", "body"),
     [
