@@ -823,6 +823,10 @@ def _conditions(program: _Program) -> Iterator[_Condition]:
     for e in program.nodes(ast.Effect):
         if e.condition is not None:
             yield _Condition(e.condition, "effect condition", "the effect always applies", "the effect never applies")
+    for d in program.nodes(ast.During):
+        if d.until is not None:
+            cancelled = "the activity is cancelled as soon as it starts"
+            yield _Condition(d.until, "`until` condition", cancelled, "it never cancels the activity")
 
 
 # Local: one condition; its names and types come from the environment.

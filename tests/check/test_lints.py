@@ -734,6 +734,15 @@ def test_other_bodies_are_not_reported(body: str) -> None:
     assert found(text, "W0119") == []
 
 
+@pytest.mark.parametrize(
+    ("condition", "message"),
+    [("true", "`until` condition is always true"), ("1 > 2", "`until` condition is always false")],
+)
+def test_a_constant_until_condition_is_reported(condition: str, message: str) -> None:
+    text = UNWATCHED.replace("during (roll(1)) {", f"during (roll(1)) until ({condition}) {{")
+    assert found(text, "W0107") == [f"6:29 {message}"]
+
+
 def test_the_until_form_is_not_reported() -> None:
     text = UNWATCHED.replace("during (roll(1)) {", "during (roll(1)) until (guest_left()) {")
     assert found(text, "W0119") == []
