@@ -30,7 +30,6 @@ from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AwaitEnd,
-    CancelStep,
     Code,
     DoStep,
     EndKind,
@@ -42,10 +41,8 @@ from gpp.runtime.semantics import (
     Semantics,
     Seq,
     StartStep,
-    Step,
     Successor,
     TestStep,
-    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, State
 from gpp.runtime.values import Value, show
@@ -132,6 +129,12 @@ def steps_to_finish(sem: Semantics, prog: Prog, state: State, acts: Activities) 
             return None
         level = following
     return None
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class WatchCancelled(Planned):
+    """A planned step that ends a watched activity (`during (a) until (e)`) whose condition
+    fired while it ran: its cancellation was asked for, and the step waits for the end."""
 
 
 @dataclass(eq=False)
@@ -277,7 +280,8 @@ class PlanHolder:
         if status is ActivityStatus.RUNNING:
             # The planned end waits for the platform, as `end` does; a watched activity is
             # cancelled when its condition holds meanwhile (the plan assumed it ends first).
-            return self.watch_fired(sem, p, before, step, state)
+            cancel = None if isinstance(p, WatchCancelled) else sem.watch_cancel(before, step, state)
+            return [] if cancel is None else [(WatchCancelled(self, p.index), cancel)]
         failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
         if isinstance(step, EndStep) and step.hook == EndKind.DURING and failed:
             # The plan assumed success. The program reacts to the failure or cancellation (its
@@ -301,19 +305,6 @@ class PlanHolder:
                 return [(Seq(AwaitEnd(step.action, step.span), following), StartStep(step.action, step.span))]
             return [(following, step)]
         return [(p, ReplanStep(self, p.index))]
-
-    def watch_fired(self, sem: Semantics, p: Planned, before: Prog, step: Step, state: State) -> list[Successor]:
-        """While a planned `during (a) until (e)` waits for `a` to end: the cancellation of
-        `a` once `e` holds. Its end is then the planned end step, which goes on with the
-        `on_cancel` handler and plans again from there, as after a failure."""
-        if p.cancelling or not isinstance(step, EndStep) or step.hook != EndKind.DURING:
-            return []
-        watch = before
-        while isinstance(watch, Seq):
-            watch = watch.first
-        if not isinstance(watch, Watch) or watch.action != step.action or not sem.watch_fires(watch, state):
-            return []
-        return [(Planned(self, p.index, cancelling=True), CancelStep(step.action, watch.span))]
 
     def install(self, plan: Plan, index: int, state: State) -> None:
         self.plans.append(plan)

@@ -196,9 +196,6 @@ class Planned(ProgNode):
 
     session: PlanSession
     index: int
-    # The planned step at `index` ends a watched activity (`during (a) until (e)`) whose
-    # condition fired: its cancellation was asked for (PlanHolder.successors).
-    cancelling: bool = False
 
 
 # A program continuation: what remains to be executed.
@@ -674,6 +671,18 @@ class Semantics:
         return [
             (Watch(p.action, p.stmt, p.frame, q, False), step) for q, step in self.trans(p.body, state, acts, first)
         ]
+
+    def watch_cancel(self, point: Prog, step: Step, state: State) -> CancelStep | None:
+        """While a planned `step` waits for its activity to end: the cancellation of the
+        activity, when `step` ends a watched `during` at the head of the program point `point`
+        and its `until` condition holds now (the plan assumed the activity ends first)."""
+        if not isinstance(step, EndStep) or step.hook != EndKind.DURING:
+            return None
+        while isinstance(point, Seq):
+            point = point.first
+        if isinstance(point, Watch) and point.action == step.action and self.watch_fires(point, state):
+            return CancelStep(step.action, point.span)
+        return None
 
     def watch_fires(self, p: Watch, state: State) -> bool:
         """Does the `until` condition of a watched activity hold now? Online, a condition that

@@ -1,18 +1,13 @@
 """`during` inside `solve`: the plan counts a `during` once, at its end (where its effects
-apply), and a failed activity runs the program's `on_fail` handler and re-plans; a watched
-`during (a) until (e)` plans as its activity alone, the same in the production planner and the
-reference."""
+apply), and a failed activity runs the program's `on_fail` handler and re-plans."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from gpp.check import check_text
-from gpp.planner.problem import first_solve
 from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import PlanEvent, ReplanEvent
 from gpp.runtime.executor import RunStatus
-from tests.support.planner_worlds import outcome
 
 EFFECT_AT_END = """
 number fluent n() { initially: () = 0; }
@@ -66,29 +61,3 @@ def test_a_failed_during_in_a_plan_runs_on_fail_and_replans(tmp_path: Path) -> N
     assert ("start", "repair()") in events[failed_at:]
     assert any(isinstance(r, ReplanEvent) for r in outcome.recording.records[failed_at:])
     assert outcome.postcond is True
-
-
-WATCHED = """
-symbol domain block = {a, b}
-number fluent n() { initially: () = 0; }
-bool fluent stop() { initially: () = false; }
-action act(block x) { effect: n() = n() + 1; }
-number function reward() = n()
-procedure main() {
-    solve(4, reward()) while (n() < 2) pick (block x) during (act(x)) until (stop() | n() > 5) {
-        stop() = true;
-    } on_cancel n() = 0;
-}
-"""
-
-
-def test_a_watched_during_plans_as_its_activity_alone_in_every_planner() -> None:
-    result = check_text(WATCHED, lint=False)
-    assert result.errors == 0
-    problem = first_solve(result.model)
-    production, reference = problem.production(), problem.reference()
-    assert outcome(production) == outcome(reference)
-    # The body is left when the activity ends, which while planning is at once: `stop()` is
-    # never set, and each `during` is one costed step.
-    assert [step.describe() for _, step, _ in production.steps] == ["start(act(a))", "end(act(a))"] * 2
-    assert (production.value, production.cost) == (0 + 1 + 2, 2)  # R(s0) and after each end
