@@ -28,6 +28,9 @@ APP_SETTINGS: dict[str, Any] = {
     "no_args_is_help": True,
     "add_completion": False,
     "pretty_exceptions_enable": False,
+    # Help texts are Markdown: paragraphs are reflowed to the terminal's width, `code` is shown as
+    # code, and square brackets (`[tool.gpp]`, `[PATH]`) are text, not Rich markup.
+    "rich_markup_mode": "markdown",
     "context_settings": {"help_option_names": ["-h", "--help"]},
 }
 

@@ -398,7 +398,7 @@ def test_command(
     paths: Annotated[
         list[Path] | None,
         typer.Argument(
-            metavar="[PATH]...",
+            metavar="PATH",
             help="Programs or folders to run (default: the project's test paths, or tests/programs).",
         ),
     ] = None,
