@@ -1600,7 +1600,8 @@ def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
         action, condition = node.action.span.text, test.condition.span.text
         replacement = f"during ({action}) until ({condition}) {{}}"
         fix = None
-        if not before:
+        # (A constant condition would get W0107 as an `until`, where `test(true)` does not.)
+        if not before and _constant(program.model, test.condition) is None:
             head = Span(node.span.source, node.span.start, node.body.span.end)
             fix = diag.Fix(f"write `{replacement}`", (diag.Edit(head, replacement),), diag.Applicability.SAFE)
         yield diag.warning(

@@ -708,9 +708,15 @@ def test_a_during_that_waits_and_cancels_is_reported_with_the_until_form() -> No
     assert [x.code for x in after] == []
 
 
-def test_a_longer_body_is_reported_without_a_fix() -> None:
-    text = UNWATCHED.replace("test(guest_left());", "say_sorry();\n        test(guest_left());")
-    d = the(text, "W0119")
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("test(guest_left());", "say_sorry();\n        test(guest_left());"),  # a longer body
+        ("test(guest_left());", "test(true);"),  # a constant condition would be W0107's as `until`
+    ],
+)
+def test_other_hanging_bodies_are_reported_without_a_fix(old: str, new: str) -> None:
+    d = the(UNWATCHED.replace(old, new), "W0119")
     assert d.fix is None
 
 
