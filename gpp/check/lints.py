@@ -1580,10 +1580,12 @@ def _costs(program: _Program, s: ast.Statement, seen: set[int]) -> bool:
 # ---------------------------------------------------------------- W0119 unwatched activity
 
 
-# Local: the `during` statement alone.
-@_lint(codes.W0119, local=True)
+# Global: whether the fix is safe depends on the `start`s of the activity anywhere (see below).
+@_lint(codes.W0119, local=False)
 def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
-    for node in program.nodes(ast.During):
+    model = program.model
+    started: set[int] | None = None  # the actions some `start(...)` starts, found on first use
+    for node in program.root_statements(ast.During):
         if node.until is not None:
             continue
         body = node.body.body if isinstance(node.body, ast.Block) else (node.body,)
@@ -1599,9 +1601,18 @@ def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
             continue
         action, condition = node.action.span.text, test.condition.span.text
         replacement = f"during ({action}) until ({condition}) {{}}"
+        if started is None:
+            started = _started_actions(program)
+        action_symbol = model.target(node.action)
         fix = None
-        # (A constant condition would get W0107 as an `until`, where `test(true)` does not.)
-        if not before and _constant(program.model, test.condition) is None:
+        # No fix when the result would get a warning the hanging form does not: a constant
+        # condition is W0107's as an `until` (not as `test(true)`), and without the `cancel` a
+        # `start` of the activity elsewhere could be left without any end (W0114).
+        if (
+            not before
+            and _constant(model, test.condition) is None
+            and (action_symbol is None or id(action_symbol) not in started)
+        ):
             head = Span(node.span.source, node.span.start, node.body.span.end)
             fix = diag.Fix(f"write `{replacement}`", (diag.Edit(head, replacement),), diag.Applicability.SAFE)
         yield diag.warning(
@@ -1642,3 +1653,16 @@ def unrun_watch_body(program: _Program) -> Iterator[diag.Diagnostic]:
                 ],
                 help="make these steps before or after the `during`, or in its handlers",
             )
+
+
+def _started_actions(program: _Program) -> set[int]:
+    """The actions (symbol ids) a `start(...)` of the program starts."""
+    model = program.model
+    started: set[int] = set()
+    for _, found in program.body_statements(model.files):
+        for s, _ in found:
+            if isinstance(s, ast.HookStmt) and s.hook is ast.Hook.START:
+                action = model.target(s.action)
+                if action is not None:
+                    started.add(id(action))
+    return started

@@ -713,6 +713,7 @@ def test_a_during_that_waits_and_cancels_is_reported_with_the_until_form() -> No
     [
         ("test(guest_left());", "say_sorry();\n        test(guest_left());"),  # a longer body
         ("test(guest_left());", "test(true);"),  # a constant condition would be W0107's as `until`
+        ("procedure main() {", "procedure main() {\n    start(roll(1));"),  # its `start` would lose its end
     ],
 )
 def test_other_hanging_bodies_are_reported_without_a_fix(old: str, new: str) -> None:
