@@ -574,7 +574,7 @@ class Executor:
             self.end(step)
         elif isinstance(step, CancelStep):
             record = self.records[step.action]
-            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id))
+            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id, reason=step.reason or None))
             self.platform.preempt(record)
         elif isinstance(step, AssignStep):
             self.state = self.state.updated(dict(step.updates), self.program.initial)

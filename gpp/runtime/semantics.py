@@ -267,6 +267,8 @@ class EndStep(StepNode):
 class CancelStep(StepNode):
     action: GroundAction
     span: Span = field(compare=False)
+    # Why the program cancels it, for the trace: a watched `during`'s condition that holds.
+    reason: str = field(compare=False, default="")
 
     def describe(self) -> str:
         return f"cancel({self.action.text})"
@@ -667,7 +669,7 @@ class Semantics:
         if p.cancelling:
             return []  # cancelled: waits for the platform to end the activity
         if self.watch_fires(p, state):
-            return [(Watch(p.action, p.stmt, p.frame, DONE, True), CancelStep(p.action, p.span))]
+            return [(Watch(p.action, p.stmt, p.frame, DONE, True), self.watch_cancel_step(p))]
         return [
             (Watch(p.action, p.stmt, p.frame, q, False), step) for q, step in self.trans(p.body, state, acts, first)
         ]
@@ -681,8 +683,14 @@ class Semantics:
         while isinstance(point, Seq):
             point = point.first
         if isinstance(point, Watch) and point.action == step.action and self.watch_fires(point, state):
-            return CancelStep(step.action, point.span)
+            return self.watch_cancel_step(point)
         return None
+
+    @staticmethod
+    def watch_cancel_step(p: Watch) -> CancelStep:
+        until = p.stmt.until
+        assert until is not None
+        return CancelStep(p.action, p.span, f"`until ({until.span.text})` holds")
 
     def watch_fires(self, p: Watch, state: State) -> bool:
         """Does the `until` condition of a watched activity hold now? Online, a condition that

@@ -86,7 +86,7 @@ def test_the_condition_cancels_the_activity_and_on_cancel_runs(tmp_path: Path) -
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
     assert outcome.recording is not None
     [cancel] = outcome.recording.of(CancelEvent)
-    assert (cancel.action, cancel.t) == ("goto(room1)", 3.0)
+    assert (cancel.action, cancel.t, cancel.reason) == ("goto(room1)", 3.0, "`until (visitor_left())` holds")
     assert ended(outcome) == [("goto(room1)", "cancelled")]
     assert logged(outcome) == [1, 3, 30]
 
@@ -157,7 +157,7 @@ def test_in_solve_the_watch_cancels_and_the_rest_is_planned_again(tmp_path: Path
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
     assert outcome.recording is not None
     [cancel] = outcome.recording.of(CancelEvent)
-    assert cancel.t == 3.0
+    assert (cancel.t, cancel.reason) == (3.0, "`until (visitor_left())` holds")
     assert ended(outcome) == [("goto(room1)", "cancelled")]
     [replan] = outcome.recording.of(ReplanEvent)
     assert replan.policy == ("log() = 3", "log() = 103")
