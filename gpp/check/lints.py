@@ -1483,12 +1483,12 @@ def _goal_paid_again(
 
 def _goal_bonuses(model: Model, e: ast.Expr, seen: set[int]) -> Iterator[tuple[ast.Expr, ast.Expr]]:
     """The `if (goal) bonus else ...` terms of a reward expression, through the functions
-    without parameters it calls: a constant bonus above 0 and above the other branch when that
-    is a constant."""
+    without parameters it calls: a bonus that is (or starts from, as `1000 - cost()`) a
+    constant above 0, and above the other branch when that is a constant."""
     e = model.effective(e)
     match e:
         case ast.Conditional():
-            bonus = _number_constant(e.then)
+            bonus = _constant_part(e.then)
             other = _number_constant(e.otherwise)
             if bonus is not None and bonus > 0 and (other is None or bonus > other):
                 yield e.condition, e.then
@@ -1504,6 +1504,17 @@ def _goal_bonuses(model: Model, e: ast.Expr, seen: set[int]) -> Iterator[tuple[a
                 yield from _goal_bonuses(model, decl.body, seen)
         case _:
             pass
+
+
+def _constant_part(e: ast.Expr) -> float | None:
+    """The number a reward term starts from: a constant, or the constant of `1000 - cost()`,
+    `cost() + 10`."""
+    if isinstance(e, ast.Binary) and e.op in (Op.ADD, Op.SUB) and not e.parenthesized:
+        left = _number_constant(e.left)
+        if left is not None:
+            return left
+        return _number_constant(e.right) if e.op is Op.ADD else None
+    return _number_constant(e)
 
 
 def _number_constant(e: ast.Expr) -> float | None:

@@ -658,6 +658,8 @@ def test_a_step_after_the_goal_in_a_loop_body_is_reported_once() -> None:
     [
         # through a procedure and a function with a sum
         ("visits() + (if (served()) 50 else 0)", "pick (Desk r) drive(r); served() = true; count();"),
+        # a bonus less a cost
+        ("if (served()) 1000 - visits() else 0", "pick (Desk r) drive(r); served() = true; count();"),
         # an action whose effect does not touch the goal
         ("if (at_desk() == room1) 10 else 0", "pick (Desk r) drive(r); tick();"),
     ],
@@ -676,7 +678,8 @@ def test_steps_after_the_goal_are_found_through_calls(reward: str, body: str) ->
     [
         ("if (served()) 100 else -1", "pick (Desk r) drive(r); visits() = 1; served() = at_desk() == room1;"),
         ("if (served()) 0 else -1", "pick (Desk r) drive(r); served() = true; visits() = 1;"),  # no bonus
-        ("if (served()) -5 + visits() else 0", "served() = true; visits() = 1;"),  # not a constant
+        ("if (served()) -5 + visits() else 0", "served() = true; visits() = 1;"),  # no bonus
+        ("if (served()) (100 - visits()) * 2 else 0", "served() = true; visits() = 1;"),  # not a plain sum
         ("if (at_desk() == room1) 10 else 0", "while (at_desk() != room1) pick (Desk r) drive(r);"),  # ends at the goal
         ("visits()", "pick (Desk r) drive(r); served() = true; visits() = 1;"),  # no goal
         ("if (served()) 10 else 0", "visits() = 1; test(true);"),  # nothing reaches the goal
