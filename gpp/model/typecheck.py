@@ -401,6 +401,8 @@ class TypeChecker(Regrouper):
 
     def during(self, s: ast.During) -> None:
         self.action_call(s.action, "during")
+        if s.until is not None:
+            self.expect(s.until, BOOL, "an `until` condition")
         self.stmt(s.body)
         if s.on_fail is not None:
             self.stmt(s.on_fail)

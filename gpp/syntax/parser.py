@@ -105,6 +105,10 @@ _COMPLETIONS = (["NAME", "SEMI"], ["RPAR", "SEMI"], ["NAME", "RPAR", "SEMI"])
 # and the end of any expression (a function body) come before one, and hinting after names
 # and numbers would misfire.
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
+# What a keyword read as a name is for, when that is not plain from the keyword.
+_KEYWORD_NOTES = {
+    "UNTIL": ("`until` watches an activity: it follows `during (...)`, as in `during (a) until (e) { }`",),
+}
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
 # Keywords whose condition or binding goes in parentheses (`if (c)`, `pick (T x)`), and the
@@ -573,6 +577,7 @@ class _Parser:
                     self.span(tok),
                     "reserved word",
                     help=f"choose another name, such as `{tok.value}_`",
+                    notes=_KEYWORD_NOTES.get(tok.type, ()),
                 ),
             )
             tok.type = "NAME"

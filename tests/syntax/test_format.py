@@ -123,6 +123,11 @@ CASES: dict[str, tuple[str, str]] = {
         "// just a note\n\n/* and another */\n",
     ),
     "an empty file stays empty": ("\n\n", ""),
+    "the until clause of a during, with its comments": (
+        "procedure main() {\n    during(a())until(/* why */ p()) // watch\n    { b(); } on_fail c();\n}\n",
+        "procedure main() {\n    during (a()) until (/* why */ p())  // watch\n    {\n        b();\n    } on_fail\n"
+        "        c();\n}\n",
+    ),
 }
 
 
