@@ -202,6 +202,16 @@ class R0011(Code, name="blocked", summary="the program cannot make a step and no
         return Message(cls.code, cls.AWAITS + f"{action}` {what}")
 
     @classmethod
+    def awaits_planned(cls, action: str, step: int) -> Message:
+        """A planned activity: `step` is the number of its step in the plan (1 for the first)."""
+        return Message(cls.code, cls.AWAITS + f"{action}` to end, step {step} of the plan")
+
+    @staticmethod
+    def planned_wait(action: str, step: int) -> str:
+        """What a `waiting` trace record says of a wait for a planned activity."""
+        return f"waiting for `{action}` to end, step {step} of the plan"
+
+    @classmethod
     def precondition_false(cls, action: str) -> Message:
         return Message(cls.code, cls.PREFIX + f"the precondition of `{action}` is false")
 
@@ -243,6 +253,15 @@ class R0014(
     def unfinished(cls, horizon: object) -> Message:
         return Message(
             cls.code, f"the plan of this `solve` stops at its horizon of {horizon} with the program unfinished"
+        )
+
+    @classmethod
+    def spent(cls, horizon: int, count: int, steps: str) -> str:
+        """A note: where the part of the horizon `horizon` (as written) that the plan could not
+        use went: `count` steps already executed, `steps` as text."""
+        return (
+            f"{count} of its {horizon} step(s) went to the steps of the `solve` already executed: {steps} "
+            "(the steps of failed attempts are not counted)"
         )
 
 

@@ -65,11 +65,13 @@ def describe(event: TraceEvent) -> str | None:
         case NoticeEvent():
             return "notice " + (f"{event.action}: " if event.action else "") + event.message
         case PlanEvent() | ReplanEvent():
+            # A replan says why: the program's own `on_fail` handler is not a deviation.
+            why = f"because {event.reason}; " if isinstance(event, ReplanEvent) and event.reason else ""
             if not event.feasible:
-                return f"{event.EVENT:<6} no feasible plan ({event.nodes} nodes)"
+                return f"{event.EVENT:<6} {why}no feasible plan ({event.nodes} nodes)"
             policy = "; ".join(event.policy) or "(nothing to do)"
             return (
-                f"{event.EVENT:<6} value {event.value:g}, horizon {event.horizon}: {policy}"
+                f"{event.EVENT:<6} {why}value {event.value:g}, horizon {_horizon(event)}: {policy}"
                 f"  [{event.nodes} nodes, {event.seconds:.3f} s]"
             )
         case BlockedEvent() | ErrorEvent():
@@ -83,7 +85,11 @@ def describe(event: TraceEvent) -> str | None:
         case WaitingEvent():
             if event.resumed:
                 return None
-            return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
+            where = f" at {event.at}" if event.at else ""
+            if event.reason == "activity" and event.action is not None and event.plan_step is not None:
+                step = f"step {event.plan_step} of the plan"
+                return f"wait   for `{event.action}` to end, {step} of {event.statement}{where}"
+            return f"wait   {event.condition}: {event.statement}{where}"
         case HeaderEvent() | SnapshotEvent():
             return None
         case _:
@@ -237,7 +243,7 @@ class LiveView:
         if self.plan is not None and self.plan.feasible:
             plan = self.plan
             policy = " → ".join(plan.policy) or "(nothing to do)"
-            title = f"{plan.EVENT} (value {plan.value:g}, horizon {plan.horizon})"
+            title = f"{plan.EVENT} (value {plan.value:g}, horizon {_horizon(plan)})"
             parts.append(Panel(_escape(policy), title=title, title_align="left"))
         parts.append(Panel("\n".join(self.events) or "[dim](no events yet)[/dim]", title="events", title_align="left"))
         return Group(*parts)
@@ -254,6 +260,12 @@ class LiveView:
             self._live.update(self.render())
             self._live.__exit__(None, None, None)
             self._live = None
+
+
+def _horizon(event: PlanEvent | ReplanEvent) -> str:
+    """`4`, or `4 of 6` for a replan of a `solve` whose executed steps used part of its horizon."""
+    written = event.written_horizon if isinstance(event, ReplanEvent) else None
+    return f"{event.horizon} of {written}" if written is not None else str(event.horizon)
 
 
 def progress_text(p: Progress) -> str:

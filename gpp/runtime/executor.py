@@ -27,7 +27,7 @@ from gpp.base import signals
 from gpp.base.source import Span
 from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
 from gpp.model.types import Type
-from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
+from gpp.runtime.blocked import BLOCKED, Wait, waits_for, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -342,22 +342,27 @@ class Executor:
 
     def note_waiting(self, prog: Prog) -> None:
         """Record, once per wait, what the blocked program waits for (a `waiting` trace record).
-        A wait for a running activity is not recorded: its start and end records tell it."""
+        A wait for a running activity is not recorded (its start and end records tell it),
+        unless the activity is a step of a plan: the record says which step."""
         self.ctx.explaining = True
         try:
-            why = why_blocked(self.sem, prog, self.state, self.acts)
+            wait = waits_for(self.sem, prog, self.state, self.acts)
         except GppRuntimeError:
-            why = None  # explaining would have asked the platform: say only where it waits
+            wait = Wait(None, "event")  # explaining would have asked the platform: say only where it waits
         finally:
             self.ctx.explaining = False
-        if why is not None and awaits_activity(why):
+        why = wait.why
+        if wait.reason == "activity" and wait.plan_step is None:
             return
         if self.sem.unanswered is not None:
             # It waits for an exogenous function's answer: that is the condition to show.
             unanswered, stmt = self.sem.unanswered
             why = diag.error(diag.Message(unanswered.code, unanswered.message), stmt.span)
+            wait = Wait(why, "answer")
         span = why.span if why is not None else _head_span(prog)
         condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
+        if wait.action is not None and wait.plan_step is not None:
+            condition = R0011.planned_wait(wait.action.text, wait.plan_step)
         text = span.text.strip().splitlines()[0] if span is not None and span.text.strip() else ""
         statement = text if len(text) <= 80 else text[:77] + "..."
         waited_for = (statement, _where(span), _without_figures(condition))
@@ -367,7 +372,13 @@ class Executor:
             condition += " (" + "; ".join(n.strip() for n in why.notes) + ")"
         self.waiting_for = waited_for
         self.waiting_at = ev.WaitingEvent(
-            t=self.platform.now(), statement=statement, at=_where(span), condition=condition
+            t=self.platform.now(),
+            statement=statement,
+            at=_where(span),
+            condition=condition,
+            reason=wait.reason,
+            action=wait.action.text if wait.action is not None else None,
+            plan_step=wait.plan_step,
         )
         self.trace.emit(self.waiting_at)
 
@@ -588,7 +599,7 @@ class Executor:
             self.trace_plan("plan", report)
             self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, ReplanStep):
-            report = step.session.replan(self.sem, step.index, self.state, self.acts)
+            report = step.session.replan(self.sem, step.index, self.state, self.acts, step.reason)
             self.trace_plan("replan", report)
             self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, TestStep | DoStep):
@@ -603,41 +614,53 @@ class Executor:
             return
         self.warned.add(id(stmt))
         h = report.horizon
-        notes = [f"its plan uses all {h} step(s) of the horizon, and the program is not finished after them"]
+        written = report.written if report.written is not None else h
+        notes = []
+        if report.spent:
+            # Where the rest of the horizon went: the steps already executed (failed attempts
+            # gave theirs back).
+            shown = ", ".join(f"`{s}`" for s in report.spent[:6]) + (", ..." if len(report.spent) > 6 else "")
+            notes.append(R0014.spent(written, len(report.spent), shown))
+        notes.append(f"its plan uses all {h} step(s) left of the horizon, and the program is not finished after them")
         if report.steps_left is not None:
             notes.append(f"finishing it needs at least {report.steps_left} more step(s)")
         notes.append("the rest of the `solve`'s program is not executed: the run goes on after the `solve`")
         self.result.diagnostics.append(
             diag.warning(
-                R0014.unfinished(h),
+                R0014.unfinished(written),
                 stmt.span,
                 "planned only up to its horizon",
                 notes=notes,
-                help=f"raise the horizon to at least {h + report.steps_left}"
+                help=f"raise the horizon to at least {written + report.steps_left}"
                 if report.steps_left is not None
                 else "raise the horizon",
             )
         )
 
     def trace_plan(self, event: str, plan: PlanReport) -> None:
-        cls = ev.PlanEvent if event == "plan" else ev.ReplanEvent
-        self.trace.emit(
-            cls(
-                t=self.platform.now(),
-                kind=plan.kind,
-                feasible=plan.feasible,
-                value=plan.value,
-                horizon=plan.horizon,
-                policy=plan.policy,
-                nodes=plan.nodes,
-                cache_hits=plan.cache_hits,
-                pruned=plan.pruned,
-                reward_evaluations=plan.reward_evaluations,
-                seconds=round(plan.seconds, 6),
-                unfinished=plan.unfinished,
-                steps_left=plan.steps_left,
-            )
+        """A `plan` or `replan` record; a `replan` also says why, and the horizon as written."""
+        record = ev.ReplanEvent(
+            t=self.platform.now(),
+            kind=plan.kind,
+            feasible=plan.feasible,
+            value=plan.value,
+            horizon=plan.horizon,
+            policy=plan.policy,
+            nodes=plan.nodes,
+            cache_hits=plan.cache_hits,
+            pruned=plan.pruned,
+            reward_evaluations=plan.reward_evaluations,
+            seconds=round(plan.seconds, 6),
+            unfinished=plan.unfinished,
+            steps_left=plan.steps_left,
+            reason=plan.reason,
+            written_horizon=plan.written if plan.written != plan.horizon else None,
         )
+        if event == "plan":
+            shared = {f.name: getattr(record, f.name) for f in dataclasses.fields(ev.PlanEvent)}
+            self.trace.emit(ev.PlanEvent(**shared))
+        else:
+            self.trace.emit(record)
 
     def start(self, g: GroundAction, span: Span) -> None:
         status = self.acts.status(g)
