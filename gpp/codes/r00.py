@@ -230,16 +230,23 @@ class R0012(Code, name="recursion-too-deep", summary="procedure or function call
         return Message(cls.code, "`postcond()` nests function calls too deeply")
 
 
-class R0013(Code, name="timeout", summary="the run reached the time limit given by `--timeout`"):
+class R0013(
+    Code,
+    name="timeout",
+    summary="the run reached its bound: `--timeout` (wall-clock time) or `--time-limit` (platform time)",
+):
     @classmethod
-    def timeout(cls, seconds: float) -> Message:
-        return Message(cls.code, f"the run reached its timeout of {seconds:g} s")
+    def time_limit(cls, seconds: float) -> Message:
+        """`--time-limit` / `time_limit`: seconds of platform time."""
+        return Message(cls.code, f"the run reached its time limit of {seconds:g} s of platform time (`--time-limit`)")
 
     @classmethod
     def wall_clock(cls, seconds: float, platform_time: float) -> Message:
+        """`--timeout` / `timeout`: seconds of wall-clock time."""
         return Message(
             cls.code,
-            f"the run reached its timeout of {seconds:g} s of wall-clock time (platform time: {platform_time:g} s)",
+            f"the run reached its timeout of {seconds:g} s of wall-clock time (`--timeout`; "
+            f"platform time: {platform_time:g} s)",
         )
 
 

@@ -56,11 +56,17 @@ class PolicyPlanner:
         self.search_strategy = search_strategy  # gpp.planner.search.STRATEGIES
         # Told how a `solve` that takes longer than a second is getting on.
         self.progress = progress
+        # The run's wall-clock bound (a time.monotonic() moment): planning stops there.
+        self.deadline: float | None = None
+
+    def stop_at(self, deadline: float | None) -> None:
+        self.deadline = deadline
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
         holder = PlanHolder.for_statement(sem, stmt, frame, state)
         holder.search_strategy = self.search_strategy
         holder.progress = self.progress
+        holder.deadline = self.deadline
         return holder
 
 
@@ -159,6 +165,8 @@ class PlanHolder:
     spent: tuple[str, ...] = ()
     # Why this holder plans (one made after a planned activity failed): the first replan's reason.
     reason: str = ""
+    # The run's wall-clock bound (a time.monotonic() moment): planning stops there.
+    deadline: float | None = None
 
     @classmethod
     def for_statement(cls, sem: Semantics, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
@@ -217,10 +225,23 @@ class PlanHolder:
 
             reward = make_reward(planning, stmt, self.frame)
             bound = solve_bound(planning, stmt, self.horizon)
-            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress, bound=bound)
+            return solve_plan(
+                planning,
+                prog,
+                state,
+                acts,
+                self.horizon,
+                reward,
+                stmt.span,
+                self.progress,
+                bound=bound,
+                deadline=self.deadline,
+            )
         from gpp.planner.search import search_plan
 
-        return search_plan(planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy)
+        return search_plan(
+            planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy, deadline=self.deadline
+        )
 
     def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:
         """The PlanStep: plan the body from the actual state."""
@@ -274,6 +295,7 @@ class PlanHolder:
             written=self.written,
             spent=self.spent + self.executed(index, attempt),
             reason=reason,
+            deadline=self.deadline,
         )
 
     def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int] | None:

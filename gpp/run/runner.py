@@ -45,9 +45,10 @@ class RunOptions:
     platform: str | None = None
     # The platform's options (`--platform-opt key=value`), validated by the platform.
     platform_options: Mapping[str, OptionValue] = field(default_factory=dict)
+    # The run's bounds (SEMANTICS §4): `timeout` in wall-clock seconds (`--timeout`),
+    # `time_limit` in seconds of platform time (`--time-limit`, no default).
     timeout: float | None = None
-    # Wall-clock seconds a run may take (default: the timeout's).
-    wall_timeout: float | None = None
+    time_limit: float | None = None
     # Values of the entry procedure's parameters (`--arg name=value`), as text or as values.
     args: Mapping[str, object] = field(default_factory=dict)
     trace: Path | None = None
@@ -152,10 +153,10 @@ def run_program(
             program,
             platform,
             trace,
-            options.timeout,
+            options.time_limit,
             options.entry,
             planner=PolicyPlanner(options.search_strategy, options.progress),
-            wall_timeout=options.wall_timeout,
+            timeout=options.timeout,
             entry_args=entry_args,
         )
         problems = platform.attach(program_interface(program))

@@ -44,7 +44,7 @@ from gpp.runtime.contract import (
     Problem,
     unfit_error,
 )
-from gpp.runtime.errors import GppRuntimeError, Unanswered
+from gpp.runtime.errors import GppRuntimeError, Unanswered, WallClockReached
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
@@ -144,20 +144,24 @@ class Executor:
         program: CompiledProgram,
         platform: PlatformPort,
         trace: Trace,
-        timeout: float | None = None,
+        time_limit: float | None = None,
         entry: str = "main",
         planner: OnlinePlanner | None = None,
-        wall_timeout: float | None = None,
+        timeout: float | None = None,
         entry_args: tuple[Value, ...] = (),
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.run.runner gives gpp.planner's); without one, a
-        program that reaches them stops with an error (R0010)."""
+        program that reaches them stops with an error (R0010). The run's two bounds (SEMANTICS
+        §4): `timeout`, wall-clock seconds (`--timeout`), and `time_limit`, seconds of platform
+        time (`--time-limit`)."""
         self.program = program
         self.platform = platform
         self.trace = trace
+        self.time_limit = time_limit
         self.timeout = timeout
-        # Wall-clock seconds the run may take: the timeout's, unless given apart.
-        self.wall_timeout = wall_timeout if wall_timeout is not None else timeout
+        self.planner = planner
+        # The moment (time.monotonic()) the wall-clock bound is reached, once the run started.
+        self.wall_deadline: float | None = None
         self.entry = entry
         # The values of the entry procedure's parameters (`gpp run --arg n=3`), in order.
         self.entry_args = entry_args
@@ -182,6 +186,8 @@ class Executor:
         self.waiting_for: tuple[str, str | None, str] | None = None
         # The program waited for clock times that kept moving with the clock.
         self.chasing = False
+        # The program cannot step and waits for the platform (since its last step).
+        self.blocked = False
         self.result = RunResult(RunStatus.FINISHED)
         self._silent: dict[str, bool] = {}
         # Problems with the program the platform reported while it runs (PlatformFault).
@@ -198,6 +204,10 @@ class Executor:
 
     def _run(self) -> RunResult:
         started = time.perf_counter()
+        if self.timeout is not None:
+            self.wall_deadline = time.monotonic() + self.timeout
+        if self.planner is not None:
+            self.planner.stop_at(self.wall_deadline)
         result = self.result
         prog: Prog | None = None
         try:
@@ -219,7 +229,7 @@ class Executor:
                 if self.timed_out(strictly=True):
                     self.stop_at_timeout(prog)
                     break
-                if self.wall_timed_out(started):
+                if self.wall_timed_out():
                     self.stop_at_wall_timeout(prog, started)
                     break
                 successors = self.sem.trans(prog, self.state, self.acts, first=True)
@@ -229,6 +239,7 @@ class Executor:
                     if self.waiting_at is not None:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
                         self.waiting_at = self.waiting_for = None
+                    self.blocked = False
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
@@ -240,9 +251,10 @@ class Executor:
                     self.stop_at_timeout(prog)
                     break
                 if wake is not None or self.platform.live():
+                    self.blocked = True
                     self.note_waiting(prog)
-                    deadline = min((t for t in (wake, self.timeout) if t is not None), default=None)
-                    if self.platform.wait(deadline) or len(self.platform.queue) > 0:
+                    deadline = min((t for t in (wake, self.time_limit) if t is not None), default=None)
+                    if self.platform.wait(deadline, wall_deadline=self.wall_deadline) or len(self.platform.queue) > 0:
                         continue
                     if wake is not None and self.platform.now() >= wake:
                         chased += 1
@@ -252,7 +264,7 @@ class Executor:
                     if self.timed_out():
                         self.stop_at_timeout(prog)
                         break
-                    if self.wall_timed_out(started):
+                    if self.wall_timed_out():
                         self.stop_at_wall_timeout(prog, started)
                         break
                     if self.platform.live():
@@ -264,6 +276,9 @@ class Executor:
                 break
         except GppRuntimeError as e:
             self.fail(e)
+        except WallClockReached:  # the planner was planning when the wall-clock bound came
+            assert prog is not None
+            self.stop_at_wall_timeout(prog, started, planning=True)
         except RecursionError:
             self.fail(
                 GppRuntimeError(
@@ -312,31 +327,43 @@ class Executor:
         return result
 
     def timed_out(self, strictly: bool = False) -> bool:
-        """Has the platform's clock reached the timeout (passed it, when `strictly`)? Steps at
-        the very moment of the timeout still happen; waiting beyond it does not."""
-        if self.timeout is None:
+        """Has the platform's clock reached the time limit (passed it, when `strictly`)? Steps
+        at the very moment of the limit still happen; waiting beyond it does not."""
+        if self.time_limit is None:
             return False
         now = self.platform.now()
-        return now > self.timeout if strictly else now >= self.timeout
+        return now > self.time_limit if strictly else now >= self.time_limit
 
-    def wall_timed_out(self, started: float) -> bool:
-        """Has the run taken longer than the timeout in wall-clock time? (On a virtual-time
-        platform a loop that takes no time never moves the clock: this still ends it.)"""
-        return self.wall_timeout is not None and time.perf_counter() - started > self.wall_timeout
+    def wall_timed_out(self) -> bool:
+        """Has the run taken longer than its timeout in wall-clock time?"""
+        return self.wall_deadline is not None and time.monotonic() >= self.wall_deadline
 
-    def stop_at_wall_timeout(self, prog: Prog, started: float) -> None:
+    def stop_at_wall_timeout(self, prog: Prog, started: float, planning: bool = False) -> None:
+        """Stop the run at its wall-clock bound (`--timeout`): where it was, and what it was
+        doing (planning, waiting, or making steps without end)."""
         self.result.status = RunStatus.TIMEOUT
+        assert self.timeout is not None
+        notes = [f"it ran for {time.perf_counter() - started:.1f} s of wall-clock time"]
+        if planning:
+            notes.append("it was planning (the bound holds while the planner works too)")
+            label = "planning here"
+        elif self.blocked:
+            self.ctx.explaining = True
+            try:
+                waiting = why_blocked(self.sem, prog, self.state, self.acts)
+            except GppRuntimeError:
+                waiting = None  # explaining would have asked the platform
+            finally:
+                self.ctx.explaining = False
+            if waiting is not None:
+                notes.append(f"it waits here: {waiting.message.removeprefix(BLOCKED)}")
+            label = "waiting here"
+        else:
+            notes.append("it was making steps: a loop whose steps take no platform time never ends on its own")
+            label = "running here"
         span = _head_span(prog) or self.entry_span()
-        assert span is not None and self.wall_timeout is not None
-        d = diag.error(
-            R0013.wall_clock(self.wall_timeout, self.platform.now()),
-            span,
-            "running here",
-            notes=[
-                f"it ran for {time.perf_counter() - started:.1f} s of wall-clock time",
-                "a loop whose steps take no platform time never lets the clock reach the timeout",
-            ],
-        )
+        assert span is not None
+        d = diag.error(R0013.wall_clock(self.timeout, self.platform.now()), span, label, notes=notes)
         self.result.diagnostics.append(d)
         self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=d.code, message=d.message, at=_where(d.span)))
 
@@ -819,11 +846,12 @@ class Executor:
         return dataclasses.replace(why, notes=(*why.notes, final_note))
 
     def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
+        """R0013 at the time limit (`--time-limit`, platform time): where the program waits."""
         waiting = why_blocked(self.sem, prog, self.state, self.acts)
         span = waiting.span if waiting is not None else self.entry_span()
-        assert span is not None and self.timeout is not None
+        assert span is not None and self.time_limit is not None
         notes = [f"it waits here: {waiting.message.removeprefix(BLOCKED)}", *waiting.notes] if waiting else []
-        return diag.error(R0013.timeout(self.timeout), span, "waiting here", notes=notes)
+        return diag.error(R0013.time_limit(self.time_limit), span, "waiting here", notes=notes)
 
 
 # A program that wakes up this many times in a row at the time its condition named, and still

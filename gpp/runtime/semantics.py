@@ -355,6 +355,11 @@ class OnlinePlanner(Protocol):
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession: ...
 
+    def stop_at(self, deadline: float | None) -> None:
+        """Planning that goes on past `deadline` (a `time.monotonic()` moment: the run's
+        wall-clock bound) raises gpp.runtime.errors.WallClockReached."""
+        ...
+
 
 # ---------------------------------------------------------------- the semantics
 

@@ -720,7 +720,7 @@ class Ros2Platform(Platform):
     def now(self) -> float:
         return time.monotonic() - self.t0
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         while True:
             if len(self.queue):
                 return True
@@ -729,6 +729,10 @@ class Ros2Platform(Platform):
             slice_ = 0.1
             if deadline is not None:
                 slice_ = min(slice_, deadline - self.now())
+                if slice_ <= 0:
+                    return False
+            if wall_deadline is not None:
+                slice_ = min(slice_, wall_deadline - time.monotonic())
                 if slice_ <= 0:
                     return False
             if self.queue.wait(slice_):

@@ -221,7 +221,7 @@ class SimPlatform(Platform):
     def now(self) -> float:
         return self.clock
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         if len(self.queue):
             return True
         if not self.tasks:
@@ -239,6 +239,8 @@ class SimPlatform(Platform):
                     return False
                 if not self.tasks:
                     return False
+                if wall_deadline is not None and time.monotonic() >= wall_deadline:
+                    return False  # the run's wall-clock bound: the physics took that long
                 if self.realtime:
                     ahead = (self.clock - sim0) - (time.perf_counter() - wall0)
                     if ahead > 0.005:
