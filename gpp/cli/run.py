@@ -381,6 +381,7 @@ def run(
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     options.progress = view.progress
+    options.clock = view.watch_clock
     from gpp.runtime.events import ErrorEvent, PlanEvent, ReplanEvent
     from gpp.runtime.trace import Recording, TraceListener, TraceWriteError
 

@@ -65,6 +65,8 @@ class RunOptions:
     search_strategy: str = "depth-first"
     # Told now and then how a long `solve` is getting on (the run view shows it).
     progress: Callable[[Progress], None] | None = None
+    # Told the platform's clock once the platform exists (the live view shows it between events).
+    clock: Callable[[Callable[[], float]], None] | None = None
 
 
 @dataclass
@@ -137,6 +139,8 @@ def run_program(
     entry_args = entry_arguments(check.model.globals[options.entry], options.args)
     platform = make_platform(options, check, path)
     outcome.platform = platform.name
+    if options.clock is not None:
+        options.clock(platform.now)
     trace: Trace | None = None
     try:
         header = _header(path, platform)

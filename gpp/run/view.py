@@ -5,7 +5,9 @@ event, so logs and CI output stay readable."""
 
 from __future__ import annotations
 
+import threading
 from collections import deque
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol, TextIO, assert_never
 
 from gpp.runtime.events import (
@@ -107,6 +109,10 @@ class RunView(Protocol):
         """A `solve` that has planned for more than a second says how far it got."""
         ...
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        """The platform's clock, once the platform exists: a live view shows it between events."""
+        ...
+
     def __enter__(self) -> RunView: ...
 
     def __exit__(self, *exc: object) -> None: ...
@@ -121,6 +127,9 @@ class NoView:
         pass
 
     def progress(self, p: Progress) -> None:
+        pass
+
+    def watch_clock(self, now: Callable[[], float]) -> None:
         pass
 
     def __enter__(self) -> NoView:
@@ -148,6 +157,9 @@ class PlainView:
         self.out.write(f"{'':13} {progress_text(p)}\n")
         self.out.flush()
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        pass  # one line per event: the event's time is the time
+
     def __enter__(self) -> PlainView:
         return self
 
@@ -156,7 +168,9 @@ class PlainView:
 
 
 class LiveView:
-    """A rich live panel, redrawn at most a few times a second."""
+    """A rich live panel, redrawn a few times a second. Its clock is the platform's, read at
+    every redraw while the run goes on, so a long drive does not look hung; the events are
+    recorded by the run's thread and drawn by rich's refresh thread (one lock guards both)."""
 
     shows = True
 
@@ -174,9 +188,20 @@ class LiveView:
         self.waiting: WaitingEvent | None = None
         # How a long `solve` is getting on, while it plans.
         self.planning: Progress | None = None
+        # The platform's clock while the run goes on (None: only the events' times).
+        self.clock: Callable[[], float] | None = None
+        self._lock = threading.Lock()
         self._live: Live | None = None
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        with self._lock:
+            self.clock = now
+
     def __call__(self, event: TraceEvent) -> None:
+        with self._lock:  # drawn by rich's refresh thread, 8 times a second
+            self._record(event)
+
+    def _record(self, event: TraceEvent) -> None:
         self.time = event.t
         match event:
             case StartEvent():
@@ -198,26 +223,39 @@ class LiveView:
                 self.planning = None
             case WaitingEvent():
                 self.waiting = None if event.resumed else event
+            case FinishEvent():
+                self.clock = None  # the run is over: its last event's time is its end
             case _:
                 pass
         line = describe(event)
         if line is not None:
             self.events.append(f"[dim]{event.t:>8.2f}s[/dim] {_escape(line)}")
-        if self._live is not None:
-            self._live.update(self.render())
 
     def progress(self, p: Progress) -> None:
-        self.planning = p
-        if self._live is not None:
-            self._live.update(self.render())
+        with self._lock:
+            self.planning = p
+
+    def now(self) -> float:
+        """The time the panel shows: the platform's clock while the run goes on, else the time
+        of the last event."""
+        if self.clock is None:
+            return self.time
+        try:
+            return max(self.time, self.clock())
+        except Exception:  # a platform closing under the reading: its last event's time will do
+            return self.time
 
     def render(self) -> RenderableType:
+        with self._lock:
+            return self._render()
+
+    def _render(self) -> RenderableType:
         from rich.console import Group
         from rich.panel import Panel
         from rich.table import Table
 
         header = (
-            f"[bold]{_escape(self.title)}[/bold]   t = {self.time:.2f} s   actions {self.counts['actions']}"
+            f"[bold]{_escape(self.title)}[/bold]   t = {self.now():.2f} s   actions {self.counts['actions']}"
             f"   failed {self.counts['failed']}   exog events {self.counts['exog']}"
         )
         running = Table(show_header=True, header_style="bold", box=None, expand=False)
@@ -251,13 +289,13 @@ class LiveView:
     def __enter__(self) -> LiveView:
         from rich.live import Live
 
-        self._live = Live(self.render(), console=self.console, refresh_per_second=8, transient=False)
+        self._live = Live(console=self.console, refresh_per_second=8, transient=False, get_renderable=self.render)
         self._live.__enter__()
         return self
 
     def __exit__(self, *exc: object) -> None:
         if self._live is not None:
-            self._live.update(self.render())
+            self._live.refresh()
             self._live.__exit__(None, None, None)
             self._live = None
 

@@ -310,3 +310,31 @@ def test_parameters_of_main_that_do_not_fit_are_usage_errors(tmp_path: Path, arg
     assert result.returncode == 2, result.stdout + result.stderr
     assert message in result.stderr
     assert "internal error" not in result.stdout + result.stderr
+
+
+# ---------------------------------------------------------------- the live panel's clock (issue 24 item 4)
+
+
+def test_the_live_panels_clock_ticks_between_events_on_a_realtime_platform(tmp_path: Path) -> None:
+    import io
+    import re
+
+    from rich.console import Console
+
+    from gpp.run.runner import RunOptions, run_program
+    from gpp.run.view import LiveView
+
+    program = tmp_path / "drive.gpp"
+    program.write_text(LONG_DRIVE, encoding="utf-8")
+    out = io.StringIO()
+    view = LiveView(Console(file=out, width=120, force_terminal=True, color_system=None), "drive.gpp")
+    options = RunOptions(platform_options={"realtime": True}, timeout=2.5, record=True, clock=view.watch_clock)
+    with view:
+        outcome = run_program(program, options, [view])
+    assert outcome.recording is not None and outcome.result is not None
+    event_times = {round(e.t, 2) for e in outcome.recording.records}
+    shown = {float(t) for t in re.findall(r"t = ([0-9]+\.[0-9]+) s", out.getvalue())}
+    # The panel was redrawn with the platform's clock between the events, not only at them.
+    ticks = shown - event_times
+    assert len(ticks) >= 3, (sorted(shown), sorted(event_times))
+    assert max(shown) <= max(event_times)
