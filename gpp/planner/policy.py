@@ -298,7 +298,7 @@ class PlanHolder:
             deadline=self.deadline,
         )
 
-    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int] | None:
+    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int, Span] | None:
         if self.policy is None:
             return None
         entry = self.step_at(p.index)
@@ -310,7 +310,7 @@ class PlanHolder:
         if isinstance(step, DoStep) and not p.calling:
             return None  # an identical activity runs: the plan is made again (see `successors`)
         number = 1 + sum(1 for _, before, _ in self.policy[: p.index - self.base] if before.cost)
-        return step.action, number
+        return step.action, number, step.span
 
     def unfinished(self, sem: Semantics, prog: Prog, plan: Plan, state: State, acts: Activities) -> PlanReport:
         """The plan's report, saying whether a `solve` plan ends at its horizon with the program

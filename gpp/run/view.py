@@ -90,7 +90,7 @@ def describe(event: TraceEvent) -> str | None:
             where = f" at {event.at}" if event.at else ""
             if event.reason == "activity" and event.action is not None and event.plan_step is not None:
                 step = f"step {event.plan_step} of the plan"
-                return f"wait   for `{event.action}` to end, {step} of {event.statement}{where}"
+                return f"wait   for `{event.action}` to end, {step}: {event.statement}{where}"
             return f"wait   {event.condition}: {event.statement}{where}"
         case HeaderEvent() | SnapshotEvent():
             return None

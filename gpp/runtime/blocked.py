@@ -112,11 +112,12 @@ class _Explanation:
                 stmt = p.session.stmt
                 awaited = p.session.awaited(p, acts)
                 if awaited is not None:
-                    self.awaited = g, number = awaited
+                    g, number, span = awaited
+                    self.awaited = g, number
                     status = acts.status(g)
                     return diag.error(
                         R0011.awaits_planned(g.text, number),
-                        stmt.span,
+                        span,
                         f"`{g.text}` is {status.value if status is not None else 'not started'}",
                     )
                 return diag.error(

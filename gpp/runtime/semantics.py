@@ -343,10 +343,10 @@ class PlanSession(Protocol):
         says why)."""
         ...
 
-    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int] | None:
+    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int, Span] | None:
         """What `p` (a Planned of this session that cannot step) waits for, when it is a
-        planned activity: the activity, and the number of its step among the plan's steps
-        (1 for the first)."""
+        planned activity: the activity, the number of its step among the plan's steps (1 for
+        the first), and the statement of the step (the call, the `during`)."""
         ...
 
 

@@ -121,7 +121,7 @@ def test_a_wait_for_a_planned_activity_says_which_activity_and_step_it_waits_for
     assert (first.reason, first.action, first.plan_step) == ("activity", "goto(room1)", 1)
     assert first.condition == "waiting for `goto(room1)` to end, step 1 of the plan"
     line = describe(first)
-    assert line is not None and line.startswith("wait   for `goto(room1)` to end, step 1 of the plan of solve(6")
+    assert line is not None and line.startswith("wait   for `goto(room1)` to end, step 1 of the plan: during (goto(r))")
     # After the first visit, the plan's later steps: greet(room1) is step 2, goto(room2) step 3.
     steps = [(w.action, w.plan_step) for w in waits[-3:]]
     assert steps == [("greet(room1)", 2), ("goto(room2)", 3), ("greet(room2)", 4)]
