@@ -204,13 +204,13 @@ class Executor:
 
     def _run(self) -> RunResult:
         started = time.perf_counter()
-        if self.timeout is not None:
-            self.wall_deadline = time.monotonic() + self.timeout
-        if self.planner is not None:
-            self.planner.stop_at(self.wall_deadline)
         result = self.result
         prog: Prog | None = None
         try:
+            if self.timeout is not None:
+                self.wall_deadline = time.monotonic() + self.timeout
+            if self.planner is not None:
+                self.planner.stop_at(self.wall_deadline)
             prog = self.sem.entry(self.entry, self.entry_args)
             # Wake-ups in a row at which the program still could not step.
             chased = 0
