@@ -271,9 +271,10 @@ class LiveView:
         if self.waiting is not None:
             w = self.waiting
             where = f" [dim]at {_escape(w.at)}[/dim]" if w.at else ""
+            # A planned activity's condition says "waiting for ...": the panel does not repeat it.
+            said = f" {w.condition.removeprefix('waiting ')}" if w.reason == "activity" else f": {w.condition}"
             parts.append(
-                f"[yellow]waiting[/yellow] since {w.t:.2f} s: {_escape(w.condition)}\n"
-                f"        {_escape(w.statement)}{where}"
+                f"[yellow]waiting[/yellow] since {w.t:.2f} s{_escape(said)}\n        {_escape(w.statement)}{where}"
             )
         parts.append(running)
         if self.planning is not None:
