@@ -31,6 +31,7 @@ from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     Code,
     DoStep,
+    DuringEnd,
     EndKind,
     EndStep,
     Frame,
@@ -38,6 +39,7 @@ from gpp.runtime.semantics import (
     Prog,
     ReplanStep,
     Semantics,
+    Seq,
     StartStep,
     Step,
     Successor,
@@ -366,10 +368,7 @@ class PlanHolder:
             assert status is not None
             for q, candidate in planning.trans(before, state, acts):
                 if candidate == step:
-                    handler = "on_fail" if status is ActivityStatus.FAILED else "on_cancel"
-                    reason = f"`{step.action.text}` {status.value}" + (
-                        f": its `{handler}` handler runs next" if step.hook == EndKind.DURING else ""
-                    )
+                    reason = f"`{step.action.text}` {status.value}" + _handler_note(before, step.action, status)
                     return [(Planned(self.after_failure(p.index, step.action, q, reason), 0), candidate)]
         if (after, step) in planning.trans(before, state, acts):
             if isinstance(step, DoStep):
@@ -405,3 +404,17 @@ class PlanHolder:
 def _starts(step: Step, action: GroundAction) -> bool:
     """Does the policy step start an activity of `action` (a call, a `start`, a `during`)?"""
     return isinstance(step, DoStep | StartStep) and step.action == action
+
+
+def _handler_note(p: Prog, action: GroundAction, status: ActivityStatus) -> str:
+    """When `p` is about to end the `during` of `action`, whose handler for `status` (failed,
+    cancelled) runs next: a note that says so."""
+    while isinstance(p, Seq) and not (isinstance(p.first, DuringEnd) and p.first.action == action):
+        p = p.rest  # what comes before the end (an empty body) makes no step
+    if isinstance(p, Seq):
+        p = p.first
+    if not isinstance(p, DuringEnd) or p.action != action:
+        return ""
+    failed = status is ActivityStatus.FAILED
+    handler = p.on_fail if failed else p.on_cancel
+    return f": its `{'on_fail' if failed else 'on_cancel'}` handler runs next" if handler is not None else ""

@@ -217,3 +217,14 @@ def test_the_live_panel_says_which_planned_activity_it_waits_for() -> None:
     text = out.getvalue()
     assert "waiting since 0.00 s for `goto(room1)` to end, step 1 of the plan" in text
     assert "found no plan" not in text
+
+
+def test_a_during_without_a_handler_is_planned_again_without_naming_one(tmp_path: Path) -> None:
+    text = RETRIES.read_text(encoding="utf-8").replace("during (goto(r)) { } on_fail { }", "during (goto(r)) { }")
+    text = text.replace("// scenario: solve_retries.toml", "// scenario: retries.toml")
+    outcome = run_retries(tmp_path, text)
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
+    assert outcome.recording is not None
+    assert {r.reason for r in outcome.recording.of(ReplanEvent)} == {"`goto(room1)` failed"}
+    assert [r.horizon for r in outcome.recording.of(ReplanEvent)] == [6, 6, 6]
+    assert outcome.postcond is True
