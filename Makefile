@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test quick lint typecheck pytest browser bench pathological fuzz clean ros-interfaces ros-robot ros-run
+.PHONY: run test quick lint typecheck pytest browser neovim bench pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -62,7 +62,21 @@ browser:
 		echo "note: chromium is missing and cannot be installed here (needs root and apt-get): the browser test will be skipped"; \
 	fi
 
-test: browser lint typecheck pytest
+# The editor test (tests/lsp/test_neovim.py) runs Debian's neovim headless with the set-up of
+# docs/editor.md for Neovim 0.7 (what Debian 12 ships). As root with apt-get it is installed when
+# missing; otherwise the test is skipped and says why.
+neovim:
+	@if command -v nvim >/dev/null 2>&1; then \
+		:; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing Debian's neovim for the editor test"; \
+		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends neovim >/dev/null; } \
+			|| echo "warning: could not install neovim: the editor test will be skipped"; \
+	else \
+		echo "note: neovim is missing and cannot be installed here (needs root and apt-get): the editor test will be skipped"; \
+	fi
+
+test: browser neovim lint typecheck pytest
 
 # The benches, their figures written into docs/performance.md: bench/performance.py runs each
 # bench with the options below (bench/performance.py's BENCHES keeps them) and replaces the text
@@ -119,6 +133,14 @@ ros-robot: $(VENV)/.installed-dev ros-interfaces
 
 ros-run: $(VENV)/.installed-dev ros-interfaces
 	$(ROS_ENV) $(BIN)/gpp run examples/blocksworld.gpp --platform ros2
+
+# Two example robots, under /robot1 and /robot2, and one agent driving both (docs/platforms.md,
+# "Many robots"); the agent waits for their names to show up in the ROS graph.
+ros-fleet: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py --ros-args -r __ns:=/robot1 & r1=$$!; \
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py --ros-args -r __ns:=/robot2 & r2=$$!; \
+	$(ROS_ENV) $(BIN)/gpp run examples/ros2/two_robots.gpp --platform ros2; status=$$?; \
+	kill $$r1 $$r2; exit $$status
 
 clean:
 	rm -rf $(VENV) build dist .mypy_cache .pytest_cache .ruff_cache

@@ -16,24 +16,18 @@ from pathlib import Path
 from typing import TypeVar
 
 from lsprotocol import types
-from pygls.exceptions import JsonRpcException
 
 from gpp.base.source import Source, Span
 from gpp.check import CheckResult
+from gpp.check.session import IncompleteSearch
 from lsp import features
 from lsp.features.earlier import EarlierText, Unplaced
 from lsp.ranges import lsp_range
-from lsp.server import GppServer, guarded, uri_to_path
+from lsp.server import GppServer, RequestFailed, guarded, uri_to_path
 
 R = TypeVar("R")
 # Programs of the workspace that `workspace/symbol` checks at most (open documents always).
 _MAX_SYMBOL_PROGRAMS = 200
-
-
-class RequestFailed(JsonRpcException):
-    """LSP's RequestFailed: the request was valid but cannot be done (a refused rename)."""
-
-    CODE = -32803
 
 
 def source_of(result: CheckResult, path: Path, server: GppServer) -> Source:
@@ -150,6 +144,16 @@ def refusing(fn: Callable[[CheckResult, Path, int], R]) -> Callable[[CheckResult
     return run
 
 
+def _checks_seeing(ls: GppServer, declaring: Path) -> list[CheckResult]:
+    """The checks of every program that sees the declarations of the file `declaring`
+    (RequestFailed when not every file that could was read)."""
+    try:
+        roots = ls.session.programs_seeing(declaring)
+    except IncompleteSearch as e:
+        raise RequestFailed(f"cannot rename safely: {e}") from e
+    return [ls.session.check(root) for root in roots]
+
+
 def _none() -> None:
     return None
 
@@ -227,11 +231,22 @@ def register_features(server: GppServer) -> None:
     @guarded(_none)
     async def rename(ls: GppServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
         new_name = params.new_name
+        found = await ls.result_for(params.text_document.uri)
+        if found is None:
+            return None
+        result, path = found
+        offset = source_of(result, path, ls).lsp_offset(params.position.line, params.position.character)
+        declared = await ls.on_request_thread(lambda: refusing(features.rename_scope)(result, path, offset))
+        others: list[CheckResult] = []
+        if declared is not None:
+            # Every program of the workspace and its projects that includes the declaring
+            # file, open or not, checked as the diagnostics are (on the analysis thread).
+            others = await ls.on_analysis_thread(lambda: _checks_seeing(ls, declared[0]))
 
         def run(result: CheckResult, path: Path, offset: int) -> types.WorkspaceEdit | None:
-            return features.rename(result, path, offset, new_name)
+            return features.rename(result, path, offset, new_name, [o for o in others if o is not result])
 
-        return await at(ls, params.text_document.uri, params.position, refusing(run), None)
+        return await ls.on_request_thread(lambda: refusing(run)(result, path, offset))
 
     @server.feature(
         types.TEXT_DOCUMENT_SIGNATURE_HELP,

@@ -135,6 +135,13 @@ def uri_to_path(uri: str) -> Path:
 # ---------------------------------------------------------------- the protocol
 
 
+class RequestFailed(JsonRpcException):
+    """LSP's RequestFailed: the request was valid but cannot be done (a refused rename). The
+    client gets the reason as the error's message; the server's log gets one line."""
+
+    CODE = -32803
+
+
 class _Protocol(LanguageServerProtocol):
     """pygls' protocol, but the documents are gpp's (gpp.check.session): pygls' own copies would
     cost a second application of every edit, and it counts line breaks its own way (Python's
@@ -148,6 +155,20 @@ class _Protocol(LanguageServerProtocol):
         if general is not None:
             general.position_encodings = None
         return (yield from super().lsp_initialize(params))
+
+    def _send_handler_result(self, future: Future[Any], *, msg_id: Any) -> None:
+        """pygls' answer to a request, but a refusal (RequestFailed) is answered without
+        pygls' report of an exception (a traceback on stderr): it is no error of the server,
+        and its reason is logged to the client in one line."""
+        refusal = None if future.cancelled() else future.exception()
+        if not isinstance(refusal, RequestFailed):
+            super()._send_handler_result(future, msg_id=msg_id)
+            return
+        self._request_futures.pop(msg_id, None)
+        self._send_response(msg_id, error=refusal.to_response_error())
+        server = self._server
+        if isinstance(server, GppServer):
+            server.log(f"gpp: request {msg_id} refused: {refusal.message}", types.MessageType.Info)
 
     @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
     def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams) -> Any:

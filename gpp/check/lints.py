@@ -28,6 +28,7 @@ from typing import Any, TypeVar, assert_never, get_args
 from gpp import codes
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.model.declarations import placeholders_in
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base, show_value
@@ -491,17 +492,21 @@ def unused_variable(program: _Program) -> Iterator[diag.Diagnostic]:
 def _params_with_body(program: _Program) -> Iterator[Symbol]:
     """Parameters of the functions, procedures and actions defined in the root files whose
     use can be judged: an action without `mapping:` passes every parameter to the platform,
-    and an exogenous action's parameters are set by its events."""
+    and an exogenous action's parameters are set by its events. A parameter named as a
+    placeholder in the mapped name (`"/{r}/navigate"`) is used by it."""
     for symbol in program.root_globals():
         decl = symbol.decl
         if symbol.predefined or not symbol.is_defined:
             continue
+        in_name: set[str] = set()
         if isinstance(decl, ast.ActionDecl):
-            if decl.exogenous or decl.section(ast.MappingSection) is None:
+            section = decl.section(ast.MappingSection)
+            if decl.exogenous or not isinstance(section, ast.MappingSection):
                 continue
+            in_name = set(placeholders_in(section.mapping.name.value))
         elif not isinstance(decl, ast.FunctionDecl | ast.ProcedureDecl):
             continue
-        yield from (p for p in symbol.params if program.linted(p.span))
+        yield from (p for p in symbol.params if p.name not in in_name and program.linted(p.span))
 
 
 def _variables(program: _Program) -> Iterator[Symbol]:

@@ -132,6 +132,7 @@ class Session:
         # Which files include which, for the includes it was built from.
         self._included_by: tuple[dict[Path, tuple[Path, ...]], dict[Path, list[Path]]] = ({}, {})
         self._workspace_files: list[Path] | None = None
+        self._workspace_truncated = False
         # The latest check of each program: its inputs (file, parse, includes) and the result.
         self._checked: dict[Path, tuple[tuple[object, ...], CheckResult]] = {}
 
@@ -224,17 +225,42 @@ class Session:
 
     def workspace_files(self) -> list[Path]:
         """The `.gpp` files in the workspace folders (hidden folders such as .git and .venv left
-        out, at most MAX_WORKSPACE_FILES)."""
+        out), and those of the projects configured in them (a `gpp.toml` whose `paths` reach
+        outside the folders); at most MAX_WORKSPACE_FILES."""
         if self._workspace_files is None:
             files: list[Path] = []
+            configs: list[Path] = []
             for folder in self.folders:
                 for here, dirs, names in os.walk(folder):
                     dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d != "node_modules")
                     files.extend(Path(here, n).resolve() for n in sorted(names) if n.endswith(".gpp"))
-                    if len(files) >= MAX_WORKSPACE_FILES:
+                    configs.extend(Path(here, n) for n in names if n in _CONFIG_NAMES)
+                    if len(files) > MAX_WORKSPACE_FILES:
                         break
+            files = list(dict.fromkeys([*files, *project_files_of(configs, self.folders)]))
+            self._workspace_truncated = len(files) > MAX_WORKSPACE_FILES
             self._workspace_files = files[:MAX_WORKSPACE_FILES]
         return self._workspace_files
+
+    def programs_seeing(self, path: Path) -> list[Path]:
+        """Every program that sees the declarations of `path`: the files of the workspace, of
+        its projects and of the projects of `path` and of the open documents that include
+        `path` (directly or not) and are included by none of them, all of them (unlike
+        `programs_of`); `path` itself when nothing includes it. Raises IncompleteSearch when
+        the workspace has more files than are read."""
+        path = path.resolve()
+        opened = self._texts()
+        configs = [found for f in (path, *opened) if (found := _config_file(f)) is not None]
+        known = list(dict.fromkeys([*opened, *self.workspace_files(), *project_files_of(configs, self.folders)]))
+        if self._workspace_truncated:
+            raise IncompleteSearch(
+                f"the workspace has more than {MAX_WORKSPACE_FILES} .gpp files, and only those were read"
+            )
+        included_by: dict[Path, list[Path]] = {}
+        for f in known:
+            for target in self.includes_of(f, opened):
+                included_by.setdefault(target, []).append(f)
+        return _tops(path, included_by, opened) or [path]
 
     def programs_of(self, path: Path, overrides: dict[Path, str] | None = None) -> list[Path]:
         """The programs `path` is checked under: the files that include it (directly or not)
@@ -242,19 +268,8 @@ class Session:
         at most MAX_PROGRAMS), or `path` itself when nothing includes it."""
         path = path.resolve()
         opened = overrides if overrides is not None else self._texts()
-        included_by = self._included_by_index(opened)
-        ancestors: list[Path] = []
-        todo = list(included_by.get(path, ()))
-        while todo:
-            f = todo.pop(0)
-            if f not in ancestors and f != path:
-                ancestors.append(f)
-                todo.extend(included_by.get(f, ()))
-        if not ancestors:
-            return [path]
-        tops = [a for a in ancestors if not included_by.get(a)] or ancestors  # a cycle: any of them
-        tops.sort(key=lambda a: (a not in opened, str(a)))
-        return tops[:MAX_PROGRAMS]
+        tops = _tops(path, self._included_by_index(opened), opened)
+        return tops[:MAX_PROGRAMS] if tops else [path]
 
     def _included_by_index(self, opened: dict[Path, str]) -> dict[Path, list[Path]]:
         """The files that include each known file (open documents first), rebuilt only when
@@ -307,6 +322,54 @@ class Session:
         """The checks of the programs `path` belongs to (the first is the one features use)."""
         texts = overrides if overrides is not None else self._texts()
         return [self.check(root, texts) for root in self.programs_of(path, texts)]
+
+
+class IncompleteSearch(Exception):
+    """Not every file that could include a file was read; the message says why."""
+
+
+_CONFIG_NAMES = frozenset({"gpp.toml", "pyproject.toml"})
+
+
+def _tops(path: Path, included_by: dict[Path, list[Path]], opened: dict[Path, str]) -> list[Path]:
+    """The files that include `path` (directly or not, by `included_by`) and are included by
+    none of them (the open ones first); empty when nothing includes `path`."""
+    ancestors: list[Path] = []
+    todo = list(included_by.get(path, ()))
+    while todo:
+        f = todo.pop(0)
+        if f not in ancestors and f != path:
+            ancestors.append(f)
+            todo.extend(included_by.get(f, ()))
+    tops = [a for a in ancestors if not included_by.get(a)] or ancestors  # a cycle: any of them
+    tops.sort(key=lambda a: (a not in opened, str(a)))
+    return tops
+
+
+def _config_file(path: Path) -> Path | None:
+    """The configuration file of the project `path` belongs to, if any."""
+    from gpp.project.config import find_config_file
+
+    return find_config_file(path)
+
+
+def project_files_of(config_files: Iterable[Path], searched: Sequence[Path] = ()) -> list[Path]:
+    """The `.gpp` files of the projects these configuration files describe (their `paths`,
+    minus `exclude`), but for the paths inside the folders `searched` already; a file that is
+    not valid (or a pyproject.toml without gpp settings) adds none."""
+    from gpp.project.config import ConfigError, config_for, find_config_file, gpp_files
+
+    out: list[Path] = []
+    for config_file in dict.fromkeys(config_files):
+        if find_config_file(config_file.parent) != config_file:
+            continue  # (a pyproject.toml without a [tool.gpp] table, or shadowed by a gpp.toml)
+        try:
+            config = config_for(config_file.parent)
+            paths = [p for p in config.paths if not any(p.resolve().is_relative_to(f) for f in searched)]
+            out.extend(p.resolve() for p in gpp_files(paths, config.exclude) if p.suffix == ".gpp")
+        except (ConfigError, OSError):
+            continue
+    return out
 
 
 def _project_settings(root: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:

@@ -34,6 +34,30 @@ COMMANDS: dict[str, str] = {
 coercion.install()
 
 
+def _value_types_where_they_say_something() -> None:
+    """Show a value type in `--help` only beside an option that takes a value: typer prints
+    `<bool>` beside a flag such as `--quiet`, which takes none, and `<list[Path]>` beside an
+    argument whose name (PATH, FILE) and help already say what it is."""
+    from typer.core import TyperArgument, TyperOption
+
+    shown = TyperOption.display_type_rich
+    if getattr(shown, "only_where_they_say_something", False):
+        return
+
+    def option_type(self: TyperOption, ctx: typer.Context) -> str | None:
+        return None if self.is_flag and self.metavar is None else shown(self, ctx)
+
+    def argument_type(self: TyperArgument, ctx: typer.Context) -> str | None:
+        return None
+
+    option_type.only_where_they_say_something = True  # type: ignore[attr-defined]
+    setattr(TyperOption, "display_type_rich", option_type)  # noqa: B010
+    setattr(TyperArgument, "display_type_rich", argument_type)  # noqa: B010
+
+
+_value_types_where_they_say_something()
+
+
 def _print_version(value: bool) -> None:
     if value:
         print(f"gpp {__version__}")

@@ -98,7 +98,7 @@ def check(
 ) -> None:
     """Parse PATHs and everything they include, and report the problems found.
 
-    Settings come from the nearest gpp.toml, or the tool.gpp table of pyproject.toml (see
+    Settings come from the nearest gpp.toml, or the `[tool.gpp]` table of pyproject.toml (see
     `gpp config`).
 
     Exit code 0 when there are no errors (and no warnings with --deny-warnings), 1 otherwise,

@@ -28,6 +28,9 @@ APP_SETTINGS: dict[str, Any] = {
     "no_args_is_help": True,
     "add_completion": False,
     "pretty_exceptions_enable": False,
+    # Help texts are Markdown: paragraphs are reflowed to the terminal's width, `code` is shown as
+    # code, and square brackets (`[tool.gpp]`, `[PATH]`) are text, not Rich markup.
+    "rich_markup_mode": "markdown",
     "context_settings": {"help_option_names": ["-h", "--help"]},
 }
 
@@ -88,6 +91,26 @@ def require_writable(paths: Sequence[Path]) -> None:
     problems = [problem for problem in map(write_problem, paths) if problem is not None]
     if problems:
         usage_error("; ".join(problems) + ": no file was changed")
+
+
+def split_ros_arguments(args: list[str]) -> tuple[list[str], tuple[str, ...] | None]:
+    """The command line without its ROS arguments, and those (None when there is no
+    `--ros-args`): as for any ROS node, each `--ros-args` begins them and `--` (or the end)
+    ends them, so `gpp run a.gpp --ros-args -r __ns:=/r1 -- --trace t.jsonl` runs with
+    `--trace`. rcl parses them (the ros2 platform hands them on)."""
+    if "--ros-args" not in args:
+        return args, None
+    rest: list[str] = []
+    ros: list[str] = []
+    inside = False
+    for arg in args:
+        if arg == "--ros-args":
+            inside = True
+        elif inside and arg == "--":
+            inside = False
+        else:
+            (ros if inside else rest).append(arg)
+    return rest, tuple(ros)
 
 
 def usage_error(message: str) -> NoReturn:

@@ -26,7 +26,7 @@ def fmt(
     paths: Annotated[
         list[Path] | None,
         typer.Argument(
-            metavar="[PATH]...",
+            metavar="PATH",
             help="The .gpp files to format; a folder means every .gpp file in it; none: the project's paths "
             "(gpp.toml); `-` reads standard input and writes the result to standard output.",
         ),

@@ -18,12 +18,12 @@ def config_command(
     path: Annotated[
         Path | None,
         typer.Argument(
-            metavar="[PATH]", help="A file or folder whose settings to show (default: the working directory)."
+            metavar="PATH", help="A file or folder whose settings to show (default: the working directory)."
         ),
     ] = None,
 ) -> None:
     """Show the settings that apply to PATH and the file they come from (gpp.toml, or the
-    tool.gpp table of pyproject.toml, the nearest going up)."""
+    `[tool.gpp]` table of pyproject.toml, the nearest going up)."""
     from gpp.cli.common import EXIT_OK, load_config, usage_error
     from gpp.project.config import describe
 

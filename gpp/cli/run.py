@@ -268,6 +268,7 @@ def register(app: typer.Typer) -> None:
 
 
 def run(
+    ctx: typer.Context,
     file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
     platform: PlatformOption = None,
     platform_opt: PlatformOptOption = None,
@@ -316,6 +317,9 @@ def run(
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
 
+    On platform ros2, the ROS arguments follow `--ros-args` (up to `--` or the end), as for any
+    ROS node: `--ros-args -r __ns:=/robot1 -r navigate:=move_base -p n:=3 --params-file p.yaml`.
+
     Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise, 130 on Ctrl-C,
     143 on SIGTERM."""
     from gpp.base import signals
@@ -360,6 +364,9 @@ def run(
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
     chosen = platform_for(platform or config.run_platform, checked, file)
+    ros_arguments = ctx.obj if isinstance(ctx.obj, tuple) else None  # gpp.cli.main took them out
+    if ros_arguments is not None and chosen != "ros2":
+        usage_error(f"--ros-args: ROS arguments are for platform ros2, and this run is on `{chosen}`")
     given = given_flags(flags)
     check_flags(given, chosen)
     if "world" not in given:
@@ -375,6 +382,7 @@ def run(
         trace=trace,
         trace_split=split,
         args=key_values(arg, "--arg"),
+        platform_arguments=ros_arguments,
         include_dirs=config.include,
         allow=allow,
         search_strategy=search_strategy,
@@ -419,7 +427,7 @@ def test_command(
     paths: Annotated[
         list[Path] | None,
         typer.Argument(
-            metavar="[PATH]...",
+            metavar="PATH",
             help="Programs or folders to run (default: the project's test paths, or tests/programs).",
         ),
     ] = None,

@@ -128,6 +128,48 @@ class R0007(Code, name="platform-failure", summary="the platform cannot do what 
         """A problem the platform found in the program when it attached (its own text)."""
         return Message(cls.code, problem)
 
+    # Placeholders in a mapped ROS name (`"/{r}/navigate"`): `gpp check`, the language server
+    # and the ros2 platform report them at the mapped name.
+
+    @classmethod
+    def placeholder_malformed(cls, what: str, name: str) -> Message:
+        return Message(
+            cls.code,
+            f'{what}: "{name}": a placeholder is a parameter\'s name in braces, such as "/{{r}}/navigate" '
+            "(braces that do not pair, or are empty)",
+        )
+
+    @classmethod
+    def placeholder_unknown(cls, what: str, placeholder: str, params: tuple[str, ...]) -> Message:
+        known = f"its parameters: {', '.join(params)}" if params else "it has no parameters"
+        return Message(cls.code, f"{what}: the placeholder `{{{placeholder}}}` is not a parameter ({known})")
+
+    @classmethod
+    def placeholder_not_a_domain(cls, what: str, placeholder: str, type_name: str) -> Message:
+        return Message(
+            cls.code,
+            f"{what}: the placeholder `{{{placeholder}}}` is a parameter of type `{type_name}`, whose values are not "
+            "known before the run: a placeholder takes a parameter of a domain, whose values make the names",
+        )
+
+    @classmethod
+    def placeholder_bad_value(cls, what: str, placeholder: str, value: str, domain: str, why: str) -> Message:
+        return Message(
+            cls.code, f"{what}: the placeholder `{{{placeholder}}}` takes the value {value} of domain `{domain}`: {why}"
+        )
+
+    @classmethod
+    def placeholder_not_here(cls, what: str, where: str) -> Message:
+        return Message(cls.code, f"{what}: {where} cannot have a placeholder")
+
+    @classmethod
+    def placeholder_and_field(cls, what: str, placeholder: str, field: str) -> Message:
+        return Message(
+            cls.code,
+            f"{what}: parameter `{placeholder}` is filled from the topic's name (the placeholder "
+            f"`{{{placeholder}}}`), so the mapping cannot fill it from the message field `{field}` too",
+        )
+
 
 class R0008(
     Code, name="missing-definition", summary="a procedure or function declared but never defined, or no `main`"

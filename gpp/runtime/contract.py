@@ -188,6 +188,12 @@ class EventQueue:
             self._ready.wait(timeout)
             return bool(self._items)
 
+    def wake(self) -> None:
+        """Wake a `wait` with nothing queued: its caller looks again at what else it waits for
+        (a clock that another thread moves)."""
+        with self._ready:
+            self._ready.notify_all()
+
     def __len__(self) -> int:
         with self._ready:
             return len(self._items)

@@ -26,6 +26,7 @@ from gpp.base import diagnostics as diag
 from gpp.base import signals
 from gpp.base.source import Span
 from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
+from gpp.model.declarations import fill_placeholders
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, Wait, waits_for, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
@@ -701,7 +702,10 @@ class Executor:
         env = Env(self.state, dict(zip(info.param_ids, g.args, strict=True)), self.ctx)
         args = {name: evaluate(env) for name, evaluate in info.mapped_args}
         duration = info.duration
-        activity = Activity(self.next_id, g, info.mapped_name, args, duration)
+        mapped = info.mapped_name
+        if "{" in mapped:  # placeholders: `"/{r}/navigate"` is `/robot1/navigate` for r = robot1
+            mapped = fill_placeholders(mapped, dict(zip(info.param_names, g.args, strict=True)))
+        activity = Activity(self.next_id, g, mapped, args, duration)
         self.next_id += 1
         self.records[g] = activity
         self.by_id[activity.id] = g
@@ -713,7 +717,7 @@ class Executor:
                 t=self.platform.now(),
                 action=g.text,
                 id=activity.id,
-                mapped=info.mapped_name,
+                mapped=mapped,
                 args={k: ev.json_value(v) for k, v in args.items()},
                 at=_where(span),
                 silent=self.quiet(g.name),

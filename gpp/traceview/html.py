@@ -3,8 +3,9 @@ embedded as JSON, no network access needed to open it).
 
 The page is the template `viewer.html` with `viewer.css`, `viewer.js` and the data put in.
 The data (`page_data`) is plain JSON: the run's lanes, activities, exogenous events, plans,
-fluent changes, waits, problems, numeric series, and the source lines the records point at
-(read from the program files at generation time, when they can be found).
+fluent changes, waits, problems, numeric series, the bands of the other fluents' values, and
+the source lines the records point at (read from the program files at generation time, when
+they can be found).
 """
 
 from __future__ import annotations
@@ -175,6 +176,16 @@ def page_data(model: RunModel, sources: Sources, *, trace_name: str, notes: Sequ
                 "samples": [{"t": x.t, "v": x.value, "label": x.label, "at": x.at} for x in s.samples],
             }
             for s in model.series
+        ],
+        "states": [
+            {
+                "name": s.name,
+                "values": s.values,
+                "segments": [
+                    {"start": g.start, "stop": g.stop, "value": g.value, "label": g.label} for g in s.segments
+                ],
+            }
+            for s in model.states
         ],
         "sources": {file: {str(n): text for n, text in lines.items()} for file, lines in sources.lines.items()},
     }

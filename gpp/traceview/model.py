@@ -6,10 +6,12 @@ that is not a trace); `build_run_model(events)` pairs each activity's `start` wi
 activities of that action overlap), and collects exogenous events, plans, waits, problems,
 and the numeric series to plot.
 
-Series are built by `numeric_samples`, the one place that knows which records carry numeric
-values (assignments, sensing results, numeric arguments of exogenous events). When the trace
-gains more (e.g. the fluent changes of each `end` and `exog`), they are added there and every
-viewer shows them.
+Fluent values over time come from `fluent_values`, the one place that knows which records set a
+fluent (assignments, sensing results, and the `changes` of each `end` and `exog`): a fluent
+instance whose values are all numbers is a numeric series (`numeric_samples` adds the numeric
+arguments of exogenous events), any other one (a symbol such as where the robot is, a truth
+value, text, a list or compound) is a state series: bands of the value it held from one change
+to the next (`build_states`).
 """
 
 from __future__ import annotations
@@ -282,6 +284,30 @@ class Series:
     samples: list[Sample]
 
 
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """A fluent instance held `value` (as golog++ writes it) from `start` to `stop`."""
+
+    start: float
+    stop: float
+    value: str
+    label: str  # what set it: `assignment`, the action whose effect or sensing it was
+
+
+@dataclass(slots=True)
+class StateSeries:
+    """A fluent instance with values other than numbers, as the bands of what it held. Before
+    its first change the trace does not say its value (its initial one): no band there."""
+
+    name: str  # `robot_at()`, `holding(cup)`
+    segments: list[Segment]
+
+    @property
+    def values(self) -> list[str]:
+        """Its distinct values, in order of first appearance."""
+        return list(dict.fromkeys(s.value for s in self.segments))
+
+
 @dataclass(slots=True)
 class RunModel:
     events: list[TraceEvent]
@@ -297,6 +323,7 @@ class RunModel:
     waits: list[Wait]
     problems: list[ErrorEvent | BlockedEvent]
     series: list[Series]
+    states: list[StateSeries] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -418,6 +445,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
         waits=waits,
         problems=problems,
         series=build_series(events),
+        states=build_states(events, end),
     )
 
 
@@ -450,31 +478,67 @@ def _lanes(activities: list[Activity]) -> list[Lane]:
 # ---------------------------------------------------------------- numeric series
 
 
-def numeric_samples(events: Iterable[TraceEvent]) -> Iterator[tuple[str, str, Sample]]:
-    """(series name, series kind, sample) for every number the trace records over time: a
-    fluent assigned or sensed to a number, a numeric argument of an exogenous action."""
+def fluent_values(events: Iterable[TraceEvent]) -> Iterator[tuple[float, str, JsonValue, str, str, str | None]]:
+    """(time, fluent instance, value, record kind, what set it, source location) for every
+    fluent value the trace records: assignments, sensing results, and the effects (`changes`)
+    of each `end` and `exog` record."""
     for event in events:
         match event:
             case AssignEvent():
-                number = as_number(event.value)
-                if number is not None:
-                    yield event.fluent, "fluent", Sample(event.t, number, "assign", "assignment", event.at)
+                yield event.t, event.fluent, event.value, "assign", "assignment", event.at
             case SenseEvent():
-                number = as_number(event.value)
-                if number is not None:
-                    yield event.fluent, "fluent", Sample(event.t, number, "sense", event.action)
-            case ExogEvent():
-                name, args = split_action(event.action)
-                for index, arg in enumerate(args):
-                    number = _number_literal(arg)
-                    if number is not None:
-                        shown = ",".join("·" if i == index else "_" for i in range(len(args)))
-                        yield f"{name}({shown})", "exog argument", Sample(event.t, number, "exog", event.action)
+                yield event.t, event.fluent, event.value, "sense", event.action, None
+            case EndEvent() | ExogEvent():
+                for change in event.changes:
+                    fluent, value = change.get("fluent"), change.get("value")
+                    if isinstance(fluent, str):
+                        yield event.t, fluent, value, event.EVENT, event.action, None
             case _:
                 pass
 
 
-def build_series(events: Iterable[TraceEvent]) -> list[Series]:
+def numeric_samples(events: Sequence[TraceEvent]) -> Iterator[tuple[str, str, Sample]]:
+    """(series name, series kind, sample) for every number the trace records over time: a
+    fluent instance whose every recorded value is a number, a numeric argument of an
+    exogenous action."""
+    values: dict[str, list[tuple[float, float | None, str, str, str | None]]] = defaultdict(list)
+    for t, fluent, value, kind, label, at in fluent_values(events):
+        values[fluent].append((t, as_number(value) if value is not None else math.nan, kind, label, at))
+    for fluent, samples in values.items():
+        if all(number is not None for _, number, _, _, _ in samples):
+            for t, number, kind, label, at in samples:
+                if number is not None and not math.isnan(number):
+                    yield fluent, "fluent", Sample(t, number, kind, label, at)
+    for event in events:
+        if isinstance(event, ExogEvent):
+            name, args = split_action(event.action)
+            for index, arg in enumerate(args):
+                number = _number_literal(arg)
+                if number is not None:
+                    shown = ",".join("·" if i == index else "_" for i in range(len(args)))
+                    yield f"{name}({shown})", "exog argument", Sample(event.t, number, "exog", event.action)
+
+
+def build_states(events: Sequence[TraceEvent], end: float) -> list[StateSeries]:
+    """The state series: every fluent instance with a recorded value that is not a number
+    (`null` aside), in order of first change; each value holds until the next change, the
+    last until `end`."""
+    changes: dict[str, list[tuple[float, JsonValue, str]]] = defaultdict(list)
+    for t, fluent, value, _, label, _ in fluent_values(events):
+        changes[fluent].append((t, value, label))
+    states: list[StateSeries] = []
+    for fluent, recorded in changes.items():
+        if all(value is None or as_number(value) is not None for _, value, _ in recorded):
+            continue  # a numeric series
+        segments: list[Segment] = []
+        for i, (t, value, label) in enumerate(recorded):
+            stop = recorded[i + 1][0] if i + 1 < len(recorded) else end
+            segments.append(Segment(t, stop, show_value(value), label))
+        states.append(StateSeries(fluent, segments))
+    return states
+
+
+def build_series(events: Sequence[TraceEvent]) -> list[Series]:
     """The numeric series, fluents first, each in order of first appearance."""
     series: dict[tuple[str, str], Series] = {}
     for name, kind, sample in numeric_samples(events):
@@ -589,13 +653,17 @@ __all__ = [
     "LoadedTrace",
     "RunModel",
     "Sample",
+    "Segment",
     "Series",
+    "StateSeries",
     "TraceReadError",
     "Wait",
     "action_name",
     "as_number",
     "build_run_model",
     "build_series",
+    "build_states",
+    "fluent_values",
     "format_seconds",
     "load_trace",
     "numeric_samples",

@@ -1,7 +1,9 @@
 """`gpp trace summary`: the run on a terminal. A timeline with one row per action (its
-activities as bars), rows for exogenous events, plans, waits and problems, a sparkline per
-numeric series and a time axis in seconds; then the plans, the exogenous events, what failed
-or was cancelled, and how the run ended. Plain text (no colour) off a terminal."""
+activities as bars; one row per call, `goto(room1)`, `goto(room2)`, when an action has a few
+different ones), rows for exogenous events, plans, waits and problems, a sparkline per numeric
+series, a band row per fluent with other values (where the robot is) and a time axis in
+seconds; then the plans, the exogenous events, what failed or was cancelled, and how the run
+ended. Plain text (no colour) off a terminal."""
 
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from gpp.traceview.model import (
     Activity,
     RunModel,
     Series,
+    StateSeries,
     action_name,
     format_seconds,
     short_number,
@@ -28,6 +31,7 @@ if TYPE_CHECKING:
 MIN_WIDTH = 60
 LABEL_WIDTH = 20
 LIST_LIMIT = 12  # rows per section before "... and N more"
+CALL_ROWS = 6  # an action with at most this many different calls gets a row per call
 
 # Glyph and style of a bar cell by activity status.
 BAR: dict[str, tuple[str, str]] = {
@@ -82,7 +86,7 @@ def summary_parts(model: RunModel, width: int) -> list[RenderableType]:
     parts: list[RenderableType] = [_title(model, width), _counts(model, width), Text()]
     parts.extend(_timeline(model, width))
     parts.append(_legend(model, width))
-    for section in (_plans, _exog, _troubles, _waits_section, _problems, _series):
+    for section in (_plans, _exog, _troubles, _waits_section, _problems, _series, _states):
         body = section(model, width)
         if body:
             parts.append(Text())
@@ -158,7 +162,10 @@ def _plural(n: int, word: str, plural: str | None = None) -> str:
 def _timeline(model: RunModel, width: int) -> list[Text]:
     from rich.text import Text
 
-    names = [lane.name for lane in model.lanes] + [s.name for s in model.series] + ["exogenous", "plans"]
+    lanes = [(label, rows) for lane in model.lanes for label, rows in _lane_rows(lane.name, lane.activities)]
+    states = model.states[:LIST_LIMIT]
+    names = [label for label, _ in lanes] + [s.name for s in model.series] + [s.name for s in states]
+    names += ["exogenous", "plans"]
     label_width = min(LABEL_WIDTH, max(len(n) for n in names))
     tw = max(10, width - label_width - 6)
     scale = Timeline(model.start, model.end, tw)
@@ -172,10 +179,10 @@ def _timeline(model: RunModel, width: int) -> list[Text]:
         line.append_text(cells)
         rows.append(line)
 
-    for lane in model.lanes:
-        for r in range(lane.rows):
-            cells = _bars([a for a in lane.activities if a.row == r], scale)
-            row(lane.name if r == 0 else "", f"×{len(lane.activities)}" if r == 0 else "", cells)
+    for label, activity_rows in lanes:
+        count = sum(len(r) for r in activity_rows)
+        for r, activities in enumerate(activity_rows):
+            row(label if r == 0 else "", f"×{count}" if r == 0 else "", _bars(activities, scale))
     if model.exog:
         marks = [(e.t, "◇" if e.precondition is False else "◆", "magenta") for e in model.exog]
         row("exogenous", f"×{len(model.exog)}", _marks(marks, scale), "magenta")
@@ -189,12 +196,44 @@ def _timeline(model: RunModel, width: int) -> list[Text]:
         row(model.problems[-1].EVENT, "", _marks(marks, scale), "red")
     for series in model.series:
         row(series.name, "", _sparkline(series, scale), "blue")
+    for state in states:
+        row(state.name, "", _bands(state, scale), "green")
+    if len(model.states) > len(states):
+        rows.append(Text(f"  … and {len(model.states) - len(states)} more fluents (`gpp trace html` shows them all)"))
     rows.extend(_axis(scale, label_width))
     return rows
 
 
+def _lane_rows(name: str, activities: Sequence[Activity]) -> list[tuple[str, list[list[Activity]]]]:
+    """The rows of an action's activities: (label, rows of activities that do not overlap).
+    An action with a few different calls gets a label and rows per call, so that which went
+    where stays visible; one with many keeps one label, its calls written in the table below."""
+    calls = list(dict.fromkeys(a.action for a in activities))
+    groups = [(call, [a for a in activities if a.action == call]) for call in calls]
+    if len(calls) > CALL_ROWS:
+        groups = [(name, list(activities))]
+    out: list[tuple[str, list[list[Activity]]]] = []
+    for label, members in groups:
+        rows: list[list[Activity]] = []
+        for activity in sorted(members, key=lambda a: (a.start, a.id)):
+            free = next((r for r in rows if r[-1].stop <= activity.start), None)
+            if free is None:
+                rows.append([activity])
+            else:
+                free.append(activity)
+        out.append((label, rows))
+    return out
+
+
 def _fit(text: str, width: int) -> str:
-    return text if len(text) <= width else text[: width - 1] + "…"
+    """The text cut to `width`; a call keeps its arguments and loses the end of its name
+    (`navigate_to…(table)`), since its arguments tell the rows of one action apart."""
+    if len(text) <= width:
+        return text
+    name, paren, args = text.partition("(")
+    if paren and len(args) + 3 <= width:
+        return name[: width - len(args) - 2] + "…(" + args
+    return text[: width - 1] + "…"
 
 
 def _bars(activities: Sequence[Activity], scale: Timeline) -> Text:
@@ -202,7 +241,9 @@ def _bars(activities: Sequence[Activity], scale: Timeline) -> Text:
 
     rank = list(PRECEDENCE)
     owner: list[Activity | None] = [None] * scale.width
+    starts: list[int] = [0] * scale.width
     for activity in activities:
+        starts[scale.cell(activity.start)] += 1
         for c in scale.cells(activity.start, activity.stop):
             held = owner[c]
             if held is None or rank.index(activity.status) < rank.index(held.status):
@@ -210,10 +251,16 @@ def _bars(activities: Sequence[Activity], scale: Timeline) -> Text:
     text = Text()
     previous: Activity | None = None
     shade = False
-    for held in owner:
+    for c, held in enumerate(owner):
         if held is None:
             text.append(" ")
             previous = None
+            continue
+        if starts[c] > 1 and held.status != "final":
+            # Several attempts in one cell, one of them failed or cancelled (a quick retry):
+            # their number, so that none is hidden behind another.
+            text.append(str(starts[c]) if starts[c] < 10 else "+", style=f"bold {BAR[held.status][1]}")
+            previous = held
             continue
         if previous is not None and held is not previous:
             shade = not shade  # neighbouring activities in alternating shades
@@ -271,6 +318,28 @@ def _sparkline(series: Series, scale: Timeline) -> Text:
         level = 3 if high == low else round((value - low) / (high - low) * (len(SPARK) - 1))
         cells.append(SPARK[level])
     return Text("".join(cells), style="blue")
+
+
+def _bands(state: StateSeries, scale: Timeline) -> Text:
+    """The fluent's values as bands: each value written where its band starts (cut to the
+    band), the rest of the band drawn; neighbouring bands in alternating shades. Before the
+    first change (the initial value, which the trace does not hold) the row is blank."""
+    from rich.text import Text
+
+    cells: list[tuple[str, int]] = [(" ", -1)] * scale.width
+    shade = 0
+    for segment in state.segments:
+        span = scale.cells(segment.start, segment.stop)
+        if segment.stop <= segment.start and span.start > 0 and cells[span.start][1] >= 0:
+            continue  # a value held for no time, where a band is drawn already
+        shade = 1 - shade
+        name = segment.value
+        for i, c in enumerate(span):
+            cells[c] = (name[i] if i < len(name) and len(span) > 1 else "▬" if len(span) > 1 else "│", shade)
+    text = Text()
+    for glyph, band in cells:
+        text.append(glyph, style="" if band < 0 else ("green" if band == 0 else "bright_cyan"))
+    return text
 
 
 def _axis(scale: Timeline, label_width: int) -> list[Text]:
@@ -336,9 +405,14 @@ def _legend(model: RunModel, width: int) -> Text:
         items.append(item("├┄", "yellow", "waiting"))
     if model.problems:
         items.append(item("!", "bold red", model.problems[-1].EVENT))
-    if model.exog or model.plans or model.problems:
+    if model.exog or model.plans or model.problems or _quick_retries(model):
         items.append(item("2-9", "", "several at once"))
     return _flow(items, width, "  ", indent=2)
+
+
+def _quick_retries(model: RunModel) -> bool:
+    """Whether an activity that did not end `final` took no time (its cell may show a count)."""
+    return any(a.status != "final" and a.stop <= a.start for a in model.activities)
 
 
 # ---------------------------------------------------------------- the sections
@@ -522,6 +596,25 @@ def _series(model: RunModel, width: int) -> list[RenderableType]:
         ("max", "right"),
     ]
     return [_heading("numeric values over time"), _table(columns, rows, width), *_more(len(model.series))]
+
+
+def _states(model: RunModel, width: int) -> list[RenderableType]:
+    if not model.states:
+        return []
+    rows = []
+    for state in model.states[:LIST_LIMIT]:
+        first = state.segments[0]
+        rows.append(
+            [state.name, str(len(state.segments)), format_seconds(first.start), " → ".join(_values_in_order(state))]
+        )
+    columns = [("fluent", "left"), ("changes", "right"), ("first", "right"), ("values in order", "fold")]
+    return [_heading("states over time"), _table(columns, rows, width), *_more(len(model.states))]
+
+
+def _values_in_order(state: StateSeries, limit: int = 8) -> list[str]:
+    """The values the fluent took, one per change (repeats kept), the first `limit` and the last."""
+    values = [s.value for s in state.segments]
+    return values if len(values) <= limit + 1 else [*values[:limit], "…", values[-1]]
 
 
 def _ending(model: RunModel, width: int) -> Text:

@@ -1,6 +1,7 @@
 // The gpp trace viewer: draws the run in the page's embedded data (gpp/traceview/html.py) as
 // an SVG timeline (lanes of activities, exogenous events, plans, fluent changes, waits, numeric
-// series), with zoom, pan and tooltips. Vanilla JS, no dependencies, no network.
+// series, bands of the values of the other fluents), with zoom, pan and tooltips; below it the
+// activities that did not end final, with why. Vanilla JS, no dependencies, no network.
 (function () {
   "use strict";
 
@@ -81,7 +82,8 @@
   const longest = Math.max(
     14,
     ...D.lanes.map((l) => l.name.length + 4),
-    ...D.series.map((s) => s.name.length)
+    ...D.series.map((s) => s.name.length),
+    ...D.states.map((s) => s.name.length)
   );
   const GUTTER = Math.min(280, Math.max(150, Math.round(longest * 7.4 + 28)));
 
@@ -126,7 +128,7 @@
   for (const row of exogRows) addRow({ kind: "exog", h: MARK, label: row.name, count: row.items.length, items: row.items, other: !!row.other });
   if (D.plans.length || D.changes.length || D.waits.length || D.problems.length) addRow({ kind: "group", h: 22, label: "program" });
   if (D.plans.length) addRow({ kind: "plans", h: MARK, label: "plans", count: D.plans.length });
-  if (D.changes.length) addRow({ kind: "changes", h: MARK, label: "fluent changes", count: D.changes.length });
+  if (D.changes.length) addRow({ kind: "changes", h: MARK + 14, label: "fluent changes", count: D.changes.length });
   if (D.waits.length || D.problems.length) {
     const label = D.waits.length ? (D.problems.length ? "waiting · stop" : "waiting") : "stop";
     addRow({ kind: "program", h: MARK, label: label });
@@ -135,6 +137,8 @@
   D.lanes.forEach((lane, i) => addRow({ kind: "lane", h: lane.rows * ROW + 4, lane: i }));
   if (D.series.length) addRow({ kind: "group", h: 22, label: "values over time" });
   D.series.forEach((s, i) => addRow({ kind: "series", h: PLOT, series: i }));
+  if (D.states.length) addRow({ kind: "group", h: 22, label: "states over time" });
+  D.states.forEach((s, i) => addRow({ kind: "state", h: ROW + 4, state: i }));
   addRow({ kind: "axis", h: AXIS, top: false });
 
   // ------------------------------------------------------------------ drawing
@@ -175,6 +179,8 @@
           '<text class="lane-label" x="10" y="' + (row.y + ROW / 2 + 6) + '">' + esc(lane.name) +
             ' <tspan class="lane-count">×' + lane.count + "</tspan></text>"
         );
+      } else if (row.kind === "state") {
+        out.push('<text class="lane-label" x="10" y="' + (row.y + ROW / 2 + 6) + '">' + esc(D.states[row.state].name) + "</text>");
       } else if (row.kind === "series") {
         const s = D.series[row.series];
         out.push('<text class="lane-label" x="10" y="' + (row.y + 20) + '">' + esc(s.name) + "</text>");
@@ -220,6 +226,7 @@
       else if (row.kind === "program") drawProgram(out, row);
       else if (row.kind === "lane") drawLane(out, row);
       else if (row.kind === "series") drawSeries(out, row);
+      else if (row.kind === "state") drawState(out, row);
     }
     out.push("</g>");
     // Each series' lowest and highest value, at their heights in the gutter's right edge.
@@ -255,22 +262,40 @@
   }
 
   // Labels right of marks, cut short before the next mark and skipped where they would not
-  // fit. `marks` are the marks' x positions in order.
+  // fit. `marks` are the marks' x positions in order. With `whole`, a label that would be cut
+  // is not drawn (the caller tries another line); the result says whether one was drawn.
   function labeller(marks) {
     let free = -Infinity;
     let next = 0;
-    return function (out, px, y, text, cls, shorter) {
+    return function (out, px, y, text, cls, shorter, whole) {
       while (next < marks.length && marks[next] <= px + 1) next++;
-      if (!text || px + 8 < free) return;
+      if (!text || px + 8 < free) return false;
       const limit = Math.min(next < marks.length ? marks[next] - 8 : Infinity, GUTTER + plotW) - (px + 8);
       let shown = text.length * CHAR_W <= limit ? text : "";
       if (!shown && shorter) shown = shorter.length * CHAR_W <= limit ? shorter : "";
-      if (!shown) shown = fitText(text, limit + 8);
-      if (!shown) return;
+      if (!shown && !whole) shown = fitText(text, limit + 8);
+      if (!shown) return false;
       out.push('<text class="' + (cls || "mark-label") + '" x="' + (px + 8).toFixed(1) + '" y="' + y + '">' + esc(shown) + "</text>");
       free = px + 8 + shown.length * CHAR_W + 10;
+      return true;
     };
   }
+
+  // Marks that would overlap (closer than `gap` pixels to the first of them), as one: [{px,
+  // items}] (items in time order). Simultaneous events get one mark, one label and one tooltip
+  // listing them all.
+  function together(items, pxOf, gap) {
+    const out = [];
+    for (const i of items) {
+      const px = pxOf(i);
+      const last = out[out.length - 1];
+      if (last && px - last.px < gap) last.items.push(i);
+      else out.push({ px: px, items: [i] });
+    }
+    return out;
+  }
+
+  const times = (n) => (n > 1 ? "×" + n + " " : "");
 
   function visible(px) {
     return px > GUTTER - 20 && px < GUTTER + plotW + 20;
@@ -278,22 +303,24 @@
 
   function drawExog(out, row) {
     const cy = row.y + row.h / 2;
-    const label = labeller(row.items.map((i) => x(D.exog[i].t)));
-    row.items.forEach((i) => {
-      const e = D.exog[i];
-      const px = x(e.t);
-      if (!visible(px)) return;
-      const r = e.silent ? 4.5 : 6;
-      const cls = "exog-mark" + (e.precondition ? "" : " false-pre") + (e.silent ? " silent" : "");
+    const marks = together(row.items, (i) => x(D.exog[i].t), 12);
+    const label = labeller(marks.map((m) => m.px));
+    for (const m of marks) {
+      if (!visible(m.px)) continue;
+      const events = m.items.map((i) => D.exog[i]);
+      const silent = events.every((e) => e.silent);
+      const r = silent ? 4.5 : 6;
+      const cls = "exog-mark" + (events.every((e) => e.precondition) ? "" : " false-pre") + (silent ? " silent" : "");
       out.push(
-        '<g class="exog" data-tip="exog:' + i + '" data-action="' + esc(e.action) + '" data-t="' + e.t + '">' +
-          '<path class="' + cls + '" d="M' + px.toFixed(1) + " " + (cy - r) + " l" + r + " " + r + " l" + -r + " " + r + " l" + -r + " " + -r + 'z"/>' +
+        '<g class="exog" data-tip="exog:' + m.items.join(",") + '" data-action="' + esc(events.map((e) => e.action).join("; ")) +
+          '" data-count="' + events.length + '" data-t="' + events[0].t + '">' +
+          '<path class="' + cls + '" d="M' + m.px.toFixed(1) + " " + (cy - r) + " l" + r + " " + r + " l" + -r + " " + r + " l" + -r + " " + -r + 'z"/>' +
           "</g>"
       );
       // The row names the action: its arguments are the label (all of it in the row of the rest).
-      const args = e.action.slice(e.action.indexOf("("));
-      label(out, px, cy + 4, row.other ? e.action : args.length > 2 ? args : "");
-    });
+      const texts = events.map((e) => (row.other ? e.action : e.action.slice(e.action.indexOf("(")))).filter((t) => t.length > 2);
+      label(out, m.px, cy + 4, times(events.length) + texts.join(", "), null, events.length > 1 ? "×" + events.length : "");
+    }
   }
 
   function drawPlans(out, row) {
@@ -312,18 +339,25 @@
     });
   }
 
+  // Fluent changes: one mark for those at one time, its label on the first of two lines where
+  // it fits whole (beside the marks, or below them where only other labels are in the way).
   function drawChanges(out, row) {
-    const cy = row.y + row.h / 2;
-    const label = labeller(D.changes.map((c) => x(c.t)));
-    D.changes.forEach((c, i) => {
-      const px = x(c.t);
-      if (!visible(px)) return;
+    const cy = row.y + 11;
+    const marks = together(D.changes.map((c, i) => i), (i) => x(D.changes[i].t), 9);
+    const beside = labeller(marks.map((m) => m.px));
+    const below = labeller([]);
+    for (const m of marks) {
+      if (!visible(m.px)) continue;
+      const changes = m.items.map((i) => D.changes[i]);
       out.push(
-        '<g class="change" data-tip="change:' + i + '" data-fluent="' + esc(c.fluent) + '">' +
-          '<circle class="change-mark ' + c.event + '" cx="' + px.toFixed(1) + '" cy="' + cy + '" r="4.5"/></g>'
+        '<g class="change" data-tip="change:' + m.items.join(",") + '" data-fluent="' + esc(changes.map((c) => c.fluent).join("; ")) +
+          '" data-count="' + changes.length + '"><circle class="change-mark ' + changes[0].event + '" cx="' + m.px.toFixed(1) + '" cy="' + cy + '" r="4.5"/></g>'
       );
-      label(out, px, cy + 4, c.fluent + " = " + c.value);
-    });
+      const text = times(changes.length) + changes.map((c) => c.fluent + " = " + c.value).join(", ");
+      const shorter = changes.length > 1 ? "×" + changes.length + " changes" : "";
+      if (!beside(out, m.px, cy + 4, text, null, null, true) && !below(out, m.px - 8, cy + 19, text, null, null, true))
+        beside(out, m.px, cy + 4, text, null, shorter, false);
+    }
   }
 
   function drawProgram(out, row) {
@@ -356,6 +390,9 @@
   function drawLane(out, row) {
     const lane = D.lanes[row.lane];
     const covered = [];
+    // Activities that did not end final are drawn over the final ones: a failed attempt that
+    // took no time stays visible beside its retry.
+    const onTop = [];
     let previous = -1;
     let alt = false;
     for (const id of lane.activities) {
@@ -385,15 +422,31 @@
         const cx = x(a.cancelledAt).toFixed(1);
         inner += '<line class="cancel-tick" x1="' + cx + '" x2="' + cx + '" y1="' + (top - 3) + '" y2="' + (top + BAR + 3) + '"/>';
       }
-      // The label: the whole action where it fits, else its arguments.
+      // The label: the whole action where it fits (with why it failed or was cancelled), else
+      // its arguments.
       const visibleW = Math.min(px0 + w, GUTTER + plotW) - Math.max(px0, GUTTER);
       const args = a.action.slice(lane.name.length);
-      const text = fitText(a.action, visibleW) || (args.length > 2 ? fitText(args, visibleW) : "");
+      const why = a.status === "final" ? "" : whyNotFinal(a);
+      const text =
+        (why && (a.action + " · " + why).length * CHAR_W + 8 <= visibleW ? a.action + " · " + why : "") ||
+        fitText(a.action, visibleW) || (args.length > 2 ? fitText(args, visibleW) : "");
       if (text) {
         inner += '<text class="bar-label ' + a.status + '" x="' + (Math.max(px0, GUTTER) + 5).toFixed(1) + '" y="' + (top + BAR / 2 + 4) + '">' + esc(text) + "</text>";
       }
-      out.push(barGroup(a, id, inner));
+      (a.status === "final" ? out : onTop).push(barGroup(a, id, inner));
     }
+    out.push(...onTop);
+  }
+
+  // Why an activity did not end final: the platform's reason, the cancel's, and whether the
+  // program handled it.
+  function whyNotFinal(a) {
+    const parts = [];
+    if (a.reason) parts.push(a.reason);
+    if (a.cancelReason && a.cancelReason !== a.reason) parts.push(a.cancelReason);
+    if (a.status === "running") parts.push("still running at the end of the trace");
+    if (a.unhandled) parts.push("not handled by the program");
+    return parts.join("; ");
   }
 
   function barGroup(a, id, inner) {
@@ -455,6 +508,26 @@
     out.push("</g>");
   }
 
+  // The bands of a fluent's values: one colour per value, the value written where it fits.
+  function drawState(out, row) {
+    const s = D.states[row.state];
+    const top = row.y + 2 + (ROW - BAR) / 2;
+    s.segments.forEach((g, j) => {
+      const a = x(g.start);
+      const w = Math.max(2, x(g.stop) - a);
+      if (a + w < GUTTER - 50 || a > GUTTER + plotW + 50) return;
+      const color = SERIES_COLORS[s.values.indexOf(g.value) % SERIES_COLORS.length];
+      const text = fitText(g.value, Math.min(a + w, GUTTER + plotW) - Math.max(a, GUTTER));
+      out.push(
+        '<g class="state" data-tip="state:' + row.state + ":" + j + '" data-fluent="' + esc(s.name) + '" data-value="' + esc(g.value) + '">' +
+          '<rect class="state-band" fill="' + color + '" stroke="' + color + '" x="' + a.toFixed(1) + '" y="' + top + '" width="' + w.toFixed(1) +
+          '" height="' + BAR + '" rx="2"/>' +
+          (text ? '<text class="state-label" x="' + (Math.max(a, GUTTER) + 5).toFixed(1) + '" y="' + (top + BAR / 2 + 4) + '">' + esc(text) + "</text>" : "") +
+          "</g>"
+      );
+    });
+  }
+
   // ------------------------------------------------------------------ tooltips
 
   function sourceHtml(at) {
@@ -496,6 +569,7 @@
 
   function tipHtml(key) {
     const [kind, a, b] = key.split(":");
+    if (a.includes(",")) return a.split(",").map((i) => tipHtml(kind + ":" + i)).join('<hr class="tip-rule">');
     const i = Number(a);
     if (kind === "activity") {
       const act = D.activities[i];
@@ -507,7 +581,7 @@
           ["status", pill(act.status) + (act.unhandled ? " <b>not handled by the program</b>" : "")],
           ["started", esc(fmtTime(act.start))],
           ["terminated", esc(end) + (act.status === "running" ? "" : " (" + esc(fmtTime(act.stop - act.start)) + ")")],
-          ["why", act.reason ? esc(act.reason) : ""],
+          ["why", act.status === "final" ? "" : esc(whyNotFinal(act))],
           ["cancelled", act.cancelledAt === null ? "" : esc(fmtTime(act.cancelledAt)) + (act.cancelReason ? " (" + esc(act.cancelReason) + ")" : "")],
           ["taken", act.consumedAt === null ? "" : esc(fmtTime(act.consumedAt)) + " by " + esc(act.hook)],
           ["platform", '<span class="policy">' + esc(act.mapped) + (act.args.length ? " { " + esc(act.args.join(", ")) + " }" : "") + "</span>"],
@@ -569,6 +643,19 @@
       return (
         '<div class="kind">' + esc(p.event) + (p.code ? " · " + esc(p.code) : "") + "</div>" +
         '<div class="head">' + esc(p.message) + "</div>" + table([["at", esc(fmtTime(p.t))]]) + sourceHtml(p.at)
+      );
+    }
+    if (kind === "state") {
+      const s = D.states[i];
+      const g = s.segments[Number(b)];
+      return (
+        '<div class="kind">state</div>' +
+        '<div class="head">' + esc(s.name) + " = " + esc(g.value) + "</div>" +
+        table([
+          ["from", esc(fmtTime(g.start))],
+          ["until", esc(fmtTime(g.stop)) + " (" + esc(fmtTime(g.stop - g.start)) + ")"],
+          ["by", esc(g.label)],
+        ])
       );
     }
     if (kind === "sample") {
@@ -772,6 +859,31 @@
       const p = D.plans[Number(tr.getAttribute("data-plan"))];
       const end = D.activities.filter((a) => a.start >= p.t).slice(0, Math.max(1, p.policy.length)).reduce((m, a) => Math.max(m, a.stop), p.t);
       focus(p.t, end);
+    });
+  }
+
+  // What did not end final, with why, on the page (not only in a tooltip).
+  const troubles = D.activities.map((a, i) => i).filter((i) => D.activities[i].status !== "final");
+  if (troubles.length) {
+    document.getElementById("failures-card").hidden = false;
+    document.getElementById("failures-count").textContent = "(" + troubles.length + ")";
+    const failTable = document.getElementById("failures-table");
+    failTable.className = "data";
+    failTable.innerHTML =
+      "<thead><tr><th>started</th><th>activity</th><th>status</th><th>why</th><th>source</th></tr></thead><tbody>" +
+      troubles.map((i) => {
+        const a = D.activities[i];
+        return (
+          '<tr data-activity="' + i + '"><td class="num">' + esc(fmtTime(a.start)) + '</td><td class="code">' + esc(a.action) +
+            "</td><td>" + pill(a.status) + '</td><td class="why">' + esc(whyNotFinal(a)) + '</td><td class="code">' + esc(a.at || "") + "</td></tr>"
+        );
+      }).join("") + "</tbody>";
+    failTable.addEventListener("click", (ev) => {
+      const tr = ev.target.closest("tr[data-activity]");
+      if (!tr) return;
+      const a = D.activities[Number(tr.getAttribute("data-activity"))];
+      focus(a.start, a.stop);
+      document.getElementById("timeline-card").scrollIntoView({ behavior: "smooth", block: "start" });
     });
   }
 

@@ -17,6 +17,7 @@ from lsp.features.navigation import (
     prepare_rename,
     references,
     rename,
+    rename_scope,
 )
 from lsp.features.outline import document_symbols, folding_ranges, workspace_symbols
 from lsp.features.tokens import SEMANTIC_TOKENS_LEGEND, semantic_tokens
@@ -38,6 +39,7 @@ __all__ = [
     "prepare_rename",
     "references",
     "rename",
+    "rename_scope",
     "semantic_tokens",
     "signature_help",
     "workspace_symbols",

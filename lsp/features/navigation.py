@@ -4,6 +4,7 @@ references (every occurrence of a name, with the symbol it means)."""
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
 from lsprotocol import types
@@ -129,7 +130,13 @@ def prepare_rename(result: CheckResult, path: Path, offset: int) -> types.Prepar
     return types.PrepareRenamePlaceholder(range=lsp_range(ref.span), placeholder=symbol.name)
 
 
-def rename(result: CheckResult, path: Path, offset: int, new_name: str) -> types.WorkspaceEdit | None:
+def rename(
+    result: CheckResult, path: Path, offset: int, new_name: str, others: Sequence[CheckResult] = ()
+) -> types.WorkspaceEdit | None:
+    """The edit that renames the symbol at `offset` of `path` (in the program `result`) to
+    `new_name`, in that program and in the `others` that see its declaration too (the other
+    programs that include the declaring file: see `rename_scope`). Raises RenameError when the
+    name cannot be renamed, or not in one of the programs."""
     doc = document(result, path)
     if doc is None:
         return None
@@ -138,16 +145,61 @@ def rename(result: CheckResult, path: Path, offset: int, new_name: str) -> types
         raise RenameError(f"`{new_name}` is a keyword of golog++")
     if not _IDENTIFIER.match(new_name):
         raise RenameError(f"`{new_name}` is not a valid name (a letter, then letters, digits or '_')")
-    refs = doc.model.references_to(symbol)
-    if new_name != symbol.name:
-        _check_clash(doc, symbol, refs, new_name)
+    places = [(doc, symbol)]
+    if symbol.kind not in LOCAL_KINDS:
+        declared = rename_scope(result, path, offset)
+        if declared is not None:
+            places += [found for other in others if (found := _same_declaration(other, *declared)) is not None]
     changes: dict[str, list[types.TextEdit]] = {}
-    for ref in _sorted(result, refs):
-        p = path_of(result, ref.span.source)
-        if p is None:
-            continue
-        changes.setdefault(p.as_uri(), []).append(types.TextEdit(range=lsp_range(ref.span), new_text=new_name))
+    done: set[tuple[str, int, int]] = set()
+    for place_doc, place_symbol in places:
+        refs = place_doc.model.references_to(place_symbol)
+        if new_name != place_symbol.name:
+            _check_clash(place_doc, place_symbol, refs, new_name)
+        for ref in _sorted(place_doc.result, refs):
+            p = path_of(place_doc.result, ref.span.source)
+            if p is None or (str(p), ref.span.start, ref.span.end) in done:
+                continue
+            done.add((str(p), ref.span.start, ref.span.end))
+            changes.setdefault(p.as_uri(), []).append(types.TextEdit(range=lsp_range(ref.span), new_text=new_name))
     return types.WorkspaceEdit(changes=changes)
+
+
+def rename_scope(result: CheckResult, path: Path, offset: int) -> tuple[Path, int] | None:
+    """Where the symbol a rename at `offset` of `path` would rename is declared, (file,
+    offset), when other programs can see it: a global declaration of a file of the program (a
+    local one is seen only in its own declaration). None for a local symbol. Raises
+    RenameError as `rename` does for a name that cannot be renamed."""
+    doc = document(result, path)
+    if doc is None:
+        return None
+    _, symbol = _renamable(doc, offset)
+    span = symbol.span
+    declaring = None if span is None else path_of(result, span.source)
+    if symbol.kind in LOCAL_KINDS or span is None or declaring is None:
+        return None
+    return declaring, span.start
+
+
+def _same_declaration(other: CheckResult, declaring: Path, start: int) -> tuple[Document, Symbol] | None:
+    """The symbol declared at `start` of the file `declaring` in another program, with that
+    file; None when the program does not contain the file. RenameError when the program has a
+    syntax error (a use of the name there could be missed) or sees no declaration there."""
+    doc = document(other, declaring)
+    if doc is None:
+        return None
+    program = other.loaded.roots[0].name if other.loaded.roots else "a program"
+    broken = next((d for d in other.loaded.diagnostics if d.is_error), None)
+    if broken is not None:
+        where = f"{Path(broken.span.source.path).name}:{broken.span.line}"
+        raise RenameError(
+            f"`{program}` also includes `{declaring.name}` and has a syntax error at {where}: "
+            "fix it first, or the rename could miss a use there"
+        )
+    ref = doc.model.reference_at(doc.source, start)
+    if ref is None or not ref.declaration or ref.symbol.span is None or ref.symbol.span.start != start:
+        raise RenameError(f"`{program}` also includes `{declaring.name}` but does not see the same declaration there")
+    return doc, ref.symbol
 
 
 def _renamable(doc: Document, offset: int) -> tuple[Reference, Symbol]:

@@ -114,6 +114,37 @@ def test_the_project_settings_apply_as_in_gpp_check(tmp_path: Path) -> None:
     assert session.programs_of((tmp_path / "lib" / "robot.gpp").resolve()) == [path]
 
 
+def test_every_program_that_sees_a_file_is_found_for_a_rename(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from gpp.check import session as session_module
+
+    ws, shared = tmp_path / "ws", tmp_path / "shared"
+    (ws / "robot").mkdir(parents=True)
+    shared.mkdir()
+    (ws / "lib.gpp").write_text("action a() { }\n")
+    tops = [ws / f"p{i}.gpp" for i in range(session_module.MAX_PROGRAMS + 2)]
+    for top in tops:
+        top.write_text('#include "lib.gpp"\nprocedure main() { a(); }\n')
+    # A program of the robot's project, which finds lib.gpp in its include folder, and one of
+    # a project outside the workspace folder that the workspace's gpp.toml lists.
+    (ws / "robot" / "gpp.toml").write_text('include = [".."]\n')
+    (ws / "robot" / "agent.gpp").write_text('#include "lib.gpp"\nprocedure main() { a(); }\n')
+    (ws / "gpp.toml").write_text('paths = [".", "../shared"]\ninclude = ["."]\n')
+    (shared / "far.gpp").write_text('#include "../ws/lib.gpp"\nprocedure main() { a(); }\n')
+    session = Session([ws])
+    lib = (ws / "lib.gpp").resolve()
+    assert len(session.programs_of(lib)) == session_module.MAX_PROGRAMS  # enough for diagnostics
+    seeing = session.programs_seeing(lib)
+    assert sorted(seeing) == sorted(p.resolve() for p in [*tops, ws / "robot" / "agent.gpp", shared / "far.gpp"])
+    # A file nothing includes is its own program.
+    assert session.programs_seeing(tops[0]) == [tops[0].resolve()]
+    # Without workspace folders, the project of the file still counts.
+    assert (shared / "far.gpp").resolve() in Session().programs_seeing(lib)
+    # A workspace larger than what is read: the answer would be incomplete.
+    monkeypatch.setattr(session_module, "MAX_WORKSPACE_FILES", 3)
+    with pytest.raises(session_module.IncompleteSearch, match=r"more than 3 \.gpp files"):
+        Session([ws]).programs_seeing(lib)
+
+
 def test_directives_are_read_from_the_buffer(tmp_path: Path) -> None:
     path = tmp_path / "agent.gpp"
     path.write_text("// world: blocks\nprocedure main() { }\n")

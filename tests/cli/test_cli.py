@@ -4,6 +4,7 @@ console script."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import signal
@@ -255,6 +256,46 @@ def test_check_help_and_usage_errors(project: Path) -> None:
     assert "check" in run_gpp("--help", cwd=project).stdout
 
 
+def command_descriptions(helped: str) -> dict[str, list[str]]:
+    """The lines of each command's description in the Commands table of `gpp --help`."""
+    table = helped[helped.index("Commands") :].splitlines()[1:]
+    descriptions: dict[str, list[str]] = {}
+    name = ""
+    for row in table:
+        if not row.startswith("│"):
+            break
+        cells = row.strip("│ ").split(None, 1) if not row.startswith("│  ") else ["", row.strip("│ ")]
+        if cells[0]:
+            name = cells[0]
+        descriptions.setdefault(name, []).append(cells[-1].strip())
+    return descriptions
+
+
+@pytest.mark.parametrize("columns", ["80", "100", "140"])
+def test_help_reflows_descriptions_and_keeps_brackets(project: Path, columns: str) -> None:
+    """Descriptions are filled greedily to the table's width (a docstring's line break is not
+    a break in the help), and `[tool.gpp]` is shown, not taken for markup."""
+    helped = run_gpp("--help", cwd=project, env={"COLUMNS": columns}).stdout
+    descriptions = command_descriptions(helped)
+    assert {"check", "new", "config", "run", "trace"} <= descriptions.keys()
+    width = max(len(line) for lines in descriptions.values() for line in lines)
+    for name, lines in descriptions.items():
+        for line, following in itertools.pairwise(lines):
+            assert len(line) + 1 + len(following.split()[0]) > width, (name, line, following)
+    assert "[tool.gpp] table" in " ".join(descriptions["config"])
+    assert "a robot library, a test program with its scenario" in " ".join(descriptions["new"])
+
+
+@pytest.mark.parametrize("command", ["check", "run", "test", "fmt", "config", "new", "explain", "lsp"])
+def test_help_shows_no_value_type_beside_a_flag(project: Path, command: str) -> None:
+    helped = run_gpp(command, "--help", cwd=project, env={"COLUMNS": "100"}).stdout
+    flags = [row for row in helped.splitlines() if "--help" in row or "--quiet" in row or "--fix" in row]
+    assert flags, helped
+    assert "<bool>" not in helped
+    assert "<list[" not in helped
+    assert "[[" not in helped.splitlines()[1]
+
+
 def test_installed_console_script_runs(tmp_path: Path) -> None:
     script = Path(sys.executable).with_name("gpp")
     if not script.exists():
@@ -394,8 +435,12 @@ def test_the_platform_flags_come_from_the_platforms_declarations() -> None:
             "error: --random is an option of platform dummy, not of `sim`\n",
         ),
         (
-            ["test", "-p", "sim", "--scenario", "s.toml", "good.gpp"],
-            "error: --scenario is an option of platform dummy, not of `sim`\n",
+            ["test", "-p", "sim", "--random", "good.gpp"],
+            "error: --random is an option of platform dummy, not of `sim`\n",
+        ),
+        (
+            ["test", "-p", "dummy", "--world", "rescue", "good.gpp"],
+            "error: --world is an option of platform sim, not of `dummy`\n",
         ),
     ],
 )

@@ -73,8 +73,8 @@ def test_each_platform_declares_its_own_options() -> None:
     program = ROOT / "examples" / "blocksworld.gpp"
     with pytest.raises(PlatformError, match="platform `dummy` has no option `world`"):
         DummyPlatform.create(PlatformConfig(program, {}, {"world": "rescue"}))
-    with pytest.raises(PlatformError, match="platform `sim` has no option `scenario`"):
-        SimPlatform.create(PlatformConfig(program, {}, {"scenario": "s.toml"}))
+    with pytest.raises(PlatformError, match="platform `sim` has no option `random`"):
+        SimPlatform.create(PlatformConfig(program, {}, {"random": "true"}))
     dummy = DummyPlatform.create(PlatformConfig(program, {}, {"random": "true", "seed": "7"}))
     assert dummy.random_mode and dummy.rng.random() == DummyPlatform(None, 7).rng.random()
     assert DummyPlatform.Options is DummyOptions

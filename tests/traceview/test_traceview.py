@@ -33,6 +33,7 @@ from tests.support.traces import stopped_run
 
 ROOT = Path(__file__).resolve().parents[2]
 GOLDEN = ROOT / "tests" / "golden" / "traceview"
+HERE = Path(__file__).parent
 UPDATE_GOLDEN = os.environ.get("GPP_UPDATE_GOLDEN") == "1"
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
@@ -150,18 +151,70 @@ def test_summary_fits_80_to_120_columns(
         assert out.endswith("\n") and not any(line != line.rstrip() for line in out.splitlines())
 
 
-def test_summary_draws_one_bar_row_per_action_and_marks_events(
+def test_summary_draws_one_bar_row_per_call_and_marks_events(
     capsys: pytest.CaptureFixture[str], runs: dict[str, Path]
 ) -> None:
     code, out, _ = gpp(capsys, "trace", "summary", str(runs["blocksworld"]), "--width", "100")
     assert code == 0
     rows = {line.split("│")[0].split()[0]: line for line in out.splitlines() if "│" in line}
-    assert set(rows) >= {"get_block_pose", "navigate_to_frame", "stack", "gripper_home", "exogenous", "plans"}
-    assert "×4" in rows["stack"] and "█" in rows["stack"]
+    calls = {"stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)", "get_block_pose(a)", "gripper_home()"}
+    assert set(rows) >= calls | {"navigate_to_…(table)", "navigate_to_f…(home)", "exogenous", "plans"}
+    assert all("×1" in rows[call] and "█" in rows[call] for call in calls if call.startswith("stack"))
+    # Each stack went somewhere else: their bars follow one another, never in one column.
+    starts = [rows[call].index("█") for call in ("stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)")]
+    assert starts == sorted(starts) and len(set(starts)) == 4
+    # Where the blocks are, as bands of their values.
+    assert "t3" in rows["loc(c)"] and "▬" in rows["loc(c)"]
+    assert "states over time" in out
     assert rows["exogenous"].count("◆") + sum(int(c) for c in rows["exogenous"] if c.isdigit()) >= 6 - 1
     assert "▲" in rows["plans"]
     assert "time  0 s" in out and "stack(c,t3) → stack(a,t2)" in out
     assert out.rstrip().splitlines()[-1].startswith("finish finished at 35.817 s")
+
+
+@pytest.fixture(scope="module")
+def retries(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A real trace of tests/traceview/programs/retries.gpp: two visitors arrive at once, a
+    `goto(room1)` fails at once and is retried, then `goto(room2)` and `goto(lobby)`."""
+    trace = tmp_path_factory.mktemp("retries") / "retries.jsonl"
+    outcome = run_program(HERE / "programs" / "retries.gpp", RunOptions(trace=trace))
+    assert outcome.result is not None and outcome.result.status.value == "finished"
+    return trace
+
+
+def test_summary_shows_which_call_went_where_a_quick_retry_and_the_state(
+    capsys: pytest.CaptureFixture[str], retries: Path
+) -> None:
+    code, out, _ = gpp(capsys, "trace", "summary", str(retries), "--width", "100")
+    assert code == 0
+    rows = {line.split("│")[0].split()[0]: line.split("│", 1)[1] for line in out.splitlines() if "│" in line}
+    counts = {line.split()[0]: line.split()[1] for line in out.splitlines() if line.startswith("goto(")}
+    # One row per call, each with its own count.
+    assert counts == {"goto(room1)": "×2", "goto(room2)": "×1", "goto(lobby)": "×1"}
+    # The failed attempt took no time: the cell where both attempts started counts them.
+    first = rows["goto(room1)"].lstrip(" ")
+    assert first.startswith("2█"), rows["goto(room1)"]
+    assert rows["goto(room2)"].index("█") > rows["goto(room1)"].index("█")
+    # Where the robot is, as bands; waiting() (set by the exogenous events) as a series.
+    assert rows["robot_at()"].lstrip().startswith("room1▬") and "room2▬" in rows["robot_at()"]
+    assert "waiting()" in rows
+    assert "robot_at()        3" in out and "room1 → room2 → lobby" in out
+    assert "2-9 several at once" in out
+
+
+def test_states_of_the_model(retries: Path) -> None:
+    model = build_run_model(load_trace(retries).events)
+    [state] = model.states
+    assert state.name == "robot_at()"
+    assert [(s.start, s.stop, s.value, s.label) for s in state.segments] == [
+        (7.0, 11.0, "room1", "goto(room1)"),
+        (11.0, 15.0, "room2", "goto(room2)"),
+        (15.0, 15.0, "lobby", "goto(lobby)"),
+    ]
+    assert [(s.name, [x.value for x in s.samples]) for s in model.series] == [
+        ("waiting()", [1, 2]),
+        ("visitors_greeted_so_far()", [1, 2]),
+    ]
 
 
 def test_summary_colour_follows_the_option_and_no_color(
@@ -221,7 +274,8 @@ def test_html_page_of_a_real_run_has_every_activity_and_its_source(
     assert len(data["exog"]) == 6 and [p["policy"] for p in data["plans"]] == [
         ["stack(c,t3)", "stack(a,t2)", "stack(b,c)", "stack(a,b)"]
     ]
-    assert [s["name"] for s in data["series"]] == ["battery_report(·)"]
+    # battery() is set by each battery_report: a fluent series beside the argument's.
+    assert [s["name"] for s in data["series"]] == ["battery()", "battery_report(·)"]
     # The source line of every start, as the program reads now.
     lines = (ROOT / "examples" / "blocksworld.gpp").read_text(encoding="utf-8").splitlines()
     for start in starts:
@@ -423,7 +477,7 @@ def bad_inputs(tmp_path: Path) -> dict[str, tuple[Path, int, str]]:
     return out
 
 
-@pytest.mark.parametrize("command", ["summary", "html", "perfetto"])
+@pytest.mark.parametrize("command", ["summary", "html", "perfetto", "mcap"])
 def test_bad_input_is_one_line_and_an_exit_code(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, command: str
 ) -> None:
@@ -431,6 +485,7 @@ def test_bad_input_is_one_line_and_an_exit_code(
         code, out, err = gpp(capsys, "trace", command, str(path))
         assert (code, out, err) == (expected_code, "", message + "\n"), name
     assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob("*.perfetto.json"))
+    assert not list(tmp_path.glob("*.mcap"))
 
 
 def test_a_folder_without_a_trace_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

@@ -5,7 +5,7 @@ or network requests, draws one bar per activity, shows the source line on hover,
 pans. Each step waits for the state it asserts (playwright's `expect`, or the chart's
 `data-view` for the time window drawn) with a timeout long enough for a loaded machine, never
 for a fixed time or for "some change". `GPP_UPDATE_SCREENSHOT=1` also writes its screenshot to
-docs/trace_viewer.png (the README's picture; its own variable, since the planning time shown in
+docs/trace_viewer.png (the tutorial's picture; its own variable, since the planning time shown in
 it varies run to run)."""
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from playwright.sync_api import Browser, ConsoleMessage, Locator, LocatorAssertions, Page
 
 ROOT = Path(__file__).resolve().parents[2]
+HERE = Path(__file__).resolve().parent
 SCREENSHOT = ROOT / "docs" / "trace_viewer.png"
 UPDATE_SCREENSHOT = os.environ.get("GPP_UPDATE_SCREENSHOT") == "1"
 CHROMIUM = "/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else shutil.which("chromium")
@@ -172,8 +173,8 @@ def test_the_page_loads_cleanly_and_draws_every_activity(opened: Opened, blocksw
     exog = [e.action for e in events if isinstance(e, ExogEvent)]
     assert opened.attr("g.exog", "data-action") == exog
     assert opened.page.locator("g.plan").count() == 1
-    assert opened.attr("g.series", "data-name") == ["battery_report(·)"]
-    assert opened.attr("g.series", "data-samples") == [str(len(exog))]
+    assert opened.attr("g.series", "data-name") == ["battery()", "battery_report(·)"]
+    assert opened.attr("g.series", "data-samples") == [str(len(exog))] * 2
     # The page around the chart.
     assert opened.page.inner_text("#status") == "FINISHED"
     assert "13 activities in 4 lanes" in opened.page.inner_text("#meta")
@@ -283,6 +284,44 @@ def test_a_run_that_stops_renders_its_waits_and_problems(browser: Browser, tmp_p
         for part in ("R0002", "agent.gpp:14:9", "not embedded"):
             expect(opened.page.locator("#tooltip")).to_contain_text(part)
         assert opened.page.inner_text("#status") == "ERROR"
+    finally:
+        opened.page.close()
+
+
+def test_quick_retries_simultaneous_events_close_changes_and_states(browser: Browser, tmp_path: Path) -> None:
+    """tests/traceview/programs/retries.gpp: two visitors arrive at once, two assignments 1 s
+    apart, a `goto(room1)` fails at once and is retried, and where the robot is changes."""
+    trace = tmp_path / "retries.jsonl"
+    assert run_program(HERE / "programs" / "retries.gpp", RunOptions(trace=trace)).ok
+    page, _ = html_page(build_run_model(load_trace(trace).events), trace_name="retries.jsonl", search=[HERE])
+    path = tmp_path / "retries.html"
+    path.write_text(page, encoding="utf-8")
+    opened = Opened(browser, path, width=1000)
+    try:
+        assert opened.problems == []
+        # The two arrivals at one time: one mark, one label that names both.
+        assert opened.attr("g.exog", "data-count") == ["2"]
+        labels = opened.page.locator("text.mark-label").all_text_contents()
+        assert "×2 (ann), (bob)" in labels
+        opened.page.hover("g.exog")
+        for part in ("arrive(ann)", "arrive(bob)"):
+            expect(opened.page.locator("#tooltip")).to_contain_text(part)
+        # Both assignments' labels whole, though 1 s apart.
+        assert {"visitors_greeted_so_far() = 1", "visitors_greeted_so_far() = 2"} <= set(labels)
+        # The failed attempt took no time: its bar is drawn over its retry's, at least 3 px wide.
+        order = opened.attr("g.activity", "data-status")
+        assert order.index("failed") > max(i for i, status in enumerate(order) if status == "final")
+        box = opened.page.locator('g.activity[data-status="failed"] rect.bar').bounding_box()
+        assert box is not None and box["width"] >= 3
+        # Why it failed is on the page, not only in a tooltip.
+        expect(opened.page.locator("#failures-card")).to_be_visible()
+        row = opened.page.locator("#failures-table tbody tr")
+        expect(row).to_have_count(1)
+        for part in ("goto(room1)", "failed", "scenario", "retries.gpp:"):
+            expect(row).to_contain_text(part)
+        # Where the robot is: a band per value it held.
+        assert opened.attr('g.state[data-fluent="robot_at()"]', "data-value") == ["room1", "room2", "lobby"]
+        assert "room1" in opened.page.locator("text.state-label").all_text_contents()
     finally:
         opened.page.close()
 

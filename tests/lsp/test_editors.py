@@ -1,0 +1,237 @@
+"""The editor set-ups of docs/editor.md and the editor files of editors/: the generated files are
+current, the Neovim 0.7 set-up works in Debian's headless Neovim against the real `gpp lsp`
+(diagnostics arrive, the syntax file colours the keywords), and the other snippets parse and
+start `gpp lsp`.
+
+Neovim comes from Debian's package (`make neovim` installs it as root with apt-get): without
+`nvim` the Neovim tests are skipped and say so.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from gpp.syntax.editor_files import GENERATED
+from gpp.syntax.lexer import KEYWORDS, PLATFORM_KEYWORDS, SECTION_WORDS
+from gpp.syntax.vocabulary import section_words, word_classes
+from tests.support.lsp_client import expected
+
+ROOT = Path(__file__).resolve().parents[2]
+GUIDE = ROOT / "docs" / "editor.md"
+NVIM = shutil.which("nvim")
+needs_nvim = pytest.mark.skipif(
+    NVIM is None, reason="nvim is not installed: `make neovim` installs Debian's package (as root with apt-get)"
+)
+
+
+def snippet(name: str) -> str:
+    """The code block of docs/editor.md after `<!-- editor: NAME -->`."""
+    text = GUIDE.read_text(encoding="utf-8")
+    found = re.search(rf"<!-- editor: {re.escape(name)} -->\n```\w*\n(.*?)\n```", text, re.DOTALL)
+    assert found is not None, f"docs/editor.md has no `{name}` snippet"
+    return found.group(1) + "\n"
+
+
+# ---------------------------------------------------------------- the word list and its files
+
+
+@pytest.mark.parametrize("path", list(GENERATED), ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_the_generated_editor_files_are_current(path: Path) -> None:
+    assert path.read_text(encoding="utf-8") == GENERATED[path](), (
+        f"{path.relative_to(ROOT)} is out of date: regenerate it with `python -m gpp.syntax.editor_files`"
+    )
+
+
+def test_the_word_list_holds_every_keyword_of_the_lexer_once() -> None:
+    words = [w for c in word_classes() for w in c.words]
+    assert len(words) == len(set(words))
+    assert set(words) == set(KEYWORDS) | set(PLATFORM_KEYWORDS)
+    assert set(section_words()) == set(SECTION_WORDS)
+    assert all(c.words and c.scope.endswith(".golog") for c in word_classes())
+
+
+# ---------------------------------------------------------------- Neovim
+
+PROGRAM = """\
+// a program with an error
+symbol domain Room = {lobby, hall}
+action go(Room r) { }
+procedure main() {
+    while (false) { go(lobby); }
+    guide(hall);
+}
+"""
+
+# Run after the documented init.lua has opened the file: wait for the server's diagnostics,
+# then write them, the buffer's filetype and the highlight groups at a few places to a file.
+PROBE = """\
+local buf = vim.api.nvim_get_current_buf()
+local arrived = vim.wait(60000, function() return #vim.diagnostic.get(buf) > 0 end, 50)
+local out = { filetype = vim.bo.filetype, arrived = arrived, diagnostics = {}, groups = {} }
+for _, d in ipairs(vim.diagnostic.get(buf)) do
+  table.insert(out.diagnostics, { line = d.lnum, col = d.col, code = d.code, source = d.source, message = d.message })
+end
+for _, at in ipairs(PLACES) do
+  local id = vim.fn.synID(at[1], at[2], 1)
+  out.groups[at[3]] = vim.fn.synIDattr(vim.fn.synIDtrans(id), "name")
+end
+vim.fn.writefile({ vim.fn.json_encode(out) }, OUT)
+vim.cmd("qa!")
+"""
+
+
+def _place(needle: str) -> tuple[int, int]:
+    """(line, column), 1-based as Vim counts, of `needle` in PROGRAM."""
+    offset = PROGRAM.index(needle)
+    line = PROGRAM.count("\n", 0, offset)
+    return line + 1, offset - (PROGRAM.rfind("\n", 0, offset) + 1) + 1
+
+
+def run_nvim(tmp_path: Path, init: str, probe: str, file: Path) -> subprocess.CompletedProcess[str]:
+    assert NVIM is not None
+    (tmp_path / "init.lua").write_text(init, encoding="utf-8")
+    (tmp_path / "probe.lua").write_text(probe, encoding="utf-8")
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "XDG_CONFIG_HOME": str(tmp_path / "config")}
+    env |= {"XDG_DATA_HOME": str(tmp_path / "data"), "XDG_STATE_HOME": str(tmp_path / "state")}
+    return subprocess.run(
+        [NVIM, "--headless", "-i", "NONE", "-u", "init.lua", "-c", "luafile probe.lua", str(file)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+@needs_nvim
+def test_the_neovim_07_set_up_shows_the_servers_diagnostics_and_colours_keywords(tmp_path: Path) -> None:
+    init = snippet("neovim-0.7")
+    # The checkout's files and this Python's gpp, where the user writes their own paths.
+    init = init.replace('"/path/to/gpp/.venv/bin/gpp", "lsp"', f'{json.dumps(sys.executable)}, "-m", "gpp", "lsp"')
+    init = init.replace("/path/to/gpp", str(ROOT))
+    assert "/path/to" not in init
+    places = {"declaration": "action", "statement": "while", "type": "symbol", "constant": "false"}
+    places |= {"comment": "a program", "name": "go(lobby)"}
+    lua_places = ", ".join(
+        f'{{{line}, {col}, "{what}"}}' for what, (line, col) in ((w, _place(n)) for w, n in places.items())
+    )
+    out = tmp_path / "result.json"
+    probe = f"local PLACES = {{ {lua_places} }}\nlocal OUT = {json.dumps(str(out))}\n" + PROBE
+    program = tmp_path / "agent.gpp"
+    program.write_text(PROGRAM, encoding="utf-8")
+    done = run_nvim(tmp_path, init, probe, program)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "Error" not in done.stdout + done.stderr, done.stdout + done.stderr
+    result = json.loads(out.read_text(encoding="utf-8"))
+    assert result["filetype"] == "golog"
+    assert result["arrived"], "no diagnostics from gpp lsp"
+    # What `gpp check` finds, among it the unknown `guide`.
+    found = [(d["code"], d["line"], d["col"], d["message"].split("\n")[0]) for d in result["diagnostics"]]
+    assert found == [(code, line, col, message) for code, (line, col, _, _), message in expected(program)]
+    assert ("E0103", 5, 4) in [f[:3] for f in found]
+    assert {d["source"] for d in result["diagnostics"]} == {"gpp"}
+    assert result["groups"] == {
+        "declaration": "Type",  # (Structure, which Vim links to Type)
+        "statement": "Statement",
+        "type": "Type",
+        "constant": "Constant",
+        "comment": "Comment",
+        "name": "",
+    }
+
+
+@needs_nvim
+@pytest.mark.parametrize("name", ["neovim-0.7", "neovim-0.10", "neovim-0.11"])
+def test_the_neovim_snippets_are_lua(tmp_path: Path, name: str) -> None:
+    """Each Lua snippet compiles (what it calls is tested where this Neovim has it: 0.7)."""
+    code = snippet(name)
+    assert '"/path/to/gpp/.venv/bin/gpp", "lsp"' in code and "/path/to/gpp/editors/vim" in code
+    (tmp_path / "snippet.lua").write_text(code, encoding="utf-8")
+    out = tmp_path / "compiled.txt"
+    probe = (
+        'local f = assert(io.open("snippet.lua")); local chunk, err = loadstring(f:read("*a")); f:close()\n'
+        f"vim.fn.writefile({{ chunk and 'ok' or ('error: ' .. err) }}, {json.dumps(str(out))})\n"
+        'vim.cmd("qa!")\n'
+    )
+    done = run_nvim(tmp_path, "", probe, tmp_path / "snippet.lua")
+    assert done.returncode == 0, done.stderr
+    assert out.read_text(encoding="utf-8").strip() == "ok"
+
+
+# ---------------------------------------------------------------- Emacs, Helix, VS Code
+
+
+def read_sexps(text: str) -> list[object]:
+    """Emacs Lisp forms as nested lists of atoms (strings as ('str', text)); ValueError when a
+    parenthesis or string is not closed."""
+    tokens = re.findall(r'"(?:[^"\\]|\\.)*"|;[^\n]*|\?\\?.|[()]|\'|`|,@?|[^\s()"\';`,]+', text)
+    if "".join(tokens).replace(" ", "") != re.sub(r"\s+", "", text):
+        raise ValueError("text that is not Emacs Lisp")
+    stack: list[list[object]] = [[]]
+    for token in tokens:
+        if token.startswith(";"):
+            continue
+        if token == "(":
+            stack.append([])
+        elif token == ")":
+            if len(stack) == 1:
+                raise ValueError("a `)` without its `(`")
+            done = stack.pop()
+            stack[-1].append(done)
+        elif token.startswith('"'):
+            stack[-1].append(("str", token[1:-1]))
+        else:
+            stack[-1].append(token)
+    if len(stack) != 1:
+        raise ValueError("a `(` without its `)`")
+    return stack[0]
+
+
+def test_the_emacs_snippet_loads_the_mode_and_starts_gpp_lsp_with_eglot() -> None:
+    forms = read_sexps(snippet("emacs"))
+    assert ["require", "'", "golog-mode"] in forms
+    flat = json.dumps(forms)
+    assert json.dumps(["golog-mode", ["str", "/path/to/gpp/.venv/bin/gpp"], ["str", "lsp"]]) in flat
+    assert "eglot-server-programs" in flat and "eglot-ensure" in flat
+    assert json.dumps(["str", "/path/to/gpp/editors/emacs"]) in flat
+    assert (ROOT / "editors" / "emacs" / "golog-mode.el").is_file()
+
+
+def test_the_emacs_mode_is_lisp_and_provides_golog_mode() -> None:
+    forms = read_sexps((ROOT / "editors" / "emacs" / "golog-mode.el").read_text(encoding="utf-8"))
+    heads = [f[0] for f in forms if isinstance(f, list) and f]
+    assert heads == ["defconst", "defvar", "define-derived-mode", "add-to-list", "provide"]
+    assert ["provide", "'", "golog-mode"] in forms
+    for word in ("procedure", "while", "exists", "true", "initially"):
+        assert json.dumps(["str", word]) in json.dumps(forms)
+
+
+def test_the_helix_snippet_is_toml_that_starts_gpp_lsp_for_gpp_files() -> None:
+    config = tomllib.loads(snippet("helix"))
+    server = config["language-server"]["gpp"]
+    assert (Path(server["command"]).name, server["args"]) == ("gpp", ["lsp"])
+    (language,) = config["language"]
+    assert language["file-types"] == ["gpp"] and language["language-servers"] == ["gpp"]
+    assert language["name"] == "golog"
+
+
+def test_the_vscode_snippet_is_json_that_starts_gpp_lsp() -> None:
+    settings = json.loads(snippet("vscode"))
+    assert Path(settings["glspc.server.command"]).name == "gpp"
+    assert settings["glspc.server.commandArguments"] == ["lsp"]
+    assert settings["files.associations"]["*.gpp"] in settings["glspc.server.languageId"]
+
+
+def test_the_vim_files_detect_gpp_files_and_colour_them() -> None:
+    vim = ROOT / "editors" / "vim"
+    assert "*.gpp setfiletype golog" in (vim / "ftdetect" / "golog.vim").read_text(encoding="utf-8")
+    assert 'let b:current_syntax = "golog"' in (vim / "syntax" / "golog.vim").read_text(encoding="utf-8")
