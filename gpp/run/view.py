@@ -85,13 +85,11 @@ def describe(event: TraceEvent) -> str | None:
         case FinishEvent():
             return f"finish {event.status}"
         case WaitingEvent():
-            if event.resumed:
+            if event.resumed or event.reason == "activity":
+                # A planned activity's wait: its start and end lines tell it, as for any call
+                # (the live panel, the summary and the page show which step of the plan it is).
                 return None
-            where = f" at {event.at}" if event.at else ""
-            if event.reason == "activity" and event.action is not None and event.plan_step is not None:
-                step = f"step {event.plan_step} of the plan"
-                return f"wait   for `{event.action}` to end, {step}: {event.statement}{where}"
-            return f"wait   {event.condition}: {event.statement}{where}"
+            return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
         case HeaderEvent() | SnapshotEvent():
             return None
         case _:

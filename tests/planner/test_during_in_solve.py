@@ -120,8 +120,10 @@ def test_a_wait_for_a_planned_activity_says_which_activity_and_step_it_waits_for
     first = waits[0]
     assert (first.reason, first.action, first.plan_step) == ("activity", "goto(room1)", 1)
     assert first.condition == "waiting for `goto(room1)` to end, step 1 of the plan"
-    line = describe(first)
-    assert line is not None and line.startswith("wait   for `goto(room1)` to end, step 1 of the plan: during (goto(r))")
+    assert first.statement == "during (goto(r)) { } on_fail { }"
+    assert first.at is not None and first.at.endswith("solve_retries.gpp:37:9")
+    # The log has a line per start and end; the wait between them is not another line.
+    assert describe(first) is None
     # After the first visit, the plan's later steps: greet(room1) is step 2, goto(room2) step 3.
     steps = [(w.action, w.plan_step) for w in waits[-3:]]
     assert steps == [("greet(room1)", 2), ("goto(room2)", 3), ("greet(room2)", 4)]
