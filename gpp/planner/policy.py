@@ -138,6 +138,12 @@ def steps_to_finish(sem: Semantics, prog: Prog, state: State, acts: Activities) 
     return None
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class WatchCancelled(Planned):
+    """A planned step that ends a watched activity (`during (a) until (e)`) whose condition
+    fired while it ran: its cancellation was asked for, and the step waits for the end."""
+
+
 @dataclass(eq=False)
 class PlanHolder:
     """The plan of one `solve`/`search` being executed online (a PlanSession)."""
@@ -360,7 +366,10 @@ class PlanHolder:
             return self.call_ended(p, step, after, acts)
         status = acts.status(step.action) if isinstance(step, EndStep) else None
         if status is ActivityStatus.RUNNING:
-            return []  # the planned end waits for the platform, as `end` does
+            # The planned end waits for the platform, as `end` does; a watched activity is
+            # cancelled when its condition holds meanwhile (the plan assumed it ends first).
+            cancel = None if isinstance(p, WatchCancelled) else sem.watch_cancel(before, step, state)
+            return [] if cancel is None else [(WatchCancelled(self, p.index), cancel)]
         failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
         if isinstance(step, EndStep) and failed and step.hook in (EndKind.DURING, "end"):
             # The plan assumed success. The program reacts to the failure or cancellation (a

@@ -24,6 +24,7 @@ from gpp.runtime.semantics import (
     Rest,
     Semantics,
     Seq,
+    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value, show
@@ -106,7 +107,7 @@ class _Explanation:
                     if why is not None:
                         return why
                 return None
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return self.waiting(p.action, p.span, "to end")
             case Planned():
                 stmt = p.session.stmt

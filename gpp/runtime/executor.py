@@ -68,6 +68,7 @@ from gpp.runtime.semantics import (
     StartStep,
     Step,
     TestStep,
+    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace, TraceWriteError
@@ -612,7 +613,7 @@ class Executor:
             self.end(step)
         elif isinstance(step, CancelStep):
             record = self.records[step.action]
-            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id))
+            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id, reason=step.reason or None))
             self.platform.preempt(record)
         elif isinstance(step, AssignStep):
             self.state = self.state.updated(dict(step.updates), self.program.initial)
@@ -895,7 +896,7 @@ def _head_span(p: Prog) -> Span | None:
                 p = Rest(block, 0, p.frame)
             case Code():
                 return p.stmt.span
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return p.span
             case Planned():
                 return p.session.stmt.span

@@ -368,7 +368,7 @@ def test_diff_shows_the_fixes_without_writing(here: Path) -> None:
         "     goto(hall);\n"
         " }\n"
     )
-    assert result.stderr == "would fix 5 problems in 1 file\n"
+    assert result.stderr == "would fix 5 problems (3 of them hidden by a syntax error) in 1 file\n"
     assert (here / "agent.gpp").read_text() == SEVERAL_FIXES
     assert gpp("check", "--diff", "--format", "json").exit_code == 2
 
@@ -380,7 +380,10 @@ def test_fix_writes_every_safe_fix_and_a_second_run_changes_nothing(
     (tmp_path / "agent.gpp").write_text(SEVERAL_FIXES)
     (tmp_path / "other.gpp").write_text("procedure main() {}\n")
     result = gpp_process("check", "--fix", cwd=tmp_path)
-    assert (result.returncode, result.stdout) == (0, "no problems found\nfixed 5 problems in 1 file, 0 remaining\n")
+    assert (result.returncode, result.stdout) == (
+        0,
+        "no problems found\nfixed 5 problems (3 of them hidden by a syntax error) in 1 file, 0 remaining\n",
+    )
     assert (tmp_path / "agent.gpp").read_text() == FIXED
     assert sorted(p.name for p in tmp_path.iterdir()) == ["agent.gpp", "other.gpp"]  # no temporary file left
     again = gpp("check", "--fix")
