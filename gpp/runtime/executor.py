@@ -350,13 +350,7 @@ class Executor:
             notes.append("it was planning (the bound holds while the planner works too)")
             label = "planning here"
         elif self.blocked:
-            self.ctx.explaining = True
-            try:
-                waiting = why_blocked(self.sem, prog, self.state, self.acts)
-            except GppRuntimeError:
-                waiting = None  # explaining would have asked the platform
-            finally:
-                self.ctx.explaining = False
+            waiting = self.explained(prog).why
             if waiting is not None:
                 notes.append(f"it waits here: {waiting.message.removeprefix(BLOCKED)}")
             label = "waiting here"
@@ -369,17 +363,22 @@ class Executor:
         self.result.diagnostics.append(d)
         self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=d.code, message=d.message, at=_where(d.span)))
 
+    def explained(self, prog: Prog) -> Wait:
+        """What the blocked program waits for, without asking the platform anything (an answer
+        could change what it waits for): only where it waits when explaining would ask."""
+        self.ctx.explaining = True
+        try:
+            return waits_for(self.sem, prog, self.state, self.acts)
+        except GppRuntimeError:
+            return Wait(None, "event")
+        finally:
+            self.ctx.explaining = False
+
     def note_waiting(self, prog: Prog) -> None:
         """Record, once per wait, what the blocked program waits for (a `waiting` trace record).
         A wait for a running activity is not recorded (its start and end records tell it),
         unless the activity is a step of a plan: the record says which step."""
-        self.ctx.explaining = True
-        try:
-            wait = waits_for(self.sem, prog, self.state, self.acts)
-        except GppRuntimeError:
-            wait = Wait(None, "event")  # explaining would have asked the platform: say only where it waits
-        finally:
-            self.ctx.explaining = False
+        wait = self.explained(prog)
         why = wait.why
         if wait.reason == "activity" and wait.plan_step is None:
             return
