@@ -158,9 +158,11 @@ class Platform:
     def now(self) -> float:
         raise NotImplementedError
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         """The program is blocked: make time pass until something is queued or `deadline`
-        (platform time) is reached. Returns False when nothing can ever arrive."""
+        (platform time) is reached. Returns False when nothing can ever arrive, or when the
+        wall clock reaches `wall_deadline` (a `time.monotonic()` moment: the run's
+        `--timeout`) first: a platform whose waiting takes wall-clock time returns by then."""
         raise NotImplementedError
 
     def live(self) -> bool:

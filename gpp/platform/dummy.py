@@ -394,7 +394,8 @@ class DummyPlatform(Platform):
     def now(self) -> float:
         return self.clock
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
+        # Virtual time: waiting takes no wall-clock time, so `wall_deadline` cannot come first.
         self._schedule_random_exog()
         while self._agenda:
             t, seq, event = self._agenda[0]

@@ -45,9 +45,10 @@ class RunOptions:
     platform: str | None = None
     # The platform's options (`--platform-opt key=value`), validated by the platform.
     platform_options: Mapping[str, OptionValue] = field(default_factory=dict)
+    # The run's bounds (SEMANTICS §4): `timeout` in wall-clock seconds (`--timeout`),
+    # `time_limit` in seconds of platform time (`--time-limit`, no default).
     timeout: float | None = None
-    # Wall-clock seconds a run may take (default: the timeout's).
-    wall_timeout: float | None = None
+    time_limit: float | None = None
     # Values of the entry procedure's parameters (`--arg name=value`), as text or as values.
     args: Mapping[str, object] = field(default_factory=dict)
     # The platform's own command-line arguments (`--ros-args ...` for ros2; its parameters can
@@ -67,6 +68,8 @@ class RunOptions:
     search_strategy: str = "depth-first"
     # Told now and then how a long `solve` is getting on (the run view shows it).
     progress: Callable[[Progress], None] | None = None
+    # Told the platform's clock once the platform exists (the live view shows it between events).
+    clock: Callable[[Callable[[], float]], None] | None = None
 
 
 @dataclass
@@ -144,6 +147,8 @@ def run_program(
         entry_args = entry_arguments(procedure, options.args)  # before the platform starts
     platform = make_platform(options, check, path)
     outcome.platform = platform.name
+    if options.clock is not None:
+        options.clock(platform.now)
     trace: Trace | None = None
     try:
         if options.platform_arguments is not None:
@@ -165,10 +170,10 @@ def run_program(
             program,
             platform,
             trace,
-            options.timeout,
+            options.time_limit,
             options.entry,
             planner=PolicyPlanner(options.search_strategy, options.progress),
-            wall_timeout=options.wall_timeout,
+            timeout=options.timeout,
             entry_args=entry_args,
         )
         problems = platform.attach(program_interface(program))

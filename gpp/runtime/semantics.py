@@ -196,6 +196,9 @@ class Planned(ProgNode):
 
     session: PlanSession
     index: int
+    # The planned step at `index` is a call whose activity has been started: the session waits
+    # for it to end (and plans again from after it if it fails).
+    calling: bool = False
 
 
 # A program continuation: what remains to be executed.
@@ -315,6 +318,8 @@ class ReplanStep(StepNode):
 
     session: PlanSession
     index: int
+    # Why: a planned step no longer possible, a planned activity that failed, ...
+    reason: str = ""
     cost = 0
 
     def describe(self) -> str:
@@ -366,8 +371,15 @@ class PlanSession(Protocol):
         """Plan the statement's body from the actual state (performing the PlanStep)."""
         ...
 
-    def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
-        """Plan again from the program point of `Planned(self, index)` (a ReplanStep)."""
+    def replan(self, sem: Semantics, index: int, state: State, acts: Activities, reason: str = "") -> PlanReport:
+        """Plan again from the program point of `Planned(self, index)` (a ReplanStep, which
+        says why)."""
+        ...
+
+    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int, Span] | None:
+        """What `p` (a Planned of this session that cannot step) waits for, when it is a
+        planned activity: the activity, the number of its step among the plan's steps (1 for
+        the first), and the statement of the step (the call, the `during`)."""
         ...
 
 
@@ -375,6 +387,11 @@ class OnlinePlanner(Protocol):
     """What runs `solve`/`search` online: makes a session for a statement reached online."""
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession: ...
+
+    def stop_at(self, deadline: float | None) -> None:
+        """Planning that goes on past `deadline` (a `time.monotonic()` moment: the run's
+        wall-clock bound) raises gpp.runtime.errors.WallClockReached."""
+        ...
 
 
 # ---------------------------------------------------------------- the semantics

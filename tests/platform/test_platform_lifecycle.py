@@ -186,7 +186,7 @@ def test_a_cancellation_that_is_never_acknowledged_is_recorded_after_a_bounded_w
     program = CompiledProgram(check.model)
     platform = Deaf()
     trace = Recording()
-    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=10)
+    executor = Executor(program, platform, Trace(listeners=[trace]), time_limit=10)
     executor.cancel_grace = 0.2
     assert platform.attach(program_interface(program)) == []
     started = time.perf_counter()

@@ -956,7 +956,7 @@ class Ros2Platform(Platform):
         self._told = max(self._told, now)
         return now
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         with self._clock_lock:
             self._deadline = deadline
         try:
@@ -972,6 +972,11 @@ class Ros2Platform(Platform):
                         return False
                     # In sim time the clock's callback wakes the wait; left is simulated time.
                     slice_ = SIM_SLICE if self.sim_time else min(slice_, left)
+                if wall_deadline is not None:
+                    # The run's wall-clock bound (`--timeout`), in wall-clock time also in sim time.
+                    slice_ = min(slice_, wall_deadline - time.monotonic())
+                    if slice_ <= 0:
+                        return False
                 if self.queue.wait(slice_):
                     return True
         finally:

@@ -263,7 +263,7 @@ class SimPlatform(Platform):
     def now(self) -> float:
         return self.clock
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         wall0 = time.perf_counter()
         sim0 = self.clock
         try:
@@ -273,6 +273,8 @@ class SimPlatform(Platform):
                     return True
                 if deadline is not None and self.clock >= deadline:
                     return False
+                if wall_deadline is not None and time.monotonic() >= wall_deadline:
+                    return False  # the run's wall-clock bound: the physics took that long
                 if not self.tasks:
                     # Nothing moves: time jumps to what the scenario does next, or to the deadline.
                     due = self.script.next_time()
@@ -281,7 +283,13 @@ class SimPlatform(Platform):
                             self.clock = deadline
                         return False
                     if self.realtime and due > self.clock:
-                        time.sleep(due - self.clock)  # a scripted greeting takes its time too
+                        pause = due - self.clock  # a scripted greeting takes its time too
+                        if wall_deadline is not None and time.monotonic() + pause > wall_deadline:
+                            pause = max(0.0, wall_deadline - time.monotonic())
+                            time.sleep(pause)
+                            self.clock += pause
+                            return False  # the run's wall-clock bound comes first
+                        time.sleep(pause)
                     self.clock = max(self.clock, due)
                     continue
                 self._step()
