@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import inspect
 import os
 import re
 import sys
@@ -164,6 +165,7 @@ class Executor:
         self.planner = planner
         # The moment (time.monotonic()) the wall-clock bound is reached, once the run started.
         self.wall_deadline: float | None = None
+        self._wait_takes_wall_deadline: bool | None = None  # see wait_for_platform
         self.entry = entry
         # The values of the entry procedure's parameters (`gpp run --arg n=3`), in order.
         self.entry_args = entry_args
@@ -197,6 +199,24 @@ class Executor:
         # Exogenous actions and functions already warned about (R0015), and warnings given.
         self.warned_dropped: set[str] = set()
         self.warned_platform: set[str] = set()
+
+    def wait_for_platform(self, deadline: float | None) -> bool:
+        """The platform's `wait` until `deadline` (platform time) or the run's wall-clock bound. A
+        platform plugin written before the port had `wall_deadline` is asked without it (its
+        `wait` then returns by `deadline` or an event, and the bound is checked after)."""
+        if self.wall_deadline is None:
+            return self.platform.wait(deadline)
+        if self._wait_takes_wall_deadline is None:
+            try:
+                parameters = inspect.signature(self.platform.wait).parameters
+            except (TypeError, ValueError):
+                parameters = {}  # type: ignore[assignment]
+            self._wait_takes_wall_deadline = "wall_deadline" in parameters or any(
+                p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()
+            )
+        if self._wait_takes_wall_deadline:
+            return self.platform.wait(deadline, wall_deadline=self.wall_deadline)
+        return self.platform.wait(deadline)
 
     # ---------------------------------------------------------------- the loop
 
@@ -256,7 +276,7 @@ class Executor:
                     self.blocked = True
                     self.note_waiting(prog)
                     deadline = min((t for t in (wake, self.time_limit) if t is not None), default=None)
-                    if self.platform.wait(deadline, wall_deadline=self.wall_deadline) or len(self.platform.queue) > 0:
+                    if self.wait_for_platform(deadline) or len(self.platform.queue) > 0:
                         continue
                     if wake is not None and self.platform.now() >= wake:
                         chased += 1
