@@ -110,7 +110,8 @@ class SnapshotEvent(EventBase):
     fluents: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
     # The activities started and not consumed yet (`{"action": ..., "id": ..., "status": ...}`).
     activities: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
-    # What the program waits for (`statement`, `at`, `condition` of its `waiting` record), if it waits.
+    # What the program waits for (`statement`, `at`, `condition` of its `waiting` record, and
+    # since 1.5 its `reason`, `action` and `plan_step` where it has them), if it waits.
     waiting: dict[str, JsonValue] | None = field(default=None, metadata=_OPTIONAL)
     # The counts of the `finish` record, so far.
     actions: int
@@ -174,6 +175,17 @@ class WaitingEvent(EventBase):
     reason: str | None = field(default=None, metadata=_OPTIONAL)
     action: str | None = field(default=None, metadata=_OPTIONAL)
     plan_step: int | None = field(default=None, metadata=_OPTIONAL)
+
+
+def waiting_fields(event: WaitingEvent) -> dict[str, JsonValue]:
+    """What a snapshot (and the ros2 platform's state topic) says of a wait: its statement,
+    place and condition, and those of `reason`, `action` and `plan_step` it has."""
+    fields: dict[str, JsonValue] = {"statement": event.statement, "at": event.at, "condition": event.condition}
+    for name in ("reason", "action", "plan_step"):
+        value = getattr(event, name)
+        if value is not None:
+            fields[name] = value
+    return fields
 
 
 # ---------------------------------------------------------------- activities

@@ -440,9 +440,7 @@ class Executor:
             activities=tuple(
                 {"action": g.text, "id": self.records[g].id, "status": status.value} for g, status in self.acts.items()
             ),
-            waiting=None
-            if waiting is None
-            else {"statement": waiting.statement, "at": waiting.at, "condition": waiting.condition},
+            waiting=None if waiting is None else ev.waiting_fields(waiting),
             actions=self.result.actions,
             failures=self.result.failures,
             exog_events=self.result.exog_events,

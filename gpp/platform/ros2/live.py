@@ -32,6 +32,7 @@ from gpp.runtime.events import (
     UpdateEvent,
     WaitingEvent,
     encode,
+    waiting_fields,
 )
 
 if TYPE_CHECKING:
@@ -88,11 +89,7 @@ class RunState:
                     "policy": list(event.policy),
                 }
             case WaitingEvent():
-                self.waiting = (
-                    None
-                    if event.resumed
-                    else {"statement": event.statement, "at": event.at, "condition": event.condition}
-                )
+                self.waiting = None if event.resumed else waiting_fields(event)
             case BlockedEvent():
                 self.blocked = event.message
             case ErrorEvent():
