@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test quick lint typecheck pytest browser neovim bench pathological fuzz clean ros-interfaces ros-robot ros-run
+.PHONY: run test quick lint typecheck pytest browser neovim bench pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -133,6 +133,14 @@ ros-robot: $(VENV)/.installed-dev ros-interfaces
 
 ros-run: $(VENV)/.installed-dev ros-interfaces
 	$(ROS_ENV) $(BIN)/gpp run examples/blocksworld.gpp --platform ros2
+
+# Two example robots, under /robot1 and /robot2, and one agent driving both (docs/platforms.md,
+# "Many robots"); the agent waits for their names to show up in the ROS graph.
+ros-fleet: $(VENV)/.installed-dev ros-interfaces
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py --ros-args -r __ns:=/robot1 & r1=$$!; \
+	$(ROS_ENV) $(BIN)/python examples/ros2/robot.py --ros-args -r __ns:=/robot2 & r2=$$!; \
+	$(ROS_ENV) $(BIN)/gpp run examples/ros2/two_robots.gpp --platform ros2; status=$$?; \
+	kill $$r1 $$r2; exit $$status
 
 clean:
 	rm -rf $(VENV) build dist .mypy_cache .pytest_cache .ruff_cache

@@ -181,7 +181,7 @@ def measure(family_name: str, n: int, run: bool) -> dict[str, object]:
             from gpp.run.runner import RunOptions, run_program
 
             started = time.perf_counter()
-            outcome = run_program(path, RunOptions(timeout=600.0), checked=result)
+            outcome = run_program(path, RunOptions(time_limit=600.0, timeout=600.0), checked=result)
             report["run"] = time.perf_counter() - started
             report["run_status"] = outcome.result.status.value if outcome.result else "not started"
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

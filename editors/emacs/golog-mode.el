@@ -18,8 +18,8 @@
      . font-lock-type-face)
     ;; the statements' keywords and the hooks of `during`
     (,(regexp-opt '("if" "else" "while" "test" "choose" "pick" "in" "search"
-                    "solve" "concurrent" "during" "on_fail" "on_cancel" "start" "end" "finish"
-                    "fail" "cancel") 'symbols)
+                    "solve" "concurrent" "during" "until" "on_fail" "on_cancel" "start" "end"
+                    "finish" "fail" "cancel") 'symbols)
      . font-lock-keyword-face)
     ;; the built-in functions and list operations
     (,(regexp-opt '("push_back" "push_front" "pop_back" "pop_front" "length" "to_string") 'symbols)
@@ -31,7 +31,7 @@
     (,(regexp-opt '("exists" "forall") 'symbols)
      . font-lock-keyword-face)
     ;; the words of `component` and `constraints` declarations
-    (,(regexp-opt '("resets" "state" "next" "previous" "future" "past" "until" "since") 'symbols)
+    (,(regexp-opt '("resets" "state" "next" "previous" "future" "past" "since") 'symbols)
      . font-lock-keyword-face)
     ;; the section words, before their colon (`precondition:`)
     (,(concat (regexp-opt '("initially" "precondition" "effect" "senses" "mapping" "silent" "duration" "clocks"

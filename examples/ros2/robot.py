@@ -1,7 +1,8 @@
 """The blocksworld robot of the golog++ papers as a ROS 2 node, backed by gpp's pymunk sim.
 
 It serves the robot's own ROS 2 interfaces (package gpp_robot_interfaces, built by
-`make ros-interfaces`):
+`make ros-interfaces`), under its namespace (the root unless `--ros-args -r __ns:=/robot1`
+says otherwise, as for any ROS node: `/robot1/stack`, ...):
 
     /stack              action  Stack            block, location -> success, message
     /get_block_pose     action  GetBlockPose     block -> location
@@ -13,7 +14,7 @@ It serves the robot's own ROS 2 interfaces (package gpp_robot_interfaces, built 
 Each goal becomes an activity of the sim's world (the same scenes and physics as
 `--platform sim`), so an agent gets the same outcome on either platform:
 
-    python examples/ros2/robot.py [--world blocksworld] [--speed 1]
+    python examples/ros2/robot.py [--world blocksworld] [--speed 1] [--ros-args ...]
     gpp run examples/blocksworld.gpp --platform ros2
 
 `--speed` is sim time per wall time (0: as fast as the CPU allows). The node knows nothing
@@ -39,13 +40,14 @@ from rclpy.context import Context
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
 
+from gpp.base.source import Source, Span
 from gpp.model.types import NUMBER, Sym
 from gpp.platform.base import ActivityUpdate, ExogActionBinding, ExogOccurrence, Parameter, ProgramInterface
 from gpp.platform.sim import SimPlatform, World
 from gpp.platform.sim.platform import make_activity
 from gpp.runtime.state import ActivityStatus
-from gpp.base.source import Source, Span
 
 # /navigate_to_pose drives the base on a square map of this half-width (m), at DRIVE_SPEED m/s
 # (times --speed), with feedback every FEEDBACK_PERIOD s; as Nav2 does, a goal it cannot reach
@@ -128,16 +130,16 @@ class SimThread:
 class Robot:
     def __init__(self, context: Context, world: World, speed: float) -> None:
         self.node = rclpy.create_node("blocksworld_robot", context=context, start_parameter_services=False)
-        self.battery = self.node.create_publisher(Battery, "/battery", LATCHED)
+        self.battery = self.node.create_publisher(Battery, "battery", LATCHED)
         self.sim = SimThread(world, speed, lambda level: self.battery.publish(Battery(level=level)))
         group = ReentrantCallbackGroup()
         accept = {"cancel_callback": lambda _: CancelResponse.ACCEPT, "callback_group": group}
         self.servers = [
-            ActionServer(self.node, Stack, "/stack", execute_callback=self._stack, **accept),
-            ActionServer(self.node, GetBlockPose, "/get_block_pose", execute_callback=self._pose, **accept),
-            ActionServer(self.node, NavigateToFrame, "/navigate_to_frame", execute_callback=self._navigate, **accept),
-            ActionServer(self.node, GripperHome, "/gripper_home", execute_callback=self._home, **accept),
-            ActionServer(self.node, NavigateToPose, "/navigate_to_pose", execute_callback=self._drive, **accept),
+            ActionServer(self.node, Stack, "stack", execute_callback=self._stack, **accept),
+            ActionServer(self.node, GetBlockPose, "get_block_pose", execute_callback=self._pose, **accept),
+            ActionServer(self.node, NavigateToFrame, "navigate_to_frame", execute_callback=self._navigate, **accept),
+            ActionServer(self.node, GripperHome, "gripper_home", execute_callback=self._home, **accept),
+            ActionServer(self.node, NavigateToPose, "navigate_to_pose", execute_callback=self._drive, **accept),
         ]
         self.speed = speed
         self.base = (0.0, 0.0)
@@ -216,19 +218,26 @@ class Robot:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0] if __doc__ else None)
     parser.add_argument("--world", default="blocksworld", help="a world of stdlib/worlds or a TOML file")
     parser.add_argument("--speed", type=float, default=1.0, help="sim time per wall time (0: unpaced)")
-    args = parser.parse_args(argv)
+    # The ROS arguments (`--ros-args -r __ns:=/robot1 ...`) are rcl's, as for any node.
+    args = parser.parse_args(remove_ros_args(["robot.py", *argv])[1:])
     context = Context()
     rclpy.init(
-        context=context, args=["--ros-args", "--log-level", "warn"], signal_handler_options=SignalHandlerOptions.NO
+        context=context,
+        args=["robot.py", "--ros-args", "--log-level", "warn", "--", *argv],
+        signal_handler_options=SignalHandlerOptions.NO,
     )
     robot = Robot(context, World.load(args.world), args.speed)
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     signal.signal(signal.SIGINT, lambda *_: stop.set())
-    print(f"robot ready: world {args.world}, speed {args.speed:g}", flush=True)
+    print(
+        f"robot ready: world {args.world}, speed {args.speed:g}, node {robot.node.get_fully_qualified_name()}",
+        flush=True,
+    )
     while not stop.wait(0.2):
         pass
     robot.close()

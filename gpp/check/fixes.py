@@ -6,11 +6,20 @@ changed), applies the ones that do not overlap, and checks again; fixing a name 
 next problem, and of two overlapping fixes the second waits for the next round. It stops when a
 round has nothing to apply, after `MAX_ROUNDS` at most. Nothing is written here: the caller
 writes the new texts (`gpp.base.paths.write_atomically`) or shows them (`unified_diff`).
+
+What was fixed is counted by what went away, not by the edits made: the problems of the first
+check (by file, code and message) that the last one no longer reports, whether a fix was aimed
+at them or they went with one (`action go is never used` goes with the misspelled call of
+`go`); and the problems the first check did not show (a syntax error holds back the name
+errors and lints of a file until it is fixed) that a later round fixed: a problem a fix was
+applied for that the next check reports fewer times. Those are `found_later`, so that the
+report can say that more was fixed than the check had shown.
 """
 
 from __future__ import annotations
 
 import difflib
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,7 +27,7 @@ from pathlib import Path
 from gpp.base import diagnostics as diag
 from gpp.base.resources import stdlib_dir
 from gpp.base.source import Source
-from gpp.check import CheckResult
+from gpp.check import CheckResult, merged_diagnostics
 
 MAX_ROUNDS = 10
 
@@ -32,6 +41,9 @@ class FixOutcome:
     fixed: dict[Path, str] = field(default_factory=dict)  # resolved path -> text after (changed files)
     shown: dict[Path, str] = field(default_factory=dict)  # resolved path -> path as diagnostics show it
     applied: int = 0  # fixes applied, over all rounds
+    fixed_problems: int = 0  # problems that went away (see the module's docstring)
+    found_later: int = 0  # of those, how many the first check did not show
+    hidden_by_syntax_errors: bool = False  # the first check had syntax errors (which hold back others)
     rounds: int = 0
     results: list[CheckResult] = field(default_factory=list)  # the check of the fixed texts
 
@@ -44,8 +56,17 @@ def fix_programs(paths: Sequence[Path], check: Checker, max_rounds: int = MAX_RO
     memory until none is left; the outcome holds the new texts and the final check."""
     outcome = FixOutcome()
     stdlib = stdlib_dir().resolve()
+    tally: _Tally | None = None
+    fixed_for: Counter[_Key] = Counter()  # the problems the last round applied a fix for
     while True:
         outcome.results = [check(p, outcome.fixed) for p in paths]
+        found = Counter(_key(d) for d in merged_diagnostics(outcome.results))
+        if tally is None:
+            tally = _Tally(found.copy(), found.copy(), found)
+            outcome.hidden_by_syntax_errors = any(d.is_error for r in outcome.results for d in r.loaded.diagnostics)
+        else:
+            tally.went_away(fixed_for, found, outcome)
+        outcome.fixed_problems = (tally.first - found).total() + outcome.found_later
         if outcome.rounds == max_rounds:
             return outcome
         files: dict[int, Path] = {}
@@ -56,6 +77,7 @@ def fix_programs(paths: Sequence[Path], check: Checker, max_rounds: int = MAX_RO
                     outcome.shown.setdefault(f.path, f.source.path)
                     outcome.original.setdefault(f.path, f.source.text)
         pending: dict[Path, tuple[Source, list[diag.Fix]]] = {}
+        problem_of: dict[int, _Key] = {}  # fix (by id) -> the problem it fixes
         for result in outcome.results:
             for d in result.diagnostics:
                 fix = d.fix
@@ -68,21 +90,54 @@ def fix_programs(paths: Sequence[Path], check: Checker, max_rounds: int = MAX_RO
                 entry = pending.setdefault(path, (source, []))
                 if fix not in entry[1]:
                     entry[1].append(fix)
-        applied = 0
+                    problem_of[id(fix)] = _key(d)
+        fixed_for = Counter()
         for path, (source, fixes) in pending.items():
-            text, count = apply_fixes(source.text, fixes)
-            if count:
-                outcome.fixed[path] = text
-                applied += count
-        if not applied:
+            chosen = choose_fixes(fixes)
+            if chosen:
+                outcome.fixed[path] = _applied(source.text, chosen)
+                fixed_for.update(problem_of[id(f)] for f in chosen)
+        if not fixed_for:
             return outcome
-        outcome.applied += applied
+        outcome.applied += fixed_for.total()
         outcome.rounds += 1
+
+
+_Key = tuple[str, str, str]  # a problem: the file as shown, the code, the message
+
+
+def _key(d: diag.Diagnostic) -> _Key:
+    return (d.span.source.path, d.code, d.message)
+
+
+@dataclass
+class _Tally:
+    """What the first check showed and what the last one found, to count what fixes removed."""
+
+    first: Counter[_Key]  # shown by the first check
+    unseen: Counter[_Key]  # shown by the first check and not yet fixed by a fix aimed at them
+    last: Counter[_Key]  # found by the last check
+
+    def went_away(self, fixed_for: Counter[_Key], found: Counter[_Key], outcome: FixOutcome) -> None:
+        """Count, of the problems the last round's fixes were aimed at and the new check
+        (`found`) reports fewer times, those the first check did not show."""
+        for key, count in fixed_for.items():
+            gone = min(count, max(0, self.last[key] - found[key]))
+            shown = min(gone, self.unseen[key])
+            self.unseen[key] -= shown
+            outcome.found_later += gone - shown
+        self.last = found
 
 
 def apply_fixes(text: str, fixes: Sequence[diag.Fix]) -> tuple[str, int]:
     """`text` with the fixes that do not overlap an earlier one (in order of position) applied,
     and how many were."""
+    chosen = choose_fixes(fixes)
+    return _applied(text, chosen), len(chosen)
+
+
+def choose_fixes(fixes: Sequence[diag.Fix]) -> list[diag.Fix]:
+    """The fixes that do not overlap an earlier one, in order of position."""
     chosen: list[diag.Fix] = []
     last_end = -1
     last_insertion = -1
@@ -94,10 +149,14 @@ def apply_fixes(text: str, fixes: Sequence[diag.Fix]) -> tuple[str, int]:
         chosen.append(fix)
         last_end = end
         last_insertion = start if start == end else -1
+    return chosen
+
+
+def _applied(text: str, chosen: Sequence[diag.Fix]) -> str:
     edits = sorted((e for f in chosen for e in f.edits), key=lambda e: (e.span.start, e.span.end), reverse=True)
     for e in edits:
         text = text[: e.span.start] + e.text + text[e.span.end :]
-    return text, len(chosen)
+    return text
 
 
 def unified_diff(outcome: FixOutcome) -> str:

@@ -28,6 +28,7 @@ from typing import Any, TypeVar, assert_never, get_args
 from gpp import codes
 from gpp.base import diagnostics as diag
 from gpp.base.source import Span
+from gpp.model.declarations import placeholders_in
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, ERROR, DomainType, DomainValue, Sym, Type, base, show_value
@@ -491,17 +492,21 @@ def unused_variable(program: _Program) -> Iterator[diag.Diagnostic]:
 def _params_with_body(program: _Program) -> Iterator[Symbol]:
     """Parameters of the functions, procedures and actions defined in the root files whose
     use can be judged: an action without `mapping:` passes every parameter to the platform,
-    and an exogenous action's parameters are set by its events."""
+    and an exogenous action's parameters are set by its events. A parameter named as a
+    placeholder in the mapped name (`"/{r}/navigate"`) is used by it."""
     for symbol in program.root_globals():
         decl = symbol.decl
         if symbol.predefined or not symbol.is_defined:
             continue
+        in_name: set[str] = set()
         if isinstance(decl, ast.ActionDecl):
-            if decl.exogenous or decl.section(ast.MappingSection) is None:
+            section = decl.section(ast.MappingSection)
+            if decl.exogenous or not isinstance(section, ast.MappingSection):
                 continue
+            in_name = set(placeholders_in(section.mapping.name.value))
         elif not isinstance(decl, ast.FunctionDecl | ast.ProcedureDecl):
             continue
-        yield from (p for p in symbol.params if program.linted(p.span))
+        yield from (p for p in symbol.params if p.name not in in_name and program.linted(p.span))
 
 
 def _variables(program: _Program) -> Iterator[Symbol]:
@@ -823,6 +828,10 @@ def _conditions(program: _Program) -> Iterator[_Condition]:
     for e in program.nodes(ast.Effect):
         if e.condition is not None:
             yield _Condition(e.condition, "effect condition", "the effect always applies", "the effect never applies")
+    for d in program.nodes(ast.During):
+        if d.until is not None:
+            cancelled = "the activity is cancelled as soon as it starts"
+            yield _Condition(d.until, "`until` condition", cancelled, "it never cancels the activity")
 
 
 # Local: one condition; its names and types come from the environment.
@@ -1417,3 +1426,259 @@ def _negated(e: ast.Expr) -> str:
         return text[1:-1] if e.operand.parenthesized and text[:1] + text[-1:] == "()" else text
     atomic = e.parenthesized or isinstance(e, ast.Call | ast.Name | ast.FieldAccess | ast.Index | ast.BoolLit)
     return f"!{e.span.text}" if atomic else f"!({e.span.text})"
+
+
+# ---------------------------------------------------------------- W0118 goal paid again
+
+
+# Global: the reward's functions, the actions' effects and the procedures the `solve` calls are
+# read wherever they are declared.
+@_lint(codes.W0118, local=False)
+def goal_paid_again(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    for solve in program.root_statements(ast.Solve):
+        for goal, bonus in _goal_bonuses(model, solve.reward, set()):
+            read = _fluents_read(program, goal)
+            if not read:
+                continue
+            goal_text, bonus_text = format_expr(goal), format_expr(bonus)
+            for writer, after in _steps_after_goal(program, solve.body, read):
+                yield _goal_paid_again(solve, goal_text, bonus_text, writer, after)
+
+
+def _steps_after_goal(
+    program: _Program, body: ast.Statement, goal_fluents: set[int]
+) -> Iterator[tuple[ast.Statement, ast.Statement]]:
+    """In each sequence of statements of `body` (its own, and each block inside it): the last
+    statement that can assign a fluent the goal reads, and the first statement after it that
+    makes a costed step, when there is one (it cannot assign them)."""
+    sequences = [n for n in walk(body) if isinstance(n, ast.Block)]
+    if not isinstance(body, ast.Block):
+        sequences.insert(0, ast.Block(span=body.span, body=(body,)))
+    seen: set[int] = set()
+    for block in sequences:
+        steps = _sequence(block)
+        writers = [i for i, s in enumerate(steps) if _may_write(program, s, goal_fluents, set())]
+        if not writers:
+            continue
+        after = next((s for s in steps[writers[-1] + 1 :] if _costs(program, s, set())), None)
+        if after is not None and id(after) not in seen:  # a nested block is also part of its parent's
+            seen.add(id(after))
+            yield steps[writers[-1]], after
+
+
+def _goal_paid_again(
+    solve: ast.Solve, goal_text: str, bonus_text: str, writer: ast.Statement, after: ast.Statement
+) -> diag.Diagnostic:
+    return diag.warning(
+        codes.W0118.paid_again(goal_text, bonus_text),
+        after.span,
+        f"a step after `{goal_text}` may have become true",
+        secondary=[
+            diag.Label(writer.span, f"can make `{goal_text}` true"),
+            diag.Label(solve.reward.span, "paid in the state before every step and after each one"),
+        ],
+        notes=[
+            "the value of a plan adds up the reward of every state it passes through, so a goal that "
+            f"still holds pays `{bonus_text}` once per step made after it was reached"
+        ],
+        help="make this step before the one that reaches the goal, or after the `solve`, if the goal should count once",
+    )
+
+
+def _goal_bonuses(model: Model, e: ast.Expr, seen: set[int]) -> Iterator[tuple[ast.Expr, ast.Expr]]:
+    """The `if (goal) bonus else ...` terms of a reward expression, through the functions
+    without parameters it calls: a bonus that is (or starts from, as `1000 - cost()`) a
+    constant above 0, and above the other branch when that is a constant."""
+    e = model.effective(e)
+    match e:
+        case ast.Conditional():
+            bonus = _constant_part(e.then)
+            other = _number_constant(e.otherwise)
+            if bonus is not None and bonus > 0 and (other is None or bonus > other):
+                yield e.condition, e.then
+        case ast.Binary() if e.op in (Op.ADD, Op.SUB):
+            yield from _goal_bonuses(model, e.left, seen)
+            if e.op is Op.ADD:
+                yield from _goal_bonuses(model, e.right, seen)
+        case ast.Call() if not e.args:
+            symbol = model.target(e)
+            decl = symbol.decl if symbol is not None else None
+            if isinstance(decl, ast.FunctionDecl) and decl.body is not None and id(decl) not in seen:
+                seen.add(id(decl))
+                yield from _goal_bonuses(model, decl.body, seen)
+        case _:
+            pass
+
+
+def _constant_part(e: ast.Expr) -> float | None:
+    """The number a reward term starts from: a constant, or the constant of `1000 - cost()`,
+    `cost() + 10`."""
+    if isinstance(e, ast.Binary) and e.op in (Op.ADD, Op.SUB) and not e.parenthesized:
+        left = _number_constant(e.left)
+        if left is not None:
+            return left
+        return _number_constant(e.right) if e.op is Op.ADD else None
+    return _number_constant(e)
+
+
+def _number_constant(e: ast.Expr) -> float | None:
+    if isinstance(e, ast.NumberLit):
+        return e.value
+    if isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NEG and isinstance(e.operand, ast.NumberLit):
+        return -e.operand.value
+    return None
+
+
+def _sequence(s: ast.Statement) -> list[ast.Statement]:
+    """The statements `s` runs one after the other (nested blocks flattened)."""
+    if not isinstance(s, ast.Block):
+        return [s]
+    return [x for b in s.body for x in _sequence(b)]
+
+
+def _may_write(program: _Program, s: ast.Statement, fluents: set[int], seen: set[int]) -> bool:
+    """Can `s` (or an action or procedure it calls) assign one of `fluents` (ids)? An
+    assignment whose fluent is not clear may."""
+    model = program.model
+    for node in walk(s):
+        if isinstance(node, ast.Assign | ast.ListStmt):
+            fluent = _assigned_fluent(model, node)
+            if fluent is None or id(fluent) in fluents:
+                return True
+        elif isinstance(node, ast.Call):
+            symbol = model.target(node)
+            decl = symbol.decl if symbol is not None else None
+            if decl is None or id(decl) in seen:
+                continue
+            seen.add(id(decl))
+            if isinstance(decl, ast.ActionDecl):
+                sections = (n for n in walk(decl) if isinstance(n, ast.Effect | ast.SensesSection))
+                written = {_written_fluent(model, n) for n in sections}
+                if -1 in written or written & fluents:
+                    return True
+            elif (
+                isinstance(decl, ast.ProcedureDecl)
+                and decl.body is not None
+                and _may_write(program, decl.body, fluents, seen)
+            ):
+                return True
+    return False
+
+
+def _written_fluent(model: Model, node: ast.Effect | ast.SensesSection) -> int:
+    """The id of the fluent an effect or a sensing section assigns; -1 when it is not clear."""
+    e = node.target
+    while isinstance(e, ast.FieldAccess | ast.Index):
+        e = e.subject
+    symbol = model.target(e) if isinstance(e, ast.Call) else None
+    return id(symbol) if symbol is not None and symbol.kind is SymbolKind.FLUENT else -1
+
+
+def _costs(program: _Program, s: ast.Statement, seen: set[int]) -> bool:
+    """Can `s` make a step that uses up the horizon (an action, a hook, an assignment)?"""
+    model = program.model
+    for node in walk(s):
+        if isinstance(node, ast.Assign | ast.ListStmt | ast.HookStmt | ast.During):
+            return True
+        if isinstance(node, ast.CallStmt):
+            symbol = model.target(node.call)
+            if symbol is None or symbol.kind is SymbolKind.ACTION:
+                return True
+            decl = symbol.decl
+            if isinstance(decl, ast.ProcedureDecl) and decl.body is not None and id(decl) not in seen:
+                seen.add(id(decl))
+                if _costs(program, decl.body, seen):
+                    return True
+    return False
+
+
+# ---------------------------------------------------------------- W0119 unwatched activity
+
+
+# Global: whether the fix is safe depends on the `start`s of the activity anywhere (see below).
+@_lint(codes.W0119, local=False)
+def unwatched_activity(program: _Program) -> Iterator[diag.Diagnostic]:
+    model = program.model
+    started: set[int] | None = None  # the actions some `start(...)` starts, found on first use
+    for node in program.root_statements(ast.During):
+        if node.until is not None:
+            continue
+        body = node.body.body if isinstance(node.body, ast.Block) else (node.body,)
+        if len(body) < 2:
+            continue
+        *before, test, cancel = body
+        if not (
+            isinstance(test, ast.Test)
+            and isinstance(cancel, ast.HookStmt)
+            and cancel.hook is ast.Hook.CANCEL
+            and format_expr(cancel.action) == format_expr(node.action)
+        ):
+            continue
+        action, condition = node.action.span.text, test.condition.span.text
+        replacement = f"during ({action}) until ({condition}) {{}}"
+        if started is None:
+            started = _started_actions(program)
+        action_symbol = model.target(node.action)
+        fix = None
+        # No fix when the result would get a warning the hanging form does not: a constant
+        # condition is W0107's as an `until` (not as `test(true)`), and without the `cancel` a
+        # `start` of the activity elsewhere could be left without any end (W0114).
+        if (
+            not before
+            and _constant(model, test.condition) is None
+            and (action_symbol is None or id(action_symbol) not in started)
+        ):
+            head = Span(node.span.source, node.span.start, node.body.span.end)
+            fix = diag.Fix(f"write `{replacement}`", (diag.Edit(head, replacement),), diag.Applicability.SAFE)
+        yield diag.warning(
+            codes.W0119.hangs(format_expr(test.condition), format_expr(node.action)),
+            test.span,
+            "waits here after the activity ended",
+            secondary=[diag.Label(cancel.span, "needs the activity still running")],
+            notes=[
+                "the body of a `during` is not interrupted when its activity ends, and its handlers run only "
+                "after the body ended"
+            ],
+            help=f"watch the activity with `until`: `{replacement}` cancels it when the condition holds while "
+            "it runs, and leaves the body when it ends, so a handler always runs",
+            fix=fix,
+        )
+
+
+# ---------------------------------------------------------------- W0120 unrun watch body
+
+
+# Global: a procedure runs only while planning when every call to it is planned.
+@_lint(codes.W0120, local=False)
+def unrun_watch_body(program: _Program) -> Iterator[diag.Diagnostic]:
+    for owner, found in program.body_statements(program.root_files):
+        planned_procedure = owner is not None and id(owner) in program.planning_only
+        for s, planning in found:
+            if not isinstance(s, ast.During) or s.until is None or not (planning or planned_procedure):
+                continue
+            if not _costs(program, s.body, set()) and not any(isinstance(n, ast.Test) for n in walk(s.body)):
+                continue
+            yield diag.warning(
+                codes.W0120.never_runs(),
+                s.body.span,
+                "never runs: the plan lets the activity end first",
+                notes=[
+                    "while planning, an activity ends the moment it starts, so a watched `during` leaves its body "
+                    "before the body's first step; the plan, and its execution, have none of its steps"
+                ],
+                help="make these steps before or after the `during`, or in its handlers",
+            )
+
+
+def _started_actions(program: _Program) -> set[int]:
+    """The actions (symbol ids) a `start(...)` of the program starts."""
+    model = program.model
+    started: set[int] = set()
+    for _, found in program.body_statements(model.files):
+        for s, _ in found:
+            if isinstance(s, ast.HookStmt) and s.hook is ast.Hook.START:
+                action = model.target(s.action)
+                if action is not None:
+                    started.add(id(action))
+    return started

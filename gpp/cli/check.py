@@ -35,7 +35,7 @@ from gpp.cli.common import (
 if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
     from gpp.check import CheckResult
-    from gpp.check.fixes import Checker
+    from gpp.check.fixes import Checker, FixOutcome
     from gpp.project.config import Config
 
 
@@ -256,10 +256,11 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
     outcome = fix_programs(paths, checker)
     changed = outcome.changed()
     files = f"{len(changed)} file" + ("" if len(changed) == 1 else "s")
+    fixed = _problems(outcome.fixed_problems) + _found_later(outcome)
     if not write:
         sys.stdout.write(unified_diff(outcome))
         sys.stdout.flush()
-        print(f"would fix {_problems(outcome.applied)} in {files}", file=sys.stderr)
+        print(f"would fix {fixed} in {files}", file=sys.stderr)
         raise SystemExit(EXIT_PROBLEMS if changed else EXIT_OK)
     require_writable([Path(display_path(path)) for path in changed])
     for path in changed:
@@ -270,11 +271,22 @@ def _fix(paths: Sequence[Path], checker: Checker, *, write: bool) -> tuple[list[
     remaining = len(merged_diagnostics(outcome.results))
     if not outcome.applied:
         return outcome.results, f"nothing to fix, {_problems(remaining)} remaining"
-    return outcome.results, f"fixed {_problems(outcome.applied)} in {files}, {remaining} remaining"
+    return outcome.results, f"fixed {fixed} in {files}, {remaining} remaining"
 
 
 def _problems(n: int) -> str:
     return f"{n} problem" + ("" if n == 1 else "s")
+
+
+def _found_later(outcome: FixOutcome) -> str:
+    """What the count holds that the check did not show: ` (1 of them hidden by a syntax
+    error)`, or nothing."""
+    n = outcome.found_later
+    if not n:
+        return ""
+    them = "" if n == outcome.fixed_problems == 1 else f"{n} of them "
+    why = "hidden by a syntax error" if outcome.hidden_by_syntax_errors else "found after the first fixes"
+    return f" ({them}{why})"
 
 
 def _lint_code(code_or_name: str) -> str:

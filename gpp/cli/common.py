@@ -93,6 +93,26 @@ def require_writable(paths: Sequence[Path]) -> None:
         usage_error("; ".join(problems) + ": no file was changed")
 
 
+def split_ros_arguments(args: list[str]) -> tuple[list[str], tuple[str, ...] | None]:
+    """The command line without its ROS arguments, and those (None when there is no
+    `--ros-args`): as for any ROS node, each `--ros-args` begins them and `--` (or the end)
+    ends them, so `gpp run a.gpp --ros-args -r __ns:=/r1 -- --trace t.jsonl` runs with
+    `--trace`. rcl parses them (the ros2 platform hands them on)."""
+    if "--ros-args" not in args:
+        return args, None
+    rest: list[str] = []
+    ros: list[str] = []
+    inside = False
+    for arg in args:
+        if arg == "--ros-args":
+            inside = True
+        elif inside and arg == "--":
+            inside = False
+        else:
+            (ros if inside else rest).append(arg)
+    return rest, tuple(ros)
+
+
 def usage_error(message: str) -> NoReturn:
     print(f"error: {message}", file=sys.stderr)
     raise SystemExit(EXIT_USAGE)

@@ -47,8 +47,14 @@ def _run(args: list[str]) -> int:
 
     try:
         from gpp.cli.app import make_app
+        from gpp.cli.common import split_ros_arguments
 
-        make_app(args[0] if args else None)(args=args, prog_name="gpp")
+        # The CLI library would refuse rcl's `-r`/`-p`: the ROS arguments go to the platform.
+        args, ros_arguments = split_ros_arguments(args)
+        if ros_arguments is not None and args[:1] != ["run"]:
+            print("error: --ros-args: only `gpp run` (on platform ros2) takes ROS arguments", file=sys.stderr)
+            return EXIT_USAGE
+        make_app(args[0] if args else None)(args=args, prog_name="gpp", obj=ros_arguments)
         return EXIT_OK
     except SystemExit as e:
         return _exit_code(e)

@@ -46,7 +46,21 @@ PlatformOptOption = Annotated[
 ]
 TimeoutOption = Annotated[
     float | None,
-    typer.Option("--timeout", help="Stop a run after this much platform time, or wall-clock time (seconds)."),
+    typer.Option(
+        "--timeout",
+        metavar="SECONDS",
+        help="Stop a run after this many seconds of wall-clock time, however far its platform's clock got "
+        "(default: the project's `timeout`, else none).",
+    ),
+]
+TimeLimitOption = Annotated[
+    float | None,
+    typer.Option(
+        "--time-limit",
+        metavar="SECONDS",
+        help="Stop a run when its platform's clock reaches this many seconds (virtual or real; "
+        "default: the project's `time_limit`, else none).",
+    ),
 ]
 
 Command = TypeVar("Command", bound=Callable[..., None])
@@ -196,12 +210,13 @@ def platform_options(
 DEFAULT_TEST_TIMEOUT = 120.0
 
 
-def check_timeout(timeout: float | None) -> None:
-    """A timeout must be a positive number of seconds (a usage error otherwise)."""
+def check_timeout(timeout: float | None, flag: str = "--timeout") -> None:
+    """A bound (`--timeout`, `--time-limit`) must be a positive number of seconds (a usage error
+    otherwise)."""
     import math
 
     if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
-        usage_error(f"--timeout must be a number of seconds greater than 0, not {timeout:g}")
+        usage_error(f"{flag} must be a number of seconds greater than 0, not {timeout:g}")
 
 
 _SIZE_UNITS: dict[str, float] = {
@@ -253,6 +268,7 @@ def register(app: typer.Typer) -> None:
 
 
 def run(
+    ctx: typer.Context,
     file: Annotated[Path, typer.Argument(metavar="FILE", help="The agent to run; its `main()` is executed.")],
     platform: PlatformOption = None,
     platform_opt: PlatformOptOption = None,
@@ -283,6 +299,7 @@ def run(
         ),
     ] = None,
     timeout: TimeoutOption = None,
+    time_limit: TimeLimitOption = None,
     profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
     search_strategy: Annotated[
         str,
@@ -299,6 +316,9 @@ def run(
     **flags: Any,
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
+
+    On platform ros2, the ROS arguments follow `--ros-args` (up to `--` or the end), as for any
+    ROS node: `--ros-args -r __ns:=/robot1 -r navigate:=move_base -p n:=3 --params-file p.yaml`.
 
     Exit code 0 when the run finished (and `postcond()` holds), 1 otherwise, 130 on Ctrl-C,
     143 on SIGTERM."""
@@ -317,6 +337,7 @@ def run(
 
     require_readable(file)
     check_timeout(timeout)
+    check_timeout(time_limit, "--time-limit")
     from gpp.planner.search import STRATEGIES
 
     if search_strategy not in STRATEGIES:
@@ -324,6 +345,8 @@ def run(
     config = load_config(file)
     if timeout is None:
         timeout = config.run_timeout
+    if time_limit is None:
+        time_limit = config.run_time_limit
     split = trace_split(trace, trace_max_size, trace_max_time)
     if trace is not None:
         from gpp.base.paths import output_problem
@@ -341,6 +364,9 @@ def run(
     if checked.errors:
         raise typer.Exit(EXIT_PROBLEMS)
     chosen = platform_for(platform or config.run_platform, checked, file)
+    ros_arguments = ctx.obj if isinstance(ctx.obj, tuple) else None  # gpp.cli.main took them out
+    if ros_arguments is not None and chosen != "ros2":
+        usage_error(f"--ros-args: ROS arguments are for platform ros2, and this run is on `{chosen}`")
     given = given_flags(flags)
     check_flags(given, chosen)
     if "world" not in given:
@@ -352,15 +378,18 @@ def run(
         platform=chosen,
         platform_options=chosen_options,
         timeout=timeout,
+        time_limit=time_limit,
         trace=trace,
         trace_split=split,
         args=key_values(arg, "--arg"),
+        platform_arguments=ros_arguments,
         include_dirs=config.include,
         allow=allow,
         search_strategy=search_strategy,
     )
     view = _view(file, chosen, quiet, use_color(ColorMode.AUTO))
     options.progress = view.progress
+    options.clock = view.watch_clock
     from gpp.runtime.events import ErrorEvent, PlanEvent, ReplanEvent
     from gpp.runtime.trace import Recording, TraceListener, TraceWriteError
 
@@ -408,8 +437,18 @@ def test_command(
         float | None,
         typer.Option(
             "--timeout",
-            help="Stop each program after this much platform or wall-clock time, seconds "
-            f"(default: the project's test timeout, else {DEFAULT_TEST_TIMEOUT:g} s of wall-clock time).",
+            metavar="SECONDS",
+            help="Stop each program after this many seconds of wall-clock time "
+            f"(default: the project's test `timeout`, else {DEFAULT_TEST_TIMEOUT:g} s).",
+        ),
+    ] = None,
+    time_limit: Annotated[
+        float | None,
+        typer.Option(
+            "--time-limit",
+            metavar="SECONDS",
+            help="Stop each program when its platform's clock reaches this many seconds "
+            "(default: the project's test `time_limit`, else none).",
         ),
     ] = None,
     keyword: Annotated[
@@ -434,6 +473,7 @@ def test_command(
     from gpp.run.testing import SelectionError, discover, run_all, selector
 
     check_timeout(timeout)
+    check_timeout(time_limit, "--time-limit")
     given = given_flags(flags)
     if platform is not None:
         check_flags(given, platform)
@@ -465,11 +505,12 @@ def test_command(
         print(f"no program in {where} matches -k `{keyword}`" if keyword else f"no programs to run in {where}")
         raise typer.Exit(EXIT_NO_TESTS)
     timeout = timeout if timeout is not None else config.test_timeout
+    time_limit = time_limit if time_limit is not None else config.test_time_limit
     options = RunOptions(
         platform=platform,
         platform_options=platform_options(platform_opt, given),
-        timeout=timeout,
-        wall_timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
+        timeout=timeout if timeout is not None else DEFAULT_TEST_TIMEOUT,
+        time_limit=time_limit,
         include_dirs=config.include,
         allow=config.disabled_lints(),
     )

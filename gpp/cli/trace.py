@@ -1,4 +1,4 @@
-"""`gpp trace summary|html|perfetto`: look at a run's trace (written by `gpp run --trace`).
+"""`gpp trace summary|html|perfetto|mcap`: look at a run's trace (written by `gpp run --trace`).
 Registered on the app by gpp.cli.app.
 
 Exit codes as for every command: 0 done, 1 the file is not a valid trace (not JSON lines, a
@@ -19,6 +19,7 @@ import typer
 from gpp.cli.common import APP_SETTINGS
 
 if TYPE_CHECKING:
+    from gpp.runtime.events import TraceEvent
     from gpp.traceview.model import RunModel
 
 MIN_WIDTH = 60
@@ -27,7 +28,8 @@ PIPE_WIDTH = 100
 
 trace_app = typer.Typer(
     name="trace",
-    help="Look at a run's trace (`gpp run --trace run.jsonl`): a terminal summary, an HTML page, Perfetto JSON.",
+    help="Look at a run's trace (`gpp run --trace run.jsonl`): a terminal summary, an HTML page, Perfetto JSON, "
+    "an MCAP file for Foxglove.",
     **APP_SETTINGS,
 )
 
@@ -59,9 +61,16 @@ def _fail(message: str, code: int) -> NoReturn:
 def _load(path: Path) -> RunModel:
     """The run in a trace (all the parts of a split one), or a one-line error (exit 2 when the file cannot be read, 1
     when it is not a valid trace)."""
+    from gpp.traceview.model import build_run_model
+
+    return build_run_model(_records(path))
+
+
+def _records(path: Path) -> list[TraceEvent]:
+    """The records of the run in a trace (all the parts of a split one), or a one-line error as for `_load`."""
     from gpp.base.paths import input_problem
     from gpp.cli.common import EXIT_PROBLEMS, EXIT_USAGE
-    from gpp.traceview.model import TraceReadError, build_run_model, load_trace
+    from gpp.traceview.model import TraceReadError, load_trace
 
     problem = input_problem(path, folder=True)
     if problem is not None:
@@ -72,7 +81,7 @@ def _load(path: Path) -> RunModel:
         _fail(str(e), EXIT_USAGE if e.usage else EXIT_PROBLEMS)
     for warning in loaded.warnings:
         print(f"warning: {warning}", file=sys.stderr)
-    return build_run_model(loaded.events)
+    return loaded.events
 
 
 def _output_path(trace: Path, output: Path | None, suffix: str) -> Path | None:
@@ -226,6 +235,54 @@ def perfetto(
     _write(target, render_chrome_trace(model, trace_name=file.name))
     if target is not None:
         print(f"wrote {target} ({_counts(model)}); open it in ui.perfetto.dev or chrome://tracing")
+    raise typer.Exit(EXIT_OK)
+
+
+@trace_app.command("mcap")
+def mcap(
+    file: TraceFile,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="The MCAP file to write (default: the trace's name with .mcap)."),
+    ] = None,
+    prefix: Annotated[
+        str,
+        typer.Option(
+            "--prefix",
+            metavar="TOPIC",
+            help="What each channel's topic starts with: TOPIC/start, TOPIC/end, ... (default: /gpp).",
+        ),
+    ] = "/gpp",
+) -> None:
+    """The run as an MCAP file, to open in Foxglove beside a robot's recording.
+
+    One channel per record kind (/gpp/start, /gpp/end, ...) with its JSON Schema, each
+    message one record as JSON, logged at the run's start plus the record's time."""
+    import io
+    import re
+
+    from gpp.base.paths import write_atomically
+    from gpp.cli.common import EXIT_OK, usage_error
+    from gpp.traceview.mcapfile import write_mcap
+
+    if not re.fullmatch(r"(/[A-Za-z_][A-Za-z0-9_]*)+", prefix):
+        usage_error(f'--prefix must be a topic name such as /gpp or /robot1/gpp, not "{prefix}"')
+    if output is not None and str(output) == "-":
+        usage_error("--output: an MCAP file is binary; give a file name")
+    events = _records(file)
+    target = _output_path(file, output, ".mcap")
+    assert target is not None
+    buffer = io.BytesIO()
+    counts = write_mcap(events, buffer, prefix)
+    try:
+        write_atomically(target, buffer.getvalue())
+    except OSError as e:
+        usage_error(f"cannot write '{target}': {e.strerror or e}")
+    records = sum(counts.values())
+    print(
+        f"wrote {target} ({records} record{'s' if records != 1 else ''} on {len(counts)} channel"
+        f"{'s' if len(counts) != 1 else ''}); open it in Foxglove"
+    )
     raise typer.Exit(EXIT_OK)
 
 

@@ -74,6 +74,28 @@ class E0010(Code, name="unexpected-token", summary="a token where the grammar do
     def semicolon(cls) -> Message:
         return Message(cls.code, "unexpected `;`")
 
+    @classmethod
+    def unparenthesized(cls, word: str) -> Message:
+        """`if x() == a go();`: `word` is the keyword whose parentheses are missing."""
+        return Message(cls.code, f"expected `(` after `{word}`: its {_HEADS.get(word, 'part')} goes in parentheses")
+
+    @classmethod
+    def binding_order(cls, word: str, variable: str, type_name: str) -> Message:
+        """`pick (v in Room)`: the type comes first."""
+        space = " " if word == "pick" else ""
+        return Message(cls.code, f"`{word}` names the type first: `{word}{space}({type_name} {variable})`")
+
+
+# What goes in parentheses after a keyword, for `E0010.unparenthesized`.
+_HEADS = {
+    "if": "condition",
+    "while": "condition",
+    "test": "condition",
+    "pick": "variable",
+    "exists": "variable",
+    "forall": "variable",
+}
+
 
 class E0011(Code, name="missing-semicolon", summary="a statement or declaration that is not ended by ';'"):
     @classmethod

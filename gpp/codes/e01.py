@@ -11,7 +11,7 @@ class E0101(Code, name="unknown-name", summary="a name that is neither a variabl
         return Message(cls.code, f"unknown name `{name}`")
 
 
-class E0102(Code, name="missing-call", summary="a fluent or function used without `()`"):
+class E0102(Code, name="missing-call", summary="a fluent, function, action or procedure named without `()`"):
     @classmethod
     def missing_call(cls, name: str, kind: Kind) -> Message:
         return Message(cls.code, f"`{name}` is {kind.article} {kind.value}; call it with `{name}(...)`")

@@ -128,6 +128,48 @@ class R0007(Code, name="platform-failure", summary="the platform cannot do what 
         """A problem the platform found in the program when it attached (its own text)."""
         return Message(cls.code, problem)
 
+    # Placeholders in a mapped ROS name (`"/{r}/navigate"`): `gpp check`, the language server
+    # and the ros2 platform report them at the mapped name.
+
+    @classmethod
+    def placeholder_malformed(cls, what: str, name: str) -> Message:
+        return Message(
+            cls.code,
+            f'{what}: "{name}": a placeholder is a parameter\'s name in braces, such as "/{{r}}/navigate" '
+            "(braces that do not pair, or are empty)",
+        )
+
+    @classmethod
+    def placeholder_unknown(cls, what: str, placeholder: str, params: tuple[str, ...]) -> Message:
+        known = f"its parameters: {', '.join(params)}" if params else "it has no parameters"
+        return Message(cls.code, f"{what}: the placeholder `{{{placeholder}}}` is not a parameter ({known})")
+
+    @classmethod
+    def placeholder_not_a_domain(cls, what: str, placeholder: str, type_name: str) -> Message:
+        return Message(
+            cls.code,
+            f"{what}: the placeholder `{{{placeholder}}}` is a parameter of type `{type_name}`, whose values are not "
+            "known before the run: a placeholder takes a parameter of a domain, whose values make the names",
+        )
+
+    @classmethod
+    def placeholder_bad_value(cls, what: str, placeholder: str, value: str, domain: str, why: str) -> Message:
+        return Message(
+            cls.code, f"{what}: the placeholder `{{{placeholder}}}` takes the value {value} of domain `{domain}`: {why}"
+        )
+
+    @classmethod
+    def placeholder_not_here(cls, what: str, where: str) -> Message:
+        return Message(cls.code, f"{what}: {where} cannot have a placeholder")
+
+    @classmethod
+    def placeholder_and_field(cls, what: str, placeholder: str, field: str) -> Message:
+        return Message(
+            cls.code,
+            f"{what}: parameter `{placeholder}` is filled from the topic's name (the placeholder "
+            f"`{{{placeholder}}}`), so the mapping cannot fill it from the message field `{field}` too",
+        )
+
 
 class R0008(
     Code, name="missing-definition", summary="a procedure or function declared but never defined, or no `main`"
@@ -202,6 +244,16 @@ class R0011(Code, name="blocked", summary="the program cannot make a step and no
         return Message(cls.code, cls.AWAITS + f"{action}` {what}")
 
     @classmethod
+    def awaits_planned(cls, action: str, step: int) -> Message:
+        """A planned activity: `step` is the number of its step in the plan (1 for the first)."""
+        return Message(cls.code, cls.AWAITS + f"{action}` to end, step {step} of the plan")
+
+    @staticmethod
+    def planned_wait(action: str, step: int) -> str:
+        """What a `waiting` trace record says of a wait for a planned activity."""
+        return f"waiting for `{action}` to end, step {step} of the plan"
+
+    @classmethod
     def precondition_false(cls, action: str) -> Message:
         return Message(cls.code, cls.PREFIX + f"the precondition of `{action}` is false")
 
@@ -220,16 +272,23 @@ class R0012(Code, name="recursion-too-deep", summary="procedure or function call
         return Message(cls.code, "`postcond()` nests function calls too deeply")
 
 
-class R0013(Code, name="timeout", summary="the run reached the time limit given by `--timeout`"):
+class R0013(
+    Code,
+    name="timeout",
+    summary="the run reached its bound: `--timeout` (wall-clock time) or `--time-limit` (platform time)",
+):
     @classmethod
-    def timeout(cls, seconds: float) -> Message:
-        return Message(cls.code, f"the run reached its timeout of {seconds:g} s")
+    def time_limit(cls, seconds: float) -> Message:
+        """`--time-limit` / `time_limit`: seconds of platform time."""
+        return Message(cls.code, f"the run reached its time limit of {seconds:g} s of platform time (`--time-limit`)")
 
     @classmethod
     def wall_clock(cls, seconds: float, platform_time: float) -> Message:
+        """`--timeout` / `timeout`: seconds of wall-clock time."""
         return Message(
             cls.code,
-            f"the run reached its timeout of {seconds:g} s of wall-clock time (platform time: {platform_time:g} s)",
+            f"the run reached its timeout of {seconds:g} s of wall-clock time (`--timeout`; "
+            f"platform time: {platform_time:g} s)",
         )
 
 
@@ -243,6 +302,15 @@ class R0014(
     def unfinished(cls, horizon: object) -> Message:
         return Message(
             cls.code, f"the plan of this `solve` stops at its horizon of {horizon} with the program unfinished"
+        )
+
+    @classmethod
+    def spent(cls, horizon: int, count: int, steps: str) -> str:
+        """A note: where the part of the horizon `horizon` (as written) that the plan could not
+        use went: `count` steps already executed, `steps` as text."""
+        return (
+            f"{count} of its {horizon} step(s) went to the steps of the `solve` already executed: {steps} "
+            "(the steps of failed attempts are not counted)"
         )
 
 

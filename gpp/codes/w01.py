@@ -84,7 +84,7 @@ class W0109(Code, name="solve-without-choice", summary="a `solve` whose program 
 class W0110(Code, name="mixed-precedence", summary="an operator chain that the original golog++ reads differently"):
     @classmethod
     def reads_as(cls, shape: str) -> Message:
-        return Message(cls.code, f"golog++ reads this as `{shape}`")
+        return Message(cls.code, f"the original C++ golog++ reads this as `{shape}`")
 
 
 class W0111(Code, name="shadowed-symbol", summary="a parameter or variable named like a domain symbol"):
@@ -162,3 +162,39 @@ class W0117(Code, name="invalid-suppression", summary="a `// gpp: allow` comment
     @classmethod
     def unknown(cls, text: str) -> Message:
         return Message(cls.code, f"unknown lint `{text}` in a suppression")
+
+
+class W0118(
+    Code,
+    name="goal-paid-again",
+    summary="a `solve` reward that pays a goal again for each step made after it holds",
+):
+    @classmethod
+    def paid_again(cls, goal: str, bonus: str) -> Message:
+        return Message(
+            cls.code, f"the reward pays `{bonus}` again after this step: `{goal}` still holds in the state it makes"
+        )
+
+
+class W0119(
+    Code,
+    name="unwatched-activity",
+    summary="a `during` whose body waits for a condition and then cancels the activity",
+):
+    @classmethod
+    def hangs(cls, condition: str, action: str) -> Message:
+        return Message(
+            cls.code,
+            f"this `during` waits for `{condition}` even after `{action}` has ended: "
+            "if the activity ends or fails first, the program waits for ever",
+        )
+
+
+class W0120(
+    Code,
+    name="unrun-watch-body",
+    summary="a `during ... until` inside `solve` or `search` whose body never runs",
+):
+    @classmethod
+    def never_runs(cls) -> Message:
+        return Message(cls.code, "the body of this `during ... until` never runs: it is planned by `solve` or `search`")

@@ -14,7 +14,8 @@ checker writes, and the references of component members and constraint atoms.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import re
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from gpp.base.suggest import suggestion
@@ -23,7 +24,7 @@ from gpp.model.builder_state import BuilderState, Phase
 from gpp.model.resolve import TypeResolver
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.typecheck import TypeChecker
-from gpp.model.types import BOOL, ERROR, Type
+from gpp.model.types import BOOL, ERROR, Sym, Type
 from gpp.syntax import ast
 
 Op = ast.BinaryOp
@@ -205,6 +206,7 @@ class DeclarationChecker(Phase):
                         notes=["the mapping is read backwards: incoming event fields set the parameters"],
                     )
         if decl.exogenous:
+            bound.update(placeholders_in(mapping.name.value))  # filled from the event's name
             missing = [p.name for p in params if p.name not in bound]
             if missing:
                 self.error(
@@ -303,3 +305,32 @@ def _parameter_named(params: tuple[Symbol, ...], name: str) -> Symbol | None:
         if p.name == name:
             return p
     return None
+
+
+# A placeholder in a mapped name: `"/{r}/navigate"` names parameter `r`, whose value makes the
+# name (gpp.platform.ros2.placeholders).
+PLACEHOLDER = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
+
+
+def placeholders_in(mapped_name: str) -> tuple[str, ...]:
+    """The parameters a mapped name has as placeholders (`{r}`), each once, in order; only in
+    the name, not in a type after `:`."""
+    return tuple(dict.fromkeys(PLACEHOLDER.findall(mapped_name.partition(":")[0])))
+
+
+def fill_placeholders(mapped_name: str, values: Mapping[str, object]) -> str:
+    """`mapped_name` with each placeholder of a parameter in `values` replaced by its value: a
+    symbol by its name, a whole number without a fraction, a string as it is."""
+
+    def text(m: re.Match[str]) -> str:
+        if m.group(1) not in values:
+            return m.group(0)
+        value = values[m.group(1)]
+        if isinstance(value, Sym):
+            return value.name
+        if isinstance(value, float) and value.is_integer():
+            return str(int(value))
+        return str(value)
+
+    name, sep, rest = mapped_name.partition(":")
+    return PLACEHOLDER.sub(text, name) + sep + rest

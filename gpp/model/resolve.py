@@ -88,13 +88,39 @@ class TypeResolver(Phase):
         assert symbol.type is not None
         return symbol.type
 
+    def name_first(self, p: ast.Param, kind: SymbolKind, owner: Symbol) -> Symbol | None:
+        """`goto(p Location)`: a parameter written name first, where the type is not a type and
+        the name is one. Reported (E0105) with the swap as its fix; the parameter is then the
+        one meant (`p`, a `Location`), so its uses are not reported too. None for any other."""
+        t = p.type
+        if not isinstance(t, ast.NamedType) or t.name in BUILTIN_TYPES or t.name in self.model.types:
+            return None
+        meant = self.model.types.get(p.name.name)
+        if meant is None or meant.type is None:
+            return None
+        self.error(
+            E0105.unknown_type(t.name),
+            t.span,
+            "not a declared type",
+            help=f"the type comes first: `{p.name.name} {t.name}`",
+            fix=diag.Fix(
+                f"write `{p.name.name} {t.name}`",
+                (diag.Edit(t.span, p.name.name), diag.Edit(p.name.span, t.name)),
+                diag.Applicability.SAFE,
+            ),
+        )
+        self.refer(p.name.span, meant, p.name)
+        return Symbol(t.name, kind, t.span, p, meant.type, owner)
+
     def resolve_params(self, owner: Symbol, params: Sequence[ast.Param], kind: SymbolKind) -> tuple[Symbol, ...]:
         if not params:
             return ()
         out: list[Symbol] = []
         seen: dict[str, Symbol] = {}
         for p in params:
-            symbol = Symbol(p.name.name, kind, p.name.span, p, self.resolve_type(p.type), owner)
+            symbol = self.name_first(p, kind, owner) or Symbol(
+                p.name.name, kind, p.name.span, p, self.resolve_type(p.type), owner
+            )
             first = seen.get(p.name.name)
             if first is not None:
                 self.error(

@@ -23,7 +23,7 @@ from gpp.planner.fast.successors import successors_of
 from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
 from gpp.planner.reference import Reward
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.errors import GppRuntimeError, WallClockReached
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
 
@@ -139,9 +139,12 @@ def solve_plan(
     progress_interval: float = 1.0,
     bound: StateBound | None = None,
     generate: bool = True,
+    deadline: float | None = None,
 ) -> Plan:
     """The plan of SEMANTICS §5 for `prog` from (state, acts). With `progress`, a planning that
     takes longer than `progress_interval` seconds reports a `Progress` about every interval.
+    `deadline` (a `time.monotonic()` moment, the run's wall-clock bound): planning still going
+    on then raises WallClockReached.
     `bound`: from gpp.planner.bounds.solve_bound, for branch and bound (None: none).
     `generate=False`: `trans` and `apply` by the closures of gpp.planner.fast.successors only (no
     generated source; for tests and benchmarks)."""
@@ -236,6 +239,10 @@ def solve_plan(
 
     def report() -> None:
         nonlocal next_report
+        if deadline is not None and time.monotonic() >= deadline:
+            raise WallClockReached
+        if progress is None:
+            return
         now = time.perf_counter()
         if now >= next_report and progress is not None:
             next_report = now + progress_interval
@@ -267,7 +274,7 @@ def solve_plan(
     def expand(c: _Config, h: int, run: int) -> _Result:
         """`best` of a configuration and remaining horizon not known yet."""
         stats.nodes += 1
-        if progress is not None and not stats.nodes % _PROGRESS_EVERY:
+        if not stats.nodes % _PROGRESS_EVERY:
             report()
         c.on_path |= 1 << h
         if not c.expanded:

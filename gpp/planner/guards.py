@@ -11,7 +11,7 @@ from typing import assert_never
 from gpp.base.source import Span
 from gpp.codes import R0010
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.semantics import AwaitEnd, Code, Conc, Done, DuringEnd, Planned, Prog, Rest, Seq, Step
+from gpp.runtime.semantics import AwaitEnd, Code, Conc, Done, DuringEnd, Planned, Prog, Rest, Seq, Step, Watch
 from gpp.syntax import ast
 
 # The longest run of free steps (tests) planning follows: a longer one is taken for a recursion
@@ -34,7 +34,7 @@ def program_point_span(p: Prog) -> Span | None:
             return body[p.index].span if p.index < len(body) else p.block.span
         case Code():
             return p.stmt.span
-        case AwaitEnd() | DuringEnd():
+        case AwaitEnd() | DuringEnd() | Watch():
             return p.span
         case Conc():
             return program_point_span(p.branches[0]) if p.branches else None
@@ -55,7 +55,7 @@ def _running_loop(p: Prog) -> Span | None:
             return loop.span
         case Rest() if p.index < len(p.block.body) and isinstance(p.block.body[p.index], ast.While):
             return p.block.body[p.index].span
-        case Code() | Rest() | Done() | AwaitEnd() | DuringEnd() | Conc() | Planned():
+        case Code() | Rest() | Done() | AwaitEnd() | DuringEnd() | Watch() | Conc() | Planned():
             return None
         case _:
             assert_never(p)

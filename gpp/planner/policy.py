@@ -24,14 +24,14 @@ from gpp.base.source import Span
 from gpp.codes import R0010
 from gpp.model.types import Type
 from gpp.planner.dp import ProgressCallback
-from gpp.planner.result import Plan, PolicyStep
+from gpp.planner.result import Plan, PolicyStep, policy_text
 from gpp.runtime.compiled import Context
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
-    AwaitEnd,
     Code,
     DoStep,
+    DuringEnd,
     EndKind,
     EndStep,
     Frame,
@@ -41,10 +41,11 @@ from gpp.runtime.semantics import (
     Semantics,
     Seq,
     StartStep,
+    Step,
     Successor,
     TestStep,
 )
-from gpp.runtime.state import Activities, ActivityStatus, State
+from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value, show
 from gpp.syntax import ast
 
@@ -57,11 +58,17 @@ class PolicyPlanner:
         self.search_strategy = search_strategy  # gpp.planner.search.STRATEGIES
         # Told how a `solve` that takes longer than a second is getting on.
         self.progress = progress
+        # The run's wall-clock bound (a time.monotonic() moment): planning stops there.
+        self.deadline: float | None = None
+
+    def stop_at(self, deadline: float | None) -> None:
+        self.deadline = deadline
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
         holder = PlanHolder.for_statement(sem, stmt, frame, state)
         holder.search_strategy = self.search_strategy
         holder.progress = self.progress
+        holder.deadline = self.deadline
         return holder
 
 
@@ -131,6 +138,12 @@ def steps_to_finish(sem: Semantics, prog: Prog, state: State, acts: Activities) 
     return None
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class WatchCancelled(Planned):
+    """A planned step that ends a watched activity (`during (a) until (e)`) whose condition
+    fired while it ran: its cancellation was asked for, and the step waits for the end."""
+
+
 @dataclass(eq=False)
 class PlanHolder:
     """The plan of one `solve`/`search` being executed online (a PlanSession)."""
@@ -154,6 +167,14 @@ class PlanHolder:
     context: OncePerPlan | None = None
     search_strategy: str = "depth-first"  # of a `search`: gpp.planner.search.STRATEGIES
     progress: ProgressCallback | None = None
+    # A `solve`'s horizon as written, and the costed steps of this `solve` executed before the
+    # current policy (as text): only progress, not the steps of failed attempts.
+    written: int = 0
+    spent: tuple[str, ...] = ()
+    # Why this holder plans (one made after a planned activity failed): the first replan's reason.
+    reason: str = ""
+    # The run's wall-clock bound (a time.monotonic() moment): planning stops there.
+    deadline: float | None = None
 
     @classmethod
     def for_statement(cls, sem: Semantics, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanHolder:
@@ -166,7 +187,7 @@ class PlanHolder:
             h = int(h)
         if not isinstance(h, int) or isinstance(h, bool) or h < 0:
             raise GppRuntimeError(R0010.bad_horizon(show(h)), s.horizon.span)
-        return cls("solve", Code(s.body, frame), h, frame, s)
+        return cls("solve", Code(s.body, frame), h, frame, s, written=h)
 
     @property
     def span(self) -> Span:
@@ -212,10 +233,23 @@ class PlanHolder:
 
             reward = make_reward(planning, stmt, self.frame)
             bound = solve_bound(planning, stmt, self.horizon)
-            return solve_plan(planning, prog, state, acts, self.horizon, reward, stmt.span, self.progress, bound=bound)
+            return solve_plan(
+                planning,
+                prog,
+                state,
+                acts,
+                self.horizon,
+                reward,
+                stmt.span,
+                self.progress,
+                bound=bound,
+                deadline=self.deadline,
+            )
         from gpp.planner.search import search_plan
 
-        return search_plan(planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy)
+        return search_plan(
+            planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy, deadline=self.deadline
+        )
 
     def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:
         """The PlanStep: plan the body from the actual state."""
@@ -223,21 +257,75 @@ class PlanHolder:
         self.install(plan, 0, state)
         return self.unfinished(sem, self.body, plan, state, acts)
 
-    def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
+    def replan(self, sem: Semantics, index: int, state: State, acts: Activities, reason: str = "") -> PlanReport:
         """A ReplanStep at `index`: plan again from the planned program point there, with the
         horizon the executed steps left (or from the body, if there was no plan)."""
         point = self.program_at(index) if self.policy is not None else self.body
         if self.policy is not None:
+            self.spent += self.executed(index)
             self.horizon -= self.used_horizon(index)
             self.body = point
         plan = self.make_plan(sem, point, state, acts)
         self.install(plan, index, state)
-        return self.unfinished(sem, point, plan, state, acts)
+        return replace(self.unfinished(sem, point, plan, state, acts), reason=reason or None)
+
+    def executed(self, index: int, attempt: int | None = None) -> tuple[str, ...]:
+        """The costed steps of the current policy executed before `index`, as text, without
+        the one at `attempt` (the start of an activity that failed); none for a `search`."""
+        assert self.policy is not None
+        if self.kind == "search":
+            return ()
+        steps = self.policy[: index - self.base]
+        return tuple(policy_text(step) for i, (_, step, _) in enumerate(steps) if step.cost and i != attempt)
+
+    def after_failure(self, index: int, action: GroundAction, rest: Prog, reason: str) -> PlanHolder:
+        """The holder that plans `rest` after the planned activity `action`, consumed at `index`,
+        failed (or was cancelled): only progress uses up the horizon (SEMANTICS §5), so the
+        start and end of the failed attempt give their steps back."""
+        assert self.policy is not None
+        steps = self.policy[: index - self.base]
+        # The start of the attempt: the last one of `action` before its end (a plain call's
+        # start is the call itself; a `during`'s start costs nothing).
+        attempt = next(
+            (i for i in range(len(steps) - 1, -1, -1) if _starts(steps[i][1], action)),
+            None,
+        )
+        refund = steps[attempt][1].cost if attempt is not None else 0
+        left = self.horizon if self.kind == "search" else max(0, self.horizon - self.used_horizon(index) + refund)
+        return PlanHolder(
+            self.kind,
+            rest,
+            left,
+            self.frame,
+            self.stmt,
+            search_strategy=self.search_strategy,
+            progress=self.progress,
+            written=self.written,
+            spent=self.spent + self.executed(index, attempt),
+            reason=reason,
+            deadline=self.deadline,
+        )
+
+    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int, Span] | None:
+        if self.policy is None:
+            return None
+        entry = self.step_at(p.index)
+        if entry is None:
+            return None
+        step = entry[1]
+        if not isinstance(step, DoStep | EndStep) or acts.status(step.action) is not ActivityStatus.RUNNING:
+            return None
+        if isinstance(step, DoStep) and not p.calling:
+            return None  # an identical activity runs: the plan is made again (see `successors`)
+        number = 1 + sum(1 for _, before, _ in self.policy[: p.index - self.base] if before.cost)
+        return step.action, number, step.span
 
     def unfinished(self, sem: Semantics, prog: Prog, plan: Plan, state: State, acts: Activities) -> PlanReport:
         """The plan's report, saying whether a `solve` plan ends at its horizon with the program
         unfinished, and then how many more costed steps the program needs at least."""
         report = plan.report(self.kind)
+        if self.kind == "solve":
+            report = replace(report, written=self.written, spent=self.spent)
         if self.kind != "solve" or not plan.feasible or plan.cost < plan.horizon:
             return report
         assert self.context is not None  # make_plan set it: the same answers as the plan's
@@ -258,7 +346,10 @@ class PlanHolder:
         transition of the planned program point in the actual world, else a ReplanStep."""
         if self.policy is None:
             # No feasible plan: blocked until the world changes, then planned again.
-            return [] if self.failed_in == state else [(p, ReplanStep(self, p.index))]
+            if self.failed_in == state:
+                return []
+            why = "the world changed since no plan was found" if self.failed_in is not None else self.reason
+            return [(p, ReplanStep(self, p.index, why))]
         planning = sem.with_mode(True)
         entry = self.step_at(p.index)
         if entry is None:
@@ -268,34 +359,46 @@ class PlanHolder:
             point = self.program_at(p.index)
             if planning.final(point, state, acts):
                 return [(Planned(self, p.index + 1), TestStep(self.span))]
-            return [(p, ReplanStep(self, p.index))]
+            return [(p, ReplanStep(self, p.index, "the program no longer ends where its plan ended it"))]
         before, step, after = entry
+        if p.calling:
+            assert isinstance(step, DoStep)
+            return self.call_ended(p, step, after, acts)
         status = acts.status(step.action) if isinstance(step, EndStep) else None
         if status is ActivityStatus.RUNNING:
-            return []  # the planned end waits for the platform, as `end` does
+            # The planned end waits for the platform, as `end` does; a watched activity is
+            # cancelled when its condition holds meanwhile (the plan assumed it ends first).
+            cancel = None if isinstance(p, WatchCancelled) else sem.watch_cancel(before, step, state)
+            return [] if cancel is None else [(WatchCancelled(self, p.index), cancel)]
         failed = status is ActivityStatus.FAILED or status is ActivityStatus.CANCELLED
-        if isinstance(step, EndStep) and step.hook == EndKind.DURING and failed:
-            # The plan assumed success. The program reacts to the failure or cancellation (its
-            # `on_fail`/`on_cancel` handler), and is planned again from there.
+        if isinstance(step, EndStep) and failed and step.hook in (EndKind.DURING, "end"):
+            # The plan assumed success. The program reacts to the failure or cancellation (a
+            # `during`'s `on_fail`/`on_cancel` handler), and is planned again from there.
+            assert status is not None
             for q, candidate in planning.trans(before, state, acts):
                 if candidate == step:
-                    left = max(0, self.horizon - self.used_horizon(p.index) - step.cost)
-                    rest = PlanHolder(
-                        self.kind,
-                        q,
-                        left,
-                        self.frame,
-                        self.stmt,
-                        search_strategy=self.search_strategy,
-                        progress=self.progress,
-                    )
-                    return [(Planned(rest, 0), candidate)]
+                    reason = f"`{step.action.text}` {status.value}" + _handler_note(before, step.action, status)
+                    return [(Planned(self.after_failure(p.index, step.action, q, reason), 0), candidate)]
         if (after, step) in planning.trans(before, state, acts):
-            following = Planned(self, p.index + 1)
             if isinstance(step, DoStep):
-                return [(Seq(AwaitEnd(step.action, step.span), following), StartStep(step.action, step.span))]
-            return [(following, step)]
-        return [(p, ReplanStep(self, p.index))]
+                return [(Planned(self, p.index, calling=True), StartStep(step.action, step.span))]
+            return [(Planned(self, p.index + 1), step)]
+        shown = policy_text(step) if not isinstance(step, TestStep) else "a condition the plan assumed"
+        return [(p, ReplanStep(self, p.index, f"{shown} is no longer possible"))]
+
+    def call_ended(self, p: Planned, step: DoStep, after: Prog, acts: Activities) -> list[Successor]:
+        """`trans` of `p`, a planned call whose activity was started: its end once the activity
+        has ended; after a failure (or cancellation) the rest is planned again."""
+        status = acts.status(step.action)
+        if status is ActivityStatus.RUNNING:
+            return []  # the call waits for the platform
+        end = EndStep(step.action, EndKind.CALL, step.span)
+        if status is None:  # consumed by another part of the program: go on with the plan
+            return [(Planned(self, p.index + 1), TestStep(self.span))]
+        if status is ActivityStatus.FINAL:
+            return [(Planned(self, p.index + 1), end)]
+        reason = f"`{step.action.text}` {status.value}"
+        return [(Planned(self.after_failure(p.index + 1, step.action, after, reason), 0), end)]
 
     def install(self, plan: Plan, index: int, state: State) -> None:
         self.plans.append(plan)
@@ -305,3 +408,22 @@ class PlanHolder:
         self.ends_program = plan.feasible and (self.kind == "search" or plan.cost < plan.horizon)
         self.failed_in = None if plan.feasible else state
         self.base = index
+
+
+def _starts(step: Step, action: GroundAction) -> bool:
+    """Does the policy step start an activity of `action` (a call, a `start`, a `during`)?"""
+    return isinstance(step, DoStep | StartStep) and step.action == action
+
+
+def _handler_note(p: Prog, action: GroundAction, status: ActivityStatus) -> str:
+    """When `p` is about to end the `during` of `action`, whose handler for `status` (failed,
+    cancelled) runs next: a note that says so."""
+    while isinstance(p, Seq) and not (isinstance(p.first, DuringEnd) and p.first.action == action):
+        p = p.rest  # what comes before the end (an empty body) makes no step
+    if isinstance(p, Seq):
+        p = p.first
+    if not isinstance(p, DuringEnd) or p.action != action:
+        return ""
+    failed = status is ActivityStatus.FAILED
+    handler = p.on_fail if failed else p.on_cancel
+    return f": its `{'on_fail' if failed else 'on_cancel'}` handler runs next" if handler is not None else ""

@@ -57,7 +57,7 @@ class Plan:
     def actions(self) -> list[str]:
         """The costed steps, as the trace shows them: `stack(a,table)`, `loc(a) = b`; a planned
         `during` shows as its action, like a plain call."""
-        return [_policy_text(step) for _, step, _ in self.steps if step.cost]
+        return [policy_text(step) for _, step, _ in self.steps if step.cost]
 
     @property
     def cost(self) -> int:
@@ -81,7 +81,8 @@ class Plan:
         )
 
 
-def _policy_text(step: Step) -> str:
+def policy_text(step: Step) -> str:
+    """A costed step as a plan shows it: a planned `during` shows as its action."""
     if isinstance(step, EndStep) and step.hook == EndKind.DURING:
         return step.action.text
     return step.describe()

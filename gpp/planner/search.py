@@ -25,7 +25,7 @@ from gpp.base.source import Span
 from gpp.codes import R0010
 from gpp.planner.guards import program_point_span
 from gpp.planner.result import Plan, PlanStats, PolicyStep
-from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.errors import GppRuntimeError, WallClockReached
 from gpp.runtime.semantics import Prog, Semantics, Step
 from gpp.runtime.state import Activities, State
 
@@ -44,10 +44,13 @@ def search_plan(
     bound: int,
     span: Span | None = None,
     strategy: str = DEPTH_FIRST,
+    deadline: float | None = None,
 ) -> Plan:
+    """`deadline` (a `time.monotonic()` moment, the run's wall-clock bound): searching still
+    going on then raises WallClockReached."""
     assert sem.planning
     if strategy == ITERATIVE_DEEPENING:
-        return _iterative_deepening(sem, prog, state, acts, bound, span)
+        return _iterative_deepening(sem, prog, state, acts, bound, span, deadline)
     assert strategy == DEPTH_FIRST, strategy
     stats = PlanStats()
     started = time.perf_counter()
@@ -79,6 +82,7 @@ def search_plan(
             continue
         visited.add((q, s2, a2))
         stats.nodes += 1
+        _check(deadline, stats.nodes)
         path.append((p, step, q))
         if sem.final(q, s2, a2):
             return found()
@@ -101,7 +105,7 @@ def _bound_error(q: Prog, bound: int, span: Span | None, strategy: str) -> GppRu
 
 
 def _iterative_deepening(
-    sem: Semantics, prog: Prog, state: State, acts: Activities, bound: int, span: Span | None
+    sem: Semantics, prog: Prog, state: State, acts: Activities, bound: int, span: Span | None, deadline: float | None
 ) -> Plan:
     stats = PlanStats()
     started = time.perf_counter()
@@ -147,6 +151,7 @@ def _iterative_deepening(
                 continue
             left_at[config] = left
             stats.nodes += 1
+            _check(deadline, stats.nodes)
             path.append((points[-1], step, q))
             final = finals.get(config)
             if final is None:
@@ -167,3 +172,14 @@ def _iterative_deepening(
             break
     stats.seconds = time.perf_counter() - started
     return Plan(False, 0.0, (), bound, stats)
+
+
+# How often (in nodes) a search reads the clock for the run's wall-clock bound.
+_CLOCK_EVERY = 128
+
+
+def _check(deadline: float | None, nodes: int) -> None:
+    """Raise WallClockReached when the run's wall-clock bound has passed (looked at every
+    _CLOCK_EVERY nodes)."""
+    if deadline is not None and not nodes % _CLOCK_EVERY and time.monotonic() >= deadline:
+        raise WallClockReached

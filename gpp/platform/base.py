@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, TypeVar, Union
@@ -45,6 +45,7 @@ from gpp.runtime.contract import (
     Problem,
     ProgramInterface,
 )
+from gpp.runtime.events import TraceEvent
 from gpp.runtime.values import Value
 
 __all__ = [
@@ -89,6 +90,8 @@ class PlatformConfig:
     directives: Mapping[str, str] = field(default_factory=dict)
     # Platform options: `--platform-opt key=value` and the CLI's shorthand flags.
     options: Mapping[str, OptionValue] = field(default_factory=dict)
+    # The platform's own command-line arguments (for ros2: those after `--ros-args`).
+    arguments: tuple[str, ...] = ()
 
     def directive_path(self, key: str) -> Path | None:
         """A directive naming a file, resolved against the program's folder."""
@@ -155,9 +158,11 @@ class Platform:
     def now(self) -> float:
         raise NotImplementedError
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         """The program is blocked: make time pass until something is queued or `deadline`
-        (platform time) is reached. Returns False when nothing can ever arrive."""
+        (platform time) is reached. Returns False when nothing can ever arrive, or when the
+        wall clock reaches `wall_deadline` (a `time.monotonic()` moment: the run's
+        `--timeout`) first: a platform whose waiting takes wall-clock time returns by then."""
         raise NotImplementedError
 
     def live(self) -> bool:
@@ -167,9 +172,20 @@ class Platform:
     def close(self) -> None:
         """Stop threads and release resources. Called once, also after errors."""
 
+    def trace_listener(self) -> Callable[[TraceEvent], None] | None:
+        """A listener the run adds to its trace, told every record as it is written (a platform
+        that shows the run to its own tools), or None."""
+        return None
+
     def facts(self) -> RunFacts:
         """The world, scenario and seed of this run, where the platform has them."""
         return RunFacts()
+
+    def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
+        """Values the platform was given for the entry procedure's parameters, by name, each
+        with how it was given (for messages): the ros2 platform's ROS parameters (`-p n:=3`).
+        Read once, after `create` and before `attach`."""
+        return {}
 
 
 # ---------------------------------------------------------------- options

@@ -394,7 +394,8 @@ class DummyPlatform(Platform):
     def now(self) -> float:
         return self.clock
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
+        # Virtual time: waiting takes no wall-clock time, so `wall_deadline` cannot come first.
         self._schedule_random_exog()
         while self._agenda:
             t, seq, event = self._agenda[0]
@@ -420,6 +421,33 @@ class DummyPlatform(Platform):
 
     def live(self) -> bool:
         return bool(self._agenda) or (self.random_mode and bool(self.interface and self.interface.exog_actions))
+
+    # ---------------------------------------------------------------- serving another platform
+
+    def rule_for(self, action: GroundAction) -> ActionRule | None:
+        """The `[[action]]` rule that the next activity of `action` would follow (not used up)."""
+        return next((r for r in self.scenario.actions if r.matches(action)), None)
+
+    def next_time(self) -> float | None:
+        """When the next scheduled happening is due, None when nothing is (the endings of
+        activities preempted meanwhile are dropped)."""
+        while self._agenda:
+            t, seq, event = self._agenda[0]
+            if isinstance(event, ActivityUpdate) and self._pending.get(event.activity_id) != (t, seq):
+                heapq.heappop(self._agenda)
+                continue
+            return t
+        return None
+
+    def catch_up(self, clock: float) -> None:
+        """Another platform's clock, which serves this one's scenario, has reached `clock`: the
+        activities started from now on end relative to it."""
+        self.clock = max(self.clock, clock)
+
+    def forget(self, activity_id: int) -> None:
+        """The activity ended otherwise: what the scenario scheduled for it does not happen."""
+        self._pending.pop(activity_id, None)
+        self._results.pop(activity_id, None)
 
     # ---------------------------------------------------------------- helpers
 

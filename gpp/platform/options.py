@@ -57,6 +57,14 @@ class SimOptions:
         metadata=about("a world name from stdlib/worlds or a TOML file (default: the `// world:` line)", Flag()),
     )
     seed: int | None = field(default=None, metadata=about("seed for simulated faults (default: the world's)", Flag()))
+    scenario: Path | None = field(
+        default=None,
+        metadata=about(
+            "a TOML file scripting what the world does not model: the actions without a mapping the sim serves, "
+            "exogenous events, answers (default: the `// scenario:` line)",
+            Flag(),
+        ),
+    )
     record: Path | None = field(
         default=None, metadata=about("write an animated GIF of the run here", Flag(single_run=True), output=True)
     )
@@ -76,7 +84,13 @@ class Ros2Options:
     server_timeout: float | None = field(
         default=None, metadata=about("s to wait for a server to appear (default: the binding file's, else 5)")
     )
-    node_name: str = field(default="gpp_agent", metadata=about("the name of the agent's ROS node"))
+    node_name: str | None = field(
+        default=None, metadata=about("the name of the agent's ROS node (default: gpp_agent; or `-r __node:=NAME`)")
+    )
+    namespace: str | None = field(
+        default=None,
+        metadata=about("the namespace of the agent's ROS node (default: $ROS_NAMESPACE, else /; or `-r __ns:=NS`)"),
+    )
     discovery_timeout: float | None = field(
         default=None,
         metadata=about(
@@ -85,7 +99,20 @@ class Ros2Options:
             "file's, else 5)"
         ),
     )
-    log_level: str = field(default="warn", metadata=about("rclpy's log level (debug, info, warn, error)"))
+    log_level: str | None = field(
+        default=None, metadata=about("rclpy's log level (debug, info, warn, error; default: warn; or `--log-level`)")
+    )
+    use_sim_time: bool = field(
+        default=False,
+        metadata=about(
+            "follow the simulator's clock on /clock (as the ROS parameter use_sim_time does): context_time(), the "
+            "trace's times, time stamps and time-based waits"
+        ),
+    )
+    publish_trace: bool = field(
+        default=True,
+        metadata=about("publish the run's records on ~/events and its state on ~/state (latched), as JSON"),
+    )
 
 
 @dataclass(frozen=True)

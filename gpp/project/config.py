@@ -54,9 +54,13 @@ class Config:
     deny_warnings: bool = False
     run_platform: str | None = None
     run_world: str | None = None
+    # The bounds of a run (SEMANTICS §4): `timeout` in wall-clock seconds, `time_limit` in
+    # seconds of platform time.
     run_timeout: float | None = None
+    run_time_limit: float | None = None
     test_paths: tuple[Path, ...] = ()
     test_timeout: float | None = None
+    test_time_limit: float | None = None
     given: set[str] = field(default_factory=set)  # the dotted keys the file sets
 
     def __post_init__(self) -> None:
@@ -230,8 +234,10 @@ _KEYS: dict[str, tuple[_KeyReader, str]] = {
     "run.platform": (_string, "run_platform"),
     "run.world": (_string, "run_world"),
     "run.timeout": (_seconds, "run_timeout"),
+    "run.time_limit": (_seconds, "run_time_limit"),
     "test.paths": (_strings, "test_paths"),
     "test.timeout": (_seconds, "test_timeout"),
+    "test.time_limit": (_seconds, "test_time_limit"),
 }
 _TABLES = {key.partition(".")[0] for key in _KEYS if "." in key}
 _PATH_KEYS = {"paths", "include", "test.paths"}
@@ -424,6 +430,7 @@ def describe(config: Config) -> str:
         "run.platform": config.run_platform,
         "run.world": config.run_world,
         "run.timeout": config.run_timeout,
+        "run.time_limit": config.run_time_limit,
     }
     for key, setting in optional.items():
         if setting is None:
@@ -433,9 +440,13 @@ def describe(config: Config) -> str:
     lines += ["", "[test]"]
     value("test.paths", paths(config.test_paths))
     if config.test_timeout is None:
-        lines.append("# timeout is not set".ljust(40) + "  # default: 120 s per program")
+        lines.append("# timeout is not set".ljust(40) + "  # default: 120 s of wall-clock time per program")
     else:
         value("test.timeout", _toml_value(config.test_timeout))
+    if config.test_time_limit is None:
+        lines.append("# time_limit is not set".ljust(40) + "  # default: none")
+    else:
+        value("test.time_limit", _toml_value(config.test_time_limit))
     return "\n".join(lines) + "\n"
 
 

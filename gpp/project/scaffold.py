@@ -1,7 +1,7 @@
 """`gpp new NAME`: a starter agent project that checks cleanly and whose test passes.
 
 NAME/
-  gpp.toml                 settings: include folder, test paths, timeouts
+  gpp.toml                 settings: include folder, test paths, time bounds
   README.md                what is where, the commands
   agent.gpp                the agent: `main()` and its `postcond()`
   src/robot.gpp            the robot: rooms, fluents, actions (included by agent and tests)
@@ -33,11 +33,13 @@ disable = []             # lints not reported, by code or name
 
 [run]
 platform = "dummy"       # `gpp run agent.gpp` runs in virtual time
-timeout = 600            # seconds
+timeout = 600            # seconds of wall-clock time a run may take
+# time_limit = 3600      # seconds of platform (mission) time; none unless set
 
 [test]
 paths = ["tests"]        # what `gpp test` runs
-timeout = 60             # seconds per program
+timeout = 60             # seconds of wall-clock time per program
+# time_limit = 600       # seconds of platform (mission) time per program; none unless set
 """,
         "README.md": f"""\
 # {name}

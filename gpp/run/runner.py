@@ -45,11 +45,15 @@ class RunOptions:
     platform: str | None = None
     # The platform's options (`--platform-opt key=value`), validated by the platform.
     platform_options: Mapping[str, OptionValue] = field(default_factory=dict)
+    # The run's bounds (SEMANTICS §4): `timeout` in wall-clock seconds (`--timeout`),
+    # `time_limit` in seconds of platform time (`--time-limit`, no default).
     timeout: float | None = None
-    # Wall-clock seconds a run may take (default: the timeout's).
-    wall_timeout: float | None = None
+    time_limit: float | None = None
     # Values of the entry procedure's parameters (`--arg name=value`), as text or as values.
     args: Mapping[str, object] = field(default_factory=dict)
+    # The platform's own command-line arguments (`--ros-args ...` for ros2; its parameters can
+    # give the entry procedure's).
+    platform_arguments: tuple[str, ...] | None = None
     trace: Path | None = None
     # When the trace file goes on in a new part (`--trace-max-size`, `--trace-max-time`).
     trace_split: TraceSplit | None = None
@@ -64,6 +68,8 @@ class RunOptions:
     search_strategy: str = "depth-first"
     # Told now and then how a long `solve` is getting on (the run view shows it).
     progress: Callable[[Progress], None] | None = None
+    # Told the platform's clock once the platform exists (the live view shows it between events).
+    clock: Callable[[Callable[[], float]], None] | None = None
 
 
 @dataclass
@@ -110,7 +116,10 @@ def make_platform(options: RunOptions, check: CheckResult, path: Path) -> Platfo
     created (unknown platform or option, unusable scenario or world file)."""
     try:
         cls = platform_class(platform_for(options.platform, check, path))
-        return cls.create(PlatformConfig(path, program_directives(check, path), options.platform_options))
+        config = PlatformConfig(
+            path, program_directives(check, path), options.platform_options, options.platform_arguments or ()
+        )
+        return cls.create(config)
     except PlatformError as e:
         raise RunSetupError(str(e)) from None
 
@@ -133,15 +142,24 @@ def run_program(
     if check.model.main is None:
         outcome.diagnostics.append(diag.error(R0008.no_main(), check.loaded.files[-1].program.span))
         return outcome
-    entry_args = entry_arguments(check.model.globals[options.entry], options.args)
+    procedure = check.model.globals[options.entry]
+    if options.platform_arguments is None:
+        entry_args = entry_arguments(procedure, options.args)  # before the platform starts
     platform = make_platform(options, check, path)
     outcome.platform = platform.name
+    if options.clock is not None:
+        options.clock(platform.now)
     trace: Trace | None = None
     try:
+        if options.platform_arguments is not None:
+            entry_args = entry_arguments(procedure, options.args, platform.entry_arguments())
         header = _header(path, platform)
         if options.record:
             outcome.recording = Recording()
             listeners = [outcome.recording, *(listeners or [])]
+        platform_listener = platform.trace_listener()
+        if platform_listener is not None:
+            listeners = [*(listeners or []), platform_listener]
         trace = outcome.trace = Trace(options.trace, listeners, options.trace_split)
         trace.emit(header)
         from gpp.planner.policy import PolicyPlanner
@@ -152,10 +170,10 @@ def run_program(
             program,
             platform,
             trace,
-            options.timeout,
+            options.time_limit,
             options.entry,
             planner=PolicyPlanner(options.search_strategy, options.progress),
-            wall_timeout=options.wall_timeout,
+            timeout=options.timeout,
             entry_args=entry_args,
         )
         problems = platform.attach(program_interface(program))
@@ -206,17 +224,31 @@ def _finish_interrupted(trace: Trace, header: HeaderEvent, platform: Platform, e
     trace.emit(FinishEvent(t=now, status=RunStatus.INTERRUPTED.value, actions=0, failures=0, exog_events=0))
 
 
-def entry_arguments(procedure: Symbol, given: Mapping[str, object]) -> tuple[Value, ...]:
-    """The values of `procedure`'s parameters from `--arg name=value` pairs: text is read as a
-    golog++ literal of the parameter's type (a number, `true`/`false`, a symbol, a string as it
-    is, a list or compound as JSON). RunSetupError for a missing, unknown or ill-typed one."""
+def entry_arguments(
+    procedure: Symbol, given: Mapping[str, object], from_platform: Mapping[str, tuple[object, str]] | None = None
+) -> tuple[Value, ...]:
+    """The values of `procedure`'s parameters from `--arg name=value` pairs and those the
+    platform was given (`from_platform`: name -> (value, how it was given), e.g. ROS
+    parameters): text is read as a golog++ literal of the parameter's type (a number,
+    `true`/`false`, a symbol, a string as it is, a list or compound as JSON). RunSetupError
+    for a missing, unknown, ill-typed one, or one given both ways."""
     params = {p.name: p for p in procedure.params}
+    how = {name: f"--arg {name}" for name in given}
+    merged = dict(given)
+    for name, (value, said) in (from_platform or {}).items():
+        if name in merged:
+            raise RunSetupError(f"`{name}` of `{procedure.name}` is given twice: by --arg {name}=... and by {said}")
+        merged[name], how[name] = value, said
+    given = merged
     for name in given:
         if name not in params:
             hint = did_you_mean(name, params)
             takes = ", ".join(params) if params else "no parameters"
+            said = "" if how[name].startswith("--arg") else f"{how[name]}: "
             raise RunSetupError(
-                f"`{procedure.name}` has no parameter `{name}`" + (f"; {hint}" if hint else "") + f" (it takes {takes})"
+                f"{said}`{procedure.name}` has no parameter `{name}`"
+                + (f"; {hint}" if hint else "")
+                + f" (it takes {takes})"
             )
     values: list[Value] = []
     for name, param in params.items():
@@ -224,13 +256,14 @@ def entry_arguments(procedure: Symbol, given: Mapping[str, object]) -> tuple[Val
             shown = ", ".join(f"{p.type} {p.name}" for p in procedure.params)
             raise RunSetupError(
                 f"`{procedure.name}({shown})` needs a value for `{name}`: give it with --arg {name}=VALUE"
+                + (f" or with -p {name}:=VALUE after --ros-args" if from_platform is not None else "")
             )
         raw = given[name]
         assert param.type is not None
         try:
             values.append(to_value(_literal(raw, param.type) if isinstance(raw, str) else raw, param.type))
         except ConversionError as e:
-            raise RunSetupError(f"--arg {name}: {e}") from None
+            raise RunSetupError(f"{how[name]}: {e}") from None
     return tuple(values)
 
 

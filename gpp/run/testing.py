@@ -54,14 +54,30 @@ def discover(paths: Sequence[Path]) -> list[Path]:
     return found
 
 
+def _takes_arguments(path: Path, options: RunOptions) -> bool:
+    """Does the program's entry procedure take parameters that the options give no value?"""
+    from gpp.check import check_program
+
+    try:
+        model = check_program(path, allow=options.allow, include_dirs=options.include_dirs).model
+    except OSError:
+        return False
+    entry = model.globals.get(options.entry) if model is not None else None
+    return entry is not None and any(p.name not in options.args for p in entry.params)
+
+
 def run_case(path: Path, options: RunOptions, named: bool = False) -> TestCase:
     """Run one program (on the platform its directives choose when `options.platform` is None).
-    A program without `main` found in a folder is skipped (it may be a file others include);
-    one `named` on the command line is an error, since it was meant to run."""
+    A program without `main` found in a folder is skipped (it may be a file others include), as
+    is one whose `main` takes parameters it is not given (it is run with arguments); one
+    `named` on the command line is an error, since it was meant to run."""
     started = time.perf_counter()
     try:
         outcome = run_program(path, options)
     except RunSetupError as e:
+        if not named and _takes_arguments(path, options):
+            # A program to run with arguments (`gpp run --arg`, a launch file's parameters).
+            return TestCase(path, Verdict.SKIP, time.perf_counter() - started, f"{e} (`main` takes parameters)")
         return TestCase(path, Verdict.ERROR, time.perf_counter() - started, str(e))
     seconds = time.perf_counter() - started
     if outcome.check.errors:

@@ -5,7 +5,9 @@ event, so logs and CI output stay readable."""
 
 from __future__ import annotations
 
+import threading
 from collections import deque
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol, TextIO, assert_never
 
 from gpp.runtime.events import (
@@ -65,11 +67,13 @@ def describe(event: TraceEvent) -> str | None:
         case NoticeEvent():
             return "notice " + (f"{event.action}: " if event.action else "") + event.message
         case PlanEvent() | ReplanEvent():
+            # A replan says why: the program's own `on_fail` handler is not a deviation.
+            why = f"because {event.reason}; " if isinstance(event, ReplanEvent) and event.reason else ""
             if not event.feasible:
-                return f"{event.EVENT:<6} no feasible plan ({event.nodes} nodes)"
+                return f"{event.EVENT:<6} {why}no feasible plan ({event.nodes} nodes)"
             policy = "; ".join(event.policy) or "(nothing to do)"
             return (
-                f"{event.EVENT:<6} value {event.value:g}, horizon {event.horizon}: {policy}"
+                f"{event.EVENT:<6} {why}value {event.value:g}, horizon {_horizon(event)}: {policy}"
                 f"  [{event.nodes} nodes, {event.seconds:.3f} s]"
             )
         case BlockedEvent() | ErrorEvent():
@@ -81,7 +85,9 @@ def describe(event: TraceEvent) -> str | None:
         case FinishEvent():
             return f"finish {event.status}"
         case WaitingEvent():
-            if event.resumed:
+            if event.resumed or event.reason == "activity":
+                # A planned activity's wait: its start and end lines tell it, as for any call
+                # (the live panel, the summary and the page show which step of the plan it is).
                 return None
             return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
         case HeaderEvent() | SnapshotEvent():
@@ -101,6 +107,10 @@ class RunView(Protocol):
         """A `solve` that has planned for more than a second says how far it got."""
         ...
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        """The platform's clock, once the platform exists: a live view shows it between events."""
+        ...
+
     def __enter__(self) -> RunView: ...
 
     def __exit__(self, *exc: object) -> None: ...
@@ -115,6 +125,9 @@ class NoView:
         pass
 
     def progress(self, p: Progress) -> None:
+        pass
+
+    def watch_clock(self, now: Callable[[], float]) -> None:
         pass
 
     def __enter__(self) -> NoView:
@@ -142,6 +155,9 @@ class PlainView:
         self.out.write(f"{'':13} {progress_text(p)}\n")
         self.out.flush()
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        pass  # one line per event: the event's time is the time
+
     def __enter__(self) -> PlainView:
         return self
 
@@ -150,7 +166,9 @@ class PlainView:
 
 
 class LiveView:
-    """A rich live panel, redrawn at most a few times a second."""
+    """A rich live panel, redrawn a few times a second. Its clock is the platform's, read at
+    every redraw while the run goes on, so a long drive does not look hung; the events are
+    recorded by the run's thread and drawn by rich's refresh thread (one lock guards both)."""
 
     shows = True
 
@@ -168,9 +186,20 @@ class LiveView:
         self.waiting: WaitingEvent | None = None
         # How a long `solve` is getting on, while it plans.
         self.planning: Progress | None = None
+        # The platform's clock while the run goes on (None: only the events' times).
+        self.clock: Callable[[], float] | None = None
+        self._lock = threading.Lock()
         self._live: Live | None = None
 
+    def watch_clock(self, now: Callable[[], float]) -> None:
+        with self._lock:
+            self.clock = now
+
     def __call__(self, event: TraceEvent) -> None:
+        with self._lock:  # drawn by rich's refresh thread, 8 times a second
+            self._record(event)
+
+    def _record(self, event: TraceEvent) -> None:
         self.time = event.t
         match event:
             case StartEvent():
@@ -192,26 +221,39 @@ class LiveView:
                 self.planning = None
             case WaitingEvent():
                 self.waiting = None if event.resumed else event
+            case FinishEvent():
+                self.clock = None  # the run is over: its last event's time is its end
             case _:
                 pass
         line = describe(event)
         if line is not None:
             self.events.append(f"[dim]{event.t:>8.2f}s[/dim] {_escape(line)}")
-        if self._live is not None:
-            self._live.update(self.render())
 
     def progress(self, p: Progress) -> None:
-        self.planning = p
-        if self._live is not None:
-            self._live.update(self.render())
+        with self._lock:
+            self.planning = p
+
+    def now(self) -> float:
+        """The time the panel shows: the platform's clock while the run goes on, else the time
+        of the last event."""
+        if self.clock is None:
+            return self.time
+        try:
+            return max(self.time, self.clock())
+        except Exception:  # a platform closing under the reading: its last event's time will do
+            return self.time
 
     def render(self) -> RenderableType:
+        with self._lock:
+            return self._render()
+
+    def _render(self) -> RenderableType:
         from rich.console import Group
         from rich.panel import Panel
         from rich.table import Table
 
         header = (
-            f"[bold]{_escape(self.title)}[/bold]   t = {self.time:.2f} s   actions {self.counts['actions']}"
+            f"[bold]{_escape(self.title)}[/bold]   t = {self.now():.2f} s   actions {self.counts['actions']}"
             f"   failed {self.counts['failed']}   exog events {self.counts['exog']}"
         )
         running = Table(show_header=True, header_style="bold", box=None, expand=False)
@@ -227,9 +269,10 @@ class LiveView:
         if self.waiting is not None:
             w = self.waiting
             where = f" [dim]at {_escape(w.at)}[/dim]" if w.at else ""
+            # A planned activity's condition says "waiting for ...": the panel does not repeat it.
+            said = f" {w.condition.removeprefix('waiting ')}" if w.reason == "activity" else f": {w.condition}"
             parts.append(
-                f"[yellow]waiting[/yellow] since {w.t:.2f} s: {_escape(w.condition)}\n"
-                f"        {_escape(w.statement)}{where}"
+                f"[yellow]waiting[/yellow] since {w.t:.2f} s{_escape(said)}\n        {_escape(w.statement)}{where}"
             )
         parts.append(running)
         if self.planning is not None:
@@ -237,7 +280,7 @@ class LiveView:
         if self.plan is not None and self.plan.feasible:
             plan = self.plan
             policy = " → ".join(plan.policy) or "(nothing to do)"
-            title = f"{plan.EVENT} (value {plan.value:g}, horizon {plan.horizon})"
+            title = f"{plan.EVENT} (value {plan.value:g}, horizon {_horizon(plan)})"
             parts.append(Panel(_escape(policy), title=title, title_align="left"))
         parts.append(Panel("\n".join(self.events) or "[dim](no events yet)[/dim]", title="events", title_align="left"))
         return Group(*parts)
@@ -245,15 +288,21 @@ class LiveView:
     def __enter__(self) -> LiveView:
         from rich.live import Live
 
-        self._live = Live(self.render(), console=self.console, refresh_per_second=8, transient=False)
+        self._live = Live(console=self.console, refresh_per_second=8, transient=False, get_renderable=self.render)
         self._live.__enter__()
         return self
 
     def __exit__(self, *exc: object) -> None:
         if self._live is not None:
-            self._live.update(self.render())
+            self._live.refresh()
             self._live.__exit__(None, None, None)
             self._live = None
+
+
+def _horizon(event: PlanEvent | ReplanEvent) -> str:
+    """`4`, or `4 of 6` for a replan of a `solve` whose executed steps used part of its horizon."""
+    written = event.written_horizon if isinstance(event, ReplanEvent) else None
+    return f"{event.horizon} of {written}" if written is not None else str(event.horizon)
 
 
 def progress_text(p: Progress) -> str:

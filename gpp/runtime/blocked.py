@@ -5,6 +5,7 @@ it reaches its timeout."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import assert_never
 
 from gpp.base import diagnostics as diag
@@ -23,6 +24,7 @@ from gpp.runtime.semantics import (
     Rest,
     Semantics,
     Seq,
+    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.values import Value, show
@@ -42,12 +44,49 @@ def why_blocked(sem: Semantics, p: Prog, state: State, acts: Activities) -> diag
     return _Explanation(sem, state, acts).why(p)
 
 
+@dataclass(frozen=True, slots=True)
+class Wait:
+    """What a program that cannot step waits for: the explanation, its kind (one of
+    gpp.runtime.events.WAIT_REASONS), and for a planned activity the activity and the number
+    of its step in the plan."""
+
+    why: diag.Diagnostic | None
+    reason: str
+    action: GroundAction | None = None
+    plan_step: int | None = None
+
+
+def waits_for(sem: Semantics, p: Prog, state: State, acts: Activities) -> Wait:
+    """`why_blocked`, with what kind of thing `p` waits for."""
+    explanation = _Explanation(sem, state, acts)
+    why = explanation.why(p)
+    if explanation.awaited is not None:
+        g, number = explanation.awaited
+        return Wait(why, "activity", g, number)
+    if why is None:
+        return Wait(None, "event")
+    message = why.message
+    if message == R0011.test_false().text:
+        reason = "test"
+    elif message.startswith(R0011.PREFIX + "the precondition of"):
+        reason = "precondition"
+    elif awaits_activity(why):
+        reason = "activity"
+    elif message.endswith("found no plan"):
+        reason = "no-plan"
+    else:
+        reason = "event"
+    return Wait(why, reason)
+
+
 class _Explanation:
     def __init__(self, sem: Semantics, state: State, acts: Activities) -> None:
         self.sem = sem
         self.program = sem.program
         self.state = state
         self.acts = acts
+        # A planned activity it waits for, and the number of its step in the plan.
+        self.awaited: tuple[GroundAction, int] | None = None
 
     def why(self, p: Prog) -> diag.Diagnostic | None:
         sem, state, acts = self.sem, self.state, self.acts
@@ -68,10 +107,20 @@ class _Explanation:
                     if why is not None:
                         return why
                 return None
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return self.waiting(p.action, p.span, "to end")
             case Planned():
                 stmt = p.session.stmt
+                awaited = p.session.awaited(p, acts)
+                if awaited is not None:
+                    g, number, span = awaited
+                    self.awaited = g, number
+                    status = acts.status(g)
+                    return diag.error(
+                        R0011.awaits_planned(g.text, number),
+                        span,
+                        f"`{g.text}` is {status.value if status is not None else 'not started'}",
+                    )
                 return diag.error(
                     R0011.no_plan(stmt.__class__.__name__.lower()),
                     stmt.span,

@@ -188,6 +188,12 @@ class EventQueue:
             self._ready.wait(timeout)
             return bool(self._items)
 
+    def wake(self) -> None:
+        """Wake a `wait` with nothing queued: its caller looks again at what else it waits for
+        (a clock that another thread moves)."""
+        with self._ready:
+            self._ready.notify_all()
+
     def __len__(self) -> int:
         with self._ready:
             return len(self._items)
@@ -220,9 +226,11 @@ class PlatformPort(Protocol):
     def now(self) -> float:
         """The platform's clock, in seconds since the run began."""
 
-    def wait(self, deadline: float | None) -> bool:
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         """The program is blocked: make time pass until something is queued or `deadline`
-        (platform time) is reached. Returns False when nothing can ever arrive."""
+        (platform time) is reached. Returns False when nothing can ever arrive, or when the
+        wall clock reaches `wall_deadline` (a `time.monotonic()` moment: the run's
+        `--timeout`) first: a platform whose waiting takes wall-clock time returns by then."""
 
     def live(self) -> bool:
         """Can an event still arrive (running activities, scheduled or live exogenous sources)?"""

@@ -43,6 +43,11 @@ class GppRuntimeError(Exception):
         )
 
 
+class WallClockReached(Exception):
+    """Planning went on past the run's wall-clock bound (`--timeout`): the planner stops, and
+    the executor stops the run at its timeout."""
+
+
 class Unanswered(GppRuntimeError):
     """An exogenous function has no current answer (the platform's NoAnswer). Online, the step
     that evaluates it cannot be taken, as a false test, and the program waits for an answer;

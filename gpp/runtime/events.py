@@ -26,9 +26,14 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.4"
+TRACE_SCHEMA_VERSION: Final = "1.5"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
+
+# What a `waiting` record's `reason` can be: a false test, a false precondition, a planned
+# activity that runs, a `solve`/`search` without a feasible plan, an exogenous function's
+# answer, anything else (an event or an activity update).
+WAIT_REASONS: Final = ("test", "precondition", "activity", "no-plan", "answer", "event")
 
 JsonValue: TypeAlias = bool | int | float | str | list["JsonValue"] | dict[str, "JsonValue"] | None
 
@@ -105,7 +110,8 @@ class SnapshotEvent(EventBase):
     fluents: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
     # The activities started and not consumed yet (`{"action": ..., "id": ..., "status": ...}`).
     activities: tuple[dict[str, JsonValue], ...] = field(metadata=_TUPLE)
-    # What the program waits for (`statement`, `at`, `condition` of its `waiting` record), if it waits.
+    # What the program waits for (`statement`, `at`, `condition` of its `waiting` record, and
+    # since 1.5 its `reason`, `action` and `plan_step` where it has them), if it waits.
     waiting: dict[str, JsonValue] | None = field(default=None, metadata=_OPTIONAL)
     # The counts of the `finish` record, so far.
     actions: int
@@ -164,6 +170,22 @@ class WaitingEvent(EventBase):
     at: str | None  # its source location
     condition: str  # the condition that is false
     resumed: bool = field(default=False, metadata=_OPTIONAL)
+    # Since 1.5: what kind of thing it waits for (WAIT_REASONS); for a planned activity, the
+    # activity and the number of its step in the plan.
+    reason: str | None = field(default=None, metadata=_OPTIONAL)
+    action: str | None = field(default=None, metadata=_OPTIONAL)
+    plan_step: int | None = field(default=None, metadata=_OPTIONAL)
+
+
+def waiting_fields(event: WaitingEvent) -> dict[str, JsonValue]:
+    """What a snapshot (and the ros2 platform's state topic) says of a wait: its statement,
+    place and condition, and those of `reason`, `action` and `plan_step` it has."""
+    fields: dict[str, JsonValue] = {"statement": event.statement, "at": event.at, "condition": event.condition}
+    for name in ("reason", "action", "plan_step"):
+        value = getattr(event, name)
+        if value is not None:
+            fields[name] = value
+    return fields
 
 
 # ---------------------------------------------------------------- activities
@@ -347,6 +369,10 @@ class ReplanEvent(EventBase):
     seconds: float
     unfinished: bool = field(default=False, metadata=_OPTIONAL)
     steps_left: int | None = field(default=None, metadata=_OPTIONAL)
+    # Since 1.5: why it was planned again, and a `solve`'s horizon as written (`horizon` is
+    # what the steps already executed left of it).
+    reason: str | None = field(default=None, metadata=_OPTIONAL)
+    written_horizon: int | None = field(default=None, metadata=_OPTIONAL)
 
 
 TraceEvent: TypeAlias = (
@@ -499,6 +525,7 @@ __all__ = [
     "EVENT_TYPES",
     "SCHEMA_RESOURCE",
     "TRACE_SCHEMA_VERSION",
+    "WAIT_REASONS",
     "Absent",
     "AssignEvent",
     "BlockedEvent",

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import inspect
 import os
 import re
 import sys
@@ -26,8 +27,9 @@ from gpp.base import diagnostics as diag
 from gpp.base import signals
 from gpp.base.source import Span
 from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
+from gpp.model.declarations import fill_placeholders
 from gpp.model.types import Type
-from gpp.runtime.blocked import BLOCKED, awaits_activity, why_blocked
+from gpp.runtime.blocked import BLOCKED, Wait, waits_for, why_blocked
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -44,7 +46,7 @@ from gpp.runtime.contract import (
     Problem,
     unfit_error,
 )
-from gpp.runtime.errors import GppRuntimeError, Unanswered
+from gpp.runtime.errors import GppRuntimeError, Unanswered, WallClockReached
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
     AssignStep,
@@ -67,6 +69,7 @@ from gpp.runtime.semantics import (
     StartStep,
     Step,
     TestStep,
+    Watch,
 )
 from gpp.runtime.state import Activities, ActivityStatus, GroundAction, State
 from gpp.runtime.trace import Trace, TraceWriteError
@@ -144,20 +147,25 @@ class Executor:
         program: CompiledProgram,
         platform: PlatformPort,
         trace: Trace,
-        timeout: float | None = None,
+        time_limit: float | None = None,
         entry: str = "main",
         planner: OnlinePlanner | None = None,
-        wall_timeout: float | None = None,
+        timeout: float | None = None,
         entry_args: tuple[Value, ...] = (),
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.run.runner gives gpp.planner's); without one, a
-        program that reaches them stops with an error (R0010)."""
+        program that reaches them stops with an error (R0010). The run's two bounds (SEMANTICS
+        §4): `timeout`, wall-clock seconds (`--timeout`), and `time_limit`, seconds of platform
+        time (`--time-limit`)."""
         self.program = program
         self.platform = platform
         self.trace = trace
+        self.time_limit = time_limit
         self.timeout = timeout
-        # Wall-clock seconds the run may take: the timeout's, unless given apart.
-        self.wall_timeout = wall_timeout if wall_timeout is not None else timeout
+        self.planner = planner
+        # The moment (time.monotonic()) the wall-clock bound is reached, once the run started.
+        self.wall_deadline: float | None = None
+        self._wait_takes_wall_deadline: bool | None = None  # see wait_for_platform
         self.entry = entry
         # The values of the entry procedure's parameters (`gpp run --arg n=3`), in order.
         self.entry_args = entry_args
@@ -182,6 +190,8 @@ class Executor:
         self.waiting_for: tuple[str, str | None, str] | None = None
         # The program waited for clock times that kept moving with the clock.
         self.chasing = False
+        # The program cannot step and waits for the platform (since its last step).
+        self.blocked = False
         self.result = RunResult(RunStatus.FINISHED)
         self._silent: dict[str, bool] = {}
         # Problems with the program the platform reported while it runs (PlatformFault).
@@ -189,6 +199,24 @@ class Executor:
         # Exogenous actions and functions already warned about (R0015), and warnings given.
         self.warned_dropped: set[str] = set()
         self.warned_platform: set[str] = set()
+
+    def wait_for_platform(self, deadline: float | None) -> bool:
+        """The platform's `wait` until `deadline` (platform time) or the run's wall-clock bound. A
+        platform plugin written before the port had `wall_deadline` is asked without it (its
+        `wait` then returns by `deadline` or an event, and the bound is checked after)."""
+        if self.wall_deadline is None:
+            return self.platform.wait(deadline)
+        if self._wait_takes_wall_deadline is None:
+            try:
+                parameters = inspect.signature(self.platform.wait).parameters
+            except (TypeError, ValueError):
+                parameters = {}  # type: ignore[assignment]
+            self._wait_takes_wall_deadline = "wall_deadline" in parameters or any(
+                p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()
+            )
+        if self._wait_takes_wall_deadline:
+            return self.platform.wait(deadline, wall_deadline=self.wall_deadline)
+        return self.platform.wait(deadline)
 
     # ---------------------------------------------------------------- the loop
 
@@ -201,6 +229,10 @@ class Executor:
         result = self.result
         prog: Prog | None = None
         try:
+            if self.timeout is not None:
+                self.wall_deadline = time.monotonic() + self.timeout
+            if self.planner is not None:
+                self.planner.stop_at(self.wall_deadline)
             prog = self.sem.entry(self.entry, self.entry_args)
             # Wake-ups in a row at which the program still could not step.
             chased = 0
@@ -219,7 +251,7 @@ class Executor:
                 if self.timed_out(strictly=True):
                     self.stop_at_timeout(prog)
                     break
-                if self.wall_timed_out(started):
+                if self.wall_timed_out():
                     self.stop_at_wall_timeout(prog, started)
                     break
                 successors = self.sem.trans(prog, self.state, self.acts, first=True)
@@ -229,6 +261,7 @@ class Executor:
                     if self.waiting_at is not None:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
                         self.waiting_at = self.waiting_for = None
+                    self.blocked = False
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
@@ -240,9 +273,10 @@ class Executor:
                     self.stop_at_timeout(prog)
                     break
                 if wake is not None or self.platform.live():
+                    self.blocked = True
                     self.note_waiting(prog)
-                    deadline = min((t for t in (wake, self.timeout) if t is not None), default=None)
-                    if self.platform.wait(deadline) or len(self.platform.queue) > 0:
+                    deadline = min((t for t in (wake, self.time_limit) if t is not None), default=None)
+                    if self.wait_for_platform(deadline) or len(self.platform.queue) > 0:
                         continue
                     if wake is not None and self.platform.now() >= wake:
                         chased += 1
@@ -252,7 +286,7 @@ class Executor:
                     if self.timed_out():
                         self.stop_at_timeout(prog)
                         break
-                    if self.wall_timed_out(started):
+                    if self.wall_timed_out():
                         self.stop_at_wall_timeout(prog, started)
                         break
                     if self.platform.live():
@@ -264,6 +298,9 @@ class Executor:
                 break
         except GppRuntimeError as e:
             self.fail(e)
+        except WallClockReached:  # the planner was planning when the wall-clock bound came
+            assert prog is not None
+            self.stop_at_wall_timeout(prog, started, planning=True)
         except RecursionError:
             self.fail(
                 GppRuntimeError(
@@ -312,52 +349,68 @@ class Executor:
         return result
 
     def timed_out(self, strictly: bool = False) -> bool:
-        """Has the platform's clock reached the timeout (passed it, when `strictly`)? Steps at
-        the very moment of the timeout still happen; waiting beyond it does not."""
-        if self.timeout is None:
+        """Has the platform's clock reached the time limit (passed it, when `strictly`)? Steps
+        at the very moment of the limit still happen; waiting beyond it does not."""
+        if self.time_limit is None:
             return False
         now = self.platform.now()
-        return now > self.timeout if strictly else now >= self.timeout
+        return now > self.time_limit if strictly else now >= self.time_limit
 
-    def wall_timed_out(self, started: float) -> bool:
-        """Has the run taken longer than the timeout in wall-clock time? (On a virtual-time
-        platform a loop that takes no time never moves the clock: this still ends it.)"""
-        return self.wall_timeout is not None and time.perf_counter() - started > self.wall_timeout
+    def wall_timed_out(self) -> bool:
+        """Has the run taken longer than its timeout in wall-clock time?"""
+        return self.wall_deadline is not None and time.monotonic() >= self.wall_deadline
 
-    def stop_at_wall_timeout(self, prog: Prog, started: float) -> None:
+    def stop_at_wall_timeout(self, prog: Prog, started: float, planning: bool = False) -> None:
+        """Stop the run at its wall-clock bound (`--timeout`): where it was, and what it was
+        doing (planning, waiting, or making steps without end)."""
         self.result.status = RunStatus.TIMEOUT
+        assert self.timeout is not None
+        notes = [f"it ran for {time.perf_counter() - started:.1f} s of wall-clock time"]
+        if planning:
+            notes.append("it was planning (the bound holds while the planner works too)")
+            label = "planning here"
+        elif self.blocked:
+            waiting = self.explained(prog).why
+            if waiting is not None:
+                notes.append(f"it waits here: {waiting.message.removeprefix(BLOCKED)}")
+            label = "waiting here"
+        else:
+            notes.append("it was making steps: a loop whose steps take no platform time never ends on its own")
+            label = "running here"
         span = _head_span(prog) or self.entry_span()
-        assert span is not None and self.wall_timeout is not None
-        d = diag.error(
-            R0013.wall_clock(self.wall_timeout, self.platform.now()),
-            span,
-            "running here",
-            notes=[
-                f"it ran for {time.perf_counter() - started:.1f} s of wall-clock time",
-                "a loop whose steps take no platform time never lets the clock reach the timeout",
-            ],
-        )
+        assert span is not None
+        d = diag.error(R0013.wall_clock(self.timeout, self.platform.now()), span, label, notes=notes)
         self.result.diagnostics.append(d)
         self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=d.code, message=d.message, at=_where(d.span)))
 
-    def note_waiting(self, prog: Prog) -> None:
-        """Record, once per wait, what the blocked program waits for (a `waiting` trace record).
-        A wait for a running activity is not recorded: its start and end records tell it."""
+    def explained(self, prog: Prog) -> Wait:
+        """What the blocked program waits for, without asking the platform anything (an answer
+        could change what it waits for): only where it waits when explaining would ask."""
         self.ctx.explaining = True
         try:
-            why = why_blocked(self.sem, prog, self.state, self.acts)
+            return waits_for(self.sem, prog, self.state, self.acts)
         except GppRuntimeError:
-            why = None  # explaining would have asked the platform: say only where it waits
+            return Wait(None, "event")
         finally:
             self.ctx.explaining = False
-        if why is not None and awaits_activity(why):
+
+    def note_waiting(self, prog: Prog) -> None:
+        """Record, once per wait, what the blocked program waits for (a `waiting` trace record).
+        A wait for a running activity is not recorded (its start and end records tell it),
+        unless the activity is a step of a plan: the record says which step."""
+        wait = self.explained(prog)
+        why = wait.why
+        if wait.reason == "activity" and wait.plan_step is None:
             return
         if self.sem.unanswered is not None:
             # It waits for an exogenous function's answer: that is the condition to show.
             unanswered, stmt = self.sem.unanswered
             why = diag.error(diag.Message(unanswered.code, unanswered.message), stmt.span)
+            wait = Wait(why, "answer")
         span = why.span if why is not None else _head_span(prog)
         condition = why.message.removeprefix(BLOCKED) if why is not None else "an event or an activity update"
+        if wait.action is not None and wait.plan_step is not None:
+            condition = R0011.planned_wait(wait.action.text, wait.plan_step)
         text = span.text.strip().splitlines()[0] if span is not None and span.text.strip() else ""
         statement = text if len(text) <= 80 else text[:77] + "..."
         waited_for = (statement, _where(span), _without_figures(condition))
@@ -367,7 +420,13 @@ class Executor:
             condition += " (" + "; ".join(n.strip() for n in why.notes) + ")"
         self.waiting_for = waited_for
         self.waiting_at = ev.WaitingEvent(
-            t=self.platform.now(), statement=statement, at=_where(span), condition=condition
+            t=self.platform.now(),
+            statement=statement,
+            at=_where(span),
+            condition=condition,
+            reason=wait.reason,
+            action=wait.action.text if wait.action is not None else None,
+            plan_step=wait.plan_step,
         )
         self.trace.emit(self.waiting_at)
 
@@ -381,9 +440,7 @@ class Executor:
             activities=tuple(
                 {"action": g.text, "id": self.records[g].id, "status": status.value} for g, status in self.acts.items()
             ),
-            waiting=None
-            if waiting is None
-            else {"statement": waiting.statement, "at": waiting.at, "condition": waiting.condition},
+            waiting=None if waiting is None else ev.waiting_fields(waiting),
             actions=self.result.actions,
             failures=self.result.failures,
             exog_events=self.result.exog_events,
@@ -573,7 +630,7 @@ class Executor:
             self.end(step)
         elif isinstance(step, CancelStep):
             record = self.records[step.action]
-            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id))
+            self.trace.emit(ev.CancelEvent(t=now, action=step.action.text, id=record.id, reason=step.reason or None))
             self.platform.preempt(record)
         elif isinstance(step, AssignStep):
             self.state = self.state.updated(dict(step.updates), self.program.initial)
@@ -588,7 +645,7 @@ class Executor:
             self.trace_plan("plan", report)
             self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, ReplanStep):
-            report = step.session.replan(self.sem, step.index, self.state, self.acts)
+            report = step.session.replan(self.sem, step.index, self.state, self.acts, step.reason)
             self.trace_plan("replan", report)
             self.warn_unfinished(step.session.stmt, report)
         elif isinstance(step, TestStep | DoStep):
@@ -603,41 +660,53 @@ class Executor:
             return
         self.warned.add(id(stmt))
         h = report.horizon
-        notes = [f"its plan uses all {h} step(s) of the horizon, and the program is not finished after them"]
+        written = report.written if report.written is not None else h
+        notes = []
+        if report.spent:
+            # Where the rest of the horizon went: the steps already executed (failed attempts
+            # gave theirs back).
+            shown = ", ".join(f"`{s}`" for s in report.spent[:6]) + (", ..." if len(report.spent) > 6 else "")
+            notes.append(R0014.spent(written, len(report.spent), shown))
+        notes.append(f"its plan uses all {h} step(s) left of the horizon, and the program is not finished after them")
         if report.steps_left is not None:
             notes.append(f"finishing it needs at least {report.steps_left} more step(s)")
         notes.append("the rest of the `solve`'s program is not executed: the run goes on after the `solve`")
         self.result.diagnostics.append(
             diag.warning(
-                R0014.unfinished(h),
+                R0014.unfinished(written),
                 stmt.span,
                 "planned only up to its horizon",
                 notes=notes,
-                help=f"raise the horizon to at least {h + report.steps_left}"
+                help=f"raise the horizon to at least {written + report.steps_left}"
                 if report.steps_left is not None
                 else "raise the horizon",
             )
         )
 
     def trace_plan(self, event: str, plan: PlanReport) -> None:
-        cls = ev.PlanEvent if event == "plan" else ev.ReplanEvent
-        self.trace.emit(
-            cls(
-                t=self.platform.now(),
-                kind=plan.kind,
-                feasible=plan.feasible,
-                value=plan.value,
-                horizon=plan.horizon,
-                policy=plan.policy,
-                nodes=plan.nodes,
-                cache_hits=plan.cache_hits,
-                pruned=plan.pruned,
-                reward_evaluations=plan.reward_evaluations,
-                seconds=round(plan.seconds, 6),
-                unfinished=plan.unfinished,
-                steps_left=plan.steps_left,
-            )
+        """A `plan` or `replan` record; a `replan` also says why, and the horizon as written."""
+        record = ev.ReplanEvent(
+            t=self.platform.now(),
+            kind=plan.kind,
+            feasible=plan.feasible,
+            value=plan.value,
+            horizon=plan.horizon,
+            policy=plan.policy,
+            nodes=plan.nodes,
+            cache_hits=plan.cache_hits,
+            pruned=plan.pruned,
+            reward_evaluations=plan.reward_evaluations,
+            seconds=round(plan.seconds, 6),
+            unfinished=plan.unfinished,
+            steps_left=plan.steps_left,
+            reason=plan.reason,
+            written_horizon=plan.written if plan.written != plan.horizon else None,
         )
+        if event == "plan":
+            shared = {f.name: getattr(record, f.name) for f in dataclasses.fields(ev.PlanEvent)}
+            self.trace.emit(ev.PlanEvent(**shared))
+        else:
+            self.trace.emit(record)
 
     def start(self, g: GroundAction, span: Span) -> None:
         status = self.acts.status(g)
@@ -651,7 +720,10 @@ class Executor:
         env = Env(self.state, dict(zip(info.param_ids, g.args, strict=True)), self.ctx)
         args = {name: evaluate(env) for name, evaluate in info.mapped_args}
         duration = info.duration
-        activity = Activity(self.next_id, g, info.mapped_name, args, duration)
+        mapped = info.mapped_name
+        if "{" in mapped:  # placeholders: `"/{r}/navigate"` is `/robot1/navigate` for r = robot1
+            mapped = fill_placeholders(mapped, dict(zip(info.param_names, g.args, strict=True)))
+        activity = Activity(self.next_id, g, mapped, args, duration)
         self.next_id += 1
         self.records[g] = activity
         self.by_id[activity.id] = g
@@ -663,7 +735,7 @@ class Executor:
                 t=self.platform.now(),
                 action=g.text,
                 id=activity.id,
-                mapped=info.mapped_name,
+                mapped=mapped,
                 args={k: ev.json_value(v) for k, v in args.items()},
                 at=_where(span),
                 silent=self.quiet(g.name),
@@ -796,11 +868,12 @@ class Executor:
         return dataclasses.replace(why, notes=(*why.notes, final_note))
 
     def timeout_diagnostic(self, prog: Prog) -> diag.Diagnostic:
+        """R0013 at the time limit (`--time-limit`, platform time): where the program waits."""
         waiting = why_blocked(self.sem, prog, self.state, self.acts)
         span = waiting.span if waiting is not None else self.entry_span()
-        assert span is not None and self.timeout is not None
+        assert span is not None and self.time_limit is not None
         notes = [f"it waits here: {waiting.message.removeprefix(BLOCKED)}", *waiting.notes] if waiting else []
-        return diag.error(R0013.timeout(self.timeout), span, "waiting here", notes=notes)
+        return diag.error(R0013.time_limit(self.time_limit), span, "waiting here", notes=notes)
 
 
 # A program that wakes up this many times in a row at the time its condition named, and still
@@ -840,7 +913,7 @@ def _head_span(p: Prog) -> Span | None:
                 p = Rest(block, 0, p.frame)
             case Code():
                 return p.stmt.span
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return p.span
             case Planned():
                 return p.session.stmt.span

@@ -26,3 +26,10 @@ class PlanReport:
     # Then: the fewest costed steps that would finish the program after the plan (None: not
     # found within the search the planner allows itself for this).
     steps_left: int | None = None
+    # A `solve`'s horizon as written; `horizon` is what is left of it after the steps of the
+    # `solve` already executed (`spent`, as text: progress only, not failed attempts).
+    written: int | None = None
+    spent: tuple[str, ...] = ()
+    # Why the `solve`/`search` is planned again (a `replan`): a planned step no longer possible,
+    # an activity that failed, ...
+    reason: str | None = None

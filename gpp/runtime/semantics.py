@@ -152,6 +152,37 @@ class DuringEnd(ProgNode):
     span: Span = field(compare=False)
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class Watch(ProgNode):
+    """`during (a) until (e) body ...` after its start (`stmt`): `body` (what is left of it)
+    runs while `a` runs. When `e` holds while `a` runs, `a` is cancelled (once: `cancelling`)
+    and the body is left; when `a` ends, whatever is left of the body is left, `a` is ended
+    and the matching handler runs (docs/semantics.md, "Watching an activity")."""
+
+    action: GroundAction
+    stmt: ast.During
+    frame: Frame
+    body: Prog
+    cancelling: bool
+
+    @property
+    def span(self) -> Span:
+        return self.stmt.span
+
+    def __eq__(self, other: object) -> bool:
+        return (
+            isinstance(other, Watch)
+            and self.stmt is other.stmt
+            and self.action == other.action
+            and self.cancelling == other.cancelling
+            and self.frame == other.frame
+            and self.body == other.body
+        )
+
+    def __hash__(self) -> int:
+        return hash((id(self.stmt), self.action, self.cancelling, self.frame, self.body))
+
+
 @dataclass(frozen=True, slots=True)
 class Conc(ProgNode):
     branches: tuple[Prog, ...]
@@ -165,10 +196,13 @@ class Planned(ProgNode):
 
     session: PlanSession
     index: int
+    # The planned step at `index` is a call whose activity has been started: the session waits
+    # for it to end (and plans again from after it if it fails).
+    calling: bool = False
 
 
 # A program continuation: what remains to be executed.
-Prog: TypeAlias = Done | Seq | Code | Rest | AwaitEnd | DuringEnd | Conc | Planned
+Prog: TypeAlias = Done | Seq | Code | Rest | AwaitEnd | DuringEnd | Watch | Conc | Planned
 
 
 # ---------------------------------------------------------------- steps
@@ -236,6 +270,8 @@ class EndStep(StepNode):
 class CancelStep(StepNode):
     action: GroundAction
     span: Span = field(compare=False)
+    # Why the program cancels it, for the trace: a watched `during`'s condition that holds.
+    reason: str = field(compare=False, default="")
 
     def describe(self) -> str:
         return f"cancel({self.action.text})"
@@ -282,6 +318,8 @@ class ReplanStep(StepNode):
 
     session: PlanSession
     index: int
+    # Why: a planned step no longer possible, a planned activity that failed, ...
+    reason: str = ""
     cost = 0
 
     def describe(self) -> str:
@@ -333,8 +371,15 @@ class PlanSession(Protocol):
         """Plan the statement's body from the actual state (performing the PlanStep)."""
         ...
 
-    def replan(self, sem: Semantics, index: int, state: State, acts: Activities) -> PlanReport:
-        """Plan again from the program point of `Planned(self, index)` (a ReplanStep)."""
+    def replan(self, sem: Semantics, index: int, state: State, acts: Activities, reason: str = "") -> PlanReport:
+        """Plan again from the program point of `Planned(self, index)` (a ReplanStep, which
+        says why)."""
+        ...
+
+    def awaited(self, p: Planned, acts: Activities) -> tuple[GroundAction, int, Span] | None:
+        """What `p` (a Planned of this session that cannot step) waits for, when it is a
+        planned activity: the activity, the number of its step among the plan's steps (1 for
+        the first), and the statement of the step (the call, the `during`)."""
         ...
 
 
@@ -342,6 +387,11 @@ class OnlinePlanner(Protocol):
     """What runs `solve`/`search` online: makes a session for a statement reached online."""
 
     def session(self, sem: Semantics, stmt: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession: ...
+
+    def stop_at(self, deadline: float | None) -> None:
+        """Planning that goes on past `deadline` (a `time.monotonic()` moment: the run's
+        wall-clock bound) raises gpp.runtime.errors.WallClockReached."""
+        ...
 
 
 # ---------------------------------------------------------------- the semantics
@@ -405,7 +455,7 @@ class Semantics:
                 return all(self.final(b, state, acts) for b in p.branches)
             case Planned():
                 return p.session.exhausted(p.index)
-            case AwaitEnd() | DuringEnd():
+            case AwaitEnd() | DuringEnd() | Watch():
                 return False
             case Code():
                 try:
@@ -508,6 +558,8 @@ class Semantics:
                     handler = p.on_cancel
                 end = EndStep(p.action, EndKind.DURING, p.span, handles_failure=p.on_fail is not None)
                 return [(handler or DONE, end)]
+            case Watch():
+                return self.watch(p, state, acts, first)
             case Planned():
                 return p.session.successors(self, p, state, acts)
             case Code():
@@ -605,6 +657,9 @@ class Semantics:
                 action, g = self.ground_call(s.action, frame, state)
                 if not self.startable(action, g, state, acts):
                     return []
+                if s.until is not None:
+                    watch = Watch(g, s, frame, Code(s.body, frame), False)
+                    return [(watch, StartStep(g, s.span, of_during=True))]
                 end = DuringEnd(
                     g,
                     Code(s.on_fail, frame) if s.on_fail is not None else None,
@@ -614,6 +669,55 @@ class Semantics:
                 return [(self.seq(Code(s.body, frame), end), StartStep(g, s.span, of_during=True))]
             case _:
                 assert_never(s)
+
+    def watch(self, p: Watch, state: State, acts: Activities, first: bool = False) -> list[Successor]:
+        """`trans` of a watched activity: its end once it ended (leaving the body), its
+        cancellation when the `until` condition holds while it runs, else the body's steps."""
+        status = acts.status(p.action)
+        if status is not None and status.terminal:
+            s = p.stmt
+            handler = s.on_fail if status is ActivityStatus.FAILED else None
+            if status is ActivityStatus.CANCELLED:
+                handler = s.on_cancel
+            end = EndStep(p.action, EndKind.DURING, s.span, handles_failure=s.on_fail is not None)
+            return [(Code(handler, p.frame) if handler is not None else DONE, end)]
+        if status is None:
+            return []  # the body consumed the activity itself: nothing ends the `during`
+        if p.cancelling:
+            return []  # cancelled: waits for the platform to end the activity
+        if self.watch_fires(p, state):
+            return [(Watch(p.action, p.stmt, p.frame, DONE, True), self.watch_cancel_step(p))]
+        return [
+            (Watch(p.action, p.stmt, p.frame, q, False), step) for q, step in self.trans(p.body, state, acts, first)
+        ]
+
+    def watch_cancel(self, point: Prog, step: Step, state: State) -> CancelStep | None:
+        """While a planned `step` waits for its activity to end: the cancellation of the
+        activity, when `step` ends a watched `during` at the head of the program point `point`
+        and its `until` condition holds now (the plan assumed the activity ends first)."""
+        if not isinstance(step, EndStep) or step.hook != EndKind.DURING:
+            return None
+        while isinstance(point, Seq):
+            point = point.first
+        if isinstance(point, Watch) and point.action == step.action and self.watch_fires(point, state):
+            return self.watch_cancel_step(point)
+        return None
+
+    @staticmethod
+    def watch_cancel_step(p: Watch) -> CancelStep:
+        until = p.stmt.until
+        assert until is not None
+        return CancelStep(p.action, p.span, f"`until ({until.span.text})` holds")
+
+    def watch_fires(self, p: Watch, state: State) -> bool:
+        """Does the `until` condition of a watched activity hold now? Online, a condition that
+        waits for an exogenous function's answer does not (yet)."""
+        until = p.stmt.until
+        assert until is not None
+        try:
+            return self.condition(until, state, p.frame)
+        except Unanswered as e:
+            return self.unanswered_(e, p.stmt)
 
     def plan_session(self, s: ast.Solve | ast.Search, frame: Frame, state: State) -> PlanSession:
         """A session of the planner for `s`, reached online."""

@@ -278,6 +278,9 @@ class Search(StmtNode):
 @dataclass(frozen=True, slots=True, kw_only=True)
 class During(StmtNode):
     action: Expr
+    # `during (a) until (e) ...`: the activity is cancelled when `e` holds while it runs, and
+    # the body is left when the activity ends (docs/semantics.md, "Watching an activity").
+    until: Expr | None = None
     body: Statement
     on_fail: Statement | None
     on_cancel: Statement | None

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
 from gpp.base import diagnostics as diag
@@ -62,6 +62,13 @@ def _first(children: Sequence[Child], kind: type[N]) -> N:
 
 def _tokens(children: Sequence[Child], ttype: str) -> list[Token]:
     return [c for c in children if type(c) is Token and c.type == ttype]
+
+
+@dataclass(frozen=True, slots=True)
+class _Until:
+    """The `until (e)` clause of a `during`, passed up to `during`."""
+
+    condition: ast.Expr
 
 
 class AstBuilder:
@@ -287,7 +294,13 @@ class AstBuilder:
     def handler(self, c: list[Child]) -> tuple[Token, ast.Statement]:
         return (c[0], c[1])
 
+    def until_clause(self, c: list[Child]) -> _Until:
+        return _Until(c[2])
+
     def during(self, c: list[Child]) -> ast.During:
+        until = c[4].condition if isinstance(c[4], _Until) else None
+        if until is not None:
+            c = [*c[:4], *c[5:]]
         handlers: dict[str, tuple[Token, ast.Statement]] = {}
         for h in c[5:]:
             keyword = h[0]
@@ -309,6 +322,7 @@ class AstBuilder:
         return ast.During(
             span=Span(self.source, c[0].start, last.span.end),
             action=c[2],
+            until=until,
             body=c[4],
             on_fail=on_fail[1] if on_fail else None,
             on_cancel=on_cancel[1] if on_cancel else None,

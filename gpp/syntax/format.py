@@ -402,6 +402,8 @@ class _Writer:
         self.trailing_at: dict[int, int] = {}  # line -> column where its trailing comment's gap starts
         self.at_line_start = True
         self.after_opener = False  # the last line written ends with `{` or a section keyword
+        self.line_indent = ""  # the indentation of the line being written
+        self.opener_indent: dict[int, str] = {}  # exploded bracket -> the indentation of its line
 
     # ------------------------------------------------ the printed lines
 
@@ -480,17 +482,23 @@ class _Writer:
         per other open bracket."""
         t = self.tokens[k]
         groups = self.enclosing[k]
-        exploded = sum(1 for o in groups if o in self.exploded)
-        if self.opener_of.get(k) in self.exploded:
-            return self.indent[k] + INDENT * exploded
+        opener = self.opener_of.get(k)
+        if opener in self.exploded:
+            return self.opener_indent[opener]
         if groups and groups[-1] in self.exploded and (k - 1 == groups[-1] or self.tokens[k - 1].type == "COMMA"):
-            return self.indent[k] + INDENT * exploded
+            return self.opener_indent[groups[-1]] + INDENT
         statement_word = t.type in ("RBRACE", "LBRACE", "MAIN_LBRACE") or t.type in _STATEMENT_WORDS
         if not groups and statement_word and k not in self.greedy_breaks:  # not an expression's `else`
             return self.indent[k]
+        # Inside an exploded bracket, a part's line continues from the part's indentation.
+        base, inner = self.indent[k], groups
+        for at in range(len(groups) - 1, -1, -1):
+            if groups[at] in self.exploded:
+                base, inner = self.opener_indent[groups[at]] + INDENT, groups[at + 1 :]
+                break
         # A conditional's `then` branch one step deeper than its `else`.
         deeper = 2 if k in self.then_starts and k in self.greedy_breaks else 1
-        return self.indent[k] + INDENT * (deeper + len(groups))
+        return base + INDENT * (deeper + len(inner))
 
     def _span_length(self, lo: int, hi: int) -> int:
         """The length of the longest line of tokens lo..hi-1 as written: the `/* */` comments
@@ -531,8 +539,10 @@ class _Writer:
             return None
         before = self.tokens[k - 1].type
         t = self.tokens[k].type
-        if before == "EQ" and not self.indent[k]:
-            return 0  # a top-level definition: `bool function f() =` / `    body`
+        if before == "EQ" and not self.indent[k] and not self.depth[k]:
+            # A top-level definition: `bool function f() =` / `    body`; the `=` of a field
+            # in a compound literal (`Pos { x = 0 }`, inside brackets) is no break point.
+            return 0
         if before == "COMMA":
             return 1
         if t == "ARROW":
@@ -584,6 +594,8 @@ class _Writer:
                 t = self.tokens[k]
                 self.write(self.printed[t.start : t.end])
                 self.after_opener = t.type in _NO_BLANK_AFTER
+                if k in self.exploded:
+                    self.opener_indent[k] = self.line_indent
         if not self.at_line_start:
             self.newline()
         self._align_trailing()
@@ -626,7 +638,8 @@ class _Writer:
                 self.newline()
             if printed_break and self.blank_before[k] and self.tokens[k].type != "RBRACE":
                 self.blank_line()
-            self.write(self.indent[k] if printed_break else self.continuation(k))
+            self.line_indent = self.indent[k] if printed_break else self.continuation(k)
+            self.write(self.line_indent)
         elif last_inline:
             self.write("" if self.tokens[k].type in _TIGHT_AFTER else " ")
         else:

@@ -211,6 +211,7 @@ KEYWORDS: dict[str, str] = {
     "solve": "SOLVE",
     "concurrent": "CONCURRENT",
     "during": "DURING",
+    "until": "UNTIL",
     "on_fail": "ON_FAIL",
     "on_cancel": "ON_CANCEL",
     "start": "HOOK",
@@ -369,10 +370,11 @@ def tokenize(source: Source) -> tuple[list[Token], list[LexError]]:
         if kind == _NAME:
             value = text[start:pos]
             ttype = keywords.get(value)
-            if ttype is None:
+            if platform_depth >= 0 and value in platform_keywords:
+                # Inside `component`/`constraints`, `until` is the temporal operator.
+                ttype = platform_keywords[value]
+            elif ttype is None:
                 ttype = "NAME"
-                if platform_depth >= 0 and value in platform_keywords:
-                    ttype = platform_keywords[value]
             elif ttype == "COMPONENT" or ttype == "CONSTRAINTS":
                 platform_pending = True
         elif kind == _PUNCT:

@@ -46,13 +46,15 @@ class ParseResult:
         return not any(d.is_error for d in self.diagnostics)
 
 
-def parse(source: Source) -> ParseResult:
+def parse(source: Source, _check_fixes: bool = True) -> ParseResult:
     """Parse one file. Always returns a Program (partial after syntax errors), which nests at
-    most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014)."""
+    most `depth.MAX_NESTING` levels deep (a declaration nested deeper is left out, with E0014).
+    (`_check_fixes`: a guessed fix may be tried by parsing the file with it, not again there.)"""
     with paused_gc():
         tokens, lex_errors = tokenize(source)
         tokens, legacy_errors = modernize(source, tokens)
         parser = _Parser(source, tokens, load_tables())
+        parser.fix_trials = _FIX_TRIALS if _check_fixes else 0
         parser.quiet_after_lex_errors([e.start for e in lex_errors if e.dropped])
         program, too_deep = limit_nesting(parser.run(), tokens)
     diagnostics = [
@@ -108,8 +110,18 @@ _COMPLETIONS = (["NAME", "SEMI"], ["RPAR", "SEMI"], ["NAME", "RPAR", "SEMI"])
 # and the end of any expression (a function body) come before one, and hinting after names
 # and numbers would misfire.
 _STARTS_AFTER = frozenset({"SEMI", "LBRACE", "RBRACE", "MAIN_LBRACE", "RPAR", "ELSE"})
+# What a keyword read as a name is for, when that is not plain from the keyword.
+_KEYWORD_NOTES = {
+    "UNTIL": ("`until` watches an activity: it follows `during (...)`, as in `during (a) until (e) { }`",),
+}
 # How many tokens a repair must let the parser read to be believed.
 _PROBE = 8
+# Keywords whose condition or binding goes in parentheses (`if (c)`, `pick (T x)`), and the
+# longest condition the repair that adds them tries.
+_PARENTHESIZED = frozenset({"IF", "WHILE", "TEST", "PICK", "QUANTIFIER"})
+_MAX_CONDITION = 40
+# Type keywords a binding can name (`exists(bool b)`).
+_BINDING_TYPES = frozenset({"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL"})
 # The parser's stack between declarations holds at most this many states.
 _TOP_LEVEL_DEPTH = 4
 # How many tokens of the file the parser loads at a time (see `_Parser.load_more`).
@@ -192,6 +204,12 @@ def token_sets(tables: Tables) -> TokenSets:
 
 
 _SUGGESTABLE_KEYWORDS = sorted(set(KEYWORDS) | set(SECTION_WORDS))
+_SECTION_LIST = sorted(SECTION_WORDS)
+_WORD_TYPES = {**KEYWORDS, **PLATFORM_KEYWORDS, **SECTION_WORDS}
+# A guessed keyword before an error is tried by parsing the file with it: so many times per
+# file at most, in files of at most so many characters.
+_FIX_TRIALS = 2
+_FIX_TRIAL_SIZE = 50_000
 
 
 def describe_found(token: Token) -> str:
@@ -339,6 +357,8 @@ class _Parser:
         # them, the brackets open before each.
         self._starts: list[int] | None = None
         self.open_before: list[int] | None = None
+        # How many guessed fixes may still be tried by parsing the file with them.
+        self.fix_trials = 0
 
     # ---------------------------------------------------------------- the LALR loop
 
@@ -565,6 +585,7 @@ class _Parser:
                     self.span(tok),
                     "reserved word",
                     help=f"choose another name, such as `{tok.value}_`" if declared else None,
+                    notes=_KEYWORD_NOTES.get(tok.type, ()),
                 ),
             )
             tok.type = "NAME"
@@ -585,6 +606,14 @@ class _Parser:
         if tries >= 2:
             return self.skip_to_sync(i + 1, ss, vs) if tries < 4 else None
 
+        # `if c() == x go();`, `pick Room r go(r);`: the parentheses of a condition or binding.
+        if "LPAR" in expected and prev is not None and prev.type in _PARENTHESIZED and tok.type != "$MORE":
+            close = self.parenthesized(i, ss)
+            if close is not None:
+                return close
+        # `pick (v in Room)`: the type and the variable swapped around `in`.
+        if tok.type == "IN" and "NAME" in expected and self.report_binding_order(i):
+            return i + 1
         # Candidate repairs, scored by how far the parse then gets.
         new_line = prev is not None and self.source.line_col(prev.end)[0] < self.source.line_col(tok.start)[0]
         # A keyword that starts a line after an unfinished statement (`stack(a,` then `pick ...`):
@@ -617,18 +646,99 @@ class _Parser:
         if gain >= min(2, len(ahead)):
             anchor = prev.end if prev is not None else tok.start
             if repair == "DELETE":
-                self.report_unexpected(i, expected, deleting=True)
+                self.report_unexpected(i, ss, expected, deleting=True)
                 return i + 1
             if repair == "OPERAND":
-                self.report_unexpected(i, expected, deleting=False)
+                self.report_unexpected(i, ss, expected, deleting=False)
                 # A placeholder operand (a name no one can write) completes the expression.
                 tokens.insert(i, Token("NAME", "", tok.start, tok.start))
                 return i
             self.report_insertion(i, ss, repair, expected)
             tokens.insert(i, Token(repair, "", anchor, anchor))
             return i
-        self.report_unexpected(i, expected, deleting=False)
+        self.report_unexpected(i, ss, expected, deleting=False)
         return self.skip_to_sync(i, ss, vs)
+
+    def parenthesized(self, i: int, ss: list[int]) -> int | None:
+        """Token i follows a keyword whose condition or binding goes in parentheses
+        (`_PARENTHESIZED`) and is not `(`: if putting tokens i..j in parentheses lets the parse
+        go on, report that as the fix (safe when only one such j is found before the end of
+        the statement) and insert the parentheses; where to go on, or None."""
+        tokens = self.tokens
+        self.load_until(i + _MAX_CONDITION + 4)
+        ends: list[int] = []
+        depth = 0
+        for j in range(i, min(i + _MAX_CONDITION, len(tokens))):
+            t = tokens[j].type
+            if t in ("$END", "$MORE", "SEMI") or (depth == 0 and t in ("LBRACE", "RBRACE", "MAIN_LBRACE")):
+                break
+            depth += (t in _CLOSERS) - (t in _CLOSERS.values())
+            if depth < 0:
+                break
+            following = [u.type for u in tokens[j + 1 : j + 4] if u.type != "$MORE"]
+            if depth == 0 and self.simulate(ss, ["LPAR", *(u.type for u in tokens[i : j + 1]), "RPAR", *following]):
+                ends.append(j)
+        if not ends:
+            return None
+        last = tokens[ends[0]]
+        keyword = tokens[i - 1]
+        text = self.source.text[tokens[i].start : last.end]
+        what = f"`{text}`" if len(text) <= 40 and "\n" not in text else "it"
+        safety = diag.Applicability.SAFE if len(ends) == 1 else diag.Applicability.UNSAFE
+        edits = (
+            diag.Edit(Span(self.source, tokens[i].start, tokens[i].start), "("),
+            diag.Edit(Span(self.source, last.end, last.end), ")"),
+        )
+        self.report(
+            i,
+            diag.error(
+                E0010.unparenthesized(keyword.value),
+                self.span(tokens[i]),
+                "`(` missing before this",
+                fix=diag.Fix(f"put {what} in parentheses", edits, safety),
+            ),
+        )
+        tokens.insert(ends[0] + 1, Token("RPAR", "", last.end, last.end))
+        tokens.insert(i, Token("LPAR", "", tokens[i].start, tokens[i].start))
+        return i
+
+    def report_binding_order(self, i: int) -> bool:
+        """`pick (v in Room)`, `exists(v in Room)`: report the swap as the fix and drop the `in`
+        (the parser then reads `v` as the type: the declaration is damaged, its names are not
+        checked). False when token i is not such an `in`."""
+        tokens = self.tokens
+        if i < 3 or i + 2 >= len(tokens):
+            return False
+        word, lpar, variable, type_name, rpar = (
+            tokens[i - 3],
+            tokens[i - 2],
+            tokens[i - 1],
+            tokens[i + 1],
+            tokens[i + 2],
+        )
+        if not (
+            word.type in ("PICK", "QUANTIFIER")
+            and lpar.type == "LPAR"
+            and variable.type == "NAME"
+            and (type_name.type == "NAME" or type_name.type in _BINDING_TYPES)
+            and rpar.type == "RPAR"
+        ):
+            return False
+        fix = diag.Fix(
+            f"write `{type_name.value} {variable.value}`",
+            (diag.Edit(Span(self.source, variable.start, type_name.end), f"{type_name.value} {variable.value}"),),
+            diag.Applicability.SAFE,
+        )
+        self.report(
+            i,
+            diag.error(
+                E0010.binding_order(word.value, variable.value, type_name.value),
+                Span(self.source, variable.start, type_name.end),
+                "the variable before its type",
+                fix=fix,
+            ),
+        )
+        return True
 
     def is_sync(self, j: int) -> bool:
         """Can parsing resume at token j? At `;` and `}`, statement keywords, declaration
@@ -810,9 +920,12 @@ class _Parser:
                 secondary.append(diag.Label(self.span(opener), f"to close this `{opener.value}`"))
         if tok.type != "$END" and self.source.line_col(tok.start)[0] == self.source.line_col(prev.end)[0]:
             secondary.append(diag.Label(self.span(tok), f"found {describe_found(tok)}"))
-        # Only a missing `;` is certain; another inserted token is the parser's guess.
+        # Only a missing `;` is certain; another inserted token is the parser's guess, offered
+        # as a fix when the parse then reads on.
         safe = diag.Applicability.SAFE if inserted == "SEMI" else diag.Applicability.UNSAFE
-        fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),), safe)
+        fix = None
+        if inserted == "SEMI" or self.reads_on(ss, [inserted], i):
+            fix = diag.Fix(f"insert {text}", (diag.Edit(at, _TERMINAL_WORDS[inserted][0].strip("`")),), safe)
         self.report(
             i,
             diag.error(
@@ -820,7 +933,7 @@ class _Parser:
                 at,
                 f"add {text} here",
                 secondary=secondary,
-                help=self.keyword_hint(i),
+                help=self.keyword_hint(i, expected),
                 fix=fix,
             ),
         )
@@ -839,10 +952,17 @@ class _Parser:
             ),
         )
 
-    def report_unexpected(self, i: int, expected: set[str], deleting: bool) -> None:
+    def reads_on(self, ss: list[int], replacement: list[str], i: int) -> bool:
+        """Does the parser at `ss` read `replacement` and then every token of the probe from
+        token i on? A fix that edits the token before i is offered only then: a fix after
+        which the parse fails again a few tokens on cannot be right."""
+        rest = self.lookahead(i, _PROBE - 1)
+        return self.progress(ss, [*replacement, *rest]) == len(replacement) + len(rest)
+
+    def report_unexpected(self, i: int, ss: list[int], expected: set[str], deleting: bool) -> None:
         tok = self.tokens[i]
         prev = self.tokens[i - 1] if i > 0 else None
-        help = self.keyword_hint(i)
+        help = self.keyword_hint(i, expected)
         fix = None
         remove = diag.Fix("remove `;`", (diag.Edit(self.span(tok), ""),), diag.Applicability.SAFE)
         if tok.type == "SEMI" and prev is not None and prev.type == "RBRACE" and prev.value:
@@ -859,12 +979,21 @@ class _Parser:
             fix = remove
         else:
             message = E0010.expected(describe_expected(expected, self.sets), describe_found(tok))
-            if tok.type == "EQ" and "CMP_OP" in expected:
-                help = help or "to compare two values write `==`"
-            if deleting and help is None:
-                fix = diag.Fix(f"remove {describe_found(tok)}", (diag.Edit(self.span(tok), ""),))
+            if tok.type == "EQ" and "CMP_OP" in expected and help is None:
+                # In the condition of `if (x() = a)` (`while`, `test`), `==` is the one repair;
+                # elsewhere a guess.
+                help = "to compare two values write `==`"
+                k = self.brackets()[self.file_index(i)]  # the innermost open bracket
+                condition = k > 0 and self.original[k].type == "LPAR"
+                safe = condition and self.original[k - 1].type in ("IF", "WHILE", "TEST")
+                safety = diag.Applicability.SAFE if safe else diag.Applicability.UNSAFE
+                if self.reads_on(ss, ["CMP_OP"], i + 1):
+                    fix = diag.Fix("write `==`", (diag.Edit(self.span(tok), "=="),), safety)
+            elif deleting and help is None:
+                if self.reads_on(ss, [], i + 1):
+                    fix = diag.Fix(f"remove {describe_found(tok)}", (diag.Edit(self.span(tok), ""),))
             else:
-                fix = self.keyword_fix(i, help)
+                fix = self.keyword_fix(i, ss, help, expected)
         self.report(
             i,
             diag.error(
@@ -876,25 +1005,49 @@ class _Parser:
             ),
         )
 
-    def keyword_hint(self, i: int) -> str | None:
+    def keyword_hint(self, i: int, expected: set[str]) -> str | None:
         """`did you mean `procedure`?` when a name near the error looks like a keyword: of the
         names on the error's line (and the error token), the one most similar to a keyword."""
-        found = self.keyword_guess(i)
+        found = self.keyword_guess(i, expected)
         if found is None:
             return None
         word = found[0]
         return f"did you mean `{word}:`?" if word in SECTION_WORDS else f"did you mean `{word}`?"
 
-    def keyword_fix(self, i: int, help: str | None) -> diag.Fix | None:
+    def keyword_fix(self, i: int, ss: list[int], help: str | None, expected: set[str]) -> diag.Fix | None:
         """The keyword hint as a fix replacing the misspelled name (a guess: unsafe); its
         message is the hint, so the text output shows the hint once."""
-        found = self.keyword_guess(i)
-        if found is None or help is None or found[0] in SECTION_WORDS:
+        found = self.keyword_guess(i, expected)
+        if found is None or help is None:
             return None
         word, tok = found
+        if word in SECTION_WORDS:
+            # `efect:` where a section can start: the name becomes the section word; anywhere
+            # else the hint is a guess that no one edit makes right.
+            at_section = tok is self.tokens[i] and SECTION_WORDS[word] in expected
+            if not (at_section and i + 1 < len(self.tokens) and self.tokens[i + 1].type == "COLON"):
+                return None
+        if tok is self.tokens[i] and not self.reads_on(ss, [_WORD_TYPES[word]], i + 1):
+            return None
+        if tok is not self.tokens[i] and not self.fixes_up_to(tok, word, i):
+            return None
         return diag.Fix(help, (diag.Edit(self.span(tok), word),), diag.Applicability.UNSAFE)
 
-    def keyword_guess(self, i: int) -> tuple[str, Token] | None:
+    def fixes_up_to(self, tok: Token, word: str, i: int) -> bool:
+        """Does writing `word` for `tok` (a token before the error at token i, read already)
+        leave no syntax error from `tok` to the end of the probe after token i? Tried by
+        parsing the file so edited, at most `_FIX_TRIALS` times per file; past that, and in
+        long files, the guess is not offered as a fix."""
+        if self.fix_trials <= 0 or len(self.source.text) > _FIX_TRIAL_SIZE:
+            return False
+        self.fix_trials -= 1
+        text = self.source.text
+        edited = text[: tok.start] + word + text[tok.end :]
+        end = self.tokens[min(i + _PROBE, len(self.tokens) - 1)].end + len(word) - (tok.end - tok.start)
+        result = parse(Source(edited, self.source.path), _check_fixes=False)
+        return not any(d.is_error and tok.start <= d.span.start <= end for d in result.diagnostics)
+
+    def keyword_guess(self, i: int, expected: set[str]) -> tuple[str, Token] | None:
         """The keyword, and the name near token `i` it is most likely a misspelling of."""
         line = self.source.line_col(self.tokens[i].start)[0]
         best: tuple[float, str, Token] | None = None
@@ -902,9 +1055,14 @@ class _Parser:
             t = self.tokens[k]
             if t.type != "NAME" or not t.value or self.source.line_col(t.start)[0] < line - 1:
                 continue
+            words = _SUGGESTABLE_KEYWORDS
             if k > 0 and self.tokens[k - 1].type not in _STARTS_AFTER:
-                continue
-            for word in difflib.get_close_matches(t.value, _SUGGESTABLE_KEYWORDS, n=1, cutoff=0.75):
+                # A section word (`efect:`) follows the end of an expression too, where the
+                # parser expects one.
+                if k + 1 >= len(self.tokens) or self.tokens[k + 1].type != "COLON":
+                    continue
+                words = [w for w in _SECTION_LIST if SECTION_WORDS[w] in expected]
+            for word in difflib.get_close_matches(t.value, words, n=1, cutoff=0.75):
                 ratio = difflib.SequenceMatcher(None, t.value, word).ratio()
                 if best is None or ratio > best[0]:
                     best = (ratio, word, t)

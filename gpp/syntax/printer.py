@@ -327,7 +327,8 @@ def _stmt(s: ast.Statement, level: int) -> list[str]:
 def _during(s: ast.During, level: int) -> list[str]:
     handlers = [(word, h) for word, h in (("on_fail", s.on_fail), ("on_cancel", s.on_cancel)) if h is not None]
     previous = _guard(s.body, _Trailer.HANDLER) if handlers else s.body
-    lines = _attach(f"{INDENT * level}during ({_postfix(s.action)})", previous, level)
+    until = "" if s.until is None else f" until ({format_expr(s.until)})"
+    lines = _attach(f"{INDENT * level}during ({_postfix(s.action)}){until}", previous, level)
     for i, (word, handler) in enumerate(handlers):
         # A handler followed by another one must not take it as its own.
         current = _guard(handler, _Trailer.HANDLER) if i + 1 < len(handlers) else handler

@@ -49,7 +49,7 @@ _CLASSES: tuple[tuple[str, str, str, frozenset[str]], ...] = (
         "keyword.control.golog",
         frozenset(
             {"IF", "ELSE", "WHILE", "TEST", "CHOOSE", "PICK", "IN", "SEARCH", "SOLVE", "CONCURRENT", "DURING"}
-            | {"ON_FAIL", "ON_CANCEL", "HOOK"}
+            | {"UNTIL", "ON_FAIL", "ON_CANCEL", "HOOK"}
         ),
     ),
     (

@@ -96,7 +96,7 @@ def chrome_trace(model: RunModel, *, trace_name: str) -> dict[str, Any]:
         stop = wait.stop if wait.stop is not None else model.end
         events.append(
             {
-                "name": f"waiting: {wait.condition}",
+                "name": wait.condition if wait.condition.startswith("waiting ") else f"waiting: {wait.condition}",
                 "cat": "wait",
                 "ph": "X",
                 "pid": PID,

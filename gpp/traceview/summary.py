@@ -547,7 +547,7 @@ def _waits_section(model: RunModel, width: int) -> list[RenderableType]:
         ]
         for w in model.waits[:LIST_LIMIT]
     ]
-    columns = [("from", "right"), ("until", "right"), ("statement", "fold"), ("false", "fold"), ("at", "left")]
+    columns = [("from", "right"), ("until", "right"), ("statement", "fold"), ("waits for", "fold"), ("at", "left")]
     return [_heading("waits"), _table(columns, rows, width), *_more(len(model.waits))]
 
 

@@ -632,7 +632,7 @@
       return (
         '<div class="kind">waiting</div><div class="head">' + esc(w.statement) + "</div>" +
         table([
-          ["false", '<span class="policy">' + esc(w.condition) + "</span>"],
+          ["waits for", '<span class="policy">' + esc(w.condition) + "</span>"],
           ["from", esc(fmtTime(w.start))],
           ["until", w.stop === null ? "the end of the trace" : esc(fmtTime(w.stop))],
         ]) + sourceHtml(w.at)

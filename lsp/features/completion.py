@@ -203,6 +203,8 @@ class _Completer:
             self.expected()
             self.locals()
             self.globals(STATEMENT_CALLABLE | {SymbolKind.FLUENT})
+            if self.after_during_head():
+                self.keywords(["until"])
             self.keywords(STATEMENT_KEYWORDS)
         elif p is Position.EFFECT:
             self.globals({SymbolKind.FLUENT})
@@ -253,6 +255,15 @@ class _Completer:
 
     def in_action_body(self) -> bool:
         return self.ctx.decl_keyword in ("action", "exog_action") and self.ctx.braces == 1
+
+    def after_during_head(self) -> bool:
+        """Is the cursor right after `during (..)`, where `until (..)` may come?"""
+        tokens = self.doc.file.tokens
+        i = self.ctx.previous_index
+        if i < 0 or tokens[i].type != "RPAR":
+            return False
+        j = opening(tokens, i)
+        return j is not None and j > 0 and tokens[j - 1].type == "DURING"
 
     def after_operand(self) -> bool:
         i = self.ctx.previous_index

@@ -33,7 +33,7 @@ _DECL_KEYWORDS = {
 # Tokens after which an operand is complete: a name after one starts something new.
 OPERAND_ENDS = frozenset({"NAME", "RPAR", "RBRACKET", "NUMBER", "STRING", "TRUE", "FALSE", "NULL", "RBRACE"})
 _OPENERS = {"LPAR": "RPAR", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE", "LBRACKET": "RBRACKET"}
-_STATEMENT_HEADS = frozenset({"IF", "WHILE", "PICK", "SOLVE", "DURING"})
+_STATEMENT_HEADS = frozenset({"IF", "WHILE", "PICK", "SOLVE", "DURING", "UNTIL"})
 _HAS_PARAMETERS = frozenset({"action", "exog_action", "fluent", "function", "exog_function", "procedure"})
 _SECTIONS = frozenset({"INITIALLY", "PRECONDITION", "EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"})
 
@@ -416,7 +416,7 @@ _TYPE_WORDS = frozenset({"BOOL", "NUMBER_KW", "STRING_KW", "SYMBOL", "VOID"})
 
 def _closes_statement_head(tokens: list[Token], i: int) -> bool:
     """Does the ')' at tokens[i] close the head of `if (..)`, `while (..)`, `pick (..)`,
-    `solve (..)` or `during (..)`, so that a statement follows?"""
+    `solve (..)`, `during (..)` or its `until (..)`, so that a statement follows?"""
     j = opening(tokens, i)
     return j is not None and j > 0 and tokens[j - 1].type in _STATEMENT_HEADS
 

@@ -1,4 +1,4 @@
-"""The lints (W0101-W0115): for each, a tiny program that triggers it, with the exact code,
+"""The lints (W0101-W0120): for each, a tiny program that triggers it, with the exact code,
 position and message, and a clean counterpart that does not; `allow` suppresses a lint by code
 or by name; declarations of included files are never linted."""
 
@@ -17,6 +17,7 @@ from tests.support.lint_triggers import (
     CONSTANT,
     DOUBLE_EFFECT,
     FLUENTS,
+    GOAL_PAID_AGAIN,
     ONLINE,
     QUANTIFIER,
     SHADOWED,
@@ -25,8 +26,10 @@ from tests.support.lint_triggers import (
     TRIGGERS,
     UNENDED,
     UNREACHABLE,
+    UNRUN_WATCH_BODY,
     UNUSED,
     UNUSED_VARIABLES,
+    UNWATCHED,
     looping,
     scoped,
     sensing,
@@ -357,7 +360,7 @@ def precedence(expression: str, type_: str = "number") -> list[tuple[str, tuple[
 )
 def test_arithmetic_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
     [(message, notes, fixed)] = precedence(expression)
-    assert message == f"golog++ reads this as `{golog}`"
+    assert message == f"the original C++ golog++ reads this as `{golog}`"
     assert notes == (f"gpp uses standard precedence: `{standard}`",)
     assert fixed == f"number function f() = {standard}"
 
@@ -372,7 +375,7 @@ def test_arithmetic_chains_read_differently_are_reported(expression: str, golog:
 )
 def test_boolean_chains_read_differently_are_reported(expression: str, golog: str, standard: str) -> None:
     [(message, notes, fixed)] = precedence(expression, "bool")
-    assert message == f"golog++ reads this as `{golog}`"
+    assert message == f"the original C++ golog++ reads this as `{golog}`"
     assert notes == (f"gpp uses standard precedence: `{standard}`",)
     assert fixed == f"bool function f() = {standard}"
 
@@ -411,7 +414,7 @@ def test_boolean_chains_read_alike_are_not_reported(expression: str) -> None:
 def test_boolean_equality_takes_part_in_the_chain() -> None:
     # `==` between bools is iff, at the loosest level: gpp reads `(p & q) == (r | s)`.
     [(message, notes, _)] = precedence("p() & q() == r() | s()", "bool")
-    assert message == "golog++ reads this as `((p() & q()) == r()) | s()`"
+    assert message == "the original C++ golog++ reads this as `((p() & q()) == r()) | s()`"
     assert notes == ("gpp uses standard precedence: `(p() & q()) == (r() | s())`",)
 
 
@@ -620,6 +623,176 @@ def test_loops_that_cannot_change_their_condition_are_reported(
 )
 def test_loops_that_can_change_their_condition_are_not_reported(condition: str, body: str) -> None:
     assert found(looping(condition, body), "W0115") == []
+
+
+# ---------------------------------------------------------------- W0118 goal paid again
+
+
+def test_a_step_after_the_goal_is_reported() -> None:
+    d = the(GOAL_PAID_AGAIN, "W0118")
+    assert (d.span.line, d.span.col, d.span.text) == (11, 9, "visits() = visits() + 1;")
+    assert d.message == "the reward pays `100` again after this step: `served()` still holds in the state it makes"
+    assert [label.span.text for label in d.secondary] == ["served() = at_desk() == room1;", "served_reward()"]
+    assert d.fix is None
+
+
+def goal_solve(reward: str, body: str) -> str:
+    return GOAL_PAID_AGAIN.replace("if (served()) 100 else -1", reward).replace(
+        """        pick (Desk r) drive(r);
+        served() = at_desk() == room1;
+        visits() = visits() + 1;
+""",
+        body,
+    )
+
+
+def test_a_step_after_the_goal_in_a_loop_body_is_reported_once() -> None:
+    body = """        while (!served()) { { pick (Desk r) drive(r); served() = at_desk() == room1; } visits() = 1; }
+"""
+    text = goal_solve("if (served()) 100 else -1", body)
+    assert [m.split(" ", 1)[0] for m in found(text, "W0118")] == ["9:88"]  # `visits() = 1;`
+
+
+@pytest.mark.parametrize(
+    ("reward", "body"),
+    [
+        # through a procedure and a function with a sum
+        ("visits() + (if (served()) 50 else 0)", "pick (Desk r) drive(r); served() = true; count();"),
+        # a bonus less a cost
+        ("if (served()) 1000 - visits() else 0", "pick (Desk r) drive(r); served() = true; count();"),
+        # an action whose effect does not touch the goal
+        ("if (at_desk() == room1) 10 else 0", "pick (Desk r) drive(r); tick();"),
+    ],
+)
+def test_steps_after_the_goal_are_found_through_calls(reward: str, body: str) -> None:
+    text = goal_solve(reward, body).replace(
+        "procedure main()",
+        "action tick() { effect: visits() = visits() + 1; }\n"
+        "procedure count() { visits() = visits() + 1; }\nprocedure main()",
+    )
+    assert len(found(text, "W0118")) == 1
+
+
+@pytest.mark.parametrize(
+    ("reward", "body"),
+    [
+        ("if (served()) 100 else -1", "pick (Desk r) drive(r); visits() = 1; served() = at_desk() == room1;"),
+        ("if (served()) 0 else -1", "pick (Desk r) drive(r); served() = true; visits() = 1;"),  # no bonus
+        ("if (served()) -5 + visits() else 0", "served() = true; visits() = 1;"),  # no bonus
+        ("if (served()) (100 - visits()) * 2 else 0", "served() = true; visits() = 1;"),  # not a plain sum
+        ("if (at_desk() == room1) 10 else 0", "while (at_desk() != room1) pick (Desk r) drive(r);"),  # ends at the goal
+        ("visits()", "pick (Desk r) drive(r); served() = true; visits() = 1;"),  # no goal
+        ("if (served()) 10 else 0", "visits() = 1; test(true);"),  # nothing reaches the goal
+        ("if (served()) 10 else 0", "served() = true; test(served());"),  # a test costs nothing
+    ],
+)
+def test_rewards_that_pay_a_goal_once_are_not_reported(reward: str, body: str) -> None:
+    assert found(goal_solve(reward, body), "W0118") == []
+
+
+# ---------------------------------------------------------------- W0119 unwatched activity
+
+
+def test_a_during_that_waits_and_cancels_is_reported_with_the_until_form() -> None:
+    d = the(UNWATCHED, "W0119")
+    assert (d.span.line, d.span.col, d.span.text) == (7, 9, "test(guest_left());")
+    assert d.message == (
+        "this `during` waits for `guest_left()` even after `roll(1)` has ended: "
+        "if the activity ends or fails first, the program waits for ever"
+    )
+    assert d.fix is not None and d.fix.is_safe
+    assert fixed(UNWATCHED, d).splitlines()[5:] == [
+        "    during (roll(1)) until (guest_left()) {} on_fail {",
+        "        say_sorry();",
+        "    }",
+        "}",
+    ]
+    after = lint(fixed(UNWATCHED, d))
+    assert [x.code for x in after] == []
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("test(guest_left());", "say_sorry();\n        test(guest_left());"),  # a longer body
+        ("test(guest_left());", "test(true);"),  # a constant condition would be W0107's as `until`
+        ("procedure main() {", "procedure main() {\n    start(roll(1));"),  # its `start` would lose its end
+    ],
+)
+def test_other_hanging_bodies_are_reported_without_a_fix(old: str, new: str) -> None:
+    d = the(UNWATCHED.replace(old, new), "W0119")
+    assert d.fix is None
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        "{ test(guest_left()); cancel(roll(2)); }",  # another activity
+        "{ cancel(roll(1)); }",
+        "{ test(guest_left()); say_sorry(); }",
+        "{ test(guest_left()); cancel(roll(1)); say_sorry(); }",
+    ],
+)
+def test_other_bodies_are_not_reported(body: str) -> None:
+    text = UNWATCHED.replace(
+        """{
+        test(guest_left());
+        cancel(roll(1));
+    }""",
+        body,
+    )
+    assert found(text, "W0119") == []
+
+
+@pytest.mark.parametrize(
+    ("condition", "message"),
+    [("true", "`until` condition is always true"), ("1 > 2", "`until` condition is always false")],
+)
+def test_a_constant_until_condition_is_reported(condition: str, message: str) -> None:
+    text = UNWATCHED.replace("during (roll(1)) {", f"during (roll(1)) until ({condition}) {{")
+    assert found(text, "W0107") == [f"6:29 {message}"]
+
+
+def test_the_until_form_is_not_reported() -> None:
+    text = UNWATCHED.replace("during (roll(1)) {", "during (roll(1)) until (guest_left()) {")
+    assert found(text, "W0119") == []
+
+
+# ---------------------------------------------------------------- W0120 unrun watch body
+
+
+def test_a_watched_body_in_a_plan_is_reported() -> None:
+    d = the(UNRUN_WATCH_BODY, "W0120")
+    assert (d.span.line, d.span.col) == (7, 49)
+    assert d.message == "the body of this `during ... until` never runs: it is planned by `solve` or `search`"
+
+
+def test_a_watched_body_in_a_procedure_only_plans_call_is_reported() -> None:
+    text = UNRUN_WATCH_BODY.replace(
+        """        during (ride(1)) until (path_blocked()) {
+            announce_ride();
+        }
+""",
+        "        watch();\n",
+    ).replace(
+        "procedure main()",
+        "procedure watch() { during (ride(2)) until (path_blocked()) test(true); }\nprocedure main()",
+    )
+    assert found(text, "W0120") == [
+        "5:61 the body of this `during ... until` never runs: it is planned by `solve` or `search`"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("announce_ride();", ""),  # an empty body
+        ("solve(2, zero_reward()) {", "{"),  # online: the body runs while the activity does
+        ("until (path_blocked()) ", ""),  # a plain `during` runs its body while planning too
+    ],
+)
+def test_watched_bodies_that_run_or_do_nothing_are_not_reported(old: str, new: str) -> None:
+    assert found(UNRUN_WATCH_BODY.replace(old, new), "W0120") == []
 
 
 # ---------------------------------------------------------------- allow, no-lint, includes

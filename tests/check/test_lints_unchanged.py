@@ -38,6 +38,7 @@ from gpp.report.text import diagnostic_to_json
 from gpp.syntax import ast
 from gpp.syntax.loader import load
 from gpp.syntax.printer import format_program
+from tests.support import TYPO_CORPUS
 from tests.support.budget import examples
 from tests.support.golden import recorded
 from tests.support.lint_triggers import TRIGGERS
@@ -46,7 +47,12 @@ from tests.support.syntax_trees import programs
 
 ROOT = Path(__file__).resolve().parents[2]
 GOLDEN_DIR = Path(__file__).parents[1] / "golden" / "lints"
-REPOSITORY = sorted(p.relative_to(ROOT) for d in ("examples", "stdlib", "tests") for p in (ROOT / d).rglob("*.gpp"))
+REPOSITORY = sorted(
+    p.relative_to(ROOT)
+    for d in ("examples", "stdlib", "tests")
+    for p in (ROOT / d).rglob("*.gpp")
+    if TYPO_CORPUS not in p.parents
+)
 GENERATED: dict[str, Callable[[], str]] = {
     "genprog 400 lines": lambda: generate_program(400),
     "genprog 250 lines, seed 2, nesting 1": lambda: generate_program(250, seed=2, nesting=1),

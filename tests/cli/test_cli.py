@@ -435,8 +435,12 @@ def test_the_platform_flags_come_from_the_platforms_declarations() -> None:
             "error: --random is an option of platform dummy, not of `sim`\n",
         ),
         (
-            ["test", "-p", "sim", "--scenario", "s.toml", "good.gpp"],
-            "error: --scenario is an option of platform dummy, not of `sim`\n",
+            ["test", "-p", "sim", "--random", "good.gpp"],
+            "error: --random is an option of platform dummy, not of `sim`\n",
+        ),
+        (
+            ["test", "-p", "dummy", "--world", "rescue", "good.gpp"],
+            "error: --world is an option of platform sim, not of `dummy`\n",
         ),
     ],
 )

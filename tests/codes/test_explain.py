@@ -63,9 +63,10 @@ def program_files(block: str, folder: Path) -> list[Path]:
 
 
 def run_example(block: str, folder: Path) -> tuple[str, list[str]]:
-    """Run an example (its first program file) on the dummy platform, with a timeout: the
-    status of the run ("" when it did not start) and its errors, as "CODE message"."""
-    outcome = run_program(program_files(block, folder)[0], RunOptions(timeout=60.0))
+    """Run an example (its first program file) on the dummy platform, with a time limit of 60 s
+    of platform time (R0013's example) and a timeout: the status of the run ("" when it did not
+    start) and its errors, as "CODE message"."""
+    outcome = run_program(program_files(block, folder)[0], RunOptions(time_limit=60.0, timeout=60.0))
     status = outcome.result.status.value if outcome.result is not None else ""
     return status, [f"{d.code} {d.message}" for d in outcome.diagnostics if d.is_error]
 

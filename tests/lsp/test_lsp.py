@@ -328,12 +328,14 @@ async def test_quick_edits_are_coalesced_and_a_stale_analysis_is_never_published
 async def test_completion_right_after_a_keystroke_does_not_wait_for_the_check(
     client: LanguageClient, workspace: Path
 ) -> None:
-    text = fluents(1000) + "procedure main() {\n    x\n}\n"
+    # 5,000 fluents: the check of the new version takes many times what answering a completion
+    # does, so that the answer comes first on a loaded machine too.
+    text = fluents(5000) + "procedure main() {\n    x\n}\n"
     path = workspace / "keystroke.gpp"
     uri = await open_checked(client, path, text)
-    change(client, uri, 2, [((1001, 4, 1001, 5), "v99")])  # `x` becomes `v99`, as typed
+    change(client, uri, 2, [((5001, 4, 5001, 5), "v99")])  # `x` becomes `v99`, as typed
     got = await client.text_document_completion_async(
-        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(1001, 7))
+        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(5001, 7))
     )
     # Answered from the check of version 1 while version 2's runs: its diagnostics are not out.
     assert 2 not in [p.version for p in published(client).of(uri)]

@@ -409,6 +409,14 @@ def decode(data: list[int]) -> list[tuple[int, int, int, str, set[str]]]:
     return out
 
 
+def test_the_until_of_a_during_is_a_keyword_and_its_condition_is_read(tmp_path: Path) -> None:
+    text = BLOCKS.replace("    build(a);\n", "    during (stack(a, table)) until (clear(a)) {}\n")
+    doc = Doc.check(text, tmp_path / "c.gpp")
+    found = {(line, char): t for line, char, _, t, _ in decode(F.semantic_tokens(doc.result, doc.path))}
+    assert found[doc.pos(doc.at("until ("))] == "keyword"
+    assert found[doc.pos(doc.at("clear(a)"))] == "fluent"
+
+
 def test_semantic_tokens_classify_names_by_kind(blocks: Doc) -> None:
     found = {
         (line, char): (length, t, m)
@@ -856,6 +864,18 @@ def test_completion_in_a_platform_model() -> None:
     assert at("state(depth_cam) = on", 19) == ["off", "booting", "on", "error"]
     assert at("during(grasp", 7) == ["switch_state", "go_to", "grasp", "put_down"]
     assert at("state(depth_cam) = on", 0)[:3] == ["state", "during", "start"]
+
+
+def test_completion_after_a_during_head_offers_until(tmp_path: Path) -> None:
+    watched = "    during (stack(a, table)) @\n    build(a);\n"
+    after_head = labels(complete(BLOCKS.replace("    build(a);\n", watched), tmp_path))
+    assert "until" in after_head and "while" in after_head
+    # After the `until (..)` clause a statement follows; `until` is not offered again.
+    watched = "    during (stack(a, table)) until (clear(a)) @\n    build(a);\n"
+    after_until = labels(complete(BLOCKS.replace("    build(a);\n", watched), tmp_path))
+    assert "until" not in after_until and "while" in after_until
+    elsewhere = labels(complete(BLOCKS.replace("    build(a);\n", "    build(a);\n    @\n"), tmp_path))
+    assert "until" not in elsewhere
 
 
 def test_completion_items_show_parameters_and_type_beside_the_name(tmp_path: Path) -> None:

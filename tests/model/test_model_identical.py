@@ -27,13 +27,18 @@ from gpp.base.source import Source
 from gpp.check import check_loaded
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.loader import load
+from tests.support import TYPO_CORPUS
 from tests.support.golden import recorded
 from tests.support.model_fingerprint import fingerprint
 
 ROOT = Path(__file__).resolve().parents[2]
 GOLDEN = ROOT / "tests" / "golden" / "model" / "fingerprints.json"
 
-PROGRAMS = sorted(p for p in ROOT.glob("**/*.gpp") if ".venv" not in p.parts and "build" not in p.parts)
+PROGRAMS = sorted(
+    p
+    for p in ROOT.glob("**/*.gpp")
+    if ".venv" not in p.parts and "build" not in p.parts and TYPO_CORPUS not in p.parents
+)
 MUTATED = sorted([*ROOT.glob("examples/*.gpp"), *ROOT.glob("tests/programs/*.gpp")])
 MUTANTS_PER_PROGRAM = 6
 VIRTUAL = ROOT / "tests" / "programs" / "virtual.gpp"

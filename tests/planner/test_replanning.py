@@ -57,7 +57,9 @@ def test_a_failed_action_makes_the_planner_plan_again_from_where_the_program_is(
     assert failed.action == "stack(c,table)"
     [replan] = events(outcome, ReplanEvent)
     assert replan.t == failed.t
-    assert replan.horizon == 8 - 2  # the failed call used its step of the horizon
+    # The successful call used its step of the horizon; the failed one gave its step back.
+    assert replan.horizon == 8 - 1
+    assert (replan.reason, replan.written_horizon) == ("`stack(c,table)` failed", 8)
     assert replan.policy == ("stack(c,table)", "stack(b,a)", "stack(c,b)")
     assert started(outcome) == FIRST_PLAN[:2] + replan.policy
     assert outcome.ok
@@ -69,7 +71,7 @@ def test_a_plan_that_assumed_the_program_ends_is_replanned_when_it_does_not() ->
     # Every planned step was possible, but the last one failed: the loop has not ended.
     outcome = run(SCENARIOS / "blocks.gpp", "last_stack_fails.toml")
     [replan] = events(outcome, ReplanEvent)
-    assert replan.horizon == 8 - 4
+    assert replan.horizon == 8 - 3  # the failed last step gave its step back
     assert replan.policy == ("stack(c,b)",)
     assert started(outcome) == (*FIRST_PLAN, "stack(c,b)")
     assert outcome.ok
@@ -94,17 +96,30 @@ def test_without_deviation_the_plan_is_executed_as_planned() -> None:
 
 
 def test_when_the_horizon_is_used_up_execution_continues_after_the_solve(tmp_path: Path) -> None:
+    program = tmp_path / "blocks3.gpp"
+    text = (SCENARIOS / "blocks.gpp").read_text(encoding="utf-8")
+    program.write_text(text.replace("solve(8, reward())", "solve(3, reward())"), encoding="utf-8")
+    outcome = run_program(program, RunOptions(record=True))
+    # The plan used the whole horizon, so it assumed nothing about the end of the program:
+    # after its last step the `solve` is over, with the goal missed.
+    assert [r.EVENT for r in plans(outcome)] == ["plan"]
+    assert len(started(outcome)) == 3
+    assert outcome.result is not None
+    assert outcome.result.status is RunStatus.FINISHED
+    assert outcome.postcond is False
+
+
+def test_a_failed_last_step_gives_its_step_of_the_horizon_back(tmp_path: Path) -> None:
     program = tmp_path / "blocks4.gpp"
     text = (SCENARIOS / "blocks.gpp").read_text(encoding="utf-8")
     program.write_text(text.replace("solve(8, reward())", "solve(4, reward())"), encoding="utf-8")
     outcome = run(program, "last_stack_fails.toml")
-    # The plan used the whole horizon, so it assumed nothing about the end of the program:
-    # after the failed last step the `solve` is over, with the goal missed.
-    assert [r.EVENT for r in plans(outcome)] == ["plan"]
-    assert started(outcome) == FIRST_PLAN
-    assert outcome.result is not None
-    assert outcome.result.status is RunStatus.FINISHED
-    assert outcome.postcond is False
+    # The plan used the whole horizon; its last step failed, which is no progress: the
+    # `solve` plans that step again with the step it gave back, and reaches the goal.
+    [replan] = events(outcome, ReplanEvent)
+    assert (replan.horizon, replan.policy) == (1, ("stack(c,b)",))
+    assert started(outcome) == (*FIRST_PLAN, "stack(c,b)")
+    assert outcome.ok
 
 
 def test_search_searches_again_when_the_world_deviates() -> None:

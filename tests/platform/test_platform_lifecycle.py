@@ -73,8 +73,8 @@ def test_each_platform_declares_its_own_options() -> None:
     program = ROOT / "examples" / "blocksworld.gpp"
     with pytest.raises(PlatformError, match="platform `dummy` has no option `world`"):
         DummyPlatform.create(PlatformConfig(program, {}, {"world": "rescue"}))
-    with pytest.raises(PlatformError, match="platform `sim` has no option `scenario`"):
-        SimPlatform.create(PlatformConfig(program, {}, {"scenario": "s.toml"}))
+    with pytest.raises(PlatformError, match="platform `sim` has no option `random`"):
+        SimPlatform.create(PlatformConfig(program, {}, {"random": "true"}))
     dummy = DummyPlatform.create(PlatformConfig(program, {}, {"random": "true", "seed": "7"}))
     assert dummy.random_mode and dummy.rng.random() == DummyPlatform(None, 7).rng.random()
     assert DummyPlatform.Options is DummyOptions
@@ -186,7 +186,7 @@ def test_a_cancellation_that_is_never_acknowledged_is_recorded_after_a_bounded_w
     program = CompiledProgram(check.model)
     platform = Deaf()
     trace = Recording()
-    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=10)
+    executor = Executor(program, platform, Trace(listeners=[trace]), time_limit=10)
     executor.cancel_grace = 0.2
     assert platform.attach(program_interface(program)) == []
     started = time.perf_counter()
@@ -199,3 +199,25 @@ def test_a_cancellation_that_is_never_acknowledged_is_recorded_after_a_bounded_w
         ("error", "platform `dummy` did not acknowledge the cancellation of `drive()` within 0.2 s"),
         ("finish", ""),
     ]
+
+
+class OldPort(DummyPlatform):
+    """A platform plugin written before `wait` took the run's wall-clock bound."""
+
+    def wait(self, deadline: float | None) -> bool:  # type: ignore[override]
+        self.waited = getattr(self, "waited", 0) + 1
+        return super().wait(deadline)
+
+
+def test_a_platform_whose_wait_takes_no_wall_clock_bound_still_runs_under_a_timeout() -> None:
+    check = check_text(PROGRAM, lint=False)
+    program = CompiledProgram(check.model)
+    platform = OldPort()
+    trace = Recording()
+    executor = Executor(program, platform, Trace(listeners=[trace]), timeout=30)
+    assert platform.attach(program_interface(program)) == []
+    result = executor.run()
+    # The program waits for `drive()` through the plugin's own `wait` (no TypeError), then
+    # nothing can make `test(false)` hold: the run stops blocked.
+    assert platform.waited >= 1
+    assert result.status is RunStatus.BLOCKED, [r.EVENT for r in trace.records]

@@ -126,7 +126,7 @@ def test_a_bad_configuration_is_a_usage_error_shown_in_the_file(here: Path) -> N
         '2 | platfrom = "sim"\n'
         "  | ^^^^^^^^ unknown key\n"
         "  |\n"
-        "  = note: the keys of [run]: `platform`, `world`, `timeout` (docs/config.md)\n"
+        "  = note: the keys of [run]: `platform`, `world`, `timeout`, `time_limit` (docs/config.md)\n"
         "  = help: did you mean `platform`?\n"
         "\n"
     )
@@ -153,10 +153,12 @@ def test_gpp_config_shows_the_settings_and_where_they_come_from(here: Path) -> N
         "# platform is not set                     # default\n"
         "# world is not set                        # default\n"
         "# timeout is not set                      # default\n"
+        "# time_limit is not set                   # default\n"
         "\n"
         "[test]\n"
         'paths = ["tests/programs"]                # default\n'
         "timeout = 30                              # from file\n"
+        "# time_limit is not set                   # default: none\n"
     )
 
 
@@ -220,13 +222,13 @@ def test_gpp_run_takes_its_defaults_from_the_configuration(here: Path) -> None:
     write(
         here,
         {
-            "gpp.toml": "[run]\ntimeout = 5\n",
+            "gpp.toml": "[run]\ntime_limit = 5\n",
             "loop.gpp": "action step() { duration: [1, 1] }\nprocedure main() { while (true) step(); }\n",
         },
     )
     result = gpp("run", "--quiet", "loop.gpp")
     assert result.exit_code == 1
-    assert "error[R0013]" in result.stdout
+    assert "error[R0013]: the run reached its time limit of 5 s of platform time" in result.stdout
     assert "time               5.000 s platform" in result.stdout
     (here / "gpp.toml").write_text('[run]\nplatform = "nowhere"\n')
     result = gpp("run", "--quiet", "loop.gpp")
@@ -366,7 +368,7 @@ def test_diff_shows_the_fixes_without_writing(here: Path) -> None:
         "     goto(hall);\n"
         " }\n"
     )
-    assert result.stderr == "would fix 5 problems in 1 file\n"
+    assert result.stderr == "would fix 5 problems (3 of them hidden by a syntax error) in 1 file\n"
     assert (here / "agent.gpp").read_text() == SEVERAL_FIXES
     assert gpp("check", "--diff", "--format", "json").exit_code == 2
 
@@ -378,7 +380,10 @@ def test_fix_writes_every_safe_fix_and_a_second_run_changes_nothing(
     (tmp_path / "agent.gpp").write_text(SEVERAL_FIXES)
     (tmp_path / "other.gpp").write_text("procedure main() {}\n")
     result = gpp_process("check", "--fix", cwd=tmp_path)
-    assert (result.returncode, result.stdout) == (0, "no problems found\nfixed 5 problems in 1 file, 0 remaining\n")
+    assert (result.returncode, result.stdout) == (
+        0,
+        "no problems found\nfixed 5 problems (3 of them hidden by a syntax error) in 1 file, 0 remaining\n",
+    )
     assert (tmp_path / "agent.gpp").read_text() == FIXED
     assert sorted(p.name for p in tmp_path.iterdir()) == ["agent.gpp", "other.gpp"]  # no temporary file left
     again = gpp("check", "--fix")

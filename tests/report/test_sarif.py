@@ -343,7 +343,8 @@ def test_results_carry_code_level_message_and_region(project: Path) -> None:
     assert unknown["message"]["text"] == "unknown name `kitchn`\nhelp: did you mean `kitchen`?"
     precedence = results[2]
     assert precedence["message"]["text"] == (
-        "golog++ reads this as `((1 * 2) + 3) * 4`\nnote: gpp uses standard precedence: `(1 * 2) + (3 * 4)`"
+        "the original C++ golog++ reads this as `((1 * 2) + 3) * 4`\n"
+        "note: gpp uses standard precedence: `(1 * 2) + (3 * 4)`"
     )
 
 

@@ -106,10 +106,10 @@ def test_rendering_is_linear_in_the_number_of_diagnostics_and_the_line_length() 
         src = Source("a();" * (size // 4) + "\n", "one-line.gpp")
         diagnostics = [error(Message("E0103", "unknown"), Span(src, k, k + 1), "here") for k in range(0, size, 64)]
         best = float("inf")
-        for _ in range(3):
-            started = time.perf_counter()
+        for _ in range(3):  # the process's CPU time: a busy machine's other processes do not count
+            started = time.process_time()
             out = render_text(diagnostics)
-            best = min(best, time.perf_counter() - started)
+            best = min(best, time.process_time() - started)
         assert out.count("error[E0103]") == size // 64
         return best
 

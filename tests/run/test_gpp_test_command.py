@@ -17,8 +17,9 @@ def gpp(*args: str, cwd: Path = ROOT) -> Result:
 def test_every_example_passes_on_its_platform() -> None:
     result = gpp("test", "examples")
     assert result.returncode == 0, result.stdout + result.stderr
-    examples = sorted((ROOT / "examples").glob("*.gpp"))
-    assert result.stdout.strip().splitlines()[-1] == f"{len(examples)} passed, 0 failed"
+    examples = sorted((ROOT / "examples").rglob("*.gpp"))
+    # examples/ros2/courier.gpp is run with arguments (its `main(x, y)`), by a launch file.
+    assert result.stdout.strip().splitlines()[-1] == f"{len(examples) - 1} passed, 0 failed, 1 skipped"
 
 
 def test_a_failing_postcond_fails_the_run(tmp_path: Path) -> None:
@@ -50,3 +51,16 @@ def test_a_named_program_without_main_fails_and_one_found_in_a_folder_is_skipped
     found = gpp("test", "lib", cwd=tmp_path)
     assert found.returncode == 0, found.stdout + found.stderr
     assert found.stdout.strip().splitlines()[-1] == "0 passed, 0 failed, 1 skipped"
+
+
+def test_a_program_whose_main_takes_parameters_is_skipped_in_a_folder_and_fails_when_named(tmp_path: Path) -> None:
+    """It is run with arguments (`gpp run --arg`, a launch file's parameters)."""
+    folder = tmp_path / "agents"
+    folder.mkdir()
+    (folder / "go.gpp").write_text("action go(number n) { }\nprocedure main(number n) { go(n); }\n")
+    found = gpp("test", "agents", cwd=tmp_path)
+    assert found.returncode == 0, found.stdout + found.stderr
+    assert found.stdout.strip().splitlines()[-1] == "0 passed, 0 failed, 1 skipped"
+    named = gpp("test", "agents/go.gpp", cwd=tmp_path)
+    assert named.returncode == 1, named.stdout + named.stderr
+    assert named.stdout.strip().splitlines()[-1] == "0 passed, 1 failed"

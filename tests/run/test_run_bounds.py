@@ -24,12 +24,83 @@ def gpp(*args: str, cwd: Path = ROOT) -> Result:
     return run(*args, cwd=cwd)
 
 
+@pytest.mark.parametrize("flag", ["--timeout", "--time-limit"])
 @pytest.mark.parametrize("value", ["0", "-1", "nan", "inf"])
 @pytest.mark.parametrize("command", ["run", "test"])
-def test_a_timeout_must_be_positive(command: str, value: str) -> None:
-    result = gpp(command, "examples/durative.gpp", f"--timeout={value}")
+def test_a_bound_must_be_positive(command: str, value: str, flag: str) -> None:
+    result = gpp(command, "examples/durative.gpp", f"{flag}={value}")
     assert result.returncode == 2, result.stdout + result.stderr
-    assert "--timeout must be a number of seconds greater than 0" in result.stderr
+    assert f"{flag} must be a number of seconds greater than 0" in result.stderr
+
+
+# ---------------------------------------------------------------- the two bounds (SEMANTICS §4)
+
+# A mission of 38 s of platform time, which the dummy platform runs in a moment.
+MISSION = (
+    "number fluent legs() { initially: () = 0; }\n"
+    "action drive() { duration: [19, 19] effect: legs() = legs() + 1; }\n"
+    "procedure main() { drive(); drive(); }\n"
+    "bool function postcond() = legs() == 2\n"
+)
+
+
+def test_the_test_timeout_is_wall_clock_time_so_a_long_simulated_mission_passes(tmp_path: Path) -> None:
+    (tmp_path / "gpp.toml").write_text('[test]\npaths = ["tests"]\ntimeout = 30\n', encoding="utf-8")
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "mission.gpp").write_text(MISSION, encoding="utf-8")
+    result = gpp("test", cwd=tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.strip().splitlines()[-1] == "1 passed, 0 failed"
+
+
+def test_the_time_limit_bounds_platform_time_and_r0013_says_which_bound(tmp_path: Path) -> None:
+    (tmp_path / "mission.gpp").write_text(MISSION, encoding="utf-8")
+    result = gpp("run", "-q", "mission.gpp", "--time-limit", "30", "--timeout", "600", cwd=tmp_path)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "error[R0013]: the run reached its time limit of 30 s of platform time (`--time-limit`)" in result.stdout
+    (tmp_path / "gpp.toml").write_text("[test]\ntime_limit = 30\n", encoding="utf-8")
+    tested = gpp("test", "mission.gpp", cwd=tmp_path)
+    assert tested.returncode == 1, tested.stdout
+    assert "time limit of 30 s of platform time" in tested.stdout
+
+
+# Plans for far longer than any test waits: 7 values per step, 40 steps, every state new.
+LONG_PLANNING = """
+list[number] fluent picked() { initially: () = list[number] []; }
+number function reward() = if (length(picked()) > 0) picked()[length(picked()) - 1] else 0
+procedure main() {
+    solve(40, reward()) while (true) pick (number v in {1, 2, 3, 4, 5, 6, 7}) push_back(picked(), v);
+}
+"""
+
+
+def test_the_timeout_holds_while_the_planner_plans(tmp_path: Path) -> None:
+    (tmp_path / "plans.gpp").write_text(LONG_PLANNING, encoding="utf-8")
+    result = gpp("run", "-q", "plans.gpp", "--timeout", "1", cwd=tmp_path)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "error[R0013]: the run reached its timeout of 1 s of wall-clock time (`--timeout`" in result.stdout
+    assert "planning here" in result.stdout
+    assert "plans.gpp on dummy: timeout" in result.stdout
+
+
+# A drive of several seconds on the sim, paced to the wall clock.
+LONG_DRIVE = """// world: rescue
+#include "sim/rescue.gpp"
+symbol domain room = {room1, room2, room3, room4}
+symbol domain frame = room | {home}
+symbol domain victim = {v1, v2}
+procedure main() { navigate_to_frame(room4); }
+"""
+
+
+def test_the_timeout_holds_while_the_program_waits_on_a_realtime_platform(tmp_path: Path) -> None:
+    (tmp_path / "drive.gpp").write_text(LONG_DRIVE, encoding="utf-8")
+    result = gpp("run", "-q", "drive.gpp", "--realtime", "--timeout", "1", cwd=tmp_path)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "error[R0013]: the run reached its timeout of 1 s of wall-clock time (`--timeout`" in result.stdout
+    assert "waiting here" in result.stdout
+    assert "it waits here: it waits for `navigate_to_frame(room4)` to end" in result.stdout
+    assert "drive.gpp on sim: timeout" in result.stdout
 
 
 @pytest.mark.parametrize(
@@ -239,3 +310,31 @@ def test_parameters_of_main_that_do_not_fit_are_usage_errors(tmp_path: Path, arg
     assert result.returncode == 2, result.stdout + result.stderr
     assert message in result.stderr
     assert "internal error" not in result.stdout + result.stderr
+
+
+# ---------------------------------------------------------------- the live panel's clock (issue 24 item 4)
+
+
+def test_the_live_panels_clock_ticks_between_events_on_a_realtime_platform(tmp_path: Path) -> None:
+    import io
+    import re
+
+    from rich.console import Console
+
+    from gpp.run.runner import RunOptions, run_program
+    from gpp.run.view import LiveView
+
+    program = tmp_path / "drive.gpp"
+    program.write_text(LONG_DRIVE, encoding="utf-8")
+    out = io.StringIO()
+    view = LiveView(Console(file=out, width=120, force_terminal=True, color_system=None), "drive.gpp")
+    options = RunOptions(platform_options={"realtime": True}, timeout=2.5, record=True, clock=view.watch_clock)
+    with view:
+        outcome = run_program(program, options, [view])
+    assert outcome.recording is not None and outcome.result is not None
+    event_times = {round(e.t, 2) for e in outcome.recording.records}
+    shown = {float(t) for t in re.findall(r"t = ([0-9]+\.[0-9]+) s", out.getvalue())}
+    # The panel was redrawn with the platform's clock between the events, not only at them.
+    ticks = shown - event_times
+    assert len(ticks) >= 3, (sorted(shown), sorted(event_times))
+    assert max(shown) <= max(event_times)

@@ -7,7 +7,7 @@ The programs in tests/runtime_errors/ state what they expect in their leading co
     // expect: STATUS CODE at LINE:COL: MESSAGE
     // expect-note: a note the diagnostic must have
     // expect-label: the label under the primary span
-    // timeout: SECONDS      (run with this --timeout)
+    // time-limit: SECONDS   (run with this --time-limit, platform time)
 """
 
 from __future__ import annotations
@@ -84,8 +84,8 @@ def expectation(path: Path) -> Expectation:
             notes.append(line.removeprefix("// expect-note: ").strip())
         elif line.startswith("// expect-label: "):
             label = line.removeprefix("// expect-label: ").strip()
-        elif line.startswith("// timeout: "):
-            timeout = float(line.removeprefix("// timeout: "))
+        elif line.startswith("// time-limit: "):
+            timeout = float(line.removeprefix("// time-limit: "))
     assert found is not None, f"{path.name} has no `// expect:` line"
     found.notes, found.label, found.timeout = notes, label, timeout
     return found
@@ -109,7 +109,7 @@ def test_there_is_a_program_for_every_runtime_error_code() -> None:
 def test_program_stops_with_exactly_the_expected_diagnostic(path: Path, tmp_path: Path) -> None:
     expected = expectation(path)
     trace_file = tmp_path / "trace.jsonl"
-    outcome = run_program(path, RunOptions(record=True, timeout=expected.timeout, trace=trace_file))
+    outcome = run_program(path, RunOptions(record=True, time_limit=expected.timeout, trace=trace_file))
     assert not outcome.check.errors, _explain(outcome)
     assert outcome.result is not None
     assert outcome.result.status.value == expected.status, _explain(outcome)
@@ -149,7 +149,7 @@ def test_no_runtime_error_prints_a_traceback() -> None:
         "from pathlib import Path\n"
         "from gpp.run.runner import RunOptions, run_program\n"
         "for name in sys.argv[1:]:\n"
-        "    o = run_program(Path(name), RunOptions(record=True, timeout=30))\n"
+        "    o = run_program(Path(name), RunOptions(record=True, time_limit=30))\n"
         "    print(name, o.result.status.value, o.exit_code)\n"
     )
     done = subprocess.run(
@@ -195,12 +195,14 @@ action a() { }
 """
 
 
-def run_text(body: str, tmp_path: Path, extra: str = "", timeout: float | None = None) -> tuple[RunResult, Recording]:
+def run_text(
+    body: str, tmp_path: Path, extra: str = "", time_limit: float | None = None
+) -> tuple[RunResult, Recording]:
     check = check_text(PRELUDE + extra + "\nprocedure main() {\n" + body + "\n}\n", tmp_path / "t.gpp", lint=False)
     assert not check.errors, render_text(check.diagnostics)
     trace = Recording()
     executor = Executor(
-        CompiledProgram(check.model), DummyPlatform(), Trace(listeners=[trace]), timeout, planner=PolicyPlanner()
+        CompiledProgram(check.model), DummyPlatform(), Trace(listeners=[trace]), time_limit, planner=PolicyPlanner()
     )
     return executor.run(), trace
 
@@ -327,12 +329,12 @@ def test_second_start_waits_for_the_running_activity_then_is_an_error(tmp_path: 
     assert result.platform_time == 1.0
 
 
-def test_timeout_stops_a_run_that_waits_for_a_long_activity(tmp_path: Path) -> None:
+def test_the_time_limit_stops_a_run_that_waits_for_a_long_activity(tmp_path: Path) -> None:
     extra = "action long() { duration: [100, 100] }\n"
-    result, trace = run_text("long();", tmp_path, extra, timeout=10)
+    result, trace = run_text("long();", tmp_path, extra, time_limit=10)
     assert result.status is RunStatus.TIMEOUT
     [d] = _errors(result.diagnostics)
-    assert d.code == "R0013" and d.message == "the run reached its timeout of 10 s"
+    assert d.code == "R0013" and d.message == "the run reached its time limit of 10 s of platform time (`--time-limit`)"
     assert "it waits here: it waits for `long()` to end" in d.notes
     assert result.platform_time == 10
     # The still running activity is cancelled when the run stops.
@@ -340,14 +342,14 @@ def test_timeout_stops_a_run_that_waits_for_a_long_activity(tmp_path: Path) -> N
     assert cancel.action == "long()" and cancel.reason == "the program ended"
 
 
-def test_timeout_does_not_stop_a_run_that_ends_in_time(tmp_path: Path) -> None:
+def test_the_time_limit_does_not_stop_a_run_that_ends_in_time(tmp_path: Path) -> None:
     extra = "action long() { duration: [100, 100] }\n"
-    result, _ = run_text("long();", tmp_path, extra, timeout=100)
+    result, _ = run_text("long();", tmp_path, extra, time_limit=100)
     assert result.status is RunStatus.FINISHED
     assert result.platform_time == 100
 
 
 def test_nothing_left_to_wait_for_is_blocked_not_a_timeout(tmp_path: Path) -> None:
-    result, _ = run_text("test(flag());", tmp_path, timeout=50)
+    result, _ = run_text("test(flag());", tmp_path, time_limit=50)
     assert result.status is RunStatus.BLOCKED
     assert result.platform_time == 0

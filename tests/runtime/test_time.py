@@ -133,7 +133,7 @@ def test_a_loop_that_takes_no_time_stops_at_the_wall_clock_timeout(tmp_path: Pat
     outcome = run(tmp_path, program, timeout=0.5)
     assert outcome.result is not None and outcome.result.status is RunStatus.TIMEOUT
     [d] = outcome.diagnostics
-    assert d.code == "R0013" and "of wall-clock time (platform time: 0 s)" in d.message
+    assert d.code == "R0013" and "of wall-clock time (`--timeout`; platform time: 0 s)" in d.message
     assert d.span.text == "while (true) n() = n() + 1;"
 
 

@@ -336,7 +336,19 @@ def test_the_trace_of_a_small_program_is_pinned_byte_for_byte(tmp_path: Path, mo
         for e in outcome.recording.records
     ]
     kinds = {e.EVENT for e in outcome.recording.records}
-    assert kinds == {"header", "assign", "plan", "start", "exog", "update", "end", "sense", "cancel", "finish"}
+    assert kinds == {
+        "header",
+        "assign",
+        "plan",
+        "start",
+        "waiting",
+        "exog",
+        "update",
+        "end",
+        "sense",
+        "cancel",
+        "finish",
+    }
 
 
 # ---------------------------------------------------------------- the events and their encoding

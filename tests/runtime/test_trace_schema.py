@@ -127,7 +127,7 @@ def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
         ("blocked", ERRORS / "blocked_test.gpp", RunOptions()),
         ("blocked_precondition", ERRORS / "blocked_precondition.gpp", RunOptions()),
         ("infeasible", ERRORS / "blocked_solve_infeasible.gpp", RunOptions()),
-        ("timeout", ERRORS / "timeout.gpp", RunOptions(timeout=5)),
+        ("timeout", ERRORS / "timeout.gpp", RunOptions(time_limit=5)),
         ("recursion", ERRORS / "runaway_recursion.gpp", RunOptions()),
     ]
     for name, program, options in runs:

@@ -32,6 +32,7 @@ from gpp.runtime.events import (
     WaitingEvent,
     decode,
     load_schema,
+    waiting_fields,
 )
 from gpp.runtime.trace import Recording, TraceSplit, part_path, trace_parts
 from gpp.traceview.model import build_run_model, load_trace
@@ -206,6 +207,29 @@ def test_each_snapshot_is_the_state_the_records_before_it_tell(tmp_path: Path) -
             assert snapshot.t >= before[-1].t
             events = events[2:]
         before.extend(events)
+
+
+def test_a_snapshot_says_what_the_program_waits_for_as_its_waiting_record_does(tmp_path: Path) -> None:
+    """tests/programs/solve_retries.gpp split every 0.5 s of platform time: the parts that begin
+    while the program waits for a planned drive say which drive and which step of the plan."""
+    trace = tmp_path / "retries.jsonl"
+    program = Path(__file__).resolve().parents[1] / "programs" / "solve_retries.gpp"
+    assert run_program(program, RunOptions(trace=trace, trace_split=TraceSplit(max_seconds=0.5))).ok
+    waiting: dict[str, JsonValue] | None = None
+    seen: list[dict[str, JsonValue]] = []
+    for number, part in enumerate(trace_parts(trace)):
+        events = [decode(line) for line in lines(part)]
+        if number:
+            snapshot = events[1]
+            assert isinstance(snapshot, SnapshotEvent)
+            assert snapshot.waiting == waiting
+            if snapshot.waiting is not None:
+                seen.append(snapshot.waiting)
+            events = events[2:]
+        for e in events:
+            if isinstance(e, WaitingEvent):
+                waiting = None if e.resumed else waiting_fields(e)
+    assert any(w.get("reason") == "activity" and str(w.get("action", "")).startswith("goto(") for w in seen), seen
 
 
 def test_a_split_trace_reads_back_as_the_same_run_as_an_unsplit_one(tmp_path: Path) -> None:

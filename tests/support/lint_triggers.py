@@ -190,6 +190,52 @@ procedure main() {{
 """
 
 
+GOAL_PAID_AGAIN = """\
+symbol domain Desk = {lobby, room1}
+Desk fluent at_desk() { initially: () = lobby; }
+bool fluent served() { initially: () = false; }
+number fluent visits() { initially: () = 0; }
+action drive(Desk r) { effect: at_desk() = r; }
+number function served_reward() = if (served()) 100 else -1
+procedure main() {
+    solve(3, served_reward()) {
+        pick (Desk r) drive(r);
+        served() = at_desk() == room1;
+        visits() = visits() + 1;
+    }
+}
+"""
+
+UNWATCHED = """\
+bool fluent guest_left() { initially: () = false; }
+exog_action guest_leaves() { effect: guest_left() = true; }
+action roll(number room) { }
+action say_sorry() { }
+procedure main() {
+    during (roll(1)) {
+        test(guest_left());
+        cancel(roll(1));
+    } on_fail {
+        say_sorry();
+    }
+}
+"""
+
+UNRUN_WATCH_BODY = """\
+bool fluent path_blocked() { initially: () = false; }
+action ride(number room) { }
+action announce_ride() { }
+number function zero_reward() = 0
+procedure main() {
+    solve(2, zero_reward()) {
+        during (ride(1)) until (path_blocked()) {
+            announce_ride();
+        }
+    }
+}
+"""
+
+
 TRIGGERS = {
     "W0101": UNUSED,
     "W0102": UNUSED_VARIABLES,
@@ -206,4 +252,7 @@ TRIGGERS = {
     "W0113": SHARED_SENSING,
     "W0114": UNENDED,
     "W0115": looping("!done()", "{ }"),
+    "W0118": GOAL_PAID_AGAIN,
+    "W0119": UNWATCHED,
+    "W0120": UNRUN_WATCH_BODY,
 }

@@ -151,9 +151,12 @@ def statements(draw: st.DrawFn, w: World, scope: list[str], depth: int) -> str:
         return f"{action_call(draw, w, scope)};"
     if kind == "hooks":  # durative hooks: each one is a costed step while planning
         call = action_call(draw, w, scope)
-        hook = draw(st.sampled_from(["start", "end", "finish", "start-end", "during"]))
+        hook = draw(st.sampled_from(["start", "end", "finish", "start-end", "during", "during-until"]))
         if hook == "during":
             return f"during ({call}) {draw(statements(w, scope, depth - 1))}"
+        if hook == "during-until":
+            until = draw(conditions(w, scope, 1))
+            return f"during ({call}) until ({until}) {draw(statements(w, scope, depth - 1))}"
         if hook == "start-end":
             return f"{{ start({call}); {draw(statements(w, scope, depth - 1))} end({call}); }}"
         return f"{hook}({call});"

@@ -200,14 +200,18 @@ def make_if(condition: ast.Expr, then: ast.Statement, otherwise: ast.Statement |
 
 
 def make_during(
-    action: ast.Expr, body: ast.Statement, on_fail: ast.Statement | None, on_cancel: ast.Statement | None
+    action: ast.Expr,
+    body: ast.Statement,
+    on_fail: ast.Statement | None,
+    on_cancel: ast.Statement | None,
+    until: ast.Expr | None = None,
 ) -> ast.During:
     # Handlers bind to the nearest `during`: what precedes a handler must not end in one.
     if (on_fail is not None or on_cancel is not None) and takes_handler(body):
         body = block(body)
     if on_fail is not None and on_cancel is not None and takes_handler(on_fail):
         on_fail = block(on_fail)
-    return ast.During(span=SPAN, action=action, body=body, on_fail=on_fail, on_cancel=on_cancel)
+    return ast.During(span=SPAN, action=action, until=until, body=body, on_fail=on_fail, on_cancel=on_cancel)
 
 
 def _list_stmt(op: ast.ListOp, target: ast.Expr, value: ast.Expr) -> ast.ListStmt:
@@ -249,7 +253,7 @@ def stmts(depth: int = STMT_DEPTH) -> st.SearchStrategy[ast.Statement]:
         ),
         st.builds(ast.Solve, span=st.just(SPAN), horizon=e, reward=e, body=sub),
         st.builds(ast.Search, span=st.just(SPAN), body=sub),
-        st.builds(make_during, targets(1), sub, optional, optional),
+        st.builds(make_during, targets(1), sub, optional, optional, st.none() | e),
     )
     return st.one_of(_simple_stmts(), composite)
 

@@ -28,7 +28,7 @@ from gpp.syntax.format import FormatError, _token_map, format_text
 from gpp.syntax.lexer import tokenize
 from gpp.syntax.parser import parse_text
 from gpp.syntax.printer import format_program
-from tests.support import disks
+from tests.support import TYPO_CORPUS, disks
 from tests.support.budget import examples
 from tests.support.cli import Result, run
 from tests.support.syntax_trees import programs
@@ -36,9 +36,14 @@ from tests.support.syntax_trees import programs
 ROOT = Path(__file__).resolve().parents[2]
 
 # Every program of the repository but those in the older syntax (tests/legacy: syntax errors
-# until `gpp check --fix` upgrades them, so there is nothing to format).
+# until `gpp check --fix` upgrades them, so there is nothing to format) and the typos of the
+# fix-it corpus.
 LEGACY = ROOT / "tests" / "legacy"
-REPO_PROGRAMS = sorted(p for p in ROOT.glob("**/*.gpp") if ".venv" not in p.parts and LEGACY not in p.parents)
+REPO_PROGRAMS = sorted(
+    p
+    for p in ROOT.glob("**/*.gpp")
+    if ".venv" not in p.parts and LEGACY not in p.parents and TYPO_CORPUS not in p.parents
+)
 
 
 # ---------------------------------------------------------------- where comments go
@@ -118,6 +123,11 @@ CASES: dict[str, tuple[str, str]] = {
         "// just a note\n\n/* and another */\n",
     ),
     "an empty file stays empty": ("\n\n", ""),
+    "the until clause of a during, with its comments": (
+        "procedure main() {\n    during(a())until(/* why */ p()) // watch\n    { b(); } on_fail c();\n}\n",
+        "procedure main() {\n    during (a()) until (/* why */ p())  // watch\n    {\n        b();\n    } on_fail\n"
+        "        c();\n}\n",
+    ),
 }
 
 
@@ -203,6 +213,51 @@ def test_long_comparisons_and_products_break_before_their_operators() -> None:
         f"procedure main() {{\n    y() = {WIDE}(a)\n        * {WIDE}(b)\n"
         f"        / {WIDE}(c)\n        % {WIDE}(d);\n}}\n"
     )
+
+
+def test_compound_literals_in_a_long_else_if_chain_stay_on_one_line() -> None:
+    # The user's file, after an earlier format-on-save broke it after each field's `=`.
+    broken = (
+        "Pos function spot(Room visitor_destination) = if (visitor_destination == lobby) Pos { x =\n"
+        "    0, y =\n    0 } else if (visitor_destination == room1) Pos { x = 4, y = 2 }"
+        " else if (visitor_destination == room2) Pos { x = 8, y = 2 } else Pos { x = 1, y = 7 }\n"
+    )
+    formatted = (
+        "Pos function spot(Room visitor_destination) =\n"
+        "    if (visitor_destination == lobby)\n"
+        "        Pos { x = 0, y = 0 }\n"
+        "    else if (visitor_destination == room1)\n"
+        "        Pos { x = 4, y = 2 }\n"
+        "    else if (visitor_destination == room2) Pos { x = 8, y = 2 } else Pos { x = 1, y = 7 }\n"
+    )
+    assert format_text(broken) == formatted
+    assert format_text(" ".join(broken.split())) == formatted
+    assert format_text(formatted) == formatted
+
+
+_LONG_LITERAL = f"Pos {{ x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1, y = {WIDE} }}"
+
+
+@pytest.mark.parametrize(
+    ("source", "expected"),
+    [
+        # A compound literal breaks at its commas, not after its fields' `=`.
+        (
+            f"Pos function where(Room r) = {_LONG_LITERAL}\n",
+            "Pos function where(Room r) =\n    Pos {\n"
+            f"        x = if (r == lobby) {WIDE} else if (r == hall) 4 else 1,\n        y = {WIDE}\n    }}\n",
+        ),
+        # Its parts are one level deeper than the line the bracket opens on, a continued one.
+        (
+            f"number function f() = g({WIDE}(1), {WIDE}(2), {WIDE}(3), {WIDE}(4))\n",
+            f"number function f() =\n    g(\n        {WIDE}(1),\n        {WIDE}(2),\n"
+            f"        {WIDE}(3),\n        {WIDE}(4)\n    )\n",
+        ),
+    ],
+    ids=["compound literal", "argument list"],
+)
+def test_a_long_bracket_on_a_continued_line_is_laid_out_one_part_per_line(source: str, expected: str) -> None:
+    assert format_text(source) == expected
 
 
 def test_a_block_comment_inside_a_line_counts_towards_its_length() -> None:

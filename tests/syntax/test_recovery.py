@@ -315,7 +315,11 @@ def test_missing_parenthesis_after_if_is_one_error() -> None:
     result = parse_text("procedure main() {\n    if p() a();\n    b();\n}\n")
     d = single(result)
     assert (d.code, d.span.line, d.span.col) == ("E0010", 2, 8)
-    assert d.message == "expected `(`, found `p`"
+    assert d.message == "expected `(` after `if`: its condition goes in parentheses"
+    assert d.fix is not None and d.fix.is_safe
+    assert fixed_text("procedure main() {\n    if p() a();\n    b();\n}\n", d) == (
+        "procedure main() {\n    if (p()) a();\n    b();\n}\n"
+    )
 
 
 # ---------------------------------------------------------------- follow-on errors with wrong fixes

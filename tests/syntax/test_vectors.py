@@ -121,8 +121,9 @@ def ssx(s: ast.Statement) -> str:
             return f"{sx(target)} = {sx(value)};"
         case ast.Test(condition=c):
             return f"test({sx(c)});"
-        case ast.During(action=action, body=body, on_fail=on_fail, on_cancel=on_cancel):
-            text = f"during ({sx(action)}) {ssx(body)}"
+        case ast.During(action=action, until=until, body=body, on_fail=on_fail, on_cancel=on_cancel):
+            watch = "" if until is None else f" until ({sx(until)})"
+            text = f"during ({sx(action)}){watch} {ssx(body)}"
             if on_fail is not None:
                 text += f" on_fail {ssx(on_fail)}"
             if on_cancel is not None:
@@ -637,6 +638,27 @@ def test_vector_53_handlers_belong_to_during_not_to_its_body() -> None:
     assert ssx(statement.on_fail) == "b();"
     assert statement.on_cancel is not None
     assert ssx(statement.on_cancel) == "c();"
+
+
+def test_during_until_keeps_its_condition_before_the_body() -> None:
+    source = "procedure main() { during (d(2)) until (p() & q()) a(); on_fail b(); on_cancel c(); }"
+    statement = only_statement(source)
+    assert isinstance(statement, ast.During) and statement.until is not None
+    assert statement.until.span.text == "p() & q()"
+    assert ssx(statement) == "during (d(2)) until ((p() & q())) a(); on_fail b(); on_cancel c();"
+    assert ssx(statement.body) == "a();"
+    assert isinstance(only_statement("procedure main() { during (d()) {} }"), ast.During)
+
+
+def test_until_outside_a_during_says_where_it_belongs() -> None:
+    result = parse_text("procedure main() {\n    during (d()) {} until (p());\n}")
+    d = assert_error(result, "E0013", 2, 21, "`until` is a reserved word")
+    assert d.notes == ("`until` watches an activity: it follows `during (...)`, as in `during (a) until (e) { }`",)
+
+
+def test_until_stays_the_temporal_operator_in_constraints() -> None:
+    result = parse_text("constraints {\n    state(arm) = ready until[, 30] state(arm) = moving;\n}\n")
+    assert [t.type for t in result.tokens if t.value == "until"] == ["TEMPORAL_BIN"]
 
 
 def test_during_handler_given_twice_is_rejected() -> None:

@@ -477,7 +477,7 @@ def bad_inputs(tmp_path: Path) -> dict[str, tuple[Path, int, str]]:
     return out
 
 
-@pytest.mark.parametrize("command", ["summary", "html", "perfetto"])
+@pytest.mark.parametrize("command", ["summary", "html", "perfetto", "mcap"])
 def test_bad_input_is_one_line_and_an_exit_code(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, command: str
 ) -> None:
@@ -485,6 +485,7 @@ def test_bad_input_is_one_line_and_an_exit_code(
         code, out, err = gpp(capsys, "trace", command, str(path))
         assert (code, out, err) == (expected_code, "", message + "\n"), name
     assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob("*.perfetto.json"))
+    assert not list(tmp_path.glob("*.mcap"))
 
 
 def test_a_folder_without_a_trace_is_not_a_trace(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

@@ -5,7 +5,7 @@ or network requests, draws one bar per activity, shows the source line on hover,
 pans. Each step waits for the state it asserts (playwright's `expect`, or the chart's
 `data-view` for the time window drawn) with a timeout long enough for a loaded machine, never
 for a fixed time or for "some change". `GPP_UPDATE_SCREENSHOT=1` also writes its screenshot to
-docs/trace_viewer.png (the README's picture; its own variable, since the planning time shown in
+docs/trace_viewer.png (the tutorial's picture; its own variable, since the planning time shown in
 it varies run to run)."""
 
 from __future__ import annotations

@@ -13,8 +13,8 @@ syntax keyword gologDeclaration component constraints
 syntax keyword gologType list bool number string symbol void
 " the statements' keywords and the hooks of `during`
 syntax keyword gologStatement if else while test choose pick in search
-syntax keyword gologStatement solve concurrent during on_fail on_cancel start end finish
-syntax keyword gologStatement fail cancel
+syntax keyword gologStatement solve concurrent during until on_fail on_cancel start end
+syntax keyword gologStatement finish fail cancel
 " the built-in functions and list operations
 syntax keyword gologBuiltin push_back push_front pop_back pop_front length to_string
 " the literal constants
@@ -22,7 +22,7 @@ syntax keyword gologConstant true false null
 " the quantifiers
 syntax keyword gologQuantifier exists forall
 " the words of `component` and `constraints` declarations
-syntax keyword gologPlatform resets state next previous future past until since
+syntax keyword gologPlatform resets state next previous future past since
 " the section words, before their colon (`precondition:`)
 syntax match gologSection "\<\%(initially\|precondition\|effect\|senses\|mapping\|silent\|duration\|clocks\|states\|transitions\)\>\ze\_s*:"
 

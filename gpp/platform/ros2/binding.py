@@ -14,14 +14,14 @@ import dataclasses
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from gpp.base.source import Source, Span
 from gpp.base.suggest import did_you_mean
-from gpp.platform.ros2.names import MappedName, NameError_, normalize, parse_mapped
+from gpp.platform.ros2.names import MappedName, NameError_, is_name, normalize, parse_mapped
 from gpp.platform.values import show_plain
 
 
@@ -32,6 +32,8 @@ class BindingError(Exception):
 _TIMEOUTS = ("server_timeout", "ack_timeout", "result_timeout", "feedback_timeout")
 # Timeouts that may be 0 (no limit).
 _MAY_BE_ZERO = ("result_timeout", "feedback_timeout")
+# The tables of a binding file that are not ROS names.
+_TABLES = ("defaults", "exog_function")
 _DEFAULT_KEYS = frozenset({*_TIMEOUTS, "timeout", "resend", "discovery_timeout"})
 _NAME_KEYS = frozenset({"type", *_TIMEOUTS, "resend", "stamp", "result", "qos"})
 _FUNCTION_KEYS = frozenset(
@@ -80,6 +82,8 @@ class NameEntry:
 
     name: str
     type: str | None = None
+    # The name as the binding file writes it (resolved again under the node's namespace).
+    written: str = ""
     server_timeout: float | None = None
     ack_timeout: float | None = None
     result_timeout: float | None = None
@@ -125,6 +129,24 @@ class Binding:
     discovery_timeout: float = DEFAULT_DISCOVERY_TIMEOUT
     names: dict[str, NameEntry] = field(default_factory=dict)
     functions: dict[str, FunctionEntry] = field(default_factory=dict)
+
+    def resolved(self, resolve: Callable[[str], str]) -> Binding:
+        """The binding with its ROS names resolved by `resolve` (under the agent node's
+        namespace, with its remapping rules), as the program's mapped names are."""
+        names = {}
+        for entry in self.names.values():
+            name = resolve(entry.written or entry.name)
+            names[name] = dataclasses.replace(entry, name=name)
+        # A source with placeholders is resolved per name it stands for, once they are filled.
+        functions = {
+            fname: f
+            if "{" in (f.source.written or f.source.name)
+            else dataclasses.replace(
+                f, source=dataclasses.replace(f.source, name=resolve(f.source.written or f.source.name))
+            )
+            for fname, f in self.functions.items()
+        }
+        return dataclasses.replace(self, names=names, functions=functions)
 
     def entry(self, name: str) -> NameEntry:
         return self.names.get(name) or NameEntry(name)
@@ -197,18 +219,24 @@ class Binding:
                 for fname, entry in functions.items():
                     fkey = f"exog_function.{fname}"
                     binding.functions[fname] = _function(fname, _table(entry, at(fkey)), at(fkey), spans.get(fkey))
-            elif key.startswith("/") or key.startswith("~"):
-                name = normalize(key)
+            elif key.strip().startswith(("/", "~")) or (is_name(key.strip()) and not did_you_mean(key, _TABLES)):
+                if "{" in key or "}" in key:
+                    raise BindingError(
+                        f"{at(key)}: a table of the binding file is for one ROS name and cannot have a placeholder: "
+                        'write a table for each name the mapping stands for, such as ["/robot1/navigate"]'
+                    )
                 try:
                     parse_mapped(key)
                 except NameError_ as e:
                     raise BindingError(f"{at(key)}: {e}") from None
+                name = normalize(key)
                 binding.names[name] = _name_entry(name, _table(value, at(key)), at(key), spans.get(key))
+                binding.names[name].written = key.strip()
             else:
-                hint = did_you_mean(key, ("defaults", "exog_function"))
+                hint = did_you_mean(key, _TABLES)
                 raise BindingError(
                     f"{at(key)}: unknown table `{key}`: tables are `[defaults]`, `[exog_function.NAME]` and "
-                    'ROS names written with their leading slash, such as `["/stack"]`' + (f"; {hint}" if hint else "")
+                    'ROS names, such as `["/stack"]` or `["navigate"]`' + (f"; {hint}" if hint else "")
                 )
         return binding
 
@@ -263,7 +291,7 @@ def _function(name: str, table: Mapping[str, Any], at: str, span: Span | None) -
             hint = "; a topic's value has a maximum age (`max_age`) instead" if key == "timeout" else ""
             raise BindingError(f"{at} {key}: only a {' or '.join(applies)} source takes `{key}`{hint}")
     try:
-        source = parse_mapped(_text(table[kind], f"{at} {kind}"))
+        source = parse_mapped(_text(table[kind], f"{at} {kind}"), placeholders=True)
     except NameError_ as e:
         raise BindingError(f"{at} {kind}: {e}") from None
     entry = FunctionEntry(name, source, kind, span=span)

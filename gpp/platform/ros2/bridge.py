@@ -20,6 +20,7 @@ import concurrent.futures
 import contextlib
 import logging
 import math
+import re
 import threading
 import time
 import weakref
@@ -34,12 +35,14 @@ from rclpy.action.client import ActionClient
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
 from gpp.platform.ros2.binding import Qos
 from gpp.platform.ros2.interfaces import FieldError, Interface, InterfaceError, load_interface, make_message, to_plain
 from gpp.platform.ros2.interfaces import fill_fields as _fill
+from gpp.platform.ros2.names import DEFAULT_NODE_NAME, resolve
 from gpp.platform.values import show_plain
 from gpp.runtime.state import ActivityStatus
 
@@ -116,20 +119,42 @@ class Bridge:
         self,
         context: Context | None = None,
         domain_id: int | None = None,
-        node_name: str = "gpp_agent",
+        node_name: str = DEFAULT_NODE_NAME,
         log_level: str = "warn",
+        namespace: str | None = None,
+        arguments: Sequence[str] = (),
+        use_sim_time: bool = False,
     ) -> None:
+        """`arguments`: the ROS arguments (those after `--ros-args`: remapping rules,
+        parameters, parameter files, log levels), parsed by rcl; on a context of its own they
+        are the context's (global) arguments, on a given one the node's. ArgumentError when
+        rcl refuses them."""
         self.own_context = context is None
         if context is None:
             context = Context()
-            rclpy.init(
-                args=["--ros-args", "--log-level", log_level],
-                context=context,
-                domain_id=domain_id,
-                signal_handler_options=SignalHandlerOptions.NO,
-            )
+            _init(context, ["--ros-args", "--log-level", log_level, *arguments], domain_id)
         self.context = context
-        self.node = rclpy.create_node(node_name, context=context, start_parameter_services=False)
+        overrides = [Parameter("use_sim_time", Parameter.Type.BOOL, True)] if use_sim_time else []
+        try:
+            self.node = rclpy.create_node(
+                node_name,
+                namespace=namespace,
+                context=context,
+                cli_args=["--ros-args", *arguments] if arguments and not self.own_context else None,
+                start_parameter_services=False,
+                parameter_overrides=overrides,
+                automatically_declare_parameters_from_overrides=True,
+            )
+        except Exception as e:
+            if self.own_context:
+                context.try_shutdown()
+            raise ArgumentError(_rcl_message(e)) from None
+        # The option or the ROS parameter (`--ros-args -p use_sim_time:=true`): rclpy's clock
+        # of the node follows /clock (the stamps it fills in); the platform's clock does too.
+        self.sim_time = bool(self.node.get_parameter("use_sim_time").value)
+        # The names the node resolved (with its remapping rules) -> as they were expanded
+        # before: an entity is made with the expanded name, so that rcl remaps it once.
+        self._expanded: dict[str, str] = {}
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
         self.jobs: list[Job] = []
@@ -229,6 +254,51 @@ class Bridge:
     def _cancel_all(self) -> None:
         for job in list(self.jobs):
             self.cancel(job)
+
+    # ---------------------------------------------------------------- names
+
+    @property
+    def namespace(self) -> str:
+        return str(self.node.get_namespace())
+
+    @property
+    def node_name(self) -> str:
+        return str(self.node.get_name())
+
+    def resolve(self, name: str) -> str:
+        """The absolute name `name` (as mapped: absolute, relative or `~`) stands for on the
+        agent's node: expanded with its namespace and name, then remapped by its rules
+        (gpp.platform.ros2.names.resolve; NameError_ when it is not a ROS name). From any
+        thread: the remapping runs on the spin thread."""
+        return resolve(name, self.namespace, self.node_name, self._remap)
+
+    def _remap(self, expanded: str) -> str:
+        if threading.current_thread() is not self.thread and self.thread.is_alive():
+            return str(self.call(self._remap, expanded))
+        remapped = str(self.node.resolve_topic_name(expanded))
+        self._expanded.setdefault(remapped, expanded)
+        return remapped
+
+    def unremapped(self, name: str) -> str:
+        """The name to make an entity of resolved name `name` with: rcl applies the remapping
+        rules to it again, so an entity is made with the name before them (a rule `a:=b` and a
+        rule `b:=c` take `a` to `b`, as ROS does, not on to `c`)."""
+        return self._expanded.get(name, name)
+
+    def same_name_nodes(self) -> int:
+        """How many other nodes in the graph (on this domain) have the agent node's name and
+        namespace (on the spin thread)."""
+        me = (self.node_name, self.namespace)
+        return sum(1 for found in self.node.get_node_names_and_namespaces() if tuple(found) == me) - 1
+
+    def parameters(self) -> dict[str, Any]:
+        """The node's ROS parameters given to it (`-p`, `--params-file`) by name, as plain
+        values (lists for arrays)."""
+        found: dict[str, Any] = {}
+        for name, parameter in self.node.get_parameters_by_prefix("").items():
+            value = parameter.value
+            found[name] = value if isinstance(value, str | bool | int | float) or value is None else list(value)
+        return found
 
     # ---------------------------------------------------------------- the graph
 
@@ -357,9 +427,9 @@ class Bridge:
                 return
             try:
                 if kind == "action":
-                    client = ActionClient(self.node, job.interface.cls, job.name)
+                    client = ActionClient(self.node, job.interface.cls, self.unremapped(job.name))
                 else:
-                    client = self.node.create_client(job.interface.cls, job.name)
+                    client = self.node.create_client(job.interface.cls, self.unremapped(job.name))
             except Exception as e:
                 self._fail(job, f'cannot make a client of "{job.name}" ({job.interface.name}): {e}')
                 return
@@ -390,7 +460,7 @@ class Bridge:
         key = (name, interface.name)
         publisher = self._publishers.get(key)
         if publisher is None:
-            publisher = self.node.create_publisher(interface.cls, name, qos_profile(qos, 10))
+            publisher = self.node.create_publisher(interface.cls, self.unremapped(name), qos_profile(qos, 10))
             self._publishers[key] = publisher
         return publisher
 
@@ -625,12 +695,44 @@ class Bridge:
             events = SubscriptionEventCallbacks(
                 message_lost=self._guarded(lambda info: report(int(info.total_count_change)))
             )
-        return self.node.create_subscription(cls, name, self._guarded(callback), profile, event_callbacks=events)
+        return self.node.create_subscription(
+            cls, self.unremapped(name), self._guarded(callback), profile, event_callbacks=events
+        )
 
     def best_effort_publishers(self, name: str) -> int:
         """How many publishers of topic `name` are best effort (they can lose messages)."""
         publishers = self.node.get_publishers_info_by_topic(name)
         return sum(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in publishers)
+
+
+class ArgumentError(ValueError):
+    """ROS arguments that rcl refuses (a remapping rule, a parameter, a file, a log level, a
+    node name or namespace), in one line."""
+
+
+def _init(context: Context, args: list[str], domain_id: int | None) -> None:
+    """rclpy.init on `context` with `args`; ArgumentError with rcl's reason when it refuses
+    them (rcl's own log line about it is kept quiet: the error says it)."""
+    from rclpy.impl.logging_severity import LoggingSeverity
+    from rclpy.logging import set_logger_level
+
+    set_logger_level("rcl", LoggingSeverity.FATAL)
+    try:
+        rclpy.init(args=args, context=context, domain_id=domain_id, signal_handler_options=SignalHandlerOptions.NO)
+    except Exception as e:
+        raise ArgumentError(_rcl_message(e)) from None
+    finally:
+        set_logger_level("rcl", LoggingSeverity.UNSET)
+
+
+def _rcl_message(e: Exception) -> str:
+    """What rcl (or rclpy) says is wrong, without where in rcl's sources it noticed."""
+    text = str(e)
+    if type(e).__name__ == "UnknownROSArgsError":
+        return "unknown ROS arguments: " + text.strip("[]").replace("'", "")
+    text = text.removeprefix("failed to initialize rcl: ")
+    text = re.split(r"\. Error: |, at /", text)[0]
+    return text[:1].lower() + text[1:]
 
 
 def qos_profile(qos: Qos | None, depth: int, publishers: Sequence[Any] = (), keep_all: bool = False) -> QoSProfile:

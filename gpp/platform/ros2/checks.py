@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -19,7 +19,15 @@ from rosidl_parser.definition import NamespacedType
 from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.model.types import CompoundType, Type, base
-from gpp.platform.base import ActionBinding, ExogActionBinding, ExogFunctionSignature, Problem, ProgramInterface
+from gpp.platform.base import (
+    ActionBinding,
+    ExogActionBinding,
+    ExogFunctionSignature,
+    Parameter,
+    Problem,
+    ProgramInterface,
+)
+from gpp.platform.ros2 import placeholders
 from gpp.platform.ros2.binding import Binding, FunctionEntry, NameEntry
 from gpp.platform.ros2.interfaces import (
     FieldError,
@@ -118,13 +126,17 @@ def snapshot(bridge: Bridge) -> tuple[dict[str, tuple[str, str]], dict[str, str]
     return known, listened
 
 
-def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
+def untyped_names(
+    interface: ProgramInterface, b: Binding, resolve: Callable[[str], str] | None = None
+) -> dict[str, bool]:
     """The ROS names the program maps without a type (in the mapping or the binding file):
     their types come from the graph. True: only actions use the name, and a topic's
     subscribers tell its type as well as a publisher."""
     names: dict[str, bool] = {}
-    mapped = [(a.mapped_name, True) for a in interface.actions.values()]
-    mapped += [(e.mapped_name, False) for e in interface.exog_actions.values()]
+    mapped = [(i, True) for a in interface.actions.values() for i in _instances(a.mapped_name, a.params, resolve)]
+    mapped += [
+        (i, False) for e in interface.exog_actions.values() for i in _instances(e.mapped_name, e.params, resolve)
+    ]
     for text, by_action in mapped:
         try:
             name = parse_mapped(text)
@@ -134,9 +146,26 @@ def untyped_names(interface: ProgramInterface, b: Binding) -> dict[str, bool]:
         if name.type is None and (entry is None or entry.type is None):
             names[name.name] = names.get(name.name, True) and by_action
     for f in b.functions.values():
+        signature = interface.exog_functions.get(f.function)
         if f.source.type is None:
-            names[f.source.name] = False
+            params = signature.params if signature is not None else ()
+            for text in _instances(f.source.written or f.source.name, params, resolve):
+                try:
+                    names[parse_mapped(text).name] = False
+                except NameError_:
+                    continue
     return names
+
+
+def _instances(text: str, params: Sequence[Parameter], resolve: Callable[[str], str] | None = None) -> list[str]:
+    """The names a mapped name stands for (`text` itself without placeholders; none while its
+    placeholders cannot be served: they are reported), each resolved by `resolve` (the node's
+    resolution of a mapped name, for those with placeholders) when given."""
+    if not placeholders.has_braces(text):
+        return [text]
+    if placeholders.problems("", text, params, None):
+        return []
+    return [resolve(i.text) if resolve is not None else i.text for i in placeholders.instances(text, params)]
 
 
 def _parse(mapped: str, span: Span, what: str) -> tuple[MappedName | None, list[Problem]]:
@@ -279,14 +308,17 @@ def _result_problems(
 
 
 def exog_route(
-    exog: ExogActionBinding, b: Binding, graph: Graph
+    exog: ExogActionBinding, b: Binding, graph: Graph, from_name: Mapping[str, Value] | None = None
 ) -> tuple[tuple[str, Interface | None, list[tuple[str, str, Type]]] | None, list[Problem]]:
+    """The topic of an exogenous action's mapping, its type when known, and the message field
+    that fills each parameter (path, parameter, type); the parameters in `from_name` (the
+    values of its placeholders) are filled from the topic's name instead."""
     what = f"exogenous action `{exog.name}`"
     name, problems = _parse(exog.mapped_name, exog.span, what)
     if name is None:
         return None, problems
     by_param = {param: backend for backend, param in exog.fields.items()}
-    routes = [(by_param.get(p.name, p.name), p.name, p.type) for p in exog.params]
+    routes = [(by_param.get(p.name, p.name), p.name, p.type) for p in exog.params if p.name not in (from_name or {})]
     type_name, problems = _type_name(name, b, graph, exog.span, what)
     if problems:
         return None, problems
@@ -332,10 +364,15 @@ _SOURCE_KIND = {"topic": "msg", "service": "srv", "feedback": "action"}
 
 
 def function_source(
-    entry: FunctionEntry, signature: ExogFunctionSignature, graph: Graph, known: str | None = None
+    entry: FunctionEntry,
+    signature: ExogFunctionSignature,
+    graph: Graph,
+    known: str | None = None,
+    from_name: frozenset[str] = frozenset(),
 ) -> tuple[Interface | None, list[Problem]]:
     """The interface that answers an exogenous function, checked against it; `known`: its type
-    when the program's mappings say it (the action of a feedback source)."""
+    when the program's mappings say it (the action of a feedback source); `from_name`: the
+    parameters its source's name has as placeholders (they are not asked for in a request)."""
     what = f"binding file: [exog_function.{entry.function}]"
     span = entry.span
     problems: list[Problem] = []
@@ -363,12 +400,13 @@ def function_source(
                 span,
             )
         ]
-    params = {p.name: p.type for p in signature.params}
+    params = {p.name: p.type for p in signature.params if p.name not in from_name}
     if entry.kind != "service" and params:
         problems.append(
             Problem(
                 f"{what}: `{entry.function}` has parameters ({', '.join(params)}); a {entry.kind} answers only a "
-                "function without parameters (use a service for one with parameters)",
+                'function whose parameters are placeholders of its name (such as "/{r}/battery"; use a service '
+                "for other parameters)",
                 span,
             )
         )
@@ -419,11 +457,13 @@ def function_source(
     return iface, problems
 
 
-def unused_entries(b: Binding, interface: ProgramInterface) -> list[Problem]:
+def unused_entries(
+    b: Binding, interface: ProgramInterface, resolve: Callable[[str], str] | None = None
+) -> list[Problem]:
     """Binding file entries for ROS names that no mapping of the program uses."""
     used: set[str] = set()
-    mapped = [b.mapped_name for b in interface.actions.values()]
-    mapped += [b.mapped_name for b in interface.exog_actions.values()]
+    mapped = [t for a in interface.actions.values() for t in _instances(a.mapped_name, a.params, resolve)]
+    mapped += [t for e in interface.exog_actions.values() for t in _instances(e.mapped_name, e.params, resolve)]
     for text in mapped:
         try:
             used.add(parse_mapped(text).name)

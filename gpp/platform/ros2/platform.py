@@ -24,11 +24,14 @@ install the ROS packages) where they are missing.
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import logging
+import os
 import re
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -54,6 +57,7 @@ from gpp.platform.base import (
     parse_options,
 )
 from gpp.platform.options import BUILTIN, Ros2Options
+from gpp.platform.ros2 import placeholders
 from gpp.platform.ros2.binding import (
     Binding,
     BindingError,
@@ -61,12 +65,15 @@ from gpp.platform.ros2.binding import (
     NameEntry,
     find_binding,
 )
-from gpp.platform.ros2.names import NameError_, parse_mapped
+from gpp.platform.ros2.live import LiveTopics
+from gpp.platform.ros2.names import DEFAULT_NODE_NAME, NameError_, is_namespace, normalize, parse_mapped
 from gpp.platform.values import ConversionError, to_value
+from gpp.runtime.events import TraceEvent
 from gpp.runtime.state import ActivityStatus
 from gpp.runtime.values import Value
 
 if TYPE_CHECKING:
+    from gpp.platform.ros2 import checks
     from gpp.platform.ros2.bridge import Bridge, Job, Outcome
     from gpp.platform.ros2.checks import Target
     from gpp.platform.ros2.interfaces import Interface
@@ -75,6 +82,14 @@ log = logging.getLogger("gpp.platform.ros2")
 
 # s between two looks at the graph for the types of names mapped without one, not yet seen
 TARGET_LOOK = 0.1
+# s between two looks at the graph for another node with the agent node's name
+NODE_NAME_LOOK = 1.0
+# The parameters every node has (rclpy declares them): not the entry procedure's.
+NODE_PARAMETERS = frozenset({"use_sim_time", "start_type_description_service"})
+CLOCK_TOPIC = "/clock"
+# s (wall clock) at most between two looks at the simulator's clock while a program waits for
+# a time: the clock's callback wakes the wait, this only bounds a wake-up that came just before.
+SIM_SLICE = 0.02
 _UNFIT = "the mapping does not fit the type the ROS graph shows (see the error); nothing was sent"
 
 INSTALL_HINT = "platform `ros2` needs the ROS 2 Python packages, which are not installed: pip install 'gpp[ros]'"
@@ -86,7 +101,11 @@ class Topic:
 
     name: str
     interface: Interface | None
-    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]]]] = field(default_factory=list)
+    # Each exogenous action its messages become: the message field that fills each parameter
+    # (path, parameter, type), and the parameters filled from the topic's name (placeholders).
+    routes: list[tuple[ExogActionBinding, list[tuple[str, str, Type]], Mapping[str, Value]]] = field(
+        default_factory=list
+    )
     qos_entry: NameEntry | None = None
     subscription: Any = None
     warned: bool = False
@@ -100,7 +119,7 @@ class Source:
 
     entry: FunctionEntry
     signature_type: Type
-    params: tuple[str, ...]
+    params: tuple[str, ...]  # those a service request is asked with (not the name's placeholders)
     interface: Interface | None = None
     span: Span | None = None  # the function's declaration
     latest: Any = None
@@ -138,8 +157,12 @@ class Ros2Platform(Platform):
         binding: Binding | None = None,
         context: Any = None,
         domain_id: int | None = None,
-        node_name: str = "gpp_agent",
+        node_name: str = DEFAULT_NODE_NAME,
         log_level: str = "warn",
+        namespace: str | None = None,
+        arguments: Sequence[str] = (),
+        use_sim_time: bool = False,
+        publish_trace: bool = True,
     ) -> None:
         super().__init__()
         self.binding = binding or Binding()
@@ -147,18 +170,40 @@ class Ros2Platform(Platform):
         self.domain_id = domain_id
         self.node_name = node_name
         self.log_level = log_level
+        self.namespace = namespace
+        # The ROS arguments (after `--ros-args`), parsed by rcl when the node starts.
+        self.arguments = tuple(arguments)
+        self.duplicate_warned = False
+        self._resolved: dict[str, str] = {}  # a name as written -> as the node resolves it
         self.t0 = time.monotonic()
         self.bridge: Bridge | None = None
         self.interface: ProgramInterface | None = None
-        self.targets: dict[str, Target] = {}
+        # (action, the values of its mapped name's placeholders: () without) -> how it is served
+        self.targets: dict[tuple[str, tuple[str | None, ...]], Target] = {}
         self.topics: dict[str, Topic] = {}
+        # exogenous function (with its placeholders' values: `battery(robot1)`) -> its source
         self.sources: dict[str, Source] = {}
+        # exogenous function whose source has placeholders -> their parameters
+        self._source_params: dict[str, tuple[str, ...]] = {}
         self._jobs: dict[int, Job] = {}
         self._lock = threading.Lock()
         self._results: dict[int, Value] = {}
         self._last: dict[str, Any] = {}  # mapped ROS name -> its last result (plain)
         self.exog_received = 0
         self._next_target_look = 0.0
+        self.use_sim_time = use_sim_time
+        self.live_topics = LiveTopics() if publish_trace else None
+        # Sim time (the option or the node's use_sim_time parameter): the platform's clock goes
+        # on from the last time it told before (`_sim_base`: the header's) by the /clock time
+        # since its first message, never going back; `_deadline` is what a waiting program
+        # waits for (the clock's callback wakes it).
+        self.sim_time = False
+        self._told = 0.0
+        self._clock_lock = threading.Lock()
+        self._sim_origin: float | None = None
+        self._sim_base = 0.0
+        self._sim_now = 0.0
+        self._deadline: float | None = None
 
     @classmethod
     def create(cls, config: PlatformConfig) -> Ros2Platform:
@@ -182,37 +227,131 @@ class Ros2Platform(Platform):
                     f"not {options.discovery_timeout:g}"
                 )
             binding.discovery_timeout = options.discovery_timeout
-        return cls(binding, None, options.domain_id, options.node_name, options.log_level)
+        platform = cls(
+            binding,
+            None,
+            options.domain_id,
+            options.node_name or DEFAULT_NODE_NAME,
+            options.log_level or "warn",
+            namespace_of(options),
+            check_arguments(options, config.arguments),
+            options.use_sim_time,
+            options.publish_trace,
+        )
+        platform.start_node()
+        return platform
+
+    def start_node(self) -> None:
+        """Start the agent's node (and its spin thread), unless it runs: rcl parses the ROS
+        arguments then. PlatformError, one line, for arguments rcl refuses."""
+        from gpp.platform.ros2.bridge import ArgumentError, Bridge
+
+        if self.bridge is not None:
+            return
+        try:
+            self.bridge = Bridge(
+                self.context,
+                self.domain_id,
+                self.node_name,
+                self.log_level,
+                self.namespace,
+                self.arguments,
+                self.use_sim_time,
+            )
+        except ArgumentError as e:
+            raise PlatformError(
+                f"--ros-args: {e}" if self.arguments else f"cannot start the agent's node: {e}"
+            ) from None
+        if not self.bridge.sim_time:
+            self.t0 = self.bridge.t0
+
+    def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
+        """The node's ROS parameters (`-p n:=3`, `--params-file`) but those every node has:
+        the values of the entry procedure's parameters."""
+        if self.bridge is None:
+            return {}
+        return {
+            name: (value, f"the ROS parameter `{name}`")
+            for name, value in self.bridge.parameters().items()
+            if name not in NODE_PARAMETERS
+        }
 
     # ---------------------------------------------------------------- attach
 
     def attach(self, interface: ProgramInterface) -> list[Problem]:
         from gpp.platform.ros2 import checks
-        from gpp.platform.ros2.bridge import Bridge
 
-        self.interface = interface
         problems: list[Problem] = []
         try:
-            self.bridge = Bridge(self.context, self.domain_id, self.node_name, self.log_level)
-        except Exception as e:
-            return [Problem(f"cannot start the agent's ROS 2 node: {type(e).__name__}: {e}")]
+            self.start_node()
+        except PlatformError as e:
+            return [Problem(str(e))]
+        assert self.bridge is not None
         bridge = self.bridge
-        self.t0 = bridge.t0
+        # The names as the node resolves them: under its namespace, with its remapping rules.
+        interface = resolved_interface(interface, bridge.resolve)
+        try:
+            self.binding = self.binding.resolved(bridge.resolve)
+        except NameError_ as e:
+            return [Problem(f"binding file: {e}")]
+        self.interface = interface
+        self._check_node_name()
+        if self.live_topics is not None:
+            try:
+                self.live_topics.attach(bridge)
+            except Exception as e:
+                return [Problem(f"cannot publish the run's records: {type(e).__name__}: {e}")]
         # One wait for discovery, at most discovery_timeout in all: first for the names mapped
         # without a type (their mappings are checked against the types the graph shows), then
         # for the subscribers of the topics the program publishes on (_wait_for_subscribers).
+        # With sim time, the first /clock message comes first.
         deadline = time.monotonic() + self.binding.discovery_timeout
-        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding), deadline)
-        for name, binding in sorted(interface.actions.items()):
-            target, found = checks.action_target(binding, self.binding, graph)
-            problems.extend(found)
-            if target is not None:
-                self.targets[name] = target
-        for name, exog in sorted(interface.exog_actions.items()):
-            found_topic, found = checks.exog_route(exog, self.binding, graph)
-            problems.extend(found)
-            if found_topic is None:
+        if bridge.sim_time:
+            problem = self._follow_clock(deadline)
+            if problem is not None:
+                return [problem]
+        resolve = self._resolve_mapped
+        graph = checks.Graph(bridge, checks.untyped_names(interface, self.binding, resolve), deadline)
+        # A mapped name with placeholders is served as one mapping per name it stands for.
+        unserved = placeholders.mapping_problems(interface)
+        problems.extend(p for name in sorted(unserved) for p in unserved[name])
+        for name, action in sorted(interface.actions.items()):
+            if name in unserved:
                 continue
+            for instance, binding in placeholders.bound_instances(action, resolve):
+                target, found = checks.action_target(binding, self.binding, graph)
+                problems.extend(p for p in found if p not in problems)
+                if target is not None:
+                    self.targets[name, instance.key] = target
+        for name, exog_action in sorted(interface.exog_actions.items()):
+            if name in unserved:
+                continue
+            for instance, exog in placeholders.bound_instances(exog_action, resolve):
+                problems.extend(self._route(exog, instance.values, graph))
+        self._sources(interface, graph, problems)
+        problems.extend(checks.unused_entries(self.binding, interface, resolve))
+        if problems:
+            return problems
+        try:
+            bridge.call(self._subscribe_all, timeout=5.0)
+        except Exception as e:
+            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
+        bridge.watchers.append(self._watch_topics)
+        bridge.watchers.append(self._watch_targets)
+        bridge.watchers.append(self._watch_sources)
+        self._wait_for_subscribers(deadline)
+        return []
+
+    def _route(self, exog: ExogActionBinding, from_name: Mapping[str, Value], graph: checks.Graph) -> list[Problem]:
+        """Route the messages of an exogenous action's topic to it (`from_name`: the values of
+        the parameters its topic's name fills); the problems found."""
+        from gpp.platform.ros2 import checks
+
+        name = exog.name
+        problems: list[Problem] = []
+        found_topic, found = checks.exog_route(exog, self.binding, graph, from_name)
+        problems.extend(found)
+        if found_topic is not None:
             topic_name, iface, routes = found_topic
             topic = self.topics.get(topic_name)
             if topic is None:
@@ -226,45 +365,118 @@ class Ros2Platform(Platform):
                         exog.span,
                     )
                 )
-                continue
+                return problems
             topic.interface = topic.interface or iface
-            topic.routes.append((exog, routes))
-        for fname, entry in sorted(self.binding.functions.items()):
+            topic.routes.append((exog, routes, from_name))
+        return problems
+
+    def _sources(self, interface: ProgramInterface, graph: checks.Graph, problems: list[Problem]) -> None:
+        """The sources of the exogenous functions the binding file declares, one per name a
+        source with placeholders stands for; the problems found go to `problems`."""
+        from gpp.platform.ros2 import checks
+
+        for fname, template in sorted(self.binding.functions.items()):
             signature = interface.exog_functions.get(fname)
             if signature is None:
                 problems.append(
                     Problem(
                         f"binding file: [exog_function.{fname}]: the program declares no exogenous function `{fname}`",
-                        entry.span,
+                        template.span,
                         "not in the program",
                         help=did_you_mean(fname, interface.exog_functions),
                     )
                 )
                 continue
-            known = None
-            if entry.kind == "feedback":
-                known, found = self._feedback_type(entry)
-                problems.extend(found)
-                if found:
-                    continue
-            source, found = checks.function_source(entry, signature, graph, known)
-            problems.extend(found)
-            if source is not None:
-                self.sources[fname] = Source(
-                    entry, signature.return_type, signature.param_names, source, signature.span
+            what = f"binding file: [exog_function.{fname}] {template.kind}"
+            written = template.source.written or template.source.name
+            unserved = placeholders.problems(what, written, signature.params, template.span)
+            if unserved:
+                problems.extend(unserved)
+                continue
+            in_name = placeholders.placeholders(written)
+            if in_name:
+                self._source_params[fname] = in_name
+            for instance in placeholders.instances(written, signature.params):
+                source_name = template.source
+                if in_name:  # resolved once its placeholders are filled
+                    source_name = parse_mapped(self._resolve_mapped(instance.text))
+                entry = dataclasses.replace(template, source=source_name)
+                known = None
+                if entry.kind == "feedback":
+                    known, found = self._feedback_type(entry)
+                    problems.extend(found)
+                    if found:
+                        continue
+                source, found = checks.function_source(entry, signature, graph, known, frozenset(in_name))
+                problems.extend(p for p in found if p not in problems)
+                if source is not None:
+                    asked = tuple(p for p in signature.param_names if p not in in_name or p in entry.request.values())
+                    key = _source_key(fname, in_name, instance.values)
+                    self.sources[key] = Source(entry, signature.return_type, asked, source, signature.span)
+
+    def _check_node_name(self) -> None:
+        """Warn (once) when another node on the domain has the agent's name and namespace: ROS
+        tools cannot tell them apart, and their parameters and logs mix. Looked at when the
+        program attaches and then every second, for an agent or node that comes later."""
+        assert self.bridge is not None
+        bridge = self.bridge
+        next_look = [0.0]
+
+        def look(now: float) -> None:
+            if self.duplicate_warned or now < next_look[0]:
+                return
+            next_look[0] = now + NODE_NAME_LOOK
+            if bridge.same_name_nodes() > 0:
+                self.duplicate_warned = True
+                name = bridge.node.get_fully_qualified_name()
+                self._warn(
+                    f'another node on this ROS domain is called "{name}", as the agent\'s node is: '
+                    "ROS tools cannot tell the two apart",
+                    None,
+                    help="give each agent a name of its own: `-r __node:=NAME` or `-r __ns:=/NAMESPACE` after "
+                    "--ros-args, or -o node_name=NAME",
                 )
-        problems.extend(checks.unused_entries(self.binding, interface))
-        if problems:
-            return problems
-        try:
-            bridge.call(self._subscribe_all, timeout=5.0)
-        except Exception as e:
-            return [Problem(f"cannot subscribe to the program's topics: {type(e).__name__}: {e}")]
-        bridge.watchers.append(self._watch_topics)
-        bridge.watchers.append(self._watch_targets)
-        bridge.watchers.append(self._watch_sources)
-        self._wait_for_subscribers(deadline)
-        return []
+
+        with contextlib.suppress(Exception):
+            bridge.call(look, 0.0, timeout=5.0)
+        bridge.watchers.append(look)
+
+    def _follow_clock(self, deadline: float) -> Problem | None:
+        """Subscribe to /clock and wait (until `deadline`) for its first message: from then on
+        the platform's clock is the simulator's."""
+        from rosgraph_msgs.msg import Clock
+
+        from gpp.platform.ros2.binding import Qos
+
+        assert self.bridge is not None
+        bridge = self.bridge
+        with self._clock_lock:
+            self._sim_base = self._sim_now = self._told
+        self.sim_time = True
+        qos = Qos(reliability="best_effort", durability="volatile")
+        bridge.call(bridge.subscribe, CLOCK_TOPIC, Clock, self._clock, qos, 1, timeout=5.0)
+        while time.monotonic() < deadline:
+            with self._clock_lock:
+                if self._sim_origin is not None:
+                    return None
+            time.sleep(0.01)
+        return Problem(
+            f"use_sim_time is set, but no message on {CLOCK_TOPIC} arrived within "
+            f"{self.binding.discovery_timeout:g} s (discovery_timeout): start the simulator (what publishes "
+            f"{CLOCK_TOPIC}) first"
+        )
+
+    def _clock(self, msg: Any) -> None:
+        """On the spin thread: the simulator's clock moved; a program waiting for a time it has
+        reached is woken."""
+        seconds = msg.clock.sec + msg.clock.nanosec * 1e-9
+        with self._clock_lock:
+            if self._sim_origin is None:
+                self._sim_origin = seconds
+            self._sim_now = max(self._sim_now, self._sim_base + seconds - self._sim_origin)
+            due = self._deadline is not None and self._sim_now >= self._deadline
+        if due:
+            self.queue.wake()
 
     def _wait_for_subscribers(self, deadline: float) -> None:
         """Make the publishers of the actions that publish now, and wait (until `deadline`, the
@@ -326,7 +538,7 @@ class Ros2Platform(Platform):
             lost=lambda n: self._lost(topic, n),
         )
         if (qos is None or qos.reliability is None) and self.bridge.best_effort_publishers(topic.name):
-            for exog, _ in topic.routes:
+            for exog, *_ in topic.routes:
                 self._warn(
                     f'topic "{topic.name}" has a best-effort publisher: a message it sends can be lost on the way '
                     f"(each loss the middleware notices is a `dropped` record for `{exog.name}`)",
@@ -366,9 +578,11 @@ class Ros2Platform(Platform):
         source.next_wake = now + 1.0 / rate if rate is not None else 0.0
         self.queue.put(ExogFunctionChanged(source.name), now)
 
-    def _watch_sources(self, now: float) -> None:
+    def _watch_sources(self, tick: float) -> None:
         """On the spin thread, every tick: held-back wake-ups, values that just became too old,
-        and polled services wake a waiting program."""
+        and polled services wake a waiting program. In the platform's time, as the values'
+        arrival (the simulator's with sim time; the bridge's `tick` is wall-clock time)."""
+        now = self.now()
         for source in self.sources.values():
             entry = source.entry
             if source.wake_held and now >= source.next_wake:
@@ -408,10 +622,12 @@ class Ros2Platform(Platform):
                 interface = load_interface(found)
             except InterfaceError as e:
                 topic.unusable = True  # never subscribed: each exogenous action says why
-                for exog, _ in topic.routes:
+                for exog, *_ in topic.routes:
                     self.queue.put(MessageDropped(topic.name, exog.name, str(e), exog.span), self.now())
                 continue
-            problems = [p for exog, routes in topic.routes for p in route_problems(exog, topic.name, interface, routes)]
+            problems = [
+                p for exog, routes, _ in topic.routes for p in route_problems(exog, topic.name, interface, routes)
+            ]
             if problems:
                 topic.unusable = True  # never subscribed: the run stops
                 self.queue.put(PlatformFault(tuple(problems)), self.now())
@@ -468,11 +684,11 @@ class Ros2Platform(Platform):
 
         plain = to_plain(msg)
         now = self.now()
-        for exog, routes in topic.routes:
-            args: list[Value] = []
+        for exog, routes, from_name in topic.routes:
+            values = dict(from_name)
             for path, param, t in routes:
                 try:
-                    args.append(to_value(pick(plain, path), t))
+                    values[param] = to_value(pick(plain, path), t)
                 except KeyError:
                     reason, help_ = self._no_field(topic, path)
                     self.queue.put(
@@ -493,7 +709,7 @@ class Ros2Platform(Platform):
                     break
             else:
                 self.exog_received += 1
-                self.queue.put(ExogOccurrence(exog.name, tuple(args)), now)
+                self.queue.put(ExogOccurrence(exog.name, tuple(values[p] for p in exog.param_names)), now)
 
     @staticmethod
     def _no_field(topic: Topic, path: str) -> tuple[str, str | None]:
@@ -512,7 +728,7 @@ class Ros2Platform(Platform):
         if count <= 0:
             return
         now = self.now()
-        for exog, _ in topic.routes:
+        for exog, *_ in topic.routes:
             self.queue.put(
                 MessageDropped(
                     topic.name,
@@ -537,7 +753,9 @@ class Ros2Platform(Platform):
 
         if self.bridge is None:
             raise PlatformError("the ros2 platform is not attached to a program")
-        target = self.targets.get(activity.action.name)
+        action = self.interface.actions.get(activity.action.name) if self.interface is not None else None
+        key = placeholders.instance_key(action.mapped_name, action.params, activity.action.args) if action else ()
+        target = self.targets.get((activity.action.name, key))
         if target is None:
             raise PlatformError(f'no ROS 2 mapping for `{activity.action.name}` ("{activity.mapped_name}")')
         entries = list(activity.args.items())
@@ -643,7 +861,8 @@ class Ros2Platform(Platform):
     def exog_function(
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
-        source = self.sources.get(name)
+        in_name = self._source_params.get(name)
+        source = self.sources.get(name if in_name is None else _source_key(name, in_name, args))
         if source is not None:
             return self._ask(source, args, return_type)
         if activity is not None:
@@ -657,7 +876,7 @@ class Ros2Platform(Platform):
         for value in args.values():
             if isinstance(value, str):
                 try:
-                    mapped = parse_mapped(value).name
+                    mapped = self._resolve(parse_mapped(value).written)
                 except NameError_:
                     continue
                 if mapped in self._last:
@@ -717,31 +936,147 @@ class Ros2Platform(Platform):
         except (KeyError, ConversionError) as e:
             raise PlatformError(f"{what}: {e}") from None
 
-    def now(self) -> float:
-        return time.monotonic() - self.t0
+    def _resolve_mapped(self, text: str) -> str:
+        """A mapped name (with its type) whose placeholders were filled, as the node resolves it."""
+        return resolved_mapped(text, self._resolve)
 
-    def wait(self, deadline: float | None) -> bool:
-        while True:
-            if len(self.queue):
-                return True
-            if deadline is None and not self.live():
-                return False  # nothing can arrive, and the program waits for no moment
-            slice_ = 0.1
-            if deadline is not None:
-                slice_ = min(slice_, deadline - self.now())
-                if slice_ <= 0:
-                    return False
-            if self.queue.wait(slice_):
-                return True
+    def _resolve(self, name: str) -> str:
+        """`name` as the agent's node resolves it (gpp.platform.ros2.names.resolve), once."""
+        found = self._resolved.get(name)
+        if found is None:
+            found = self.bridge.resolve(name) if self.bridge is not None else normalize(name)
+            self._resolved[name] = found
+        return found
+
+    def now(self) -> float:
+        if self.sim_time:
+            with self._clock_lock:
+                return self._sim_now
+        now = time.monotonic() - self.t0
+        self._told = max(self._told, now)
+        return now
+
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
+        with self._clock_lock:
+            self._deadline = deadline
+        try:
+            while True:
+                if len(self.queue):
+                    return True
+                if deadline is None and not self.live():
+                    return False  # nothing can arrive, and the program waits for no moment
+                slice_ = 0.1
+                if deadline is not None:
+                    left = deadline - self.now()
+                    if left <= 0:
+                        return False
+                    # In sim time the clock's callback wakes the wait; left is simulated time.
+                    slice_ = SIM_SLICE if self.sim_time else min(slice_, left)
+                if wall_deadline is not None:
+                    # The run's wall-clock bound (`--timeout`), in wall-clock time also in sim time.
+                    slice_ = min(slice_, wall_deadline - time.monotonic())
+                    if slice_ <= 0:
+                        return False
+                if self.queue.wait(slice_):
+                    return True
+        finally:
+            with self._clock_lock:
+                self._deadline = None
 
     def live(self) -> bool:
         with self._lock:
             running = bool(self._jobs)
         return running or bool(self.topics) or any(s.watched for s in self.sources.values())
 
+    def trace_listener(self) -> Callable[[TraceEvent], None] | None:
+        return self.live_topics
+
     def close(self) -> None:
         if self.bridge is not None:
+            if self.live_topics is not None:
+                try:
+                    self.live_topics.flush()
+                except Exception as e:
+                    log.warning("ros2: the last records were not published: %s: %s", type(e).__name__, e)
             self.bridge.close()
+
+
+def resolved_mapped(text: str, resolve: Callable[[str], str]) -> str:
+    """Mapped name `text` (`"name"` or `"name : pkg/kind/Type"`) with its name resolved by
+    `resolve` (its type kept); one that is not a ROS name (or has placeholders, resolved per
+    name it stands for) stays as it is."""
+    try:
+        mapped = parse_mapped(text)
+        name = resolve(mapped.written)
+    except NameError_:
+        return text
+    return f"{name} : {mapped.type}" if mapped.type is not None else name
+
+
+def resolved_interface(interface: ProgramInterface, resolve: Callable[[str], str]) -> ProgramInterface:
+    """The program's interface with each mapped name resolved by `resolve` (its type kept); a
+    mapped name that is not a ROS name stays as it is (its mapping's check reports it)."""
+
+    def resolved(text: str) -> str:
+        return resolved_mapped(text, resolve)
+
+    return dataclasses.replace(
+        interface,
+        actions={k: dataclasses.replace(a, mapped_name=resolved(a.mapped_name)) for k, a in interface.actions.items()},
+        exog_actions={
+            k: dataclasses.replace(e, mapped_name=resolved(e.mapped_name)) for k, e in interface.exog_actions.items()
+        },
+    )
+
+
+def namespace_of(options: Ros2Options) -> str | None:
+    """The agent node's namespace: the option's, else $ROS_NAMESPACE (made absolute), else
+    None (the root, unless `-r __ns:=` says otherwise)."""
+    if options.namespace is not None:
+        return options.namespace
+    found = os.environ.get("ROS_NAMESPACE", "").strip()
+    if not found:
+        return None
+    namespace = found if found.startswith("/") else "/" + found
+    if not is_namespace(namespace):
+        raise PlatformError(
+            f'$ROS_NAMESPACE must be a ROS namespace (such as "/robot1": letters, digits and `_` between `/`), '
+            f'not "{found}"'
+        )
+    return namespace
+
+
+# What the ROS arguments set of the platform's options: a remapping rule's left side (or the
+# flag) -> the option.
+_SET_BY_ARGUMENTS = {"__node": "node_name", "__name": "node_name", "__ns": "namespace", "--log-level": "log_level"}
+
+
+def check_arguments(options: Ros2Options, arguments: Sequence[str]) -> tuple[str, ...]:
+    """The ROS arguments, refused (PlatformError) when they set what an option given with -o
+    sets too (the node's name or namespace, the log level)."""
+    for i, flag in enumerate(arguments):
+        value = arguments[i + 1] if i + 1 < len(arguments) else ""
+        if flag in ("-r", "--remap"):
+            key = value.partition(":=")[0].rpartition(":")[2]
+        elif flag == "--log-level":
+            key = flag
+        else:
+            continue
+        option = _SET_BY_ARGUMENTS.get(key)
+        if option is not None and getattr(options, option) is not None:
+            raise PlatformError(
+                f"the {option.replace('_', ' ')} is given twice: by -o {option}={getattr(options, option)} "
+                f"and by `{flag} {value}` after --ros-args"
+            )
+    return tuple(arguments)
+
+
+def _source_key(function: str, in_name: tuple[str, ...], values: Mapping[str, Value]) -> str:
+    """The key of an exogenous function's source: its name, with the values of the parameters
+    its source's name has as placeholders (`battery(robot1)`)."""
+    if not in_name:
+        return function
+    return f"{function}({','.join(str(placeholders.name_text(values.get(p))) for p in in_name)})"
 
 
 def _waiting_for_subscriber(bridge: Bridge, publisher: Any) -> bool:
@@ -763,12 +1098,17 @@ def check_options(options: Ros2Options) -> None:
             f"option `domain_id` of platform `ros2` must be a whole number from 0 to {MAX_DOMAIN_ID}, "
             f"not {options.domain_id}"
         )
-    if not _NODE_NAME.match(options.node_name):
+    if options.namespace is not None and not is_namespace(options.namespace):
+        raise PlatformError(
+            f'option `namespace` of platform `ros2` must be an absolute ROS namespace (such as "/robot1": letters, '
+            f'digits and `_` between `/`), not "{options.namespace}"'
+        )
+    if options.node_name is not None and not _NODE_NAME.match(options.node_name):
         raise PlatformError(
             f"option `node_name` of platform `ros2` must be a ROS node name (letters, digits and `_`, not starting "
             f'with a digit; no `/` or namespace), not "{options.node_name}"'
         )
-    if options.log_level.lower() not in LOG_LEVELS:
+    if options.log_level is not None and options.log_level.lower() not in LOG_LEVELS:
         hint = did_you_mean(options.log_level, LOG_LEVELS)
         raise PlatformError(
             f"option `log_level` of platform `ros2` must be one of {', '.join(LOG_LEVELS)}, "

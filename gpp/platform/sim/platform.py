@@ -9,6 +9,12 @@ uses is not stepped at all.
 
 Randomness (grasp slips) comes from one seeded generator, so a run is reproducible per world
 and seed.
+
+What the world does not model is served by a scenario, in the dummy platform's format and with
+its rules, on the sim's clock: the actions that are not mapped to a service of the sim (a
+robot's `greet`, `ask_destination`), exogenous events at given times and the answers of
+exogenous functions. A scenario rule for an action the sim serves can only inject a fault (it
+fails or cancels the activity after its duration, unless the physics ends it first).
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from typing import TYPE_CHECKING, ClassVar
 from gpp.base.paths import output_problem
 from gpp.model.types import STRING, DomainType, Sym, Type
 from gpp.platform.base import (
+    ActionBinding,
     Activity,
     ActivityUpdate,
     ExogActionBinding,
@@ -36,6 +43,7 @@ from gpp.platform.base import (
     RunFacts,
     parse_options,
 )
+from gpp.platform.dummy import DummyPlatform, Scenario, ScenarioError
 from gpp.platform.options import BUILTIN, SimOptions
 from gpp.platform.sim.navigation import Happening, MapScene
 from gpp.platform.sim.services import SERVICES, check_interface, event_args
@@ -94,6 +102,8 @@ class SimPlatform(Platform):
         snapshot: Path | None = None,
         realtime: bool = False,
         frame_interval: float = FRAME_INTERVAL,
+        scenario: Scenario | None = None,
+        scenario_path: Path | None = None,
     ) -> None:
         super().__init__()
         self.world = world if world is not None else World.load()
@@ -112,6 +122,10 @@ class SimPlatform(Platform):
         self.interface: ProgramInterface | None = None
         self.routes: dict[str, list[ExogActionBinding]] = {}
         self.realtime = realtime
+        # What the world does not model, served as the dummy platform serves it, on this clock.
+        self.script = DummyPlatform(scenario, scenario_path=scenario_path)
+        self.scenario_path = scenario_path
+        self.has_scenario = scenario is not None
         self.last_outcome = ""
         self._wall_start = time.perf_counter()
         self._physics = 0.0
@@ -139,13 +153,28 @@ class SimPlatform(Platform):
         except WorldError as e:
             raise PlatformError(str(e)) from None
         seed = options.seed if options.seed is not None else world.faults.seed
-        return cls(world, seed, options.record, options.snapshot, options.realtime)
+        path = options.scenario if options.scenario is not None else config.directive_path("scenario")
+        try:
+            scenario = Scenario.load(path) if path is not None else None
+        except ScenarioError as e:
+            raise PlatformError(str(e)) from None
+        return cls(
+            world, seed, options.record, options.snapshot, options.realtime, scenario=scenario, scenario_path=path
+        )
 
     # ---------------------------------------------------------------- contract
 
     def attach(self, interface: ProgramInterface) -> list[Problem]:
         self.interface = interface
-        problems = check_interface(interface, self.world)
+        scripted = self.script.scenario
+        problems = check_interface(
+            interface,
+            self.world,
+            scripted_actions={r.name for r in scripted.actions},
+            scripted_exogs={e.action for e in scripted.exogs},
+        )
+        problems += self.script.attach(interface)
+        problems += self._injected_faults(interface)
         self.routes = {}
         for signature in interface.exog_actions.values():
             self.routes.setdefault(signature.mapped_name, []).append(signature)
@@ -161,7 +190,12 @@ class SimPlatform(Platform):
     def start(self, activity: Activity) -> None:
         service = SERVICES.get(activity.mapped_name)
         if service is None:
-            raise PlatformError(f'the sim does not serve "{activity.mapped_name}"')
+            self.script.catch_up(self.clock)  # not modelled: the scenario serves it
+            self.script.start(activity)
+            return
+        if self.script.rule_for(activity.action) is not None:
+            self.script.catch_up(self.clock)  # a fault the scenario injects, unless the physics ends it first
+            self.script.start(activity)
         args = {k: _name(v) for k, v in activity.args.items()}
         text = activity.action.text
         if service.scene == "workbench":
@@ -200,45 +234,65 @@ class SimPlatform(Platform):
     def preempt(self, activity: Activity) -> None:
         running = self.tasks.get(activity.id)
         if running is None:
-            return  # already ended
+            self.script.preempt(activity)  # a scripted one (or one already ended)
+            self._take_scripted()
+            return
+        self._stop(running)
+        self._finish(activity, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
+
+    def _stop(self, running: Running) -> None:
         running.task.close()
         scene = running.scene
-        if isinstance(scene, Workbench) and scene.busy == activity.action.text:
+        if isinstance(scene, Workbench) and scene.busy == running.activity.action.text:
             scene.release()
             scene.stop()
-        self._finish(activity, Outcome(ActivityStatus.CANCELLED, reason="preempted"))
 
     def exog_function(
         self, name: str, args: Mapping[str, Value], return_type: Type, activity: Activity | None
     ) -> Value:
         if activity is not None and activity.id in self.results:
             return self.results[activity.id]
+        if self.has_scenario:
+            return self.script.exog_function(name, args, return_type, activity)
         raise PlatformError(
             f"the sim has no exogenous function `{name}`: its sensing results come with the actions that sense "
-            '(use it in the `senses:` section of an action mapped to "/get_block_pose")'
+            '(use it in the `senses:` section of an action mapped to "/get_block_pose"), and a scenario '
+            "(`--scenario`) answers the others"
         )
 
     def now(self) -> float:
         return self.clock
 
-    def wait(self, deadline: float | None) -> bool:
-        if len(self.queue):
-            return True
-        if not self.tasks:
-            if deadline is not None and deadline > self.clock:
-                self.clock = deadline  # nothing moves: time passes without physics
-            return False
+    def wait(self, deadline: float | None, wall_deadline: float | None = None) -> bool:
         wall0 = time.perf_counter()
         sim0 = self.clock
         try:
             while True:
-                self._step()
+                self._take_scripted()
                 if len(self.queue):
                     return True
                 if deadline is not None and self.clock >= deadline:
                     return False
+                if wall_deadline is not None and time.monotonic() >= wall_deadline:
+                    return False  # the run's wall-clock bound: the physics took that long
                 if not self.tasks:
-                    return False
+                    # Nothing moves: time jumps to what the scenario does next, or to the deadline.
+                    due = self.script.next_time()
+                    if due is None or (deadline is not None and due > deadline):
+                        if deadline is not None and deadline > self.clock:
+                            self.clock = deadline
+                        return False
+                    if self.realtime and due > self.clock:
+                        pause = due - self.clock  # a scripted greeting takes its time too
+                        if wall_deadline is not None and time.monotonic() + pause > wall_deadline:
+                            pause = max(0.0, wall_deadline - time.monotonic())
+                            time.sleep(pause)
+                            self.clock += pause
+                            return False  # the run's wall-clock bound comes first
+                        time.sleep(pause)
+                    self.clock = max(self.clock, due)
+                    continue
+                self._step()
                 if self.realtime:
                     ahead = (self.clock - sim0) - (time.perf_counter() - wall0)
                     if ahead > 0.005:
@@ -247,7 +301,7 @@ class SimPlatform(Platform):
             self._physics += time.perf_counter() - wall0
 
     def live(self) -> bool:
-        return bool(self.tasks)
+        return bool(self.tasks) or self.script.live()
 
     def close(self) -> None:
         for running in list(self.tasks.values()):
@@ -259,7 +313,8 @@ class SimPlatform(Platform):
         SimPlatform.last_run = self.stats()
 
     def facts(self) -> RunFacts:
-        return RunFacts(world=self.world.name, seed=self.seed)
+        scenario = str(self.scenario_path) if self.scenario_path is not None else None
+        return RunFacts(world=self.world.name, scenario=scenario, seed=self.seed)
 
     # ---------------------------------------------------------------- reading the world
 
@@ -308,11 +363,47 @@ class SimPlatform(Platform):
             assert isinstance(outcome, Outcome)
             self._finish(running.activity, outcome)
 
-    def _finish(self, activity: Activity, outcome: Outcome) -> None:
-        running = self.tasks.pop(activity.id, None)
-        if running is not None and running.scene.busy == activity.action.text:
+    def _take_scripted(self) -> None:
+        """What the scenario has made happen by now, into the queue; an injected fault stops
+        the physical task it ends."""
+        while (due := self.script.next_time()) is not None and due <= self.clock:
+            self.script.wait(self.clock)
+        for _, event in self.script.queue.drain():
+            if isinstance(event, ActivityUpdate) and (running := self.tasks.get(event.activity_id)) is not None:
+                self._stop(running)
+                self.tasks.pop(event.activity_id)
+                self._release(running)
+                self.last_outcome = f"{running.activity.action.text}: {event.status.value} (scenario)"
+            self.queue.put(event, self.clock)
+
+    def _release(self, running: Running) -> None:
+        if running.scene.busy == running.activity.action.text:
             running.scene.busy = None
             running.scene.phase = ""
+
+    def _injected_faults(self, interface: ProgramInterface) -> list[Problem]:
+        """A scenario rule for an action the sim serves physically can only make it fail or be
+        cancelled: the physics decides where it ends and what it senses."""
+        problems: list[Problem] = []
+        for rule in self.script.scenario.actions:
+            binding: ActionBinding | None = interface.actions.get(rule.name)
+            if binding is None or binding.mapped_name not in SERVICES:
+                continue
+            if rule.outcome is ActivityStatus.FINAL or rule.has_result:
+                problems.append(
+                    Problem(
+                        f'scenario: `{rule.name}` is served by the sim\'s physics ("{binding.mapped_name}"): a rule '
+                        'for it can only inject a fault (`outcome = "fail"` or `"cancel"`, no `result`)',
+                        rule.span,
+                    )
+                )
+        return problems
+
+    def _finish(self, activity: Activity, outcome: Outcome) -> None:
+        self.script.forget(activity.id)
+        running = self.tasks.pop(activity.id, None)
+        if running is not None:
+            self._release(running)
         result: Value = None
         if outcome.has_result:
             result = self._sensed(activity, outcome.result)

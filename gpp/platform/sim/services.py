@@ -1,10 +1,13 @@
 """What the sim serves, by mapped name (like ROS action servers), and the check of a program's
 mappings against it when the program attaches: an unknown name or argument is a problem
-message with the available names and a did-you-mean."""
+message with the available names and a did-you-mean.
+
+An action or exogenous action without a `mapping:` is not the world's: the scenario serves it
+(gpp.platform.sim.platform), and so does it an explicitly mapped one that the scenario names."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 
 from gpp.base.suggest import did_you_mean
@@ -43,10 +46,11 @@ BATTERY_EVENT = "/battery"
 
 
 def produced_events(world: World) -> dict[str, tuple[str, ...]]:
-    """Exogenous events the world can produce -> their field names."""
+    """Exogenous events the world can produce -> their field names. The battery's event is
+    known in every world (sim/navigation.gpp maps it): without `[map.battery]` it never
+    happens."""
     events = world.region_events()
-    if world.map is not None and world.map.battery is not None:
-        events[BATTERY_EVENT] = ("level",)
+    events[BATTERY_EVENT] = ("level",)
     return dict(sorted(events.items()))
 
 
@@ -54,17 +58,27 @@ def _names(names: list[str] | tuple[str, ...]) -> str:
     return ", ".join(f"`{n}`" for n in names) if names else "none"
 
 
-def check_interface(interface: ProgramInterface, world: World) -> list[Problem]:
+def check_interface(
+    interface: ProgramInterface,
+    world: World,
+    scripted_actions: Collection[str] = (),
+    scripted_exogs: Collection[str] = (),
+) -> list[Problem]:
     """Problems with the program's mappings in this world, each at the mapping it is about;
-    empty when everything fits."""
+    empty when everything fits. What the scenario names (`scripted_actions`,
+    `scripted_exogs`) and what has no mapping is the scenario's, unless the sim serves it."""
     problems: list[Problem] = []
     served_note = "the sim serves " + _signatures({n: s.args for n, s in SERVICES.items()})
     for name, binding in sorted(interface.actions.items()):
+        if binding.mapped_name not in SERVICES and (not binding.explicit or name in scripted_actions):
+            continue
         problems.extend(_check_action(name, binding, world, served_note))
     events = produced_events(world)
     produced_note = f"world `{world.name}` produces " + _signatures(events)
     for name, signature in sorted(interface.exog_actions.items()):
         fields = events.get(signature.mapped_name)
+        if fields is None and (not signature.explicit or name in scripted_exogs):
+            continue
         if fields is None:
             problems.append(
                 Problem(
@@ -101,7 +115,11 @@ def _check_action(name: str, binding: ActionBinding, world: World, served_note: 
                 f'action `{name}` is mapped to "{mapped}", which the sim does not serve',
                 binding.span,
                 "not served by the sim",
-                notes=(served_note,),
+                notes=(
+                    served_note,
+                    f"a scenario (`--scenario`) serves what the world does not model: an `[[action]]` rule "
+                    f'`match = "{name}"` (or no `mapping:` at all) makes it the scenario\'s',
+                ),
                 help=did_you_mean(mapped, SERVICES),
             )
         ]
@@ -130,6 +148,8 @@ def _check_action(name: str, binding: ActionBinding, world: World, served_note: 
         problems.append(
             Problem(f'action `{name}`: the mapping to "{mapped}" must give {_names(missing)}', binding.span)
         )
+    if mapped == "/navigate_to_frame" and world.map is not None:
+        problems.extend(_unknown_frames(binding, world))
     if binding.sensing is not None:
         if not service.senses:
             problems.append(Problem(f'action `{name}` senses a value, but "{mapped}" returns no result', binding.span))
@@ -142,6 +162,28 @@ def _signatures(items: Mapping[str, tuple[str, ...]]) -> str:
     if not items:
         return "nothing"
     return ", ".join(f'"{name}" {{{", ".join(args)}}}' for name, args in sorted(items.items()))
+
+
+def _unknown_frames(binding: ActionBinding, world: World) -> list[Problem]:
+    """Every value the `frame` argument can take must be a frame of the world's map."""
+    assert world.map is not None
+    frames = [f.name for f in world.map.frames]
+    problems: list[Problem] = []
+    for arg in binding.args:
+        if arg.name != "frame" or not isinstance(arg.type, DomainType):
+            continue
+        missing = [str(getattr(v, "name", v)) for v in arg.type.values if getattr(v, "name", v) not in frames]
+        if missing:
+            problems.append(
+                Problem(
+                    f"action `{binding.name}`: world `{world.name}` has no frame {_names(missing)} "
+                    f"(its frames: {_names(frames)})",
+                    arg.span,
+                    "not a frame of the map",
+                    help="run it in a world that has these frames (`--world`), or add them as `[[map.frame]]`",
+                )
+            )
+    return problems
 
 
 def _sensed_type(binding: ActionBinding, t: Type, world: World) -> list[Problem]:

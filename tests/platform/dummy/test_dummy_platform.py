@@ -514,7 +514,9 @@ EXAMPLES = sorted(p for p in (ROOT / "examples").glob("*.gpp") if "world" not in
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_random_mode_runs_the_examples_to_completion(path: Path) -> None:
-    outcome = run_program(path, RunOptions(record=True, timeout=3600, platform_options={"random": True, "seed": 1}))
+    outcome = run_program(
+        path, RunOptions(record=True, time_limit=3600, timeout=600, platform_options={"random": True, "seed": 1})
+    )
     assert outcome.result is not None
     assert outcome.result.status is RunStatus.FINISHED, [d.message for d in outcome.diagnostics if d.is_error]
 

@@ -54,10 +54,20 @@ def ros_env(domain: int, extra_path: list[str] | None = None) -> dict[str, str]:
 
 
 def start(command: list[str], env: dict[str, str], ready: str, timeout: float = 60.0) -> subprocess.Popen[str]:
-    process = subprocess.Popen(
+    return wait_ready(spawn(command, env), ready, timeout)
+
+
+def spawn(command: list[str], env: dict[str, str]) -> subprocess.Popen[str]:
+    return subprocess.Popen(
         command, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
-    assert process.stdout is not None
+
+
+def wait_ready(process: subprocess.Popen[str], ready: str, timeout: float = 60.0) -> subprocess.Popen[str]:
+    """The process, once it wrote a line with `ready` (it fails the test if it did not within
+    `timeout` s)."""
+    command = process.args
+    assert process.stdout is not None and isinstance(command, list)
     deadline = time.monotonic() + timeout
     line = ""
     while time.monotonic() < deadline:
@@ -279,14 +289,25 @@ def test_the_robot_interfaces_build_without_colcon(robot_interfaces: list[str]) 
 
 
 def run_on_the_example_robot(
-    program: Path, trace: Path, domain: int, robot_interfaces: list[str], timeout: float
+    program: Path,
+    trace: Path,
+    domain: int,
+    robot_interfaces: list[str],
+    timeout: float,
+    namespaces: tuple[str, ...] = (),
+    speed: float = 0,
 ) -> subprocess.CompletedProcess[str]:
     """`gpp run program --platform ros2 --trace trace` against the example robot
-    (examples/ros2/robot.py) in a process of its own, stopped afterwards."""
+    (examples/ros2/robot.py, at `--speed`) in a process of its own, stopped afterwards; with
+    `namespaces`, one robot process in each (`--ros-args -r __ns:=NAMESPACE`)."""
     env = ros_env(domain, robot_interfaces)
     env["LD_LIBRARY_PATH"] = os.pathsep.join([str(INTERFACES / "lib"), env.get("LD_LIBRARY_PATH", "")])
-    robot = start([sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", "0"], env, "robot ready")
+    robot = [sys.executable, str(ROOT / "examples" / "ros2" / "robot.py"), "--speed", str(speed)]
+    # Started side by side: each takes a second or so to import rclpy and the sim.
+    spawned = [spawn(robot + (["--ros-args", "-r", f"__ns:={ns}"] if ns else []), env) for ns in namespaces or ("",)]
     try:
+        for process in spawned:
+            wait_ready(process, "robot ready")
         return subprocess.run(
             [sys.executable, "-m", "gpp", "run", str(program), "--platform", "ros2", "--trace", str(trace)],
             env=env,
@@ -295,7 +316,8 @@ def run_on_the_example_robot(
             timeout=timeout,
         )
     finally:
-        stop(robot)
+        for process in spawned:
+            stop(process)
 
 
 def test_blocksworld_on_the_ros2_robot_as_on_the_sim(robot_interfaces: list[str], domain: int, tmp_path: Path) -> None:
@@ -356,3 +378,34 @@ def test_a_nav2_style_error_code_decides_what_the_program_does(
         'the action server "/navigate_to_pose" aborted the goal (its result: '
         '{error_code = 9004, error_msg = "goal (50, 0) is outside the map"})'
     ]
+
+
+def test_two_robots_from_one_declaration_of_each_action(
+    robot_interfaces: list[str], domain: int, tmp_path: Path
+) -> None:
+    """examples/ros2/two_robots.gpp against the example robot started twice, under /robot1
+    and /robot2 (at 20 times real time, so that a stack takes a moment): each goal goes to
+    its robot's server by the placeholder `{r}`, both robots work at once, and the battery
+    messages of each robot's topic fill `r` of the exogenous action and answer
+    `battery_level(r)` (each robot's first `test(battery_level(r) > 20)` waits for it)."""
+    trace = tmp_path / "trace.jsonl"
+    example = ROOT / "examples" / "ros2" / "two_robots.gpp"
+    agent = run_on_the_example_robot(
+        example, trace, domain, robot_interfaces, timeout=120, namespaces=("/robot1", "/robot2"), speed=20
+    )
+    assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
+    assert "postcond()         holds" in agent.stdout, agent.stdout
+    events = trace_events(trace)
+    starts = [(e["action"], e["mapped"]) for e in events if e.get("event") == "start"]
+    for robot in ("robot1", "robot2"):
+        assert (f"stack({robot},a,t3)", f"/{robot}/stack") in starts
+        assert (f"get_block_pose({robot},a)", f"/{robot}/get_block_pose") in starts
+    assert all(mapped.startswith(f"/{action.split('(')[1].split(',')[0]}/") for action, mapped in starts)
+    # At once: each robot's stack starts before the other robot's stack ends.
+    order = [(e["event"], e["action"]) for e in events if e.get("event") in ("start", "update")]
+    for robot, other in (("robot1", "robot2"), ("robot2", "robot1")):
+        assert order.index(("start", f"stack({robot},a,t3)")) < order.index(("update", f"stack({other},a,t3)"))
+    batteries = [e["action"] for e in events if e.get("event") == "exog"]
+    assert {b.split(",")[0] for b in batteries} == {"battery(robot1", "battery(robot2"}
+    sensed = {e["fluent"]: e["value"] for e in events if e.get("event") == "sense"}
+    assert sensed == {"loc(robot1,a)": {"symbol": "t3"}, "loc(robot2,a)": {"symbol": "t3"}}

@@ -102,6 +102,8 @@ def test_mappings_are_checked_against_what_the_sim_serves() -> None:
     assert error.notes == (
         'the sim serves "/get_block_pose" {block}, "/gripper_home" {}, "/navigate_to_frame" {frame}, '
         '"/stack" {block, location}',
+        'a scenario (`--scenario`) serves what the world does not model: an `[[action]]` rule `match = "stack"` '
+        "(or no `mapping:` at all) makes it the scenario's",
         "the program does not fit platform `sim`",
     )
 
