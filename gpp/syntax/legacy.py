@@ -95,7 +95,9 @@ def _untyped_variable(tokens: list[Token], i: int) -> bool:
     if before not in ("QUANTIFIER", "PICK") or i + 2 >= len(tokens) or tokens[i + 1].type != "NAME":
         return False
     after = tokens[i + 2].type
-    return after == "RPAR" or (before == "PICK" and after == "IN")
+    # `pick (x in {a, b})` over a literal set; `pick (x in D)` is the binding written the wrong
+    # way round (`pick (D x)`), which the parser's recovery turns about
+    return after == "RPAR" or (before == "PICK" and after == "IN" and _is_kind(tokens, i + 3, "LBRACE"))
 
 
 def _structural_candidates(types: list[str]) -> bool:
@@ -107,7 +109,10 @@ def _structural_candidates(types: list[str]) -> bool:
             and types[i - 1] in ("QUANTIFIER", "PICK")
             and i + 2 < n
             and types[i + 1] == "NAME"
-            and (types[i + 2] == "RPAR" or (types[i - 1] == "PICK" and types[i + 2] == "IN"))
+            and (
+                types[i + 2] == "RPAR"
+                or (types[i - 1] == "PICK" and types[i + 2] == "IN" and i + 3 < n and types[i + 3] == "LBRACE")
+            )
         ):
             return True
     if any(i + 1 < n and types[i + 1] == "NAME" for i in positions(types, "MAPPING")):
@@ -323,7 +328,7 @@ class _Rewriter:
                 if depth == 0:
                     return j if j > i else None
                 depth -= 1
-            elif depth == 0 and (kind in _ENDS_SECTION or (kind == "DOMAIN" and _is_colon(tokens, j + 1))):
+            elif depth == 0 and (kind in _ENDS_SECTION or (kind == "DOMAIN" and _is_kind(tokens, j + 1, "COLON"))):
                 return j if j > i else None
             elif kind == "COLON" and depth == 0:
                 return None
@@ -846,8 +851,8 @@ def _set_value_types(tokens: list[Token], i: int) -> list[Token] | None:
     return None
 
 
-def _is_colon(tokens: list[Token], i: int) -> bool:
-    return i < len(tokens) and tokens[i].type == "COLON"
+def _is_kind(tokens: list[Token], i: int, kind: str) -> bool:
+    return i < len(tokens) and tokens[i].type == kind
 
 
 def _closing(tokens: list[Token], i: int, openers: tuple[str, ...], closer: str) -> int | None:

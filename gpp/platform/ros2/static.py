@@ -94,7 +94,7 @@ def typed_mappings(model: Model) -> dict[str, str]:
     for name, text in _mappings(model):
         if ":" not in text:
             continue
-        if "::" in section.mapping.name.value:
+        if "::" in text:
             continue  # Fawkes's `Interface::id` (golog++ on Fawkes), never a ROS name with a type
         try:
             mapped = parse_mapped(text, placeholders=True)
