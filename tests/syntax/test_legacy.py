@@ -4,6 +4,7 @@ gives a program that checks clean and runs."""
 
 from __future__ import annotations
 
+import re
 import shutil
 from collections import Counter
 from pathlib import Path
@@ -307,3 +308,15 @@ def test_a_type_word_naming_a_parameter_is_renamed_only_where_every_use_is_certa
     path.write_text('string fluent s() { initially: () = ""; }\n' + "action say(string string) {\n")
     path.write_text(path.read_text() + "effect:\n    s() = string(1);\n}\n")
     assert [(d.code, d.fix) for d in merged_diagnostics(check_paths([path]))][:1] == [("E0013", None)]
+
+
+def test_the_manifest_of_public_programs_names_each_and_its_result() -> None:
+    """tests/legacy/manifest.tsv: the public programs measured (never copied into the project),
+    each with where it is and whether one `gpp check --fix` left it clean, or why not."""
+    lines = [line for line in (LEGACY / "manifest.tsv").read_text().splitlines() if not line.startswith("#")]
+    assert lines[0].split("\t") == ["repository", "path", "commit", "blob", "result"]
+    rows = [line.split("\t") for line in lines[1:]]
+    assert rows and all(len(row) == 5 for row in rows)
+    assert all(re.fullmatch(r"[0-9a-f]{40}", row[3]) and re.fullmatch(r"[0-9a-f]{40}|-", row[2]) for row in rows)
+    assert all(row[4] == "clean" or row[4].startswith("not clean: ") for row in rows)
+    assert len({row[3] for row in rows}) == len(rows)
