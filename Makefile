@@ -48,33 +48,29 @@ quick: $(VENV)/.installed-dev
 	$(BIN)/ruff format --check gpp lsp tests bench
 	GPP_HYPOTHESIS=dev $(BIN)/pytest -m "not slow" -n auto -x
 
-# The trace viewer's browser test (tests/traceview/test_traceview_browser.py) opens the page in Debian's
-# chromium. As root with apt-get (CI, a fresh machine) it is installed when missing; otherwise
-# the test is skipped and says why.
-browser:
-	@if command -v chromium >/dev/null 2>&1; then \
+# A Debian package a test needs: as root with apt-get (CI, a fresh machine) it is installed when
+# missing; otherwise the test is skipped and says why. $(call debian_package,COMMAND,PACKAGE,TEST)
+define debian_package
+	@if command -v $(1) >/dev/null 2>&1; then \
 		:; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-		echo "installing Debian's chromium for the trace viewer's browser test"; \
-		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium >/dev/null; } \
-			|| echo "warning: could not install chromium: the browser test will be skipped"; \
+		echo "installing Debian's $(2) for $(3)"; \
+		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(2) >/dev/null; } \
+			|| echo "warning: could not install $(2): $(3) will be skipped"; \
 	else \
-		echo "note: chromium is missing and cannot be installed here (needs root and apt-get): the browser test will be skipped"; \
+		echo "note: $(2) is missing and cannot be installed here (needs root and apt-get): $(3) will be skipped"; \
 	fi
+endef
 
-# The editor test (tests/lsp/test_neovim.py) runs Debian's neovim headless with the set-up of
-# docs/editor.md for Neovim 0.7 (what Debian 12 ships). As root with apt-get it is installed when
-# missing; otherwise the test is skipped and says why.
+# The trace viewer's browser test (tests/traceview/test_traceview_browser.py) opens the page in
+# Debian's chromium.
+browser:
+	$(call debian_package,chromium,chromium,the browser test)
+
+# The editor test (tests/lsp/test_editors.py) runs Debian's neovim headless with the set-up of
+# docs/editor.md for Neovim 0.7 (what Debian 12 ships).
 neovim:
-	@if command -v nvim >/dev/null 2>&1; then \
-		:; \
-	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-		echo "installing Debian's neovim for the editor test"; \
-		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends neovim >/dev/null; } \
-			|| echo "warning: could not install neovim: the editor test will be skipped"; \
-	else \
-		echo "note: neovim is missing and cannot be installed here (needs root and apt-get): the editor test will be skipped"; \
-	fi
+	$(call debian_package,nvim,neovim,the editor test)
 
 test: browser neovim lint typecheck pytest
 

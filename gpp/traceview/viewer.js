@@ -862,6 +862,17 @@
     });
   }
 
+  // A click on a row of an activity table shows that activity on the timeline.
+  function showsActivityOnClick(tableEl) {
+    tableEl.addEventListener("click", (ev) => {
+      const tr = ev.target.closest("tr[data-activity]");
+      if (!tr) return;
+      const a = D.activities[Number(tr.getAttribute("data-activity"))];
+      focus(a.start, a.stop);
+      document.getElementById("timeline-card").scrollIntoView({ behavior: "smooth", block: "start" });
+    });
+  }
+
   // What did not end final, with why, on the page (not only in a tooltip).
   const troubles = D.activities.map((a, i) => i).filter((i) => D.activities[i].status !== "final");
   if (troubles.length) {
@@ -878,13 +889,7 @@
             "</td><td>" + pill(a.status) + '</td><td class="why">' + esc(whyNotFinal(a)) + '</td><td class="code">' + esc(a.at || "") + "</td></tr>"
         );
       }).join("") + "</tbody>";
-    failTable.addEventListener("click", (ev) => {
-      const tr = ev.target.closest("tr[data-activity]");
-      if (!tr) return;
-      const a = D.activities[Number(tr.getAttribute("data-activity"))];
-      focus(a.start, a.stop);
-      document.getElementById("timeline-card").scrollIntoView({ behavior: "smooth", block: "start" });
-    });
+    showsActivityOnClick(failTable);
   }
 
   document.getElementById("activities-count").textContent = "(" + D.activities.length + ")";
@@ -903,13 +908,7 @@
         '</td><td class="num">' + esc(fmtTime(a.start)) + '</td><td class="num">' + (a.status === "running" ? "—" : esc(fmtTime(a.stop))) +
         '</td><td class="num">' + esc(fmtTime(a.stop - a.start)) + "</td><td>" + esc(a.hook || "") + '</td><td class="code">' + esc(a.at || "") + "</td></tr>"
     ).join("") + "</tbody>");
-  actTable.addEventListener("click", (ev) => {
-    const tr = ev.target.closest("tr[data-activity]");
-    if (!tr) return;
-    const a = D.activities[Number(tr.getAttribute("data-activity"))];
-    focus(a.start, a.stop);
-    document.getElementById("timeline-card").scrollIntoView({ behavior: "smooth", block: "start" });
-  });
+  showsActivityOnClick(actTable);
 
   render();
   document.body.setAttribute("data-ready", "true");
