@@ -312,9 +312,10 @@ def test_parameters_of_main_that_do_not_fit_are_usage_errors(tmp_path: Path, arg
     assert "internal error" not in result.stdout + result.stderr
 
 
-# ---------------------------------------------------------------- the live panel's clock (issue 24 item 4)
+# ---------------------------------------------------------------- the live panel's clock
 
 
+@pytest.mark.slow  # seconds of a realtime drive
 def test_the_live_panels_clock_ticks_between_events_on_a_realtime_platform(tmp_path: Path) -> None:
     import io
     import re

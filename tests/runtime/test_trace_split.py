@@ -80,6 +80,7 @@ class MemoryProbe:
                 self.held[self.ended] = tracemalloc.get_traced_memory()[0]
 
 
+@pytest.mark.slow  # a long run under tracemalloc: `make test` runs it, `make quick` does not
 @pytest.mark.parametrize("traced", [False, True], ids=["no trace file", "split trace file"])
 def test_memory_does_not_grow_with_the_length_of_a_run(tmp_path: Path, traced: bool) -> None:
     # 2,000 and 20,000 executor steps (two a round). Before the trace kept no records the
