@@ -40,6 +40,24 @@ def test_the_runner_reads_input_and_takes_the_environment(gpp: cli.Runner, tmp_p
     assert "\x1b[" in gpp("check", "bad.gpp", cwd=tmp_path, env={"FORCE_COLOR": "1"}).stdout
 
 
+def test_the_runner_keeps_the_environment_but_its_switches(monkeypatch: pytest.MonkeyPatch) -> None:
+    """In this process, the command sees the test's environment (a ROS domain, HOME, ...) less
+    the switches that change what gpp writes, with `env` on top."""
+    import gpp.cli.main
+
+    seen: dict[str, str | None] = {}
+
+    def main(args: list[str]) -> None:
+        seen.update({k: os.environ.get(k) for k in ("GPP_KEPT", "GPP_DEBUG", "COLUMNS", "GPP_GIVEN")})
+
+    monkeypatch.setenv("GPP_KEPT", "kept")
+    monkeypatch.setenv("GPP_DEBUG", "1")
+    monkeypatch.setenv("COLUMNS", "133")
+    monkeypatch.setattr(gpp.cli.main, "main", main)
+    assert cli.run("anything", env={"GPP_GIVEN": "given"}).returncode == 0
+    assert seen == {"GPP_KEPT": "kept", "GPP_DEBUG": None, "COLUMNS": "80", "GPP_GIVEN": "given"}
+
+
 def test_the_runner_puts_back_what_a_command_changes(
     gpp: cli.Runner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

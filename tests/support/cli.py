@@ -3,7 +3,7 @@
 the same result (`returncode`, `stdout`, `stderr`, as subprocess.CompletedProcess has them).
 
 In this process, `run` gives the command what a process would have: its own standard streams
-(text, UTF-8, not a terminal; 80 columns unless COLUMNS says otherwise), the working directory
+(text, UTF-8, not a terminal; 80 columns unless `env` gives COLUMNS), the working directory
 `cwd`, the environment without the colour and debug switches plus `env`. It puts back what a
 command changes for the whole process: the streams, the working directory, the environment,
 the SIGINT/SIGTERM/SIGALRM handlers, the unraisable hook, the recursion limit, and the root logger's handlers and level.
@@ -25,8 +25,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
 
-# Switches of the user's environment that change what gpp writes: a test starts without them.
-CLEARED = ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG")
+# Switches of the user's environment that change what gpp writes: a test starts without them
+# (and with 80 columns, as through a pipe, unless its `env` gives COLUMNS).
+CLEARED = ("NO_COLOR", "FORCE_COLOR", "GPP_DEBUG", "COLUMNS")
 
 
 @dataclass(frozen=True)
@@ -72,8 +73,9 @@ def run(
     sys.stdin = io.TextIOWrapper(io.BytesIO((input or "").encode()), encoding="utf-8")
     sys.stdout, sys.stderr = out, err
     try:
+        wanted = environment(env)  # from the environment as it is, before it is cleared
         os.environ.clear()
-        os.environ.update(environment(env))
+        os.environ.update(wanted)
         os.environ.setdefault("COLUMNS", "80")  # what a pipe gives: not the terminal pytest runs in
         if cwd is not None:
             os.chdir(cwd)
