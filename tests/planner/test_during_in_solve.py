@@ -201,22 +201,11 @@ def test_a_waiting_record_of_an_older_trace_still_reads() -> None:
 
 
 def test_the_live_panel_says_which_planned_activity_it_waits_for() -> None:
-    import io
-
-    from rich.console import Console
-
-    from gpp.run.view import LiveView
+    from tests.support.traces import live_panel_at_first_wait
 
     outcome = run_program(RETRIES, RunOptions(record=True))
     assert outcome.recording is not None
-    records = outcome.recording.records
-    first_wait = next(i for i, r in enumerate(records) if isinstance(r, WaitingEvent))
-    live = LiveView(Console(file=io.StringIO(), width=120, color_system=None), "solve_retries.gpp")
-    for record in records[: first_wait + 1]:
-        live(record)
-    out = io.StringIO()
-    Console(file=out, width=120, color_system=None).print(live.render())
-    text = out.getvalue()
+    text, _ = live_panel_at_first_wait(outcome.recording.records, "solve_retries.gpp")
     assert "waiting since 0.00 s for `goto(room1)` to end, step 1 of the plan" in text
     assert "found no plan" not in text
 

@@ -181,20 +181,15 @@ def test_a_blocked_sequence_steps_back_into_an_earlier_loop_and_the_trace_shows_
 def test_the_live_view_shows_what_the_program_waits_for(tmp_path: Path) -> None:
     import io
 
-    from rich.console import Console
-
     from gpp.run.view import LiveView, PlainView
+    from tests.support.traces import live_panel_at_first_wait
 
     outcome = run(tmp_path, TIMEOUT)
     assert outcome.recording is not None
     events = outcome.recording.records
     first_wait = next(i for i, e in enumerate(events) if isinstance(e, WaitingEvent))
-    live = LiveView(Console(file=io.StringIO(), width=120, color_system=None), "p.gpp")
-    for event in events[: first_wait + 1]:
-        live(event)
-    out = io.StringIO()
-    Console(file=out, width=120, color_system=None).print(live.render())
-    text = out.getvalue()
+    text, live = live_panel_at_first_wait(events, "p.gpp")
+    assert isinstance(live, LiveView)
     assert "waiting since 0.00 s: this test is false (context_time() = 0.0)" in text
     assert "test(context_time() >= t);" in text and "time.gpp:31:5" in text
     # When it resumes, the panel no longer says it waits; the plain view has one line per wait.

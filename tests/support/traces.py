@@ -78,3 +78,21 @@ def stopped_run() -> list[TraceEvent]:
         CancelEvent(t=4, action="go(kitchen)", id=2, reason="the program ended"),
         FinishEvent(t=4, status="error", actions=3, failures=1, unhandled_failures=1, exog_events=2),
     ]
+
+
+def live_panel_at_first_wait(records: list[TraceEvent], program: str) -> tuple[str, object]:
+    """The live panel (gpp.run.view.LiveView, 120 columns, no colour) fed the records up to the
+    first `waiting` one: its text, and the panel itself to feed on."""
+    import io
+
+    from rich.console import Console
+
+    from gpp.run.view import LiveView
+
+    first_wait = next(i for i, r in enumerate(records) if isinstance(r, WaitingEvent))
+    live = LiveView(Console(file=io.StringIO(), width=120, color_system=None), program)
+    for record in records[: first_wait + 1]:
+        live(record)
+    out = io.StringIO()
+    Console(file=out, width=120, color_system=None).print(live.render())
+    return out.getvalue(), live
