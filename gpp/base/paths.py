@@ -72,15 +72,22 @@ def write_problem(path: Path) -> str | None:
 
 def write_atomically(path: Path, data: str | bytes) -> None:
     """Write the file in one step: to a temporary file beside it, then renamed over it (keeping
-    the permissions of the file it replaces), so a reader never sees half a file. Text is
-    written as UTF-8 with its line endings as they are."""
+    the permissions of the file it replaces; a new file gets those `open` would give it, as the
+    umask allows), so a reader never sees half a file. Text is written as UTF-8 with its line
+    endings as they are."""
     fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as out:
             out.write(data.encode("utf-8") if isinstance(data, str) else data)
-        if path.exists():
-            os.chmod(temporary, path.stat().st_mode & 0o7777)
+        os.chmod(temporary, path.stat().st_mode & 0o7777 if path.exists() else 0o666 & ~_umask())
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it, and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
