@@ -106,6 +106,7 @@ class RunFacts:
     world: str | None = None
     scenario: str | None = None
     seed: int | None = None
+    node: str | None = None  # a ROS node's fully qualified name
 
 
 @dataclass(frozen=True)

@@ -305,6 +305,7 @@ def _header(path: Path, platform: Platform) -> HeaderEvent:
         world=facts.world,
         scenario=facts.scenario,
         seed=facts.seed,
+        node=facts.node,
         started=datetime.now(UTC).astimezone().isoformat(timespec="seconds"),
     )
 

@@ -92,6 +92,8 @@ class HeaderEvent(EventBase):
     world: str | None = field(default=None, metadata=_OPTIONAL)
     scenario: str | None = field(default=None, metadata=_OPTIONAL)
     seed: int | None = field(default=None, metadata=_OPTIONAL)
+    # Since 1.5, on ros2: the agent's node, fully qualified (`/robot1/courier`).
+    node: str | None = field(default=None, metadata=_OPTIONAL)
     started: str  # wall-clock start, ISO-8601 with time zone
     # In a part after the first of a split trace (gpp.runtime.trace): its number (1, 2, ...)
     # and the file name of the part before it; left out in the first part.

@@ -149,6 +149,8 @@ class Bridge:
             if self.own_context:
                 context.try_shutdown()
             raise ArgumentError(_rcl_message(e)) from None
+        # Read before the node spins (rclpy is then touched only on the spin thread).
+        self.fully_qualified_name = self.node.get_fully_qualified_name()
         # The option or the ROS parameter (`--ros-args -p use_sim_time:=true`): rclpy's clock
         # of the node follows /clock (the stamps it fills in); the platform's clock does too.
         self.sim_time = bool(self.node.get_parameter("use_sim_time").value)

@@ -54,6 +54,7 @@ from gpp.platform.base import (
     PlatformWarning,
     Problem,
     ProgramInterface,
+    RunFacts,
     parse_options,
 )
 from gpp.platform.options import BUILTIN, Ros2Options
@@ -264,6 +265,10 @@ class Ros2Platform(Platform):
             ) from None
         if not self.bridge.sim_time:
             self.t0 = self.bridge.t0
+
+    def facts(self) -> RunFacts:
+        """The agent's node, fully qualified (`/robot1/courier`), for the trace's header."""
+        return RunFacts(node=self.bridge.fully_qualified_name if self.bridge is not None else None)
 
     def entry_arguments(self) -> Mapping[str, tuple[object, str]]:
         """The node's ROS parameters (`-p n:=3`, `--params-file`) but those every node has:

@@ -339,6 +339,7 @@ def test_the_example_launch_file_drives_the_robot_in_its_namespace(
     robot = start([*EXECUTABLES[robot_command[0]], *robot_command[1:]], env, "robot ready")
     try:
         results = []
+        nodes_named = []
         for x in (3.0, 50.0):
             trace = tmp_path / f"trace{x:g}.jsonl"
             agent_node = nodes["courier"] | {"parameters": [{"x": x, "y": 4.0}]}
@@ -348,8 +349,10 @@ def test_the_example_launch_file_drives_the_robot_in_its_namespace(
             assert agent.returncode == 0, agent.stdout[-3000:] + agent.stderr[-3000:]
             records = [json.loads(line) for line in trace.read_text().splitlines()]
             results.append([(r["action"], r["status"], r.get("reason")) for r in records if r["event"] == "update"])
+            nodes_named.append(records[0].get("node"))
     finally:
         stop(robot)
+    assert nodes_named == ["/robot1/courier", "/robot1/courier"]  # the trace's header names the node
     assert results == [
         [("navigate(3.0,4.0)", "final", None)],
         [
