@@ -6,7 +6,7 @@ that is not a trace); `build_run_model(events)` pairs each activity's `start` wi
 activities of that action overlap), and collects exogenous events, plans, waits, problems,
 and the numeric series to plot.
 
-Fluent values over time come from `fluent_values`, the one place that knows which records set a
+Fluent values over time come from `fluent_histories`, the one place that knows which records set a
 fluent (assignments, sensing results, and the `changes` of each `end` and `exog`): a fluent
 instance whose values are all numbers is a numeric series (`numeric_samples` adds the numeric
 arguments of exogenous events), any other one (a symbol such as where the robot is, a truth
@@ -21,7 +21,7 @@ import json
 import math
 import re
 from collections import defaultdict
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -431,6 +431,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
     if waiting is not None:
         waits.append(Wait(waiting.t, None, waiting.statement, waiting.condition, waiting.at))
     lanes = _lanes(activities)
+    histories = fluent_histories(events)
     return RunModel(
         events=list(events),
         header=header,
@@ -444,8 +445,8 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
         changes=changes,
         waits=waits,
         problems=problems,
-        series=build_series(events),
-        states=build_states(events, end),
+        series=build_series(events, histories),
+        states=build_states(histories, end),
     )
 
 
@@ -478,37 +479,54 @@ def _lanes(activities: list[Activity]) -> list[Lane]:
 # ---------------------------------------------------------------- numeric series
 
 
-def fluent_values(events: Iterable[TraceEvent]) -> Iterator[tuple[float, str, JsonValue, str, str, str | None]]:
-    """(time, fluent instance, value, record kind, what set it, source location) for every
-    fluent value the trace records: assignments, sensing results, and the effects (`changes`)
-    of each `end` and `exog` record."""
+@dataclass(frozen=True, slots=True)
+class FluentValue:
+    """A value the trace records for a fluent instance."""
+
+    t: float
+    value: JsonValue
+    kind: str  # the record kind that carried it: assign, sense, end, exog
+    label: str  # what set it: `assignment`, the sensing or ending action, the exogenous action
+    at: str | None = None
+
+
+def fluent_histories(events: Iterable[TraceEvent]) -> dict[str, list[FluentValue]]:
+    """Every fluent instance's values, in trace order, in order of its first value: from
+    assignments, sensing results, and the effects (`changes`) of each `end` and `exog`."""
+    histories: dict[str, list[FluentValue]] = defaultdict(list)
     for event in events:
         match event:
             case AssignEvent():
-                yield event.t, event.fluent, event.value, "assign", "assignment", event.at
+                histories[event.fluent].append(FluentValue(event.t, event.value, "assign", "assignment", event.at))
             case SenseEvent():
-                yield event.t, event.fluent, event.value, "sense", event.action, None
+                histories[event.fluent].append(FluentValue(event.t, event.value, "sense", event.action))
             case EndEvent() | ExogEvent():
                 for change in event.changes:
-                    fluent, value = change.get("fluent"), change.get("value")
+                    fluent = change.get("fluent")
                     if isinstance(fluent, str):
-                        yield event.t, fluent, value, event.EVENT, event.action, None
+                        histories[fluent].append(FluentValue(event.t, change.get("value"), event.EVENT, event.action))
             case _:
                 pass
+    return histories
 
 
-def numeric_samples(events: Sequence[TraceEvent]) -> Iterator[tuple[str, str, Sample]]:
+def _numeric(history: list[FluentValue]) -> bool:
+    """Whether every value of a fluent instance is a number (or `null`)."""
+    return all(v.value is None or as_number(v.value) is not None for v in history)
+
+
+def numeric_samples(
+    events: Iterable[TraceEvent], histories: Mapping[str, list[FluentValue]]
+) -> Iterator[tuple[str, str, Sample]]:
     """(series name, series kind, sample) for every number the trace records over time: a
-    fluent instance whose every recorded value is a number, a numeric argument of an
-    exogenous action."""
-    values: dict[str, list[tuple[float, float | None, str, str, str | None]]] = defaultdict(list)
-    for t, fluent, value, kind, label, at in fluent_values(events):
-        values[fluent].append((t, as_number(value) if value is not None else math.nan, kind, label, at))
-    for fluent, samples in values.items():
-        if all(number is not None for _, number, _, _, _ in samples):
-            for t, number, kind, label, at in samples:
-                if number is not None and not math.isnan(number):
-                    yield fluent, "fluent", Sample(t, number, kind, label, at)
+    fluent instance whose every recorded value is a number (its `null`s left out), a numeric
+    argument of an exogenous action."""
+    for fluent, history in histories.items():
+        if _numeric(history):
+            for v in history:
+                number = as_number(v.value)
+                if number is not None:
+                    yield fluent, "fluent", Sample(v.t, number, v.kind, v.label, v.at)
     for event in events:
         if isinstance(event, ExogEvent):
             name, args = split_action(event.action)
@@ -519,29 +537,28 @@ def numeric_samples(events: Sequence[TraceEvent]) -> Iterator[tuple[str, str, Sa
                     yield f"{name}({shown})", "exog argument", Sample(event.t, number, "exog", event.action)
 
 
-def build_states(events: Sequence[TraceEvent], end: float) -> list[StateSeries]:
+def build_states(histories: Mapping[str, list[FluentValue]], end: float) -> list[StateSeries]:
     """The state series: every fluent instance with a recorded value that is not a number
     (`null` aside), in order of first change; each value holds until the next change, the
     last until `end`."""
-    changes: dict[str, list[tuple[float, JsonValue, str]]] = defaultdict(list)
-    for t, fluent, value, _, label, _ in fluent_values(events):
-        changes[fluent].append((t, value, label))
     states: list[StateSeries] = []
-    for fluent, recorded in changes.items():
-        if all(value is None or as_number(value) is not None for _, value, _ in recorded):
+    for fluent, history in histories.items():
+        if _numeric(history):
             continue  # a numeric series
-        segments: list[Segment] = []
-        for i, (t, value, label) in enumerate(recorded):
-            stop = recorded[i + 1][0] if i + 1 < len(recorded) else end
-            segments.append(Segment(t, stop, show_value(value), label))
-        states.append(StateSeries(fluent, segments))
+        stops = [v.t for v in history[1:]] + [end]
+        states.append(
+            StateSeries(
+                fluent,
+                [Segment(v.t, stop, show_value(v.value), v.label) for v, stop in zip(history, stops, strict=True)],
+            )
+        )
     return states
 
 
-def build_series(events: Sequence[TraceEvent]) -> list[Series]:
+def build_series(events: Iterable[TraceEvent], histories: Mapping[str, list[FluentValue]]) -> list[Series]:
     """The numeric series, fluents first, each in order of first appearance."""
     series: dict[tuple[str, str], Series] = {}
-    for name, kind, sample in numeric_samples(events):
+    for name, kind, sample in numeric_samples(events, histories):
         key = (kind, name)
         if key not in series:
             series[key] = Series(name, kind, [])
@@ -649,6 +666,7 @@ def format_seconds(t: float) -> str:
 
 __all__ = [
     "Activity",
+    "FluentValue",
     "Lane",
     "LoadedTrace",
     "RunModel",
@@ -663,7 +681,7 @@ __all__ = [
     "build_run_model",
     "build_series",
     "build_states",
-    "fluent_values",
+    "fluent_histories",
     "format_seconds",
     "load_trace",
     "numeric_samples",
