@@ -209,25 +209,31 @@ def test_gpp_test_bounds_an_endless_program(tmp_path: Path) -> None:
     assert "timeout" in result.stdout
 
 
-@pytest.mark.slow
-def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: Path) -> None:
-    trace = tmp_path / "run.jsonl"
-    process = subprocess.Popen(
+def realtime_blocksworld(trace: Path) -> subprocess.Popen[str]:
+    """`gpp run examples/blocksworld.gpp --realtime` in a process of its own, tracing to `trace`."""
+    return subprocess.Popen(
         [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime", "--trace", str(trace)],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
+
+
+def wait_for_an_activity(process: subprocess.Popen[str], trace: Path) -> None:
+    """Wait (60 s at most) until the run's trace shows an activity started on the platform."""
+    deadline = time.monotonic() + 60
+    while not (trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8")):
+        assert process.poll() is None and time.monotonic() < deadline, "no activity started"
+        time.sleep(0.05)
+
+
+@pytest.mark.slow
+def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: Path) -> None:
+    trace = tmp_path / "run.jsonl"
+    process = realtime_blocksworld(trace)
     try:
-        deadline = time.monotonic() + 60
-        # Wait until an activity runs on the platform.
-        while time.monotonic() < deadline:
-            if trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8"):
-                break
-            time.sleep(0.05)
-        else:
-            pytest.fail("no activity started")
+        wait_for_an_activity(process, trace)
         time.sleep(0.3)
         process.send_signal(signal.SIGTERM)
         out, err = process.communicate(timeout=30)
@@ -249,19 +255,10 @@ def test_sigterm_cancels_activities_finishes_the_trace_and_exits_143(tmp_path: P
 @pytest.mark.skipif(os.name != "posix", reason="signals")
 def test_ctrl_c_still_exits_130(tmp_path: Path) -> None:
     trace = tmp_path / "run.jsonl"
-    process = subprocess.Popen(
-        [sys.executable, "-m", "gpp", "run", "-q", "examples/blocksworld.gpp", "--realtime", "--trace", str(trace)],
-        cwd=ROOT,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    process = realtime_blocksworld(trace)
     try:
-        deadline = time.monotonic() + 60
         # Ctrl-C while an activity runs (not a fixed delay: under load start-up takes longer).
-        while not (trace.exists() and '"event": "start"' in trace.read_text(encoding="utf-8")):
-            assert time.monotonic() < deadline, "no activity started"
-            time.sleep(0.05)
+        wait_for_an_activity(process, trace)
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=30)
     finally:
