@@ -58,31 +58,29 @@ def test_the_runner_keeps_the_environment_but_its_switches(monkeypatch: pytest.M
     assert seen == {"GPP_KEPT": "kept", "GPP_DEBUG": None, "COLUMNS": "80", "GPP_GIVEN": "given"}
 
 
+def process_state() -> tuple[object, ...]:
+    """What a command may change for the whole process: the working directory, the environment,
+    the signal handlers, the recursion limit, the standard streams, the root logger's handlers."""
+    return (
+        os.getcwd(),
+        dict(os.environ),
+        signal.getsignal(signal.SIGINT),
+        signal.getsignal(signal.SIGTERM),
+        sys.getrecursionlimit(),
+        (sys.stdin, sys.stdout, sys.stderr),
+        list(logging.getLogger().handlers),
+    )
+
+
 def test_the_runner_puts_back_what_a_command_changes(
     gpp: cli.Runner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setenv("GPP_DEBUG", "1")  # cleared for the command, back afterwards
     (tmp_path / "agent.gpp").write_text("action a() { }\nprocedure main() { a(); }\n")
-    before = (
-        os.getcwd(),
-        dict(os.environ),
-        signal.getsignal(signal.SIGINT),
-        signal.getsignal(signal.SIGTERM),
-        sys.getrecursionlimit(),
-        (sys.stdin, sys.stdout, sys.stderr),
-        list(logging.getLogger().handlers),
-    )
+    before = process_state()
     result = gpp("run", "-q", "agent.gpp", cwd=tmp_path)  # sets SIGTERM and the recursion limit
     assert result.returncode == 0, result.stdout + result.stderr
-    after = (
-        os.getcwd(),
-        dict(os.environ),
-        signal.getsignal(signal.SIGINT),
-        signal.getsignal(signal.SIGTERM),
-        sys.getrecursionlimit(),
-        (sys.stdin, sys.stdout, sys.stderr),
-        list(logging.getLogger().handlers),
-    )
+    after = process_state()
     assert after == before
 
 
