@@ -451,29 +451,32 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
 
 
 def _lanes(activities: list[Activity]) -> list[Lane]:
-    """One lane per action name, in order of first start; within a lane, each activity goes
-    to the first row that is free when it starts."""
-    lanes: dict[str, Lane] = {}
-    row_ends: dict[str, list[float]] = {}
+    """One lane per action name, in order of first start, its activities in rows
+    (`packed_rows`)."""
+    by_name: dict[str, list[Activity]] = {}
     for activity in sorted(activities, key=lambda a: (a.start, a.id)):
-        lane = lanes.get(activity.name)
-        if lane is None:
-            lane = lanes[activity.name] = Lane(activity.name, 0, [])
-            row_ends[activity.name] = []
-        ends = row_ends[activity.name]
-        row = next((i for i, t in enumerate(ends) if t <= activity.start), len(ends))
-        if row == len(ends):
-            ends.append(activity.stop)
+        by_name.setdefault(activity.name, []).append(activity)
+    lanes: list[Lane] = []
+    for index, (name, members) in enumerate(by_name.items()):
+        rows = packed_rows(members)
+        for number, row in enumerate(rows):
+            for activity in row:
+                activity.lane, activity.row = index, number
+        lanes.append(Lane(name, len(rows), members))
+    return lanes
+
+
+def packed_rows(activities: Iterable[Activity]) -> list[list[Activity]]:
+    """The activities in rows, in order of start: each goes to the first row whose last
+    activity has stopped when it starts, so the activities of a row never overlap."""
+    rows: list[list[Activity]] = []
+    for activity in sorted(activities, key=lambda a: (a.start, a.id)):
+        free = next((row for row in rows if row[-1].stop <= activity.start), None)
+        if free is None:
+            rows.append([activity])
         else:
-            ends[row] = activity.stop
-        activity.row = row
-        lane.rows = len(ends)
-        lane.activities.append(activity)
-    ordered = list(lanes.values())
-    for index, lane in enumerate(ordered):
-        for activity in lane.activities:
-            activity.lane = index
-    return ordered
+            free.append(activity)
+    return rows
 
 
 # ---------------------------------------------------------------- numeric series
@@ -685,6 +688,7 @@ __all__ = [
     "format_seconds",
     "load_trace",
     "numeric_samples",
+    "packed_rows",
     "parse_location",
     "short_number",
     "show_value",

@@ -21,6 +21,7 @@ from gpp.traceview.model import (
     StateSeries,
     action_name,
     format_seconds,
+    packed_rows,
     short_number,
 )
 
@@ -212,17 +213,7 @@ def _lane_rows(name: str, activities: Sequence[Activity]) -> list[tuple[str, lis
     groups = [(call, [a for a in activities if a.action == call]) for call in calls]
     if len(calls) > CALL_ROWS:
         groups = [(name, list(activities))]
-    out: list[tuple[str, list[list[Activity]]]] = []
-    for label, members in groups:
-        rows: list[list[Activity]] = []
-        for activity in sorted(members, key=lambda a: (a.start, a.id)):
-            free = next((r for r in rows if r[-1].stop <= activity.start), None)
-            if free is None:
-                rows.append([activity])
-            else:
-                free.append(activity)
-        out.append((label, rows))
-    return out
+    return [(label, packed_rows(members)) for label, members in groups]
 
 
 def _fit(text: str, width: int) -> str:
