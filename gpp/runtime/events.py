@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.5"
+TRACE_SCHEMA_VERSION: Final = "1.6"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -188,6 +188,21 @@ def waiting_fields(event: WaitingEvent) -> dict[str, JsonValue]:
         if value is not None:
             fields[name] = value
     return fields
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StepEvent(EventBase):
+    """Since 1.6, in a trace recorded with steps (`gpp run --trace-steps`): the program takes
+    its next transition (written before the records of what the transition does), so that a
+    replay can stop where a debugger stopped the live run."""
+
+    EVENT: ClassVar[str] = "step"
+
+    at: str | None  # the statement that takes the transition
+    step: str  # what it does: `test`, `start(goto(a))`, `end(goto(a))`, `loc = a`, `plan`, ...
+    # The procedure calls the statement is in, innermost first: `{"procedure": "deliver",
+    # "args": {"r": ...}, "at": the call's location or null}` each (the entry procedure last).
+    frames: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
 
 
 # ---------------------------------------------------------------- activities
@@ -391,6 +406,7 @@ TraceEvent: TypeAlias = (
     | CancelEvent
     | NoticeEvent
     | WaitingEvent
+    | StepEvent
     | BlockedEvent
     | ErrorEvent
     | FinishEvent
@@ -414,6 +430,7 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         CancelEvent,
         NoticeEvent,
         WaitingEvent,
+        StepEvent,
         BlockedEvent,
         ErrorEvent,
         FinishEvent,
@@ -545,6 +562,7 @@ __all__ = [
     "SenseEvent",
     "SnapshotEvent",
     "StartEvent",
+    "StepEvent",
     "TraceEvent",
     "UpdateEvent",
     "WaitingEvent",

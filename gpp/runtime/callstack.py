@@ -1,0 +1,171 @@
+"""The procedure calls a continuation is in, for the trace's `step` records (`--trace-steps`).
+
+A continuation keeps no call stack: a call becomes its procedure's body, with the parameters
+bound, in front of what remains of the caller (`Seq(body, rest)`). The calls are read back from
+that shape: along the path to the statement that steps next, each part's statements belong to
+a procedure (the one whose body holds them), and a part in another procedure, or in the same
+one with other arguments (a recursion), is another call. A call that was its caller's last
+statement leaves nothing of the caller behind, so that caller is not shown (as a tail call).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import assert_never
+
+from gpp.base.source import Span
+from gpp.model.symbols import Symbol, SymbolKind
+from gpp.runtime.compiled import CompiledProgram
+from gpp.runtime.events import JsonValue, json_value
+from gpp.runtime.semantics import (
+    AwaitEnd,
+    Code,
+    Conc,
+    Done,
+    DuringEnd,
+    Frame,
+    Planned,
+    Prog,
+    Rest,
+    Seq,
+    Watch,
+)
+from gpp.runtime.values import Value
+from gpp.syntax import ast
+
+
+@dataclass(frozen=True, slots=True)
+class _Part:
+    """One piece of the path to the next statement: where it is and the bindings it sees."""
+
+    span: Span | None
+    frame: Frame | None
+    # The statement before it in its block (the call it resumes after), if it is a block's rest.
+    before: ast.Statement | None
+
+
+class CallStacks:
+    """Reads the procedure calls of continuations of one program."""
+
+    def __init__(self, program: CompiledProgram) -> None:
+        self.program = program
+        model = program.model
+        # (source path, start, end, procedure symbol) of each procedure body.
+        self.bodies: list[tuple[str, int, int, Symbol]] = []
+        for symbol in model.globals.values():
+            if symbol.kind is not SymbolKind.PROCEDURE:
+                continue
+            _, body = program.procedure(symbol.name)
+            if body is not None:
+                self.bodies.append((str(body.span.source.path), body.span.start, body.span.end, symbol))
+        # The innermost body first when bodies nest (they do not in golog++, but a wider one
+        # must never hide a narrower one).
+        self.bodies.sort(key=lambda b: b[2] - b[1])
+        self._variables: dict[int, Symbol] | None = None
+
+    def procedure_at(self, span: Span | None) -> Symbol | None:
+        """The procedure whose body holds `span`."""
+        if span is None:
+            return None
+        path = str(span.source.path)
+        for file, start, end, symbol in self.bodies:
+            if file == path and start <= span.start < end:
+                return symbol
+        return None
+
+    def step_frames(self, prog: Prog, next_prog: Prog, span: Span) -> tuple[dict[str, JsonValue], ...]:
+        """The calls of the statement at `span` that takes the transition from `prog` to
+        `next_prog`: read from the continuation after it when that is still in the statement's
+        procedure (a transition that enters a procedure: before it, only the call is there),
+        else from the one before it (a procedure's last statement: after it, the procedure is
+        gone). A procedure entered and left in one transition has no arguments to show."""
+        procedure = self.procedure_at(span)
+        name = procedure.name if procedure is not None else None
+        after = self.frames(next_prog)
+        if after and after[0]["procedure"] == name:
+            return after
+        before = self.frames(prog)
+        if name is None or (before and before[0]["procedure"] == name):
+            return before
+        return ({"procedure": name, "args": {}, "at": None}, *before)
+
+    def frames(self, prog: Prog) -> tuple[dict[str, JsonValue], ...]:
+        """The calls `prog`'s next statement is in, innermost first: `procedure`, `args` (its
+        parameters by name), `at` (the call statement, when the caller's rest shows it) and,
+        when there are any, `locals` (other variables bound there, such as a `pick`'s)."""
+        frames: list[dict[str, JsonValue]] = []
+        last: tuple[str, tuple[JsonValue, ...]] | None = None
+        parts = [(part, self.procedure_at(part.span)) for part in _path(prog)]
+        for index, (part, symbol) in enumerate(parts):
+            if symbol is None:
+                continue
+            if part.frame is None and any(s is symbol for _, s in parts[index + 1 :]):
+                continue  # a wait for an activity: its bindings are in its procedure's rest
+            params, _ = self.program.procedure(symbol.name)
+            bound = part.frame.vars if part.frame is not None else {}
+            args = {p.name: json_value(bound[i]) for p, i in zip(symbol.params, params, strict=True) if i in bound}
+            key = (symbol.name, tuple(args.values()))
+            if last == key:
+                continue
+            if frames and isinstance(part.before, ast.CallStmt):
+                # The caller goes on after the call that made the frame before (inner) this one.
+                callee = self.program.model.target(part.before.call)
+                if callee is not None and callee.name == frames[-1]["procedure"]:
+                    frames[-1]["at"] = str(part.before.span)
+            last = key
+            frame: dict[str, JsonValue] = {"procedure": symbol.name, "args": args, "at": None}
+            local = self._locals(bound, set(params))
+            if local:
+                frame["locals"] = local
+            frames.append(frame)
+        return tuple(frames)
+
+    def _locals(self, bound: dict[int, Value], params: set[int]) -> dict[str, JsonValue]:
+        """The variables of `bound` that are not the procedure's parameters, by name."""
+        others = {k: v for k, v in bound.items() if k not in params}
+        if not others:
+            return {}
+        if self._variables is None:
+            self._variables = {id(s): s for s in self.program.model.targets.values()}
+        named: dict[str, JsonValue] = {}
+        for key, value in others.items():
+            symbol = self._variables.get(key)
+            if symbol is not None:
+                named[symbol.name] = json_value(value)
+        return named
+
+
+def _path(prog: Prog) -> list[_Part]:
+    """The parts of `prog` from the statement that steps next outwards: the head, then where
+    each enclosing block or caller goes on after it (a `Seq`'s rest is outside its first)."""
+    parts: list[_Part] = []
+    todo: list[Prog | _Part] = [prog]
+    while todo:
+        p = todo.pop()
+        match p:
+            case _Part():
+                parts.append(p)
+            case Seq():
+                todo.append(p.rest)
+                todo.append(p.first)
+            case Conc():
+                if p.branches:
+                    todo.append(p.branches[0])
+            case Watch():
+                todo.append(_Part(p.stmt.span, p.frame, None))
+                todo.append(p.body)
+            case Rest():
+                if p.index < len(p.block.body):
+                    before = p.block.body[p.index - 1] if p.index > 0 else None
+                    parts.append(_Part(p.block.body[p.index].span, p.frame, before))
+            case Code():
+                parts.append(_Part(p.stmt.span, p.frame, None))
+            case AwaitEnd() | DuringEnd():
+                parts.append(_Part(p.span, None, None))
+            case Planned():
+                parts.append(_Part(p.session.stmt.span, None, None))
+            case Done():
+                pass
+            case _:
+                assert_never(p)
+    return parts
