@@ -75,27 +75,39 @@ class CallStacks:
 
     def step_frames(self, prog: Prog, next_prog: Prog, span: Span) -> tuple[dict[str, JsonValue], ...]:
         """The calls of the statement at `span` that takes the transition from `prog` to
-        `next_prog`: read from the continuation after it when that is still in the statement's
-        procedure (a transition that enters a procedure: before it, only the call is there),
-        else from the one before it (a procedure's last statement: after it, the procedure is
-        gone). A procedure entered and left in one transition has no arguments to show."""
+        `next_prog`. The part of `prog` that stepped is the outermost one `next_prog` does not
+        share (the parts before it were finished and skipped): when the statement is one of
+        that part's own, the calls are that part's and those outside it; when the transition
+        entered a procedure from there, they are read after it (the callee's rest), and a
+        procedure entered and left in one transition is listed without its arguments."""
         procedure = self.procedure_at(span)
         name = procedure.name if procedure is not None else None
-        after = self.frames(next_prog)
-        if after and after[0]["procedure"] == name:
-            return after
-        before = self.frames(prog)
-        if name is None or (before and before[0]["procedure"] == name):
-            return before
-        return ({"procedure": name, "args": {}, "at": None}, *before)
+        before, after = _chain(prog), _chain(next_prog)
+        shared = 0
+        while shared < min(len(before), len(after)) and before[-1 - shared] is after[-1 - shared]:
+            shared += 1
+        stepped = before[: len(before) - shared]
+        outside = self._frames(_parts(before[len(stepped) - 1 :])) if stepped else ()
+        if stepped and _holds(stepped[-1], span):
+            return outside
+        entered = self.frames(next_prog)
+        if entered and entered[0]["procedure"] == name:
+            return entered
+        if name is None or (outside and outside[0]["procedure"] == name):
+            return outside
+        return ({"procedure": name, "args": {}, "at": None}, *outside)
 
     def frames(self, prog: Prog) -> tuple[dict[str, JsonValue], ...]:
-        """The calls `prog`'s next statement is in, innermost first: `procedure`, `args` (its
-        parameters by name), `at` (the call statement, when the caller's rest shows it) and,
-        when there are any, `locals` (other variables bound there, such as a `pick`'s)."""
+        """The calls `prog`'s next statement is in (see `_frames`)."""
+        return self._frames(_path(prog))
+
+    def _frames(self, path: list[_Part]) -> tuple[dict[str, JsonValue], ...]:
+        """The calls of the parts `path` (innermost first), innermost first: `procedure`,
+        `args` (its parameters by name), `at` (the call statement, when the caller's rest shows
+        it) and, when there are any, `locals` (other variables bound there, a `pick`'s)."""
         frames: list[dict[str, JsonValue]] = []
         last: tuple[str, tuple[JsonValue, ...]] | None = None
-        parts = [(part, self.procedure_at(part.span)) for part in _path(prog)]
+        parts = [(part, self.procedure_at(part.span)) for part in path]
         for index, (part, symbol) in enumerate(parts):
             if symbol is None:
                 continue
@@ -169,3 +181,35 @@ def _path(prog: Prog) -> list[_Part]:
             case _:
                 assert_never(p)
     return parts
+
+
+def _chain(prog: Prog) -> list[Prog]:
+    """The parts of a continuation in the order they run: `a; b; c` as [a, b, c]."""
+    items: list[Prog] = []
+    while isinstance(prog, Seq):
+        items.append(prog.first)
+        prog = prog.rest
+    if not isinstance(prog, Done):
+        items.append(prog)
+    return items
+
+
+def _parts(items: list[Prog]) -> list[_Part]:
+    """The parts of each of `items` (innermost first), one after the other."""
+    return [part for item in items for part in _path(item)]
+
+
+def _holds(item: Prog, span: Span) -> bool:
+    """Is the statement at `span` one of `item`'s own (a statement it will run, or one inside
+    such a statement), not one of a procedure a call of it enters?"""
+    match item:
+        case Rest():
+            statements: tuple[ast.Statement, ...] = tuple(item.block.body[item.index :])
+        case Code():
+            statements = (item.stmt,)
+        case _:
+            return False
+    for stmt in statements:
+        if stmt.span.source is span.source and stmt.span.start <= span.start and span.end <= stmt.span.end:
+            return not isinstance(stmt, ast.CallStmt)
+    return False

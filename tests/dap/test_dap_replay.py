@@ -1,0 +1,228 @@
+"""`gpp dap` replaying a recorded run (`launch` with `"trace"`), driven by the Python DAP client
+over a real `gpp dap` process: stepping to the end and back to the start with the fluent values
+at each stop those of the live run at the same step (on the dummy and on the sim), breakpoints
+hit in reverse, a split trace, a trace without steps and one of an old schema."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gpp.runtime.trace import TraceSplit
+from gpp.runtime.values import show_json
+from tests.support.dap_client import DapClient, Message, dap_session
+from tests.support.replay import BLOCKSWORLD, REPLAY_AGENT, Watcher, record
+
+
+def position(stop: Message) -> int:
+    """The 0-based position a stop's description names (`position 3 of 40 ...`)."""
+    words = str(stop.get("description", "")).split("position ", 1)[1].split()
+    return int(words[0]) - 1
+
+
+def fluent(client: DapClient, instance: str) -> object:
+    """A fluent instance's value at the stop, as the trace writes values, by `evaluate`."""
+    return client.evaluate(instance)["result"]
+
+
+def expect(client: DapClient, watcher: Watcher, at: int | None, instances: list[str], where: str) -> None:
+    """The fluent values at the stop are the live run's at step `at` (None: at its end). An
+    instance the run had not touched yet has its initial value (known by the run's end)."""
+    live = watcher.states[at] if at is not None else watcher.final
+    assert live is not None and watcher.final is not None
+    for instance in instances:
+        value = live.fluents.get(instance, watcher.final.initial[instance])
+        assert fluent(client, instance) == show_json(value), (where, instance)
+
+
+def test_stepping_to_the_end_and_back_shows_the_live_values_on_the_dummy(tmp_path: Path) -> None:
+    trace, watcher = record(tmp_path, REPLAY_AGENT, "agent")
+    watched = ["counter()", "robot_at()", "visits(office)", "visits(kitchen)"]
+    with dap_session(tmp_path) as client:
+        client.start({"trace": str(trace), "stopOnEntry": True})
+        stop = client.stopped()
+        assert stop["reason"] == "entry" and position(stop) == 0
+        # The trace was recorded with steps: nothing is missing.
+        assert not any("not in this trace" in o for o in client.outputs())
+        at, visited = 0, []
+        while True:
+            expect(client, watcher, at if at in watcher.states else None, watched, f"forward at {at}")
+            visited.append(at)
+            client.ok("stepIn", {"threadId": 1})
+            stop = client.stopped()
+            if "the end of the recorded run" in stop["description"]:
+                break
+            at = position(stop)
+        assert visited == list(range(len(visited))) and len(visited) == max(watcher.states) + 1
+        while at > 0:
+            client.ok("stepBack", {"threadId": 1})
+            at = position(client.stopped())
+            expect(client, watcher, at, watched, f"back at {at}")
+        client.ok("stepBack", {"threadId": 1})
+        assert "the start of the recorded run" in client.stopped()["description"]
+
+
+def test_the_stack_scopes_and_evaluate_at_a_recorded_stop(tmp_path: Path) -> None:
+    trace, watcher = record(tmp_path, REPLAY_AGENT, "stack")
+    source = str(REPLAY_AGENT)
+    with dap_session(tmp_path) as client:
+        # Line 36 adds `n` to counter(): stop there in count_down(1), three calls deep.
+        client.start({"trace": str(trace)}, {source: [{"line": 36, "condition": "n == 1"}]})
+        stop = client.stopped()
+        assert stop["reason"] == "breakpoint"
+        frames = client.ok("stackTrace", {"threadId": 1})["stackFrames"]
+        assert [f["name"] for f in frames] == ["count_down(1)", "count_down(2)", "count_down(3)", "main()"]
+        assert [f["line"] for f in frames[:3]] == [36, 37, 37]
+        assert client.scope("Arguments") == [
+            {"name": "n", "value": "1", "type": "number", "variablesReference": 0, "evaluateName": "n"}
+        ]
+        assert client.evaluate("n * 10")["result"] == "10"
+        assert client.evaluate("n", frame=2)["result"] == "3"
+        fluents = {v["name"]: v["value"] for v in client.scope("Fluents")}
+        assert fluents["counter()"] == show_json(watcher.states[position(stop)].fluents["counter()"])
+        # A mistake in an expression is one located line.
+        message = client.error("evaluate", {"expression": "counter() + ", "frameId": 0, "context": "repl"})
+        assert "column" in message
+        run = {v["name"]: v["value"] for v in client.scope("Run")}
+        assert run["next"] == "counter() = 7"
+
+
+def test_breakpoints_stop_in_reverse(tmp_path: Path) -> None:
+    trace, watcher = record(tmp_path, REPLAY_AGENT, "reverse")
+    source = str(REPLAY_AGENT)
+    with dap_session(tmp_path) as client:
+        # Line 38: `counter() = counter() - 1;`, once on each return from count_down.
+        client.start({"trace": str(trace)}, {source: [{"line": 38}]})
+        hits = [position(client.stopped())]
+        for _ in range(2):
+            client.ok("continue", {"threadId": 1})
+            hits.append(position(client.stopped()))
+        client.ok("continue", {"threadId": 1})
+        assert "the end of the recorded run" in client.stopped()["description"]
+        back = []
+        for _ in range(3):
+            client.ok("reverseContinue", {"threadId": 1})
+            stop = client.stopped()
+            assert stop["reason"] == "breakpoint"
+            back.append(position(stop))
+        assert back == hits[::-1]
+        # counter() before each decrement: 7 after count_down(3) added 3 + 2 + 1, then 6, 5.
+        assert [watcher.states[h].fluents["counter()"] for h in hits] == [7, 6, 5]
+        client.ok("reverseContinue", {"threadId": 1})
+        assert "the start of the recorded run" in client.stopped()["description"]
+        # Conditional and function breakpoints, backwards from the end.
+        client.ok("setBreakpoints", {"source": {"path": source}, "breakpoints": [{"line": 38, "condition": "n == 3"}]})
+        client.ok("setFunctionBreakpoints", {"breakpoints": [{"name": "go"}]})
+        client.ok("continue", {"threadId": 1})
+        stops = [client.stopped()]
+        while "the end" not in stops[-1]["description"]:
+            client.ok("continue", {"threadId": 1})
+            stops.append(client.stopped())
+        forward = [(s["reason"], position(s)) for s in stops[:-1]]
+        # From the start (the first `go` is the first position, where the replay already is):
+        # the return from count_down(3), then the other three starts of `go`.
+        assert [r for r, _ in forward] == ["breakpoint"] + ["function breakpoint"] * 3
+        assert watcher.states[forward[0][1]].fluents["counter()"] == 5
+        backward = []
+        for _ in forward:
+            client.ok("reverseContinue", {"threadId": 1})
+            stop = client.stopped()
+            backward.append((stop["reason"], position(stop)))
+        assert backward == forward[::-1]
+
+
+def test_a_sim_run_replays_with_its_values_and_a_split_trace_as_one_run(tmp_path: Path) -> None:
+    whole, watcher = record(tmp_path, BLOCKSWORLD, "sim", platform="sim")
+    split, split_watcher = record(
+        tmp_path, BLOCKSWORLD, "split", platform="sim", trace_split=TraceSplit(max_bytes=3000)
+    )
+    assert (tmp_path / "split.2.jsonl").is_file()
+    watched = ["loc(a)", "loc(b)", "loc(c)"]
+    for trace, live in ((whole, watcher), (split, split_watcher)):
+        with dap_session(tmp_path) as client:
+            client.start({"trace": str(trace), "stopOnEntry": True})
+            at = position(client.stopped())
+            while True:
+                expect(client, live, at if at in live.states else None, watched, f"{trace.name} at {at}")
+                client.ok("next", {"threadId": 1})
+                stop = client.stopped()
+                if "the end of the recorded run" in stop["description"]:
+                    break
+                at = position(stop)
+            client.ok("reverseContinue", {"threadId": 1})
+            assert position(client.stopped()) == 0
+            expect(client, live, 0, watched, f"{trace.name} back at the start")
+
+
+def test_a_trace_without_steps_or_of_an_old_schema_says_what_it_cannot_show(tmp_path: Path) -> None:
+    from gpp.run.runner import RunOptions, run_program
+
+    plain = tmp_path / "plain.jsonl"
+    run_program(REPLAY_AGENT, RunOptions(trace=plain))
+    with dap_session(tmp_path) as client:
+        client.start({"trace": str(plain), "stopOnEntry": True})
+        client.stopped()
+        assert any("--trace-steps" in o for o in client.outputs())
+        assert client.top()["name"].endswith("[calls not recorded]")
+        client.ok("setBreakpoints", {"source": {"path": str(REPLAY_AGENT)}, "breakpoints": [{"line": 31}]})
+        client.ok("continue", {"threadId": 1})
+        stop = client.stopped()
+        assert stop["reason"] == "breakpoint" and client.top()["line"] == 31
+        client.ok("stepBack", {"threadId": 1})
+        assert position(client.stopped()) == position(stop) - 1
+    # As schema 1.3 wrote it (before snapshots, steps and the 1.5 fields): it still replays.
+    old = tmp_path / "old.jsonl"
+    lines = [json.loads(line) for line in plain.read_text(encoding="utf-8").splitlines()]
+    lines[0]["schema_version"] = "1.3"
+    old.write_text("".join(json.dumps(r) + "\n" for r in lines if r["event"] != "waiting"), encoding="utf-8")
+    with dap_session(tmp_path) as client:
+        client.start({"trace": str(old)})
+        stop = client.stopped()
+        assert "the end of the recorded run" in stop["description"]
+        assert client.evaluate("robot_at()")["result"] == "hall"
+        assert client.evaluate("visits(office)")["result"] == "11"
+
+
+@pytest.mark.parametrize(
+    ("launch", "message"),
+    [
+        ({"trace": "missing.jsonl"}, "launch's `trace`: no such file"),
+        ({"trace": "headless.jsonl"}, "the trace has no header"),
+        ({"trace": "moved.jsonl"}, "the program it recorded, gone.gpp, is not there"),
+        ({"trace": "t.jsonl", "program": "a.gpp"}, "either `program` (a live run) or `trace`"),
+        ({"trace": "t.jsonl", "stopOnEntyr": True}, "launch has no argument `stopOnEntyr`"),
+    ],
+)
+def test_a_trace_that_cannot_be_replayed_is_one_line_of_error(tmp_path: Path, launch: Message, message: str) -> None:
+    (tmp_path / "headless.jsonl").write_text(
+        '{"t": 0.0, "event": "finish", "status": "finished", "actions": 0, "failures": 0, "exog_events": 0}\n',
+        encoding="utf-8",
+    )
+    header = {
+        "t": 0.0,
+        "event": "header",
+        "schema_version": "1.6",
+        "gpp_version": "0.1.0",
+        "program": "gone.gpp",
+        "program_sha256": "0" * 64,
+        "platform": "dummy",
+        "started": "2026-01-01T00:00:00+00:00",
+    }
+    (tmp_path / "moved.jsonl").write_text(
+        json.dumps(header) + "\n" + (tmp_path / "headless.jsonl").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    with dap_session(tmp_path) as client:
+        client.ok("initialize", {"adapterID": "gpp"})
+        error = client.error("launch", launch)
+        assert message in error and "Traceback" not in error
+
+
+def test_watcher_states_are_the_runs(tmp_path: Path) -> None:
+    """The live states the replay is compared with change over the run (a comparison with a
+    constant would pass whatever the replay showed)."""
+    _, watcher = record(tmp_path, REPLAY_AGENT, "watched")
+    assert isinstance(watcher, Watcher)
+    values = {json.dumps(s.fluents.get("counter()")) for s in watcher.states.values()}
+    assert len(values) >= 5
