@@ -133,6 +133,8 @@ def make_live_backend(args: Message, server: Host) -> SessionBackend:
         time_limit=_number(args, "timeLimit"),
         timeout=_number(args, "timeout"),
         trace=trace,
+        # A session's trace replays statement by statement (gpp.dap.replay).
+        trace_steps=trace is not None,
     )
     from gpp.run.runner import entry_arguments
 

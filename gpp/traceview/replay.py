@@ -47,7 +47,7 @@ from gpp.runtime.events import (
     waiting_fields,
 )
 from gpp.runtime.trace import trace_parts
-from gpp.traceview.model import TraceReadError, _first_part_in, _type_problem
+from gpp.traceview.model import TraceReadError, _first_part_in
 
 # The state is kept whole at every this many positions.
 KEYFRAME_EVERY = 256
@@ -231,6 +231,8 @@ class Replay:
         # The latest position asked for and its state: a step forward goes on from it.
         self._cursor: tuple[int, ReplayState] | None = None
         self.warnings: list[str] = []
+        # Records read from the files since the index was made (what a step costs).
+        self.records_read = 0
 
     # ---------------------------------------------------------------- opening
 
@@ -265,7 +267,7 @@ class Replay:
                 continue
             if isinstance(event, SnapshotEvent):
                 if not self._offset:
-                    state.apply(event)  # a replay that starts at a later part starts here
+                    self._apply(state, event, part, offset)  # a replay that starts at a later part starts here
                 continue
             if self._is_stop(event):
                 if isinstance(event, StepEvent):
@@ -283,7 +285,7 @@ class Replay:
                 self._started.append(self._name(started) if started is not None else -1)
                 self._procedure.append(procedure)
                 self._depth.append(min(depth, 65535))
-            state.apply(event)
+            self._apply(state, event, part, offset)
         if not self._offset:
             raise TraceReadError(f"{self.parts[0]}: a trace without records to replay")
         self._final = state
@@ -308,10 +310,9 @@ class Replay:
             if not line.strip():
                 continue
             try:
+                # Decoded only: a field of the wrong type is met where it is used (the index
+                # and the state take only what has the type they need).
                 event = decode(line)
-                problem = _type_problem(event)
-                if problem:
-                    raise ValueError(problem)
             except (ValueError, TypeError) as e:
                 if not line.endswith(b"\n"):
                     warning = f"{path}: ignoring the incomplete last line (the run was stopped mid-write)"
@@ -322,7 +323,17 @@ class Replay:
                 raise TraceReadError(f"{path}: byte {at}: not a trace record ({message})") from None
             if part > 0 and isinstance(event, HeaderEvent | SnapshotEvent):
                 continue  # the part's own start: the state it holds is the one read so far
+            self.records_read += 1
             yield part, at, event
+
+    def _apply(self, state: ReplayState, event: TraceEvent, part: int, offset: int) -> None:
+        """`state.apply(event)`; a record whose fields do not have their types is a TraceReadError."""
+        try:
+            state.apply(event)
+        except (AttributeError, TypeError, KeyError):
+            raise TraceReadError(
+                f"{self.parts[part]}: byte {offset}: a `{event.EVENT}` record whose fields do not have their types"
+            ) from None
 
     def _file(self, part: int) -> IO[bytes]:
         file = self._files.get(part)
@@ -405,7 +416,7 @@ class Replay:
             for part, offset, event in self._from(start):
                 if (part, offset) == end:
                     break
-                state.apply(event)
+                self._apply(state, event, part, offset)
         self._cursor = (index, state.copy())
         # What the position's own record says of where the run is: the statement about to step
         # and its calls (a `step`), the place of what happens next.

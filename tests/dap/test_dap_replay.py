@@ -226,3 +226,47 @@ def test_watcher_states_are_the_runs(tmp_path: Path) -> None:
     assert isinstance(watcher, Watcher)
     values = {json.dumps(s.fluents.get("counter()")) for s in watcher.states.values()}
     assert len(values) >= 5
+
+
+def test_the_walkthrough_of_debugging_md_works_as_written(tmp_path: Path) -> None:
+    """docs/debugging.md, "Stepping back through a recorded run", on the tutorial's coffee agent."""
+    from tests.support.cli import run
+
+    tutorial = (Path(__file__).resolve().parents[2] / "docs" / "tutorial.md").read_text(encoding="utf-8")
+    program = tutorial.split("```gpp run\n", 1)[1].split("```", 1)[0]
+    assert program.splitlines()[30] == "    go(office);"  # line 31, as the walkthrough says
+    (tmp_path / "coffee.gpp").write_text(program, encoding="utf-8")
+    done = run("run", "coffee.gpp", "--trace", "coffee.jsonl", "--trace-steps", "-q", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    source = str(tmp_path / "coffee.gpp")
+    with dap_session(tmp_path) as client:
+        client.start({"trace": "coffee.jsonl", "cwd": str(tmp_path)}, {source: [{"line": 31}]})
+        stop = client.stopped()
+        assert "breakpoint hit: position 5 of 7 at 2.000 s, next: start(go(office))" in stop["description"]
+        assert client.evaluate("has_coffee()")["result"] == "true"
+        assert {v["name"]: v["value"] for v in client.scope("Fluents")}["robot_at()"] == "kitchen"
+        client.ok("stepBack", {"threadId": 1})
+        assert "next: end(take_coffee())" in client.stopped()["description"]
+        assert client.top()["line"] == 30 and client.evaluate("has_coffee()")["result"] == "false"
+        client.ok("stepBack", {"threadId": 1})
+        assert "next: start(take_coffee())" in client.stopped()["description"]
+        condition = {"line": 29, "condition": "robot_at() == office"}
+        client.ok("setBreakpoints", {"source": {"path": source}, "breakpoints": [condition]})
+        client.ok("reverseContinue", {"threadId": 1})
+        stop = client.stopped()
+        assert stop["reason"] == "breakpoint" and "at 1.000 s, next: end(go(kitchen))" in stop["description"]
+        client.ok("continue", {"threadId": 1})
+        assert "the end of the recorded run" in client.stopped()["description"]
+
+
+def test_a_live_sessions_trace_replays_step_by_step(tmp_path: Path) -> None:
+    with dap_session(tmp_path) as client:
+        client.start({"program": str(REPLAY_AGENT), "traceFile": "live.jsonl", "cwd": str(tmp_path)})
+        client.event("terminated")
+    kinds = [json.loads(line)["event"] for line in (tmp_path / "live.jsonl").read_text(encoding="utf-8").splitlines()]
+    assert kinds.count("step") == 21
+    with dap_session(tmp_path) as client:
+        client.start({"trace": "live.jsonl", "stopOnEntry": True})
+        client.stopped()
+        client.ok("next", {"threadId": 1})
+        assert client.top()["name"] == "visit(kitchen)"

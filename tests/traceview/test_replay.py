@@ -235,3 +235,37 @@ def test_gpp_run_trace_steps_writes_step_records_and_needs_a_trace(tmp_path: Pat
     assert refused.returncode == 2
     assert "--trace-steps adds records to the trace file: it needs --trace FILE" in refused.stderr
     assert "Traceback" not in refused.stderr
+
+
+def test_a_step_costs_the_same_at_the_end_of_a_long_trace_as_at_its_start(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from bench import soak
+
+    monkeypatch.setattr(replay_module, "KEYFRAME_EVERY", 64)
+    program = tmp_path / "loop.gpp"
+    program.write_text(soak.PROGRAM, encoding="utf-8")
+    trace = tmp_path / "loop.jsonl"
+    run_program(program, RunOptions(trace=trace, trace_steps=True, args={"rounds": 2000}))
+    records = len(trace.read_text(encoding="utf-8").splitlines())
+    with Replay.open(trace) as replay:
+        assert len(replay) == 4001  # a position per step, and the end
+        # The index keeps the state at every 64th position, not the records.
+        assert len(replay._keyframes) == -(-len(replay) // 64)
+        per_position = -(-records // len(replay))
+
+        def cost(index: int) -> int:
+            before = replay.records_read
+            replay.state(index)
+            return replay.records_read - before
+
+        # Stepping back reads at most a keyframe's worth of records, wherever it is.
+        replay.state(replay.last)
+        at_end = [cost(i) for i in range(replay.last - 1, replay.last - 200, -1)]
+        replay.state(200)
+        at_start = [cost(i) for i in range(199, 0, -1)]
+        bound = 64 * per_position + 1
+        assert max(at_end) <= bound and max(at_start) <= bound
+        assert max(at_end) == max(at_start)
+        # Stepping forward reads the records of one step (and the position's own).
+        assert max(cost(i) for i in range(1, 200)) <= per_position + 2
