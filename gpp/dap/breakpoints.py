@@ -7,12 +7,17 @@ from __future__ import annotations
 
 import re
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.dap.program import CheckedExpression, DebugProgram, ExpressionError
 from gpp.model.symbols import SymbolKind
+from gpp.runtime.compiled import Env
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.values import show
 from gpp.syntax import ast
 
 # Filter -> (label, description, on by default).
@@ -211,3 +216,29 @@ def log_parts(text: str, program: DebugProgram, at: ast.Statement | None) -> lis
         last = m.end()
     parts.append(text[last:])
     return [p for p in parts if p != ""]
+
+
+def stops(b: Breakpoint, env: Env, output: Callable[[str, str, Span | None], None], span: Span | None) -> bool:
+    """Does breakpoint `b` stop where `env` evaluates: its condition (one that cannot be
+    evaluated stops, saying why), then its hit count; a logpoint prints its message through
+    `output` and does not stop."""
+    if b.condition is not None:
+        try:
+            if b.condition.evaluate(env) is not True:
+                return False
+        except GppRuntimeError as e:
+            output(f"breakpoint condition `{b.condition.text}`: {e.message}\n", "stderr", span)
+            return True
+    b.hits += 1
+    if b.hit_condition is not None and not b.hit_condition.holds(b.hits):
+        return False
+    if b.log is not None:
+        text = []
+        for part in b.log_parts:
+            try:
+                text.append(part if isinstance(part, str) else show(part.evaluate(env)))
+            except GppRuntimeError as e:
+                text.append(f"<{e.message}>")
+        output("".join(text) + "\n", "console", span)
+        return False
+    return True

@@ -32,7 +32,7 @@ from gpp.dap.backend import (
     StopReason,
     Variable,
 )
-from gpp.dap.breakpoints import Breakpoint, Breakpoints
+from gpp.dap.breakpoints import Breakpoint, Breakpoints, stops
 from gpp.dap.program import DebugProgram, ExpressionError
 from gpp.dap.protocol import DapError, Message
 from gpp.dap.variables import Handles, fluent_scope, value_variable, values_scope
@@ -42,7 +42,7 @@ from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import JsonValue
 from gpp.runtime.state import State
-from gpp.runtime.values import Value, from_json, show, show_json
+from gpp.runtime.values import Value, from_json, show_json
 from gpp.syntax import ast
 from gpp.traceview.model import TraceReadError
 from gpp.traceview.replay import Replay, ReplayState
@@ -201,31 +201,8 @@ class TraceBackend(SessionBackend):
         then its hit count)? A logpoint prints and does not stop."""
         if b.condition is None and b.hit_condition is None and b.log is None:
             return True
-        state = self.replay.state(q)
-        env = self.env(state, 0)
-        if b.condition is not None:
-            try:
-                if b.condition.evaluate(env) is not True:
-                    return False
-            except GppRuntimeError as e:
-                self.client.output(f"breakpoint condition `{b.condition.text}`: {e.message}\n", "stderr", None)
-                return True
-        b.hits += 1
-        if b.hit_condition is not None and not b.hit_condition.holds(b.hits):
-            return False
-        if b.log is not None:
-            parts = []
-            for p in b.log_parts:
-                if isinstance(p, str):
-                    parts.append(p)
-                    continue
-                try:
-                    parts.append(show(p.evaluate(env)))
-                except GppRuntimeError as e:
-                    parts.append(f"<{e.message}>")
-            self.client.output("".join(parts) + "\n", "console", stmt.span if stmt is not None else None)
-            return False
-        return True
+        span = stmt.span if stmt is not None else None
+        return stops(b, self.env(self.replay.state(q), 0), self.client.output, span)
 
     def describe(self, what: str = "") -> str:
         """A stop's description: where in the recording, and what happens next there."""
