@@ -40,7 +40,7 @@ from gpp.model.symbols import SymbolKind
 from gpp.model.types import Type
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.events import JsonValue
+from gpp.runtime.events import JsonValue, UpdateEvent
 from gpp.runtime.state import State
 from gpp.runtime.values import Value, from_json, show_json
 from gpp.syntax import ast
@@ -190,6 +190,11 @@ class TraceBackend(SessionBackend):
                     reason = "function breakpoint"
         if ids:
             return reason, tuple(ids), "breakpoint hit" if reason == "breakpoint" else "call of a function breakpoint"
+        if position.failed and "failed" in table.exceptions:
+            failed = [e.action for e in self.replay.before(q) if isinstance(e, UpdateEvent) and e.status == "failed"]
+            return "exception", (), f"`{'`, `'.join(failed)}` failed"
+        if position.no_plan and "no-plan" in table.exceptions:
+            return "exception", (), "`solve` or `search` found no feasible plan"
         if position.kind in ("error", "blocked") and position.kind in table.exceptions:
             record = self.replay.record(q)
             message = str(getattr(record, "message", position.kind))

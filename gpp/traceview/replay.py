@@ -52,6 +52,10 @@ from gpp.traceview.model import TraceReadError, _first_part_in
 # The state is kept whole at every this many positions.
 KEYFRAME_EVERY = 256
 
+# What happened since the position before (Position.failed, Position.no_plan).
+_FAILED = 1
+_NO_PLAN = 2
+
 # The record kinds that are positions in a trace recorded with steps.
 _STEPPED_STOPS = (StepEvent, BlockedEvent, ErrorEvent, FinishEvent)
 
@@ -202,6 +206,9 @@ class Position:
     started: str | None  # the name of the action it starts, if it starts one
     procedure: str | None  # the innermost procedure call it is in (traces with steps)
     depth: int  # how many procedure calls it is in (traces with steps; 0 otherwise)
+    # Since the position before: an activity failed, a `solve`/`search` found no plan.
+    failed: bool = False
+    no_plan: bool = False
 
 
 class Replay:
@@ -223,6 +230,7 @@ class Replay:
         self._started = array("i")
         self._procedure = array("i")
         self._depth = array("H")
+        self._happened = array("B")  # FAILED | NO_PLAN since the position before
         self._names: list[str] = []
         self._name_ids: dict[str, int] = {}
         self._keyframes: list[ReplayState] = []
@@ -255,6 +263,7 @@ class Replay:
         self.stepped = any(isinstance(e, StepEvent) for _, _, e in self._scan())
         depth = 0
         procedure = -1
+        happened = 0
         for part, offset, event in self._scan():
             if isinstance(event, HeaderEvent):
                 if self.header is None:
@@ -285,7 +294,13 @@ class Replay:
                 self._started.append(self._name(started) if started is not None else -1)
                 self._procedure.append(procedure)
                 self._depth.append(min(depth, 65535))
+                self._happened.append(happened)
+                happened = 0
             self._apply(state, event, part, offset)
+            if isinstance(event, UpdateEvent) and event.status == "failed":
+                happened |= _FAILED
+            elif isinstance(event, PlanEvent | ReplanEvent) and not event.feasible:
+                happened |= _NO_PLAN
         if not self._offset:
             raise TraceReadError(f"{self.parts[0]}: a trace without records to replay")
         self._final = state
@@ -389,6 +404,8 @@ class Replay:
             self._text(self._started[index]),
             self._text(self._procedure[index]),
             self._depth[index],
+            bool(self._happened[index] & _FAILED),
+            bool(self._happened[index] & _NO_PLAN),
         )
 
     def _text(self, number: int) -> str | None:
@@ -428,6 +445,19 @@ class Replay:
             at = getattr(upcoming, "at", None)
             state.location = at if isinstance(at, str) else state.location
         return state
+
+    def before(self, index: int) -> list[TraceEvent]:
+        """The records between position `index - 1` (included) and `index`: what happened since
+        the position before (the one record of a trace without steps, a step's records)."""
+        if index <= 0:
+            return []
+        end = (self._part[index], self._offset[index])
+        found: list[TraceEvent] = []
+        for part, offset, event in self._from(index - 1):
+            if (part, offset) == end:
+                break
+            found.append(event)
+        return found
 
     def _from(self, index: int) -> Iterator[tuple[int, int, TraceEvent]]:
         """The run's records from position `index`'s on, across parts."""

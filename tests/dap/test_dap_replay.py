@@ -270,3 +270,27 @@ def test_a_live_sessions_trace_replays_step_by_step(tmp_path: Path) -> None:
         client.stopped()
         client.ok("next", {"threadId": 1})
         assert client.top()["name"] == "visit(kitchen)"
+
+
+def test_the_failed_activity_filter_stops_after_each_failure_both_ways(tmp_path: Path) -> None:
+    program = Path(__file__).resolve().parents[1] / "programs" / "during_on_fail.gpp"
+    trace, watcher = record(tmp_path, program, "failing")
+    with dap_session(tmp_path) as client:
+        client.start({"trace": str(trace)}, exceptions=["failed"])
+        stops = [client.stopped()]
+        while "the end of the recorded run" not in stops[-1]["description"]:
+            client.ok("continue", {"threadId": 1})
+            stops.append(client.stopped())
+        failures = [position(s) for s in stops if s["reason"] == "exception"]
+        # The scenario fails the first drive to the kitchen and the first beep.
+        assert len(failures) == 2
+        said = [s["text"] for s in stops if s["reason"] == "exception"]
+        assert said == ["`drive(kitchen)` failed", "`beep()` failed"]
+        back = []
+        for _ in failures:
+            client.ok("reverseContinue", {"threadId": 1})
+            back.append(position(client.stopped()))
+        assert back == failures[::-1]
+        # Just after a failure, the failed activity is there, not consumed yet.
+        for at in failures:
+            assert "failed" in {status for _, status in watcher.states[at].activities.values()}
