@@ -211,15 +211,25 @@ class TraceBackend(SessionBackend):
 
     def describe(self, what: str = "") -> str:
         """A stop's description: where in the recording, and what happens next there."""
-        position = self.replay.position(self.index)
-        upcoming = self.view.step or position.kind
-        if not self.replay.stepped:
-            upcoming = position.kind
+        upcoming = self.upcoming()
         head = f"{what}: " if what else ""
         return (
             f"{head}position {self.index + 1} of {len(self.replay)} at {self.view.t:.3f} s, next: {upcoming}"
             " (recorded run)"
         )
+
+    def upcoming(self) -> str:
+        """What happens next at the stop: its step, or (a trace without steps) its record in
+        the words of `gpp run`'s event lines."""
+        if self.replay.stepped and self.view.step is not None:
+            return self.view.step
+        from gpp.run.view import describe
+
+        record = self.replay.record(self.index)
+        said = describe(record)
+        if said is None:  # a record `gpp run` does not print (a final update, a resumed wait)
+            said = " ".join(str(getattr(record, f, None) or "") for f in ("EVENT", "action", "status"))
+        return " ".join(said.split())
 
     # ---------------------------------------------------------------- the state
 
@@ -406,7 +416,7 @@ class TraceBackend(SessionBackend):
             out = [
                 Variable("position", f"{self.index + 1} of {len(self.replay)}"),
                 Variable("time", f"{view.t:.3f} s"),
-                Variable("next", self.replay.position(self.index).kind if not view.step else view.step),
+                Variable("next", self.upcoming()),
                 Variable("actions started", str(view.actions)),
                 Variable("failures", str(view.failures)),
                 Variable("exogenous events", str(view.exog_events)),

@@ -170,6 +170,8 @@ def test_a_trace_without_steps_or_of_an_old_schema_says_what_it_cannot_show(tmp_
         client.ok("continue", {"threadId": 1})
         stop = client.stopped()
         assert stop["reason"] == "breakpoint" and client.top()["line"] == 31
+        # Without steps, a stop says which record comes next, as `gpp run` prints it.
+        assert "next: assign counter() = 1 (recorded run)" in stop["description"]
         client.ok("stepBack", {"threadId": 1})
         assert position(client.stopped()) == position(stop) - 1
     # As schema 1.3 wrote it (before snapshots, steps and the 1.5 fields): it still replays.
