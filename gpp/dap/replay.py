@@ -362,9 +362,14 @@ class TraceBackend(SessionBackend):
 
     def stack(self) -> list[StackFrame]:
         out = []
-        for i, (name, args, _, stmt) in enumerate(self.frames()):
+        frames = self.frames()
+        for i, (name, args, _, stmt) in enumerate(frames):
             shown = ", ".join(show_json(v) for v in args.values())
             suffix = f"({shown})" if self.view.frames else "  [calls not recorded]"
+            if i == len(frames) - 1 and self.view.calls > len(frames):
+                # A deep recursion: the trace lists its innermost calls and the entry procedure.
+                left = self.view.calls - len(frames)
+                out.append(StackFrame(len(frames), f"... {left} more calls (not in the trace)", None))
             out.append(StackFrame(i, f"{name}{suffix}", stmt.span if stmt is not None else None))
         return out
 

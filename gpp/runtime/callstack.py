@@ -33,6 +33,10 @@ from gpp.runtime.semantics import (
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
+# A `step` record lists at most this many calls: the innermost ones and the entry procedure
+# (a deep recursion would make each record as long as the recursion is deep).
+MAX_FRAMES = 32
+
 
 @dataclass(frozen=True, slots=True)
 class _Part:
@@ -62,16 +66,22 @@ class CallStacks:
         # must never hide a narrower one).
         self.bodies.sort(key=lambda b: b[2] - b[1])
         self._variables: dict[int, Symbol] | None = None
+        # (id of the source, offset) -> the procedure there (the program's sources live as long).
+        self._procedures: dict[tuple[int, int], Symbol | None] = {}
 
     def procedure_at(self, span: Span | None) -> Symbol | None:
         """The procedure whose body holds `span`."""
         if span is None:
             return None
+        key = (id(span.source), span.start)
+        if key in self._procedures:
+            return self._procedures[key]
         path = str(span.source.path)
-        for file, start, end, symbol in self.bodies:
-            if file == path and start <= span.start < end:
-                return symbol
-        return None
+        found = next(
+            (symbol for file, start, end, symbol in self.bodies if file == path and start <= span.start < end), None
+        )
+        self._procedures[key] = found
+        return found
 
     def step_frames(self, prog: Prog, next_prog: Prog, span: Span) -> tuple[dict[str, JsonValue], ...]:
         """The calls of the statement at `span` that takes the transition from `prog` to

@@ -203,6 +203,9 @@ class StepEvent(EventBase):
     # The procedure calls the statement is in, innermost first: `{"procedure": "deliver",
     # "args": {"r": ...}, "at": the call's location or null}` each (the entry procedure last).
     frames: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
+    # When the calls are more than `frames` lists (a deep recursion: the innermost ones and the
+    # entry procedure are listed), how many there are.
+    depth: int | None = field(default=None, metadata=_OPTIONAL)
 
 
 # ---------------------------------------------------------------- activities

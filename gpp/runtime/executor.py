@@ -30,7 +30,7 @@ from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
 from gpp.model.declarations import fill_placeholders
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, Wait, waits_for, why_blocked
-from gpp.runtime.callstack import CallStacks
+from gpp.runtime.callstack import MAX_FRAMES, CallStacks
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -669,12 +669,17 @@ class Executor:
         """The `step` record of the transition `step` from `prog` to `next_prog`."""
         assert self.call_stacks is not None
         span = step.session.stmt.span if isinstance(step, PlanStep | ReplanStep) else step.span
+        frames = self.call_stacks.step_frames(prog, next_prog, span)
+        depth = len(frames) if len(frames) > MAX_FRAMES else None
+        if depth is not None:  # a deep recursion: the innermost calls and the entry procedure
+            frames = (*frames[: MAX_FRAMES - 1], frames[-1])
         self.trace.emit(
             ev.StepEvent(
                 t=self.platform.now(),
                 at=_where(span),
                 step=step.describe() or (span.text.strip().splitlines() or [""])[0],
-                frames=self.call_stacks.step_frames(prog, next_prog, span),
+                frames=frames,
+                depth=depth,
             )
         )
 

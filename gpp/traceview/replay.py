@@ -93,6 +93,8 @@ class ReplayState:
     # From the latest `step` record: what the transition did and the procedure calls it was in.
     step: str | None = None
     frames: tuple[dict[str, JsonValue], ...] = ()
+    # How many calls there are (more than `frames` lists in a deep recursion).
+    calls: int = 0
     # How the run ended, once it has: the `blocked` or `error` message, the `finish` status.
     stopped: str | None = None
     status: str | None = None
@@ -111,6 +113,7 @@ class ReplayState:
             self.location,
             self.step,
             self.frames,
+            self.calls,
             self.stopped,
             self.status,
         )
@@ -121,6 +124,7 @@ class ReplayState:
         match event:
             case StepEvent():
                 self.step, self.frames = event.step, event.frames
+                self.calls = event.depth if isinstance(event.depth, int) else len(event.frames)
                 self.location = event.at or self.location
             case StartEvent():
                 self.activities[event.id] = ActivityState(event.id, event.action, "running", event.t, event.at)
@@ -280,7 +284,7 @@ class Replay:
                 continue
             if self._is_stop(event):
                 if isinstance(event, StepEvent):
-                    depth = len(event.frames)
+                    depth = event.depth if isinstance(event.depth, int) else len(event.frames)
                     first = event.frames[0].get("procedure") if event.frames else None
                     procedure = self._name(first) if isinstance(first, str) else -1
                 if len(self._offset) % KEYFRAME_EVERY == 0:

@@ -296,3 +296,22 @@ def test_the_failed_activity_filter_stops_after_each_failure_both_ways(tmp_path:
         # Just after a failure, the failed activity is there, not consumed yet.
         for at in failures:
             assert "failed" in {status for _, status in watcher.states[at].activities.values()}
+
+
+def test_a_deep_recursion_shows_how_many_calls_the_trace_leaves_out(tmp_path: Path) -> None:
+    program = tmp_path / "deep.gpp"
+    program.write_text(
+        "number fluent x() {\ninitially:\n    () = 0;\n}\n\n"
+        "procedure down(number n) {\n    if (n > 0) {\n        x() = x() + 1;\n        down(n - 1);\n"
+        "        x() = x() - 1;\n    }\n}\n\nprocedure main() {\n    down(40);\n    x() = 1000;\n}\n",
+        encoding="utf-8",
+    )
+    trace, _ = record(tmp_path, program, "deep")
+    with dap_session(tmp_path) as client:
+        # Line 8 (`x() = x() + 1;`) in down(1): 41 calls deep.
+        client.start({"trace": str(trace)}, {str(program): [{"line": 8, "condition": "n == 1"}]})
+        assert client.stopped()["reason"] == "breakpoint"
+        names = [f["name"] for f in client.ok("stackTrace", {"threadId": 1})["stackFrames"]]
+        assert names[:2] == ["down(1)", "down(2)"] and names[-1] == "main()"
+        assert names[-2] == "... 9 more calls (not in the trace)" and len(names) == 33
+        assert client.evaluate("x()")["result"] == "39"

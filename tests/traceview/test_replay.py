@@ -269,3 +269,27 @@ def test_a_step_costs_the_same_at_the_end_of_a_long_trace_as_at_its_start(
         assert max(at_end) == max(at_start)
         # Stepping forward reads the records of one step (and the position's own).
         assert max(cost(i) for i in range(1, 200)) <= per_position + 2
+
+
+def test_a_deep_recursion_lists_its_innermost_calls_and_how_many_there_are(tmp_path: Path) -> None:
+    from gpp.runtime.callstack import MAX_FRAMES
+
+    program = tmp_path / "deep.gpp"
+    program.write_text(
+        "number fluent x() {\ninitially:\n    () = 0;\n}\n\n"
+        "procedure down(number n) {\n    if (n > 0) {\n        x() = x() + 1;\n        down(n - 1);\n"
+        "        x() = x() - 1;\n    }\n}\n\nprocedure main() {\n    down(100);\n    x() = 1000;\n}\n",
+        encoding="utf-8",
+    )
+    trace, watcher = record(tmp_path, program, "deep")
+    with Replay.open(trace) as replay:
+        deepest = max(range(len(replay)), key=lambda q: replay.position(q).depth)
+        state = replay.state(deepest)
+        # down(100) ... down(1) under main: 101 calls, the innermost 31 and main listed.
+        assert replay.position(deepest).depth == state.calls == 101
+        assert len(state.frames) == MAX_FRAMES
+        assert [f["args"] for f in state.frames[:2]] == [{"n": 1}, {"n": 2}]
+        assert state.frames[-1]["procedure"] == "main"
+        assert_same(state, watcher.states[deepest], "at the deepest call")
+        # Stepping out of the innermost call still knows the depth.
+        assert replay.position(replay.forward(deepest, out=True)).depth == 100
