@@ -276,12 +276,12 @@ class Executor:
                 if successors:
                     chased = 0
                     next_prog, step = successors[0]
+                    if self.call_stacks is not None:
+                        self.trace_step(prog, next_prog, step)
                     if self.waiting_at is not None:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
                         self.waiting_at = self.waiting_for = None
                     self.blocked = False
-                    if self.call_stacks is not None:
-                        self.trace_step(prog, next_prog, step)
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog

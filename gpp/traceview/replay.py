@@ -124,6 +124,7 @@ class ReplayState:
         match event:
             case StepEvent():
                 self.step, self.frames = event.step, event.frames
+                self.waiting = None  # a program that steps waits no more
                 self.calls = event.depth if isinstance(event.depth, int) else len(event.frames)
                 self.location = event.at or self.location
             case StartEvent():

@@ -36,7 +36,7 @@ class Watcher(RunControl):
     final: LiveState | None = None
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
-        self.states[executor.steps] = _live(executor)
+        self.states[executor.result.steps] = _live(executor)  # type: ignore[attr-defined]
 
     def finished(self, executor: Executor) -> None:
         self.final = _live(executor)
