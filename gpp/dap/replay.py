@@ -385,7 +385,7 @@ class TraceBackend(SessionBackend):
             fluent_scope(self.handles, self.compiled, self.state()),
             self.activity_scope(view),
         ]
-        if view.plan is not None:
+        if view.plan is not None and self.planning(view):
             out.append(self.plan_scope(view))
         out.append(self.run_scope(view))
         return out
@@ -399,6 +399,17 @@ class TraceBackend(SessionBackend):
 
         return Scope("Activities", self.handles.add(children), count=len(view.activities))
 
+    def planning(self, view: ReplayState) -> bool:
+        """Is the stop inside the `solve` or `search` that made the latest plan? (Without steps
+        the trace does not say where that is: the latest plan is shown.)"""
+        if view.plan_at is None:
+            return not self.replay.stepped
+        solve, here = self.statement(view.plan_at), self.statement(view.location)
+        if solve is None or here is None:
+            return False
+        inner, outer = here.span, solve.span
+        return inner.source is outer.source and outer.start <= inner.start and inner.end <= outer.end
+
     def plan_scope(self, view: ReplayState) -> Scope:
         plan = view.plan
         assert plan is not None
@@ -409,9 +420,11 @@ class TraceBackend(SessionBackend):
                 Variable("feasible", "true" if plan.feasible else "false"),
                 Variable("value", f"{plan.value:g}"),
                 Variable("horizon", str(plan.horizon)),
-                Variable("started", f"{view.plan_started} of its activities so far"),
+                Variable("done", f"{view.plan_done} of {len(plan.policy)} steps started"),
             ]
-            out.extend(Variable(str(i + 1), step, "step") for i, step in enumerate(plan.policy))
+            for i, step in enumerate(plan.policy):
+                mark = "✓ " if i < view.plan_done else "→ " if i == view.plan_done else "  "
+                out.append(Variable(f"{mark}{i + 1}", step, "step"))
             return out
 
         return Scope("Plan", self.handles.add(children), count=len(plan.policy) + 5)

@@ -80,9 +80,11 @@ class ReplayState:
     # the trace writes them; every other instance has its initial value.
     fluents: dict[str, JsonValue] = field(default_factory=dict)
     activities: dict[int, ActivityState] = field(default_factory=dict)
-    # The latest `plan` or `replan` record, and the planned steps started since (its progress).
+    # The latest `plan` or `replan` record; how many of its policy's steps have started since,
+    # in order (its progress); where its `solve` or `search` is (traces with steps).
     plan: PlanEvent | ReplanEvent | None = None
-    plan_started: int = 0
+    plan_done: int = 0
+    plan_at: str | None = None
     # What the program waits for, as its `waiting` record says (None: it does not wait).
     waiting: dict[str, JsonValue] | None = None
     actions: int = 0
@@ -105,7 +107,8 @@ class ReplayState:
             dict(self.fluents),
             dict(self.activities),
             self.plan,
-            self.plan_started,
+            self.plan_done,
+            self.plan_at,
             self.waiting,
             self.actions,
             self.failures,
@@ -125,14 +128,21 @@ class ReplayState:
             case StepEvent():
                 self.step, self.frames = event.step, event.frames
                 self.waiting = None  # a program that steps waits no more
+                if event.step in ("plan", "replan"):
+                    self.plan_at = event.at
                 self.calls = event.depth if isinstance(event.depth, int) else len(event.frames)
                 self.location = event.at or self.location
             case StartEvent():
                 self.activities[event.id] = ActivityState(event.id, event.action, "running", event.t, event.at)
                 self.actions += 1
                 self.location = event.at or self.location
-                if self.plan is not None:
-                    self.plan_started += 1
+                plan = self.plan
+                if (
+                    plan is not None
+                    and self.plan_done < len(plan.policy)
+                    and plan.policy[self.plan_done] == event.action
+                ):
+                    self.plan_done += 1
             case UpdateEvent():
                 running = self.activities.get(event.id)
                 if running is not None:
@@ -154,7 +164,7 @@ class ReplayState:
             case SenseEvent():
                 self.fluents[event.fluent] = event.value
             case PlanEvent() | ReplanEvent():
-                self.plan, self.plan_started = event, 0
+                self.plan, self.plan_done = event, 0
             case WaitingEvent():
                 self.waiting = None if event.resumed else waiting_fields(event)
                 self.location = event.at or self.location

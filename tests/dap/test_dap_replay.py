@@ -315,3 +315,23 @@ def test_a_deep_recursion_shows_how_many_calls_the_trace_leaves_out(tmp_path: Pa
         assert names[:2] == ["down(1)", "down(2)"] and names[-1] == "main()"
         assert names[-2] == "... 9 more calls (not in the trace)" and len(names) == 33
         assert client.evaluate("x()")["result"] == "39"
+
+
+def test_the_plan_of_the_enclosing_solve_and_its_progress(tmp_path: Path) -> None:
+    trace, _ = record(tmp_path, BLOCKSWORLD, "plan", platform="sim")
+    with dap_session(tmp_path) as client:
+        # `stack` runs the plan's steps; line 48 (`gripper_home();`) comes after the `solve`.
+        client.start({"trace": str(trace)}, {str(BLOCKSWORLD): [{"line": 48}]}, functions=["stack"])
+        marks = []
+        for _ in range(4):
+            stop = client.stopped()
+            assert stop["reason"] == "function breakpoint"
+            plan = {v["name"]: v["value"] for v in client.scope("Plan")}
+            marks.append([name for name in plan if name.startswith("→")])
+            assert plan["kind"].startswith("solve")
+            client.ok("continue", {"threadId": 1})
+        # Each start of `stack` is the next step of the plan.
+        assert marks == [["→ 1"], ["→ 2"], ["→ 3"], ["→ 4"]]
+        assert client.stopped()["reason"] == "breakpoint"
+        scopes = [s["name"] for s in client.ok("scopes", {"frameId": 0})["scopes"]]
+        assert "Plan" not in scopes and "Fluents" in scopes
