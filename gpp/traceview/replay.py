@@ -28,6 +28,7 @@ from typing import IO
 from gpp.runtime.events import (
     AssignEvent,
     BlockedEvent,
+    CancelEvent,
     EndEvent,
     ErrorEvent,
     ExogEvent,
@@ -55,6 +56,9 @@ KEYFRAME_EVERY = 256
 # What happened since the position before (Position.failed, Position.no_plan).
 _FAILED = 1
 _NO_PLAN = 2
+
+# Records that only a transition of the program writes.
+_TRANSITION_RECORDS = (StartEvent, EndEvent, AssignEvent, PlanEvent, ReplanEvent, CancelEvent)
 
 # The record kinds that are positions in a trace recorded with steps.
 _STEPPED_STOPS = (StepEvent, BlockedEvent, ErrorEvent, FinishEvent)
@@ -275,7 +279,7 @@ class Replay:
         """Read the trace once: the positions, and the state at every keyframe."""
         state = self._initial
         # The stops are known only once it is known whether the trace has steps: look first.
-        self.stepped = any(isinstance(e, StepEvent) for _, _, e in self._scan())
+        self.stepped = self._has_steps()
         depth = 0
         procedure = -1
         happened = 0
@@ -320,9 +324,19 @@ class Replay:
             raise TraceReadError(f"{self.parts[0]}: a trace without records to replay")
         self._final = state
 
+    def _has_steps(self) -> bool:
+        """Was the trace recorded with steps? A transition's `step` record comes before the
+        records only a transition writes, so the first of those tells."""
+        for _, _, event in self._scan():
+            if isinstance(event, StepEvent):
+                return True
+            if isinstance(event, _TRANSITION_RECORDS):
+                return False
+        return False
+
     def _scan(self) -> Iterator[tuple[int, int, TraceEvent]]:
-        """Every record of the run with its part and offset (the header and snapshot that start
-        each later part are the part's, and given with the rest)."""
+        """Every record of the run with its part and offset (but the header and snapshot that
+        start each later part: they hold what the records before them did)."""
         for number in range(len(self.parts)):
             yield from self._records(number, 0)
 
