@@ -413,6 +413,7 @@ class LiveBackend(RunControl, SessionBackend):
                 job = self._jobs.get()
                 if isinstance(job, _Terminate):
                     self.end_if_asked()
+                    continue
                 if isinstance(job, _Resume):
                     self._mode = job.how
                     self._depth = len(self.frames)
