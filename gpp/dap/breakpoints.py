@@ -15,6 +15,7 @@ from gpp.base.source import Span
 from gpp.base.suggest import did_you_mean
 from gpp.dap.program import CheckedExpression, DebugProgram, ExpressionError
 from gpp.model.symbols import SymbolKind
+from gpp.model.types import BOOL
 from gpp.runtime.compiled import Env
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.values import show
@@ -177,7 +178,7 @@ class Breakpoints:
             condition = wanted.get("condition")
             if isinstance(condition, str) and condition.strip():
                 b.condition = program.expression(condition, at)
-                if b.condition.type.__str__() != "bool":
+                if b.condition.type is not BOOL:
                     raise ExpressionError(f"a condition is a `bool`, not a `{b.condition.type}`", 1)
             hit = wanted.get("hitCondition")
             if isinstance(hit, str) and hit.strip():
