@@ -206,6 +206,9 @@ class StepEvent(EventBase):
     # When the calls are more than `frames` lists (a deep recursion: the innermost ones and the
     # entry procedure are listed), how many there are.
     depth: int | None = field(default=None, metadata=_OPTIONAL)
+    # The transition goes on with a statement an earlier one began (the end of a call or of a
+    # `during`) or plans again: a debugger's stepping does not stop at it, a breakpoint does.
+    continues: bool = field(default=False, metadata=_OPTIONAL)
 
 
 # ---------------------------------------------------------------- activities

@@ -60,6 +60,7 @@ from gpp.runtime.semantics import (
     Done,
     DoStep,
     DuringEnd,
+    EndKind,
     EndStep,
     OnlinePlanner,
     Planned,
@@ -676,6 +677,8 @@ class Executor:
                 step=step.describe() or (span.text.strip().splitlines() or [""])[0],
                 frames=frames,
                 depth=depth,
+                continues=isinstance(step, ReplanStep)
+                or (isinstance(step, EndStep) and step.hook in (EndKind.CALL, EndKind.DURING)),
             )
         )
 

@@ -56,6 +56,8 @@ KEYFRAME_EVERY = 256
 # What happened since the position before (Position.failed, Position.no_plan).
 _FAILED = 1
 _NO_PLAN = 2
+# The position's step goes on with a statement an earlier step began (stepping passes it).
+_CONTINUES = 4
 
 # Records that only a transition of the program writes.
 _TRANSITION_RECORDS = (StartEvent, EndEvent, AssignEvent, PlanEvent, ReplanEvent, CancelEvent)
@@ -228,6 +230,9 @@ class Position:
     # Since the position before: an activity failed, a `solve`/`search` found no plan.
     failed: bool = False
     no_plan: bool = False
+    # Its step goes on with a statement an earlier one began (the end of a call): stepping
+    # passes over it.
+    continues: bool = False
 
 
 class Replay:
@@ -249,7 +254,7 @@ class Replay:
         self._started = array("i")
         self._procedure = array("i")
         self._depth = array("H")
-        self._happened = array("B")  # FAILED | NO_PLAN since the position before
+        self._flags = array("B")  # _FAILED | _NO_PLAN since the position before, _CONTINUES
         self._names: list[str] = []
         self._name_ids: dict[str, int] = {}
         self._keyframes: list[ReplayState] = []
@@ -313,7 +318,8 @@ class Replay:
                 self._started.append(self._name(started) if started is not None else -1)
                 self._procedure.append(procedure)
                 self._depth.append(min(depth, 65535))
-                self._happened.append(happened)
+                continues = isinstance(event, StepEvent) and event.continues is True
+                self._flags.append(happened | (_CONTINUES if continues else 0))
                 happened = 0
             self._apply(state, event, part, offset)
             if isinstance(event, UpdateEvent) and event.status == "failed":
@@ -433,8 +439,9 @@ class Replay:
             self._text(self._started[index]),
             self._text(self._procedure[index]),
             self._depth[index],
-            bool(self._happened[index] & _FAILED),
-            bool(self._happened[index] & _NO_PLAN),
+            bool(self._flags[index] & _FAILED),
+            bool(self._flags[index] & _NO_PLAN),
+            bool(self._flags[index] & _CONTINUES),
         )
 
     def _text(self, number: int) -> str | None:
@@ -505,7 +512,9 @@ class Replay:
     def forward(self, index: int, over: bool = False, out: bool = False) -> int:
         """The position a step forward from `index` reaches: the next one (step in); with
         `over`, the next in the same call or an outer one (next); with `out`, the next in an
-        outer call (step out). The last position when there is none."""
+        outer call (step out). As the live debugger's stepping, it passes over the steps that
+        go on with a statement an earlier one began (the end of a call). The last position when
+        there is none."""
         return self._seek(index, 1, over, out)
 
     def backward(self, index: int, over: bool = False, out: bool = False) -> int:
@@ -517,7 +526,9 @@ class Replay:
         q = index + direction
         while 0 <= q < len(self._offset):
             d = self._depth[q]
-            if (out and d < depth) or (not out and (not over or d <= depth)):
+            if self._flags[q] & _CONTINUES:
+                pass  # as the live debugger's stepping, it does not stop at the end of a call
+            elif (out and d < depth) or (not out and (not over or d <= depth)):
                 return q
             q += direction
         return self.last if direction > 0 else 0

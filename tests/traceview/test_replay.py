@@ -20,24 +20,31 @@ from tests.support.replay import REPLAY_AGENT as AGENT
 
 
 def assert_replays(trace: Path, watcher: Watcher) -> Replay:
-    """Step forward from the start to the end, then back to the start: each position's state is
-    the live run's at the same step."""
+    """Each position's state is the live run's at the same step, taken in order; stepping forward
+    from the start to the end, then back to the start, stops at each statement's step (not at
+    the end of a call, as the live debugger) with the same states."""
     replay = Replay.open(trace)
     assert replay.stepped
     steps = len(replay) - 1  # the last position is the `finish` record
     assert steps == max(watcher.states), "one position per transition"
-    index = 0
-    while True:
-        assert_same(replay.state(index), watcher.states[index], f"forward at {index}")
-        if index == replay.last:
-            break
+    for index in range(len(replay)):
+        assert_same(replay.state(index), watcher.states[index], f"at {index}")
+    stops = [i for i in range(len(replay)) if not replay.position(i).continues]
+    assert 0 < len(stops) < len(replay)  # calls end in these runs
+    index, forward = 0, [0]
+    while index < replay.last:
         index = replay.forward(index)
+        forward.append(index)
+        assert_same(replay.state(index), watcher.states[index], f"forward at {index}")
+    assert forward == stops
     assert watcher.final is not None
-    assert_same(replay.state(replay.last), watcher.final, "at the end")
     assert_same(replay.final, watcher.final, "after the last record")
+    backward = [index]
     while index > 0:
         index = replay.backward(index)
+        backward.append(index)
         assert_same(replay.state(index), watcher.states[index], f"backward at {index}")
+    assert backward == stops[::-1]
     return replay
 
 
