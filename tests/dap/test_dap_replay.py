@@ -337,3 +337,33 @@ def test_the_plan_of_the_enclosing_solve_and_its_progress(tmp_path: Path) -> Non
         assert client.stopped()["reason"] == "breakpoint"
         scopes = [s["name"] for s in client.ok("scopes", {"frameId": 0})["scopes"]]
         assert "Plan" not in scopes and "Fluents" in scopes
+
+
+def test_a_replay_stops_where_the_live_session_stopped_with_the_same_stack_and_values(tmp_path: Path) -> None:
+    """Stepping in through a live run and through its trace: the same statements, calls and
+    values, stop by stop (the live session also stops once before the first transition)."""
+    program = BLOCKSWORLD
+
+    Stop = tuple[list[tuple[str, int]], str]
+
+    def stops(client: DapClient, seen: list[Stop]) -> None:
+        while True:
+            stop = client.stopped()
+            if "the end of the recorded run" in stop.get("description", ""):
+                return
+            frames = client.ok("stackTrace", {"threadId": 1})["stackFrames"]
+            seen.append(([(f["name"], f["line"]) for f in frames], client.evaluate("loc(a)")["result"]))
+            client.ok("stepIn", {"threadId": 1})
+
+    live: list[Stop] = []
+    with dap_session(tmp_path) as client:
+        launch = {"program": str(program), "platform": "sim", "traceFile": "live.jsonl", "stopOnEntry": True}
+        client.start(launch)
+        with pytest.raises(AssertionError):  # the session ends with the run: no more stops
+            stops(client, live)
+    replayed: list[Stop] = []
+    with dap_session(tmp_path) as client:
+        client.start({"trace": "live.jsonl", "stopOnEntry": True})
+        stops(client, replayed)
+    assert len(live) > 10
+    assert replayed[: len(live) - 1] == live[1:]
