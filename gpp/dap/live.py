@@ -203,7 +203,7 @@ class LiveBackend(RunControl, SessionBackend):
         self.end_if_asked()
         self.note_activities(executor)
         if self._stop_on_entry and not self.no_debug:
-            self.hold(executor, prog, self.frames_of(executor, prog), Stop("entry", "stopped on entry"))
+            self.hold(executor, prog, self.frames_of(executor, prog), Stop("entry", "stopped on entry"), between=True)
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
         self.end_if_asked()
@@ -213,7 +213,7 @@ class LiveBackend(RunControl, SessionBackend):
         self.note_activities(executor)
         if self._pause:
             self._pause = False
-            self.hold(executor, prog, self.frames_of(executor, prog), Stop("pause", "paused"))
+            self.hold(executor, prog, self.frames_of(executor, prog), Stop("pause", "paused"), between=True)
 
     def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
         self.end_if_asked()
@@ -227,7 +227,7 @@ class LiveBackend(RunControl, SessionBackend):
         first = 0
         if self._fresh:  # the first transition after a stop between transitions begins there
             self._fresh = False
-            if len(positions) > 1 and _place(positions[0]) == self._from:
+            if _place(positions[0]) == self._from:
                 first = 1
         for i in range(first, len(positions)):
             frames = positions[i]
@@ -255,7 +255,7 @@ class LiveBackend(RunControl, SessionBackend):
         # Shown where it happened: inside the calls it is in (a test blocked in a procedure is
         # still at the call of that procedure, a call being no transition of its own).
         frames = self.positions(executor, at, None, at)[-1]
-        self.hold(executor, at, frames, Stop("exception", happening.description, label))
+        self.hold(executor, at, frames, Stop("exception", happening.description, label), between=True)
 
     def attend(self, executor: Executor) -> None:
         self.end_if_asked()
@@ -333,7 +333,8 @@ class LiveBackend(RunControl, SessionBackend):
                 ),
                 top.frame,
             )
-            frames = [CallFrame(top.procedure, frame, stmt.span, stmt, top.planned), *frames[1:]]
+            head = top.stmt if top.stmt is not stmt else None
+            frames = [CallFrame(top.procedure, frame, stmt.span, stmt, top.planned, head=head), *frames[1:]]
         out.append(frames)
         return out
 
@@ -350,7 +351,9 @@ class LiveBackend(RunControl, SessionBackend):
         top = frames[0]
         ids: list[int] = []
         if top.stmt is not None and (not last or _is_statement_step(step)):
-            ids.extend(b.id for b in table.at_statement(top.stmt) if self.passes(executor, b, top))
+            for stmt in (top.stmt, top.head):
+                if stmt is not None:
+                    ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
         function_ids: list[int] = []
         if table.functions:
             names = [top.procedure.name] if entering else []
@@ -439,9 +442,10 @@ class LiveBackend(RunControl, SessionBackend):
             return None
         return (found, *calls[0]) if found is not None else None
 
-    def hold(self, executor: Executor, prog: Prog, frames: list[CallFrame], stop: Stop) -> None:
+    def hold(self, executor: Executor, prog: Prog, frames: list[CallFrame], stop: Stop, between: bool = False) -> None:
         """Hold the run, stopped at `prog` with the stack `frames`, until the editor says how to
-        go on; meanwhile do the protocol loop's questions."""
+        go on; meanwhile do the protocol loop's questions. `between`: stopped between two
+        transitions (on entry, paused, at a happening), where the next transition begins."""
         self.end_if_asked()
         self.prog = prog
         self.frames = frames
@@ -460,7 +464,7 @@ class LiveBackend(RunControl, SessionBackend):
                     self._mode = job.how
                     self._depth = len(self.frames)
                     self._from = _place(self.frames)
-                    self._fresh = True
+                    self._fresh = between
                     self._held = False
                     job.done.set()
                     return

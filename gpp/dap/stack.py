@@ -65,6 +65,9 @@ class CallFrame:
     planned: Planned | None
     # Its bindings are not known yet (it waits for an activity: the rest of it tells them).
     unbound: bool = False
+    # At a transition: the statement the transition starts from, when the transition's own
+    # statement is inside it (an `if` or `while` whose test is no transition of its own).
+    head: ast.Statement | None = None
 
     def name(self) -> str:
         args = ", ".join(show(self.frame.vars[id(p)]) for p in self.procedure.params if id(p) in self.frame.vars)
