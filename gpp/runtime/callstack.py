@@ -102,7 +102,22 @@ class CallStacks:
             return outside
         entered = self.frames(next_prog)
         if entered and entered[0]["procedure"] == name:
-            return entered
+            # The calls this transition entered, on the calls it was made in (which the rest
+            # after it may have lost: a call that was its caller's last statement).
+            top = outside[0] if outside else None
+            cut = next(
+                (
+                    i
+                    for i, f in enumerate(entered)
+                    if top is not None and (f["procedure"], f["args"]) == (top["procedure"], top["args"])
+                ),
+                len(entered),
+            )
+            new = [dict(f) for f in entered[:cut]]
+            call = _head_statement(stepped[-1]) if stepped else None
+            if new and new[-1]["at"] is None and isinstance(call, ast.CallStmt):
+                new[-1]["at"] = str(call.span)
+            return (*new, *outside)
         if name is None or (outside and outside[0]["procedure"] == name):
             return outside
         return ({"procedure": name, "args": {}, "at": None}, *outside)
@@ -223,3 +238,14 @@ def _holds(item: Prog, span: Span) -> bool:
         if stmt.span.source is span.source and stmt.span.start <= span.start and span.end <= stmt.span.end:
             return not isinstance(stmt, ast.CallStmt)
     return False
+
+
+def _head_statement(item: Prog) -> ast.Statement | None:
+    """The statement a part of a continuation runs next."""
+    match item:
+        case Rest() if item.index < len(item.block.body):
+            return item.block.body[item.index]
+        case Code():
+            return item.stmt
+        case _:
+            return None
