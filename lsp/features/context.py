@@ -35,7 +35,9 @@ OPERAND_ENDS = frozenset({"NAME", "RPAR", "RBRACKET", "NUMBER", "STRING", "TRUE"
 _OPENERS = {"LPAR": "RPAR", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE", "LBRACKET": "RBRACKET"}
 _STATEMENT_HEADS = frozenset({"IF", "WHILE", "PICK", "SOLVE", "DURING", "UNTIL"})
 _HAS_PARAMETERS = frozenset({"action", "exog_action", "fluent", "function", "exog_function", "procedure"})
-_SECTIONS = frozenset({"INITIALLY", "PRECONDITION", "EFFECT", "START_EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"})
+_SECTIONS = frozenset(
+    {"INITIALLY", "PRECONDITION", "EFFECT", "START_EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"}
+)
 
 
 class Position(Enum):

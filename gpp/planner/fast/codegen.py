@@ -360,7 +360,7 @@ class ApplyGen:
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         env = Env(_EMPTY, bindings, self.sem.ctx)
         try:
-            slots = [program.slot(effect.target.fluent, tuple(a(env) for a in effect.target.args)) for effect in effects]
+            slots = [program.slot(e.target.fluent, tuple(a(env) for a in e.target.args)) for e in effects]
         except GppRuntimeError:
             return False
         if len(set(slots)) < len(slots):
