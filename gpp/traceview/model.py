@@ -488,8 +488,8 @@ class FluentValue:
 
     t: float
     value: JsonValue
-    kind: str  # the record kind that carried it: assign, sense, end, exog
-    label: str  # what set it: `assignment`, the sensing or ending action, the exogenous action
+    kind: str  # the record kind that carried it: assign, sense, start, end, exog
+    label: str  # what set it: `assignment`, the sensing, starting or ending action, the exogenous action
     at: str | None = None
 
 

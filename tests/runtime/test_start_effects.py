@@ -16,6 +16,7 @@ from gpp.run.runner import RunOptions, RunOutcome, run_program
 from gpp.runtime.events import CancelEvent, EndEvent, StartEvent
 from gpp.runtime.executor import RunStatus
 from gpp.runtime.semantics import DoStep, StartStep
+from gpp.traceview.model import fluent_histories
 from tests.support.planner_worlds import outcome
 
 WORLD = """\
@@ -157,3 +158,10 @@ def test_a_solve_with_start_effects_runs_to_its_end(tmp_path: Path) -> None:
     outcome = run_program(path, RunOptions(record=True))
     assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
     assert values(outcome) == {"busy()": False, "n()": 20, "done()": True}
+
+
+def test_the_trace_viewer_takes_the_values_a_start_set(tmp_path: Path) -> None:
+    outcome = run(tmp_path, "procedure main() { work(); }\n", '[[action]]\nmatch = "work()"\nduration = 3.0\n')
+    assert outcome.recording is not None
+    busy = fluent_histories(outcome.recording.records)["busy()"]
+    assert [(v.t, v.value, v.kind) for v in busy] == [(0.0, True, "start"), (3.0, False, "end")]
