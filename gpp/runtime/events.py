@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.6"
+TRACE_SCHEMA_VERSION: Final = "1.7"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -192,7 +192,7 @@ def waiting_fields(event: WaitingEvent) -> dict[str, JsonValue]:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class StepEvent(EventBase):
-    """Since 1.6, in a trace recorded with steps (`gpp run --trace-steps`): the program takes
+    """Since 1.7, in a trace recorded with steps (`gpp run --trace-steps`): the program takes
     its next transition (written before the records of what the transition does), so that a
     replay can stop where a debugger stopped the live run."""
 
@@ -226,6 +226,8 @@ class StartEvent(EventBase):
     args: dict[str, JsonValue]  # mapped argument names to values
     at: str | None  # source location of the statement that started it
     silent: bool = field(default=False, metadata=_OPTIONAL)
+    # Since 1.6: the fluent instances its `start_effect:` section set.
+    changes: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

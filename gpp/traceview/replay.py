@@ -3,7 +3,7 @@ and fast stepping both ways (`gpp dap` launching a trace file; docs/debugging.md
 through a recorded run").
 
 A position is a record of the trace at which the replay stops, just before that record happens:
-in a trace recorded with steps (`gpp run --trace-steps`, schema 1.6) each `step` record (the
+in a trace recorded with steps (`gpp run --trace-steps`, schema 1.7) each `step` record (the
 program's next transition, where a debugger stopped the live run) and the records that end the
 run (`blocked`, `error`, `finish`); in a trace without them, every record but the header and the
 snapshot. The state at a position is what the records before it did: the fluent values, the
@@ -140,6 +140,7 @@ class ReplayState:
                 self.location = event.at or self.location
             case StartEvent():
                 self.activities[event.id] = ActivityState(event.id, event.action, "running", event.t, event.at)
+                self._set(event.changes)  # its `start_effect:` (since 1.6)
                 self.actions += 1
                 self.location = event.at or self.location
                 plan = self.plan

@@ -300,3 +300,21 @@ def test_a_deep_recursion_lists_its_innermost_calls_and_how_many_there_are(tmp_p
         assert_same(state, watcher.states[deepest], "at the deepest call")
         # Stepping out of the innermost call still knows the depth.
         assert replay.position(replay.forward(deepest, out=True)).depth == 100
+
+
+def test_start_effects_are_in_the_replayed_state(tmp_path: Path) -> None:
+    program = tmp_path / "start.gpp"
+    program.write_text(
+        "number fluent n() { initially: () = 1; }\n"
+        "bool fluent busy() { initially: () = false; }\n"
+        "action work() {\nprecondition:\n    !busy()\nstart_effect:\n    busy() = true;\n    n() = n() + 1;\n"
+        "effect:\n    busy() = false;\n    n() = n() * 10;\n}\n"
+        "procedure main() {\n    work();\n    work();\n}\n",
+        encoding="utf-8",
+    )
+    trace, watcher = record(tmp_path, program, "start")
+    with assert_replays(trace, watcher) as replay:
+        # While an activity runs, its start effects hold: busy, and n() one more.
+        running = [q for q in range(len(replay)) if replay.state(q).activities]
+        assert running and all(replay.state(q).fluents.get("busy()") is True for q in running)
+        assert replay.final.fluents["n()"] == 210  # ((1 + 1) * 10 + 1) * 10
