@@ -107,6 +107,9 @@ class BoundAnalysis:
     goal_atoms: tuple[ast.Expr, ...] | None = None
     writes_per_step: int = 1
     goal_values: tuple[float, float] | None = None
+    # GOAL_LOOP, STEPS_TO_GOAL: every run of the loop's body makes exactly one costed step (it is
+    # never final), so the loop ends only at the goal.
+    always_steps: bool = False
 
     @property
     def enabled(self) -> bool:
@@ -437,10 +440,8 @@ class _Analysis:
         (through functions without parameters) with the same G reading no variable, and S a
         statement each run of which makes at most one step, that step costed and last: the
         condition G and the facts of `a` and `b`. None if the `solve` is not of that form."""
-        body = solve.body
-        while isinstance(body, ast.Block) and len(body.body) == 1:
-            body = body.body[0]
-        if not isinstance(body, ast.While) or not self._one_step(body.body):
+        body = self.loop_of(solve.body)
+        if body is None or not self._one_step(body.body):
             return None
         condition = self.model.effective(body.condition)
         reward = self.model.effective(solve.reward)
@@ -458,6 +459,19 @@ class _Analysis:
         ):
             return None
         return reward.condition, self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+
+    @staticmethod
+    def loop_of(body: ast.Statement) -> ast.While | None:
+        """`body` if it is a `while` loop (in blocks of one statement), else None."""
+        while isinstance(body, ast.Block) and len(body.body) == 1:
+            body = body.body[0]
+        return body if isinstance(body, ast.While) else None
+
+    def always_steps(self, body: ast.Statement) -> bool:
+        """`body` is a loop whose body makes exactly one costed step on every run that is not
+        stuck: the loop ends only when its condition is false."""
+        loop = self.loop_of(body)
+        return loop is not None and self._one_step(loop.body, exactly=True)
 
     def goal_atoms(self, goal: ast.Expr) -> tuple[ast.Expr, ...] | None:
         """The conjuncts of `goal` (through functions without parameters), if each reads
@@ -547,22 +561,28 @@ class _Analysis:
                     return False
         return True
 
-    def _one_step(self, s: ast.Statement) -> bool:
-        """Every run of `s` makes at most one step, a costed one, and `s` is done after it."""
+    def _one_step(self, s: ast.Statement, exactly: bool = False) -> bool:
+        """Every run of `s` makes at most one step, a costed one, and `s` is done after it.
+        `exactly`: and `s` is never final before that step (a run that cannot make it is
+        stuck, not done)."""
         match s:
             case ast.Block():
-                return not s.body or (len(s.body) == 1 and self._one_step(s.body[0]))
+                if not s.body:
+                    return not exactly
+                return len(s.body) == 1 and self._one_step(s.body[0], exactly)
             case ast.Assign():
                 return True
             case ast.CallStmt():
                 symbol = self.model.target(s.call)
                 return symbol is not None and symbol.kind is SymbolKind.ACTION
             case ast.Pick():
-                return self._one_step(s.body)
+                return self._one_step(s.body, exactly)
             case ast.Choose():
-                return all(self._one_step(x) for x in s.alternatives)
+                return all(self._one_step(x, exactly) for x in s.alternatives)
             case ast.If():
-                return self._one_step(s.then) and (s.otherwise is None or self._one_step(s.otherwise))
+                if s.otherwise is None:
+                    return not exactly and self._one_step(s.then)
+                return self._one_step(s.then, exactly) and self._one_step(s.otherwise, exactly)
             case _:
                 return False
 
@@ -652,9 +672,16 @@ def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
 
         atoms = analysis.goal_atoms(condition)
         writes = analysis.writes_per_step()
+        always = analysis.always_steps(solve.body)
+        if always:
+            # The loop ends only at the goal: a branch that never reaches it makes all h steps.
+            def until_goal(h: int) -> float:
+                return max(h * elsewhere, at_goal + (h - 1) * max(elsewhere, 0.0)) if h > 0 else 0.0
+
+        values = (at_goal, elsewhere)
         if atoms is not None:
-            return BoundAnalysis(low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, (at_goal, elsewhere))
-        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP)
+            return BoundAnalysis(low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, values, always)
+        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP, always_steps=always)
     per_step = max(high, 0.0)
 
     def bound(h: int) -> float:
@@ -676,28 +703,81 @@ def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | 
     table = [bound(h) for h in range(horizon + 1)]
     if result.goal_atoms is None or result.goal_values is None:
         return lambda state, h: table[h]
-    return _steps_to_goal(sem, result.goal_atoms, result.writes_per_step, *result.goal_values)
+    distance = _misplaced(sem, result.goal_atoms, result.writes_per_step)
+    return _steps_to_goal(distance, *result.goal_values, result.always_steps)
 
 
-def _steps_to_goal(
-    sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, at_goal: float, elsewhere: float
-) -> StateBound:
-    """U(s, h) of the goal loop with the steps the goal still needs from s (docs/design.md)."""
+# A lower bound on the costed steps any run of a goal loop needs from a state to its goal
+# (0: the goal holds there).
+GoalDistance = Callable[[State], int]
+
+
+@dataclass(frozen=True)
+class DistanceAnalysis:
+    """`goal_distance` of a program: the distance function, or the reason why there is none."""
+
+    distance: GoalDistance | None
+    reason: str | None  # why there is no distance (None: there is one)
+    span: Span | None = None
+
+
+def goal_distance(sem: Semantics, body: ast.Statement) -> DistanceAnalysis:
+    """For `body` = `while (!G) S` (in blocks of one statement) where every run of S that is not
+    stuck makes exactly one costed step (so the loop, and `body`, end exactly when G holds), G
+    reads no variable and is a conjunction of conjuncts on distinct fluent instances named by
+    constants (through functions without parameters), and no step of planning `body` can raise:
+    a lower bound on the costed steps from a state to an end of `body` (docs/design.md, "Branch
+    and bound"). Otherwise no distance, and the reason."""
+    analysis = _Analysis(sem.model)
+    loop = analysis.loop_of(body)
+    try:
+        analysis.statement(body, False)
+    except Unsafe as e:
+        return DistanceAnalysis(None, e.reason, e.span)
+    if loop is None:
+        return DistanceAnalysis(None, "not a `while` loop", body.span)
+    condition = sem.model.effective(loop.condition)
+    if not (isinstance(condition, ast.Unary) and condition.op is ast.UnaryOp.NOT):
+        return DistanceAnalysis(None, "the loop's condition is not `!G`", loop.condition.span)
+    goal = condition.operand
+    if not analysis.always_steps(body):
+        return DistanceAnalysis(None, "a run of the loop's body may end without a costed step", loop.body.span)
+    atoms = analysis.goal_atoms(goal) if analysis._same_goal(goal, goal) else None
+    if atoms is None:
+        return DistanceAnalysis(None, "the goal is not a conjunction on distinct fluent instances", goal.span)
+    return DistanceAnalysis(_misplaced(sem, atoms, analysis.writes_per_step()), None)
+
+
+def _misplaced(sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int) -> GoalDistance:
+    """The goal distance of the conjuncts `atoms` when one step writes at most `writes` fluent
+    instances: ceil(conjuncts not true / writes), remembered per state."""
     evaluators = [sem.program.expr(atom) for atom in atoms]
     ctx = sem.ctx
     needed: dict[State, int] = {}
 
-    def bound(state: State, h: int) -> float:
-        if h <= 0:
-            return 0.0
+    def distance(state: State) -> int:
         n = needed.get(state)
         if n is None:
             env = Env(state, {}, ctx)
             false = sum(1 for evaluate in evaluators if evaluate(env) is not True)
             n = needed[state] = -(-false // writes)
+        return n
+
+    return distance
+
+
+def _steps_to_goal(distance: GoalDistance, at_goal: float, elsewhere: float, always: bool) -> StateBound:
+    """U(s, h) of the goal loop with the steps the goal still needs from s (docs/design.md);
+    `always`: the loop ends only at the goal."""
+
+    def bound(state: State, h: int) -> float:
+        if h <= 0:
+            return 0.0
+        n = distance(state)
         if n == 0:
             return 0.0  # the goal holds: the loop is over, no further step
-        never = h * elsewhere if elsewhere > 0 else 0.0
+        # A branch that does not reach the goal: at most h steps (exactly h if `always`).
+        never = h * elsewhere if always or elsewhere > 0 else 0.0
         if n > h:
             return never
         reach = (h - 1 if elsewhere > 0 else n - 1) * elsewhere + at_goal
