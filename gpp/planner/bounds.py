@@ -11,6 +11,7 @@ The bounds and the proof that pruning with them is exact: docs/design.md, "Branc
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -35,6 +36,9 @@ STEPS_TO_GOAL = "steps to the goal"
 
 # A bound on the value of the rest of a branch from a state with h steps of horizon left.
 StateBound = Callable[[State, int], float]
+
+# The bounds of goal loops (GOAL_LOOP, STEPS_TO_GOAL): see `ends_at_goal`.
+_GOAL_BOUNDS: weakref.WeakSet[StateBound] = weakref.WeakSet()
 
 # Pruning is enabled up to this horizon (docs/design.md, "Branch and bound").
 MAX_HORIZON = 1000
@@ -702,9 +706,24 @@ def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | 
         return None  # sums of rewards might not be exact
     table = [bound(h) for h in range(horizon + 1)]
     if result.goal_atoms is None or result.goal_values is None:
-        return lambda state, h: table[h]
+
+        def by_horizon(state: State, h: int) -> float:
+            return table[h]
+
+        if result.kind == GOAL_LOOP:
+            _GOAL_BOUNDS.add(by_horizon)
+        return by_horizon
     distance = _misplaced(sem, result.goal_atoms, result.writes_per_step)
-    return _steps_to_goal(distance, *result.goal_values, result.always_steps)
+    by_state = _steps_to_goal(distance, *result.goal_values, result.always_steps)
+    _GOAL_BOUNDS.add(by_state)
+    return by_state
+
+
+def ends_at_goal(bound: StateBound) -> bool:
+    """Is `bound` that of a goal loop (GOAL_LOOP, STEPS_TO_GOAL)? Its values are close to the
+    best plan's, so a search may start from the root's bound and lower it (IDA*); a bound per
+    step is far above it (docs/design.md, "Global pruning")."""
+    return bound in _GOAL_BOUNDS
 
 
 # A lower bound on the costed steps any run of a goal loop needs from a state to its goal

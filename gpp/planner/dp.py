@@ -11,13 +11,14 @@ planner".
 from __future__ import annotations
 
 import gc
+import math
 import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
 from gpp.base.source import Span
-from gpp.planner.bounds import StateBound
+from gpp.planner.bounds import StateBound, ends_at_goal
 from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn
 from gpp.planner.fast.successors import successors_of
 from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
@@ -149,6 +150,7 @@ def solve_plan(
     `generate=False`: `trans` and `apply` by the closures of gpp.planner.fast.successors only (no
     generated source; for tests and benchmarks)."""
     assert sem.planning
+    deepening = bound is not None and ends_at_goal(bound)
     stats = PlanStats()
     started = time.perf_counter()
     # The configurations met, by continuation, then activities, then state. A continuation
@@ -256,6 +258,16 @@ def solve_plan(
         except GppRuntimeError:
             return None
 
+    def open_config(c: _Config) -> None:
+        """`final` and `trans` of a configuration, once."""
+        p = c.prog
+        fns = functions.get(id(p))
+        if fns is None or fns[0] is not p:
+            fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
+        c.final = fns[1](c.state, c.acts)
+        c.successors = fns[2](c.state, c.acts)
+        c.expanded = True
+
     def best(c: _Config, h: int, run: int) -> _Result:
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
@@ -278,13 +290,7 @@ def solve_plan(
             report()
         c.on_path |= 1 << h
         if not c.expanded:
-            p = c.prog
-            fns = functions.get(id(p))
-            if fns is None or fns[0] is not p:
-                fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
-            c.final = fns[1](c.state, c.acts)
-            c.successors = fns[2](c.state, c.acts)
-            c.expanded = True
+            open_config(c)
         feasible = c.final
         value = 0.0
         chosen: _Option | None = None
@@ -360,6 +366,125 @@ def solve_plan(
             memo[h] = result
         return result
 
+    def options_of(c: _Config) -> list[_Option]:
+        """All options of `c` but the duplicates (with a bound no step of planning can raise:
+        they are all made at once)."""
+        live = c.live
+        if live is None:
+            if not c.expanded:
+                open_config(c)
+            live = c.live = list(made(c))
+        return live
+
+    def bounded(c: _Config, h: int, need: float) -> _Result:
+        """Branch and bound with an inherited threshold (docs/design.md, "Global pruning"): the
+        exact result of `c` with `h` steps left if its value is at least `need`; otherwise
+        either that, or (False, u, h, ...) with u < need an upper bound of its value (-inf:
+        exactly infeasible). The options are tried in the order of their bounds, best first,
+        ties in textual order; the first best option in textual order is chosen, as the
+        reference chooses."""
+        assert bound is not None
+        stats.nodes += 1
+        if not stats.nodes % _PROGRESS_EVERY:
+            report()
+        c.on_path |= 1 << h
+        options = options_of(c)
+        feasible = c.final
+        value = 0.0
+        chosen = -1  # the index of the incumbent (-1: stopping here, before every option)
+        chosen_rest: _Result | None = None
+        partial = False  # an option was skipped or only bounded: not every value is known
+        ceiling = -math.inf  # an upper bound of the options not chosen
+        depth = 0
+        ranked: list[tuple[float, int]] = []
+        for i, (cost, target, _, _) in enumerate(options):
+            if cost:
+                r = target.reward
+                ranked.append((-((value_of(target) if r is None else r) + bound(target.state, max(h - cost, 0))), i))
+            else:
+                ranked.append((-math.inf, i))  # a free step: no bound, tried first
+        ranked.sort()
+        for negated, i in ranked:
+            cost, target, step, _ = options[i]
+            threshold = need
+            if feasible:
+                beat = value + 1.0 if i > chosen else value  # whole numbers: "strictly better" is +1
+                if beat > threshold:
+                    threshold = beat
+            if cost:
+                if -negated < threshold:
+                    partial = True
+                    if -negated > ceiling:
+                        ceiling = -negated
+                    stats.pruned += 1
+                    stats.bound_skips += 1
+                    continue
+                earned = target.reward
+                assert earned is not None
+                left = h - cost
+            else:
+                if target.on_path >> h & 1:
+                    raise free_loop_error(target.prog, step)
+                earned, left = 0.0, h
+            if left <= 0:
+                rest = _LEAF
+            else:
+                known = target.memo[left]
+                if known is None or not (known[0] or known[1] < threshold - earned or known[1] == -math.inf):
+                    rest = bounded(target, left, threshold - earned)
+                else:
+                    stats.cache_hits += 1
+                    rest = known
+            if cost + rest[2] > depth:
+                depth = cost + rest[2]
+            if not rest[0]:
+                if rest[1] != -math.inf:
+                    partial = True  # only bounded
+                    if earned + rest[1] > ceiling:
+                        ceiling = earned + rest[1]
+                continue
+            v = earned + rest[1]
+            if not feasible or v > value or (v == value and i < chosen):
+                if feasible and value > ceiling:
+                    ceiling = value
+                feasible, value, chosen, chosen_rest = True, v, i, rest
+                if c is root and h == horizon:
+                    root_best.append(value)
+            elif v > ceiling:
+                ceiling = v
+        c.on_path &= ~(1 << h)
+        result: _Result
+        if feasible and (value >= need or not partial):
+            if partial:
+                depth = h
+            step_taken = options[chosen][3] if chosen >= 0 else None
+            result = (True, value, depth, 0, step_taken, chosen_rest if chosen >= 0 else None)
+        elif not partial:
+            result = (False, -math.inf, depth, 0, None, None)  # infeasible, exactly
+        else:
+            result = (False, max(ceiling, value) if feasible else ceiling, h, 0, None, None)
+        memo = c.memo
+        if result[2] < h:
+            memo[result[2] + 1 :] = [result] * (len(memo) - result[2] - 1)
+        else:
+            memo[h] = result
+        return result
+
+    def iterative(c: _Config) -> _Result:
+        """The root's result by `bounded`. For a goal loop's bound (close to the value) with the
+        threshold lowered from the bound, each attempt to the upper bound the one before
+        returned (as IDA* lowers its f-limit; the memo keeps what each attempt learned);
+        for another bound (far above it) in one attempt that keeps every feasible branch."""
+        assert bound is not None
+        if horizon <= 0:
+            return _LEAF
+        need = bound(c.state, horizon) if deepening else -math.inf
+        while True:
+            result = bounded(c, horizon, need)
+            if result[0] or result[1] == -math.inf:
+                return result
+            need = result[1]
+
     def release() -> None:
         """Break the cycles between configurations (an option holds the configuration it leads
         to), so that reference counting frees them all: none is left for the collector."""
@@ -374,7 +499,7 @@ def solve_plan(
     root = intern(prog, state, acts)
     with planning_recursion_guard(span), _collector_paused():
         try:
-            result = best(root, horizon, 0)
+            result = best(root, horizon, 0) if bound is None else iterative(root)
         finally:
             release()
     value = value_of(root) + result[1] if result[0] else 0.0

