@@ -36,25 +36,32 @@ Config = tuple[Prog, State, Activities]
 #   [0] feasible or not, [1] its value,
 #   [2] depth: the most costed steps on a branch of the subtree (== horizon: it was reached),
 #   [3] free run: the most free steps a branch of the subtree starts with,
-#   [4] its first step and [5] the result of the rest (None, None: it stops here).
-_Result = tuple[bool, float, int, int, "PolicyStep | None", "_Result | None"]
+#   [4] the option of its first step and [5] the result of the rest (None, None: it stops
+#   here). The option, not the policy step: one policy step is made per step of the plan, at
+#   the end, not one per option (see `_steps`).
+_Result = tuple[bool, float, int, int, "_Option | None", "_Result | None"]
 
 _LEAF: _Result = (True, 0.0, 0, 0, None, None)
 
 
-def _steps(result: _Result) -> tuple[PolicyStep, ...]:
-    """The steps of a result's branch, first to last."""
+def _steps(result: _Result, start: Prog) -> tuple[PolicyStep, ...]:
+    """The steps of a result's branch from a configuration of continuation `start`, first to
+    last: each from the continuation of the configuration the step before led to."""
     out: list[PolicyStep] = []
     r: _Result | None = result
+    before = start
     while r is not None and r[4] is not None:
-        out.append(r[4])
+        _, target, step, after = r[4]
+        out.append((before, step, after))
+        before = target.prog
         r = r[5]
     return tuple(out)
 
 
 # An option of a configuration: its step's cost, the configuration it leads to, the step, and
-# the step as a policy step (a tuple: unpacked in the loop, cheaper than attribute lookups).
-_Option = tuple[int, "_Config", Step, PolicyStep]
+# the continuation `trans` gave with it (a tuple: unpacked in the loop, cheaper than attribute
+# lookups).
+_Option = tuple[int, "_Config", Step, Prog]
 
 
 class _Config:
@@ -73,6 +80,7 @@ class _Config:
         "prog",
         "reward",
         "seen",
+        "settled",
         "state",
         "successors",
     )
@@ -86,11 +94,13 @@ class _Config:
         self.successors: list[tuple[Prog, Step]] = []
         self.options: list[_Option | None] = []  # None: a duplicate of an earlier option
         self.live: list[_Option] | None = None  # the options but the duplicates, once all are made
-        self.seen: set[tuple[int, int]] | None = None
-        # The result for each remaining horizon (None: not known yet). A result known for
-        # every horizon above some depth (see 4 above) is stored for each of them: it is
-        # told from one for its horizon alone by its depth, which is below the horizon.
-        self.memo: list[_Result | None] = [None] * (horizon + 1)
+        # The (target, cost) of the options made: a target alone for a cost of 1 (most steps),
+        # sparing a tuple per option. Dropped, with the successors, once all options are made.
+        self.seen: set[object] | None = None
+        # The result known for every remaining horizon above its depth (see 4 above), and the
+        # results for one horizon alone, by horizon (None: not known; see `remember`).
+        self.settled: _Result | None = None
+        self.memo: list[_Result | None] | None = None  # made when a result needs it
         self.on_path = 0  # bit h: this configuration is on the path with remaining horizon h
         self.reward: float | None = None
 
@@ -225,7 +235,8 @@ def solve_plan(
                     entry = applies[id(step)] = (step, successors.apply_fn(step))  # keeps step alive
                 s2, a2 = entry[1](state, acts)
                 target = intern(q, s2, a2)
-                key = (id(target), step.cost)
+                cost = step.cost
+                key = target if cost == 1 else (target, cost)
                 seen = c.seen
                 if seen is None:
                     seen = c.seen = set()
@@ -234,7 +245,7 @@ def solve_plan(
                     o = None
                 else:
                     seen.add(key)
-                    o = (step.cost, target, step, (c.prog, step, q))
+                    o = (cost, target, step, q)
                 options.append(o)
             if o is not None:
                 yield o
@@ -272,7 +283,10 @@ def solve_plan(
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
             return _LEAF
-        known = c.memo[h]
+        known = c.settled
+        if known is None or known[2] >= h:
+            m = c.memo
+            known = m[h] if m is not None and h < len(m) else None
         if known is not None:
             if known[0] or known[2] >= h:
                 stats.cache_hits += 1
@@ -315,7 +329,10 @@ def solve_plan(
                 if left <= 0:
                     rest = _LEAF
                 else:
-                    known = target.memo[left]
+                    known = target.settled
+                    if known is None or known[2] >= left:
+                        m = target.memo
+                        known = m[left] if m is not None and left < len(m) else None
                     if known is None:
                         rest = expand(target, left, 0)
                     else:
@@ -353,18 +370,28 @@ def solve_plan(
         stats.cache_hits += hits - infeasible
         stats.pruned += infeasible
         if live is None and c.live is None and len(c.options) == len(c.successors):
-            c.live = [o for o in c.options if o is not None]
+            settle(c, [o for o in c.options if o is not None])
         if chosen is None:
             result: _Result = (feasible, value if feasible else 0.0, depth, free_run, None, None)
         else:
-            result = (True, value, depth, free_run, chosen[3], chosen_rest)
-        memo = c.memo
-        if depth < h:
-            # The same result for every horizon above depth (see 4 above).
-            memo[depth + 1 :] = [result] * (len(memo) - depth - 1)
-        else:
-            memo[h] = result
+            result = (True, value, depth, free_run, chosen, chosen_rest)
+        remember(c, h, result)
         return result
+
+    def remember(c: _Config, h: int, result: _Result) -> None:
+        """Keep the result of `c` with `h` steps left: for every horizon above its depth if
+        that is below h (see 4 above: one slot, `settled`), else for h alone (a list by
+        horizon up to the largest one kept, made for the configurations that need one: one met
+        deep in the tree only has small horizons left)."""
+        if result[2] < h:
+            c.settled = result
+            return
+        memo = c.memo
+        if memo is None:
+            memo = c.memo = [None] * (h + 1)
+        elif len(memo) <= h:
+            memo.extend([None] * (h + 1 - len(memo)))
+        memo[h] = result
 
     def options_of(c: _Config) -> list[_Option]:
         """All options of `c` but the duplicates (with a bound no step of planning can raise:
@@ -373,8 +400,18 @@ def solve_plan(
         if live is None:
             if not c.expanded:
                 open_config(c)
-            live = c.live = list(made(c))
+            live = list(made(c))
+            settle(c, live)
         return live
+
+    def settle(c: _Config, live: list[_Option]) -> None:
+        """All options of `c` are made: keep those but the duplicates, and drop what making
+        them needed (new objects, not cleared in place: an enclosing `made` of `c` may still
+        hold them)."""
+        c.live = live
+        c.options = []
+        c.successors = []
+        c.seen = None
 
     def bounded(c: _Config, h: int, need: float) -> _Result:
         """Branch and bound with an inherited threshold (docs/design.md, "Global pruning"): the
@@ -429,7 +466,10 @@ def solve_plan(
             if left <= 0:
                 rest = _LEAF
             else:
-                known = target.memo[left]
+                known = target.settled
+                if known is None or known[2] >= left:
+                    m = target.memo
+                    known = m[left] if m is not None and left < len(m) else None
                 if known is None or not (known[0] or known[1] < threshold - earned or known[1] == -math.inf):
                     rest = bounded(target, left, threshold - earned)
                 else:
@@ -457,17 +497,13 @@ def solve_plan(
         if feasible and (value >= need or not partial):
             if partial:
                 depth = h
-            step_taken = options[chosen][3] if chosen >= 0 else None
-            result = (True, value, depth, 0, step_taken, chosen_rest if chosen >= 0 else None)
+            first = options[chosen] if chosen >= 0 else None
+            result = (True, value, depth, 0, first, chosen_rest if chosen >= 0 else None)
         elif not partial:
             result = (False, -math.inf, depth, 0, None, None)  # infeasible, exactly
         else:
             result = (False, max(ceiling, value) if feasible else ceiling, h, 0, None, None)
-        memo = c.memo
-        if result[2] < h:
-            memo[result[2] + 1 :] = [result] * (len(memo) - result[2] - 1)
-        else:
-            memo[h] = result
+        remember(c, h, result)
         return result
 
     def iterative(c: _Config) -> _Result:
@@ -505,4 +541,4 @@ def solve_plan(
     value = value_of(root) + result[1] if result[0] else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started
-    return Plan(result[0], value, _steps(result) if result[0] else (), horizon, stats)
+    return Plan(result[0], value, _steps(result, root.prog) if result[0] else (), horizon, stats)
