@@ -439,3 +439,20 @@ def test_the_not_well_placed_distance_or_why_not(goal: str, body: str, reason: s
     if reason is not None and "put" in body:
         # The stronger distance would say 3 here: it does not hold without the precondition.
         assert reference.actions() == ["put(b,c)"]
+
+
+# ---------------------------------------------------------------- global pruning
+
+
+@pytest.mark.parametrize("blocks", [5, 6, 7])
+def test_global_pruning_walks_straight_to_the_towers_reversal(blocks: int) -> None:
+    # The root is asked for its bound (every block moved once: 100 - (blocks - 1), and the
+    # plan's value counts R(s0) = -1 too); the best
+    # option first is always one that puts a block in place, and nothing else reaches the
+    # threshold: one node per step and the root, the plan of the full planner.
+    pb = tower_problem(blocks, 14)
+    pruned, full = pb.production(), pb.production(prune=False)
+    assert (pruned.value, pruned.steps) == (full.value, full.steps)
+    assert pruned.value == 100 - blocks
+    assert pruned.stats.nodes == blocks + 1
+    assert full.stats.nodes > 100 * pruned.stats.nodes
