@@ -2,8 +2,9 @@
 
 `solve_plan` plans by dynamic programming over (continuation, state, activities, remaining
 horizon): memoised, one expansion per configuration, results kept for every horizon they hold
-for, duplicate options skipped, and branch and bound where gpp.planner.bounds proves it exact;
-`final`, `trans` and `apply` run through the speed tier gpp.planner.fast. Why each of these
+for, duplicate options skipped (`expand`: no bound, every node the reference expands); where
+gpp.planner.bounds proves a bound exact, global branch and bound with an inherited threshold
+instead (`bounded`); `final`, `trans` and `apply` run through the speed tier gpp.planner.fast. Why each of these
 keeps the reference's result, and how the loop is laid out: docs/design.md, "The production
 planner".
 """
@@ -298,7 +299,7 @@ def solve_plan(
         return expand(c, h, run)
 
     def expand(c: _Config, h: int, run: int) -> _Result:
-        """`best` of a configuration and remaining horizon not known yet."""
+        """`best` of a configuration and remaining horizon not known yet (without a bound)."""
         stats.nodes += 1
         if not stats.nodes % _PROGRESS_EVERY:
             report()
@@ -317,13 +318,6 @@ def solve_plan(
         for o in walk:
             cost, target, step, _ = o
             if cost:
-                if bound is not None and feasible:  # branch and bound (gpp.planner.bounds)
-                    r = target.reward
-                    if (value_of(target) if r is None else r) + bound(target.state, max(h - cost, 0)) <= value:
-                        stats.pruned += 1  # it cannot be strictly better
-                        stats.bound_skips += 1
-                        depth = h  # what it skipped is not known: keep the result for this h only
-                        continue
                 # `best(target, h - cost, 0)`, the lookups written out (most options are known).
                 left = h - cost
                 if left <= 0:
