@@ -374,3 +374,68 @@ def test_the_goal_distance_for_search_or_why_not(body: str, reason: str | None, 
     assert (analysis.distance is None) == (reason is not None)
     if analysis.distance is not None:
         assert analysis.distance(State()) == distance  # conjuncts false at the start, one instance a step
+
+
+# ---------------------------------------------------------------- objects not well placed
+
+STACKS = """
+symbol domain block = {a, b, c}
+symbol domain location = block | {table}
+location fluent loc(block x) { initially: (a) = b; (b) = table; (c) = table; }
+bool fluent lit() { initially: () = false; }
+action stack(block x, location y) {
+precondition:
+    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
+effect:
+    loc(x) = y;
+}
+action put(block x, location y) { precondition: x != y effect: loc(x) = y; }
+action light() { effect: lit() = true; }
+"""
+
+
+@pytest.mark.parametrize(
+    ("goal", "body", "reason", "distance"),
+    [
+        # b must move onto c; a is on b (its goal holds) and must leave and come back: 2 + 1.
+        ("loc(a) == b & loc(b) == c", "pick (block x) pick (location y) stack(x, y);", None, 3),
+        ("loc(a) == b & loc(b) == c & loc(c) == table", "pick (block x) stack(x, table);", None, 3),
+        ("loc(c) == a", "pick (block x) pick (location y) stack(x, y);", None, 1),
+        # `put` moves a block with others on it: b onto c carries a along, one step.
+        (
+            "loc(a) == b & loc(b) == c",
+            "pick (block x) pick (location y) put(x, y);",
+            "action `put` writes `loc(p)` without requiring `!exists(z) loc(z) == p`",
+            1,
+        ),
+        (
+            "loc(a) == b & lit()",
+            "choose { light(); pick (block x) stack(x, table); }",
+            "a conjunct of the goal is not `F(b) == v` for a unary fluent F",
+            1,
+        ),
+        (
+            "loc(a) == b & loc(b) == c",
+            "choose { loc(c) = a; pick (block x) stack(x, table); }",
+            "a statement assigns `loc`",
+            1,
+        ),
+    ],
+)
+def test_the_not_well_placed_distance_or_why_not(goal: str, body: str, reason: str | None, distance: int) -> None:
+    text = STACKS + f"bool function goal() = {goal}\nnumber function reward() = if (goal()) 10 else -1\n"
+    pb = problem(text + f"procedure main() {{ solve(4, reward()) while (!goal()) {body} }}\n")
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert analysis.kind == STEPS_TO_GOAL
+    assert analysis.placement_reason == reason
+    assert (analysis.placement is None) == (reason is not None)
+    bound = solve_bound(pb.sem, pb.solve, pb.horizon)
+    assert bound is not None
+    # Reaching the goal at step n at the soonest: worth at most 10 - (n - 1).
+    assert bound(pb.state, 4) == 10 - (distance - 1)
+    pruned, reference = pb.production(), pb.reference()
+    assert (pruned.feasible, pruned.value, pruned.steps) == (reference.feasible, reference.value, reference.steps)
+    if reason is not None and "put" in body:
+        # The stronger distance would say 3 here: it does not hold without the precondition.
+        assert reference.actions() == ["put(b,c)"]
