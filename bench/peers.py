@@ -85,11 +85,19 @@ def fast_downward() -> Path | None:
 @dataclass
 class ChildRun:
     """A finished child process: its CPU time (user + system, its own children included), its
-    output, and whether it ended within its limit with exit code 0."""
+    output and exit code (negative: the signal that ended it)."""
 
     seconds: float
     output: str
-    ok: bool
+    code: int
+
+    @property
+    def ok(self) -> bool:
+        return self.code == 0
+
+    @property
+    def over_limit(self) -> bool:
+        return self.code in (-signal.SIGXCPU, -signal.SIGKILL)
 
 
 def _cpu_of_children() -> float:
@@ -123,7 +131,7 @@ def run_child(args: list[str], cwd: Path, limit: float) -> ChildRun:
     except subprocess.TimeoutExpired:
         os.killpg(child.pid, signal.SIGKILL)
         output, _ = child.communicate()
-    return ChildRun(_cpu_of_children() - before, output, child.returncode == 0)
+    return ChildRun(_cpu_of_children() - before, output, child.returncode)
 
 
 @dataclass
@@ -200,14 +208,15 @@ def child_main() -> None:
     print(json.dumps({"moves": moves, "nodes": plan.stats.nodes, "seconds": best, "peak_mib": peak}))
 
 
-def run_gpp(case: Case, limit: float) -> GppRun | None:
+def run_gpp(case: Case, limit: float) -> GppRun | ChildRun:
+    """gpp's figures, or the child run that did not give them."""
     instance = case.instance
     spec = {"name": instance.name, "blocks": instance.blocks, "start": instance.start, "goal": instance.goal}
     spec |= {"horizon": case.horizon, "method": case.method}
     code = "from bench.peers import child_main; child_main()"
     run = run_child([sys.executable, "-c", code, json.dumps(spec)], ROOT, limit)
     if not run.ok:
-        return None
+        return run
     found = json.loads(run.output.strip().splitlines()[-1])
     moves = [(block, to) for block, to in found["moves"]]
     return GppRun(moves, found["nodes"], found["seconds"], found["peak_mib"])
@@ -254,7 +263,8 @@ def measure(driver: Path, cases: list[Case], runs: int, limit: float, progress: 
         run_gpp_whole(warm.instance, warm.horizon, folder, limit)
         for run in range(runs):
             for row in rows:
-                if run > 0 and (row.gpp_over_limit or (row.gpp is not None and row.gpp.seconds > 1)):
+                done = row.gpp_over_limit or (row.gpp is not None and row.gpp.seconds > 1)
+                if run > 0 and (done or row.problems):
                     continue
                 _measure_once(row, driver, folder, limit)
                 progress(f"run {run + 1}/{runs}: {row.case.label}")
@@ -274,8 +284,12 @@ def _measure_once(row: Row, driver: Path, folder: Path, limit: float) -> None:
         elif fd.own < row.fd.own:
             row.fd.own = fd.own
     gpp = run_gpp(case, limit)
-    if gpp is None:
-        row.gpp_over_limit = True
+    if isinstance(gpp, ChildRun):
+        if gpp.over_limit:
+            row.gpp_over_limit = True
+        else:
+            last = (gpp.output.strip().splitlines() or ["no output"])[-1]
+            row.problems.append(f"gpp failed with exit code {gpp.code}: {last}")
         return
     if not reaches_goal(case.instance, gpp.moves):
         row.problems.append(f"gpp's plan does not reach the goal within {case.horizon} steps")
