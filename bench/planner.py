@@ -5,6 +5,7 @@ Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
      .venv/bin/python bench/planner.py --targets [--runs N] [--no-bound]
      .venv/bin/python bench/planner.py --profile [--blocks 6 7] [--no-bound]
      .venv/bin/python bench/planner.py --bound [--runs N]
+     .venv/bin/python bench/planner.py --peers [--targets] [--runs N] [--limit SECONDS] [--quick]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
 planner (gpp.planner.reference, the plain recursive definition) and prints their node counts,
@@ -35,6 +36,13 @@ their own. cProfile slows every call down alike, so the shares matter, not the s
 gpp.planner.bounds (the same plan, checked): nodes, options skipped by the bound, CPU seconds
 (interleaved, best of --runs), on the towers and on a case built for it (visit places avoiding
 a trap: the best plan is worth 0, the most the reward can give).
+
+--peers runs Fast Downward (A* with LM-cut, the `bench` extra) and gpp on the same blocksworld
+instances, interleaved, and prints both, in-process and as whole processes, with the ratios
+(bench/peers.py says how each figure is taken); the towers of 5 to 12 blocks and random
+instances of 7 to 10 blocks, three seeds each, `solve(14)` (--quick: towers of 5 to 7 and the
+random 7-block instances, one run). With --targets it adds the table of gpp issue #27: its
+problems with the figures before, gpp's now, Fast Downward's, the target and pass or miss.
 """
 
 from __future__ import annotations
@@ -44,8 +52,10 @@ import cProfile
 import math
 import pstats
 import resource
+import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 from gpp.check import check_text
 from gpp.planner.bounds import analyse
@@ -53,34 +63,16 @@ from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.planner.reference import NodeBudgetExceeded
 from gpp.runtime.codegen import COMPILE_CACHE
 
-NAMES = "abcdefg"
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run as a script: bench.blocksworld, bench.peers
+from bench import peers as peer_bench
+from bench.blocksworld import NAMES, program, tower
 
 
 def tower_program(blocks: int, horizon: int, twice: bool = False) -> str:
     """A tower blocks[0] on blocks[1] on ... on the table, to be reversed: the optimum moves
     every block once (the top one to the table, each next one onto the one moved before).
     `twice`: a choice of two copies of the loop (the second is planned after the first)."""
-    loop = "while (!goal()) pick (block x) pick (location y) stack(x, y);"
-    body = f"choose {{ {loop} {loop} }}" if twice else loop
-    names = NAMES[:blocks]
-    initially = " ".join(f"({names[i]}) = {names[i + 1] if i + 1 < blocks else 'table'};" for i in range(blocks))
-    goal = " & ".join(f"loc({names[i]}) == {names[i - 1] if i > 0 else 'table'}" for i in range(blocks))
-    return f"""
-symbol domain block = {{{", ".join(names)}}}
-symbol domain location = block | {{table}}
-location fluent loc(block x) {{ initially: {initially} }}
-action stack(block x, location y) {{
-precondition:
-    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
-effect:
-    loc(x) = y;
-}}
-bool function goal() = {goal}
-number function reward() = if (goal()) 100 else -1
-procedure main() {{
-    solve({horizon}, reward()) {body}
-}}
-"""
+    return program(tower(blocks), horizon, twice)
 
 
 def hazards_program(places: int, trap: int, horizon: int) -> str:
@@ -333,6 +325,25 @@ def bound_table(runs: int) -> None:
         print(f"load average: {load.read().split()[0]}")
 
 
+def peers(with_targets: bool, runs: int, limit: float, quick: bool) -> None:
+    cases = peer_bench.peer_cases()
+    if quick:
+        quick_names = ("tower 5", "tower 6", "tower 7", "random 7 #")
+        cases = [c for c in cases if c.instance.name.startswith(quick_names)]
+        runs = 1
+    if with_targets:
+        cases += peer_bench.target_cases()
+    driver = peer_bench.fast_downward()
+    if driver is None:
+        sys.exit(f"error: {peer_bench.NOT_INSTALLED}")
+
+    def progress(line: str) -> None:
+        print(line, file=sys.stderr, flush=True)
+
+    rows = peer_bench.measure(driver, cases, runs, limit, progress)
+    peer_bench.report(rows, limit, with_targets, lambda line: print(line, flush=True))
+
+
 _HASHING = {"<method 'get' of 'dict' objects>", "<built-in method builtins.hash>", "__eq__", "__hash__"}
 
 
@@ -351,7 +362,21 @@ def main() -> None:
         action="store_true",
         help="--targets/--profile without branch and bound (every node of the reference's)",
     )
+    parser.add_argument(
+        "--peers", action="store_true", help="beside Fast Downward (with --targets: the targets of gpp issue #27)"
+    )
+    parser.add_argument(
+        "--limit", type=float, default=60, help="--peers: CPU seconds a gpp planning may take (default 60)"
+    )
+    parser.add_argument("--markdown", action="store_true", help="--peers: (its tables are Markdown anyway)")
     args = parser.parse_args()
+    if (args.limit != 60 or args.markdown) and not args.peers:
+        parser.error("--limit and --markdown apply to --peers only")
+    if args.peers:
+        if args.no_bound or args.profile or args.bound or args.count:
+            parser.error("--peers goes with --targets, --runs, --limit and --quick only")
+        peers(args.targets, args.runs, args.limit, args.quick)
+        return
     if args.bound:
         bound_table(args.runs)
         return
