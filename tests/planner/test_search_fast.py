@@ -9,6 +9,7 @@
   one returns: the same execution, none, or the same error, the step bound's included; it
   enters no more nodes; and where the analysis allows the cut, no error but the step bound's
   is possible.
+* Random blocks worlds (the not-well-placed distance): the same, cut or not.
 * The towers: cut, one node per move; uncut, exactly the nodes the interpreted search entered.
 * `gpp run --search-strategy iterative-deepening` cuts with the bound too.
 """
@@ -22,6 +23,7 @@ import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
+from bench.blocksworld import program, random_instance
 from bench.planner import reversal, tower_problem, tower_program
 from gpp.check import check_text
 from gpp.planner.bounds import goal_distance
@@ -201,6 +203,22 @@ def test_the_cut_iterative_deepening_returns_exactly_what_the_uncut_one_returns(
         assert cut[-1].nodes <= uncut[-1].nodes  # type: ignore[attr-defined]
     if analysis.distance is not None and uncut[0] == "error":
         assert uncut[2] == f"`search` exceeded its bound of {bound} steps without finding an end"
+
+
+@given(st.integers(4, 6), st.integers(0, 10**6), st.sampled_from([3, 5, 8, DEFAULT_STEP_BOUND]))
+@settings(PROPERTY, max_examples=examples(40))
+def test_the_cut_search_of_a_random_blocks_world_is_the_uncut_one(blocks: int, seed: int, bound: int) -> None:
+    # The distance here is the not-well-placed one (gpp.planner.bounds): blocks that must move.
+    instance = random_instance(blocks, seed)
+    result = check_text(program(instance, 14), lint=False)
+    assert result.errors == 0, [d.message for d in result.diagnostics]
+    pb = first_solve(result.model)
+    cut = searched(pb, bound, ITERATIVE_DEEPENING)
+    uncut = searched(pb, bound, ITERATIVE_DEEPENING, prune=False)
+    event(f"{cut[0]}")
+    assert result_of(cut) == result_of(uncut)
+    if cut[0] == "plan":
+        assert cut[1] and cut[-1].nodes <= uncut[-1].nodes  # type: ignore[attr-defined]
 
 
 # ---------------------------------------------------------------- the towers
