@@ -230,6 +230,9 @@ def stops(b: Breakpoint, env: Env, output: Callable[[str, str, Span | None], Non
         except GppRuntimeError as e:
             output(f"breakpoint condition `{b.condition.text}`: {e.message}\n", "stderr", span)
             return True
+        except KeyError:  # a variable the trace or the transition has not bound
+            output(f"breakpoint condition `{b.condition.text}`: a variable has no value here\n", "stderr", span)
+            return True
     b.hits += 1
     if b.hit_condition is not None and not b.hit_condition.holds(b.hits):
         return False
@@ -240,6 +243,8 @@ def stops(b: Breakpoint, env: Env, output: Callable[[str, str, Span | None], Non
                 text.append(part if isinstance(part, str) else show(part.evaluate(env)))
             except GppRuntimeError as e:
                 text.append(f"<{e.message}>")
+            except KeyError:
+                text.append("<no value here>")
         output("".join(text) + "\n", "console", span)
         return False
     return True

@@ -461,10 +461,9 @@ class TraceBackend(SessionBackend):
             checked = self.program.expression(expression, frames[i][3])
         except ExpressionError as e:
             raise DapError(str(e)) from None
-        try:
-            value = checked.evaluate(self.env(self.view, i))
-        except GppRuntimeError as e:
-            raise DapError(e.message) from None
+        from gpp.dap.live import evaluated
+
+        value = evaluated(checked, self.env(self.view, i))
         v = value_variable(self.handles, "", value, checked.type, expression)
         return Evaluated(v.value, v.type, v.reference)
 

@@ -176,6 +176,9 @@ def test_a_trace_without_steps_or_of_an_old_schema_says_what_it_cannot_show(tmp_
         assert stop["reason"] == "breakpoint" and client.top()["line"] == 31
         # Without steps, a stop says which record comes next, as `gpp run` prints it.
         assert "next: assign counter() = 1 (recorded run)" in stop["description"]
+        # The trace has no calls: a parameter has no value to show, and says so.
+        message = client.error("evaluate", {"expression": "r", "frameId": 0, "context": "repl"})
+        assert "has no value" in message and "internal error" not in message
         client.ok("stepBack", {"threadId": 1})
         assert position(client.stopped()) == position(stop) - 1
     # As schema 1.3 wrote it (before snapshots, steps and the 1.5 fields): it still replays.
