@@ -10,7 +10,6 @@ import queue
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, TypeVar, cast
 
 from gpp.base import diagnostics as diag
@@ -569,10 +568,6 @@ def event_text(e: object) -> str:
         if found is not None:
             return f"{type(e).__name__}: {getattr(found, 'text', found)}"
     return type(e).__name__
-
-
-def run_options_summary(path: Path) -> str:
-    return str(path)
 
 
 def check_errors(diagnostics: list[diag.Diagnostic]) -> str:
