@@ -113,6 +113,9 @@ class DebugServer:
             stop, self.after_response = self.after_response, None
             self.stopped(stop)
         if command == "launch":
+            if self.backend is not None and self.backend.capabilities.step_back:
+                more = {"supportsStepBack": True, **self.backend.capabilities.extra}
+                self.connection.event("capabilities", {"capabilities": more})
             self.connection.event("initialized")
             self.maybe_start()
         elif command == "configurationDone":
@@ -158,7 +161,8 @@ class DebugServer:
             "supportsLogPoints": True,
             "supportsEvaluateForHovers": True,
             "supportsTerminateRequest": True,
-            "supportsStepBack": True,
+            # Per backend: a recorded run's says so after its launch (a `capabilities` event).
+            "supportsStepBack": False,
             "supportSuspendDebuggee": False,
             "supportTerminateDebuggee": True,
             "exceptionBreakpointFilters": [
@@ -330,15 +334,10 @@ class DebugServer:
             raise DapError(f"cannot read {path}: {e.strerror if isinstance(e, OSError) else e}") from None
 
     def end_backend(self) -> None:
-        """End the run (if any) and wait for its trace to be finished."""
+        """End the run (if any) and wait for its trace to be finished (the backend then tells
+        the end, `ended`)."""
         if self.backend is not None:
             self.backend.terminate()
-        if self.started or self.backend is not None:
-            self.ended_without_run()
-
-    def ended_without_run(self) -> None:
-        if not self.started:
-            self.ended(0)
 
 
 def _flag(args: Message, name: str) -> bool:
