@@ -276,3 +276,15 @@ def test_tcp_takes_loopback_addresses_only(gpp: Runner) -> None:
     refused = gpp("dap", "--tcp", "0.0.0.0:4711")
     assert refused.returncode == 2
     assert "loopback addresses only" in refused.stderr
+
+
+def test_platform_options_reach_the_platform(dap: DapClient, programs: Path) -> None:
+    # failing.gpp without its `// scenario:` line: the scenario comes from the launch instead.
+    plain = programs / "plain.gpp"
+    plain.write_text((programs / "failing.gpp").read_text().replace("// scenario: failing.toml\n", ""))
+    dap.start(
+        {"program": "plain.gpp", "platform": "dummy", "platformOptions": {"scenario": "failing.toml"}},
+        exceptions=["failed"],
+    )
+    stop = dap.stopped()
+    assert (stop["reason"], stop["description"]) == ("exception", "go(lab) failed: scenario")
