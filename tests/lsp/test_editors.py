@@ -17,6 +17,7 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -224,11 +225,92 @@ def test_the_helix_snippet_is_toml_that_starts_gpp_lsp_for_gpp_files() -> None:
     assert language["name"] == "golog"
 
 
-def test_the_vscode_snippet_is_json_that_starts_gpp_lsp() -> None:
+def vscode_manifest() -> dict[str, Any]:
+    loaded: dict[str, Any] = json.loads((ROOT / "editors" / "vscode" / "package.json").read_text(encoding="utf-8"))
+    return loaded
+
+
+def test_the_vscode_snippet_sets_the_extensions_gpp_command() -> None:
     settings = json.loads(snippet("vscode"))
-    assert Path(settings["glspc.server.command"]).name == "gpp"
-    assert settings["glspc.server.commandArguments"] == ["lsp"]
-    assert settings["files.associations"]["*.gpp"] in settings["glspc.server.languageId"]
+    assert Path(settings["gpp.path"]).name == "gpp"
+    assert set(settings) <= set(vscode_manifest()["contributes"]["configuration"]["properties"])
+
+
+def test_the_vscode_launch_json_is_what_the_extension_writes() -> None:
+    launch = json.loads(snippet("vscode-launch"))
+    (debugger,) = vscode_manifest()["contributes"]["debuggers"]
+    assert launch["configurations"] == debugger["initialConfigurations"]
+
+
+# The launches every editor's set-up offers: the program in the editor and a trace to replay.
+LAUNCH_ATTRIBUTES = [
+    {"type", "request", "name", "program", "platform", "stopOnEntry", "cwd"},
+    {"type", "request", "name", "trace", "cwd"},
+]
+
+
+@needs_nvim
+def test_the_nvim_dap_snippet_defines_the_adapter_and_the_launches(tmp_path: Path) -> None:
+    """The snippet runs (in Debian's Neovim 0.7, with a stand-in for nvim-dap, which needs 0.9)
+    and gives nvim-dap the adapter `gpp dap` and the two launches of the VS Code extension."""
+    code = snippet("nvim-dap")
+    out = tmp_path / "dap.json"
+    stub = (
+        "local calls = {}\n"
+        "local dap = { adapters = {}, configurations = {}, repl = { open = function() end } }\n"
+        "for _, name in ipairs({ 'continue', 'toggle_breakpoint', 'step_over', 'step_into', 'step_out', "
+        "'set_breakpoint' }) do dap[name] = function() end end\n"
+        "package.preload['dap'] = function() return dap end\n"
+    )
+    probe = (
+        stub
+        + "dofile('snippet.lua')\n"
+        + "local launches = {}\n"
+        + "for i, c in ipairs(dap.configurations.golog) do\n"
+        + "  local copy = {}\n"
+        + "  for k, v in pairs(c) do copy[k] = type(v) == 'function' and '<asked>' or v end\n"
+        + "  launches[i] = copy\n"
+        + "end\n"
+        + "local result = vim.fn.json_encode({ adapter = dap.adapters.gpp, launches = launches })\n"
+        + f"vim.fn.writefile({{ result }}, {json.dumps(str(out))})\n"
+        + 'vim.cmd("qa!")\n'
+    )
+    (tmp_path / "snippet.lua").write_text(code, encoding="utf-8")
+    done = run_nvim(tmp_path, "", probe, tmp_path / "snippet.lua")
+    assert done.returncode == 0, done.stdout + done.stderr
+    result = json.loads(out.read_text(encoding="utf-8"))
+    assert result["adapter"] == {"type": "executable", "command": "/path/to/gpp/.venv/bin/gpp", "args": ["dap"]}
+    assert [set(launch) for launch in result["launches"]] == LAUNCH_ATTRIBUTES
+    program, replay = result["launches"]
+    (debugger,) = vscode_manifest()["contributes"]["debuggers"]
+    assert program == debugger["initialConfigurations"][0]
+    assert replay == {**debugger["initialConfigurations"][1], "trace": "<asked>"}
+
+
+def test_the_emacs_dap_snippet_registers_gpp_dap_and_the_launches() -> None:
+    forms = read_sexps(snippet("emacs-dap"))
+    flat = json.dumps(forms)
+    assert ["require", "'", "dap-mode"] in forms
+    assert json.dumps([["str", "/path/to/gpp/.venv/bin/gpp"], ["str", "dap"]]) in flat
+    templates = [f for f in forms if isinstance(f, list) and f[:1] == ["dap-register-debug-template"]]
+    assert len(templates) == 2
+    for template, attributes in zip(templates, LAUNCH_ATTRIBUTES, strict=True):
+        plist = template[2]
+        assert isinstance(plist, list) and plist[0] == "list"
+        keys = {str(k).removeprefix(":") for k in plist[1::2]}
+        assert keys == attributes
+        assert plist[plist.index(":type") + 1] == ("str", "gpp")
+
+
+def test_the_helix_debugger_extends_the_golog_language_with_gpp_dap() -> None:
+    config = tomllib.loads(snippet("helix") + "\n" + snippet("helix-dap"))
+    (language,) = config["language"]
+    debugger = language["debugger"]
+    assert (Path(debugger["command"]).name, debugger["args"], debugger["transport"]) == ("gpp", ["dap"], "stdio")
+    program, replay = debugger["templates"]
+    assert program["args"] == {"program": "{0}", "stopOnEntry": True}
+    assert replay["args"] == {"trace": "{0}"}
+    assert {t["request"] for t in debugger["templates"]} == {"launch"}
 
 
 def test_the_vim_files_detect_gpp_files_and_colour_them() -> None:
