@@ -65,6 +65,10 @@ class Executor(Protocol):
     def state(self) -> State: ...
     @property
     def acts(self) -> Activities: ...
+    @property
+    def steps(self) -> int:
+        """The transitions taken so far (a debugger tells a wake-up from a step by it)."""
+        ...
 
 
 class RunStopped(KeyboardInterrupt):

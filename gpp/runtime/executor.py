@@ -207,6 +207,11 @@ class Executor:
         self.warned_dropped: set[str] = set()
         self.warned_platform: set[str] = set()
 
+    @property
+    def steps(self) -> int:
+        """The transitions taken so far (for a run control)."""
+        return self.result.steps
+
     def wait_for_platform(self, deadline: float | None) -> bool:
         """The platform's `wait` until `deadline` (platform time) or the run's wall-clock bound. A
         platform plugin written before the port had `wall_deadline` is asked without it (its

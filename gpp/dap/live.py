@@ -1,0 +1,448 @@
+"""The live backend: a run of the program on a platform, with the debugger as its run control
+(gpp.runtime.control). The run is `gpp.run.runner.run_program` on a thread of its own (the
+same executor and platforms as `gpp run`); the protocol loop asks it things through a queue of
+jobs that the run's thread does while it holds, so that only the run's thread ever touches the
+executor (a question may ask the platform: an exogenous function in `evaluate`)."""
+
+from __future__ import annotations
+
+import queue
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TypeVar, cast
+
+from gpp.base import diagnostics as diag
+from gpp.check import CheckResult
+from gpp.dap.backend import Client, Evaluated, Resumption, Scope, SessionBackend, StackFrame, Stop, Variable
+from gpp.dap.breakpoints import Breakpoints
+from gpp.dap.program import DebugProgram, ExpressionError
+from gpp.dap.stack import CallFrame, Element, call_frames, heads
+from gpp.dap.variables import Handles, activity_scope, fluent_scope, plan_scope, value_variable, values_scope
+from gpp.model.symbols import SymbolKind
+from gpp.runtime.compiled import Env
+from gpp.runtime.control import Executor, Happening, RunControl, RunStopped, request_attention
+from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.semantics import DONE, Code, Planned, Prog, Rest, Seq
+from gpp.runtime.values import show
+from gpp.syntax import ast
+
+T = TypeVar("T")
+
+# What a stop's description adds on a platform whose time does not stand still.
+REAL_TIME_NOTE = "the agent holds, but activities already started go on running on the robot"
+
+
+@dataclass
+class _Job:
+    do: Callable[[], Any]
+    done: threading.Event
+    result: Any = None
+    error: BaseException | None = None
+
+
+@dataclass(frozen=True)
+class _Resume:
+    how: Resumption
+    # Set once the run went on, or stopped again at once (stepping into a call: `at_once`).
+    done: threading.Event
+    at_once: list[Stop] = field(default_factory=list)
+
+
+class _Terminate:
+    pass
+
+
+class LiveBackend(RunControl, SessionBackend):
+    """A debugging session of a live run (see the module docstring)."""
+
+    def __init__(self, client: Client, breakpoints: Breakpoints, check: CheckResult, run: Callable[[], int]) -> None:
+        self.client = client
+        self.breakpoints = breakpoints
+        self.check = check
+        # Made when the run starts, over the run's own compiled program (its fluent slots).
+        self.program: DebugProgram = cast(DebugProgram, None)
+        self._run = run
+        self._jobs: queue.Queue[_Job | _Resume | _Terminate] = queue.Queue()
+        self._thread: threading.Thread | None = None
+        # Set once the run reached its first transition (`started`) or ended before it.
+        self.ready = threading.Event()
+        self.setup_error: str | None = None
+        self._go = threading.Event()
+        self._stop_on_entry = False
+        self._held = False
+        self._terminating = False
+        self._pause = False
+        self._mode: Resumption | None = None
+        self._depth = 0
+        self._steps_at_resume = -1
+        self._last_steps = -1
+        self.executor: Executor | None = None
+        self.prog: Prog = DONE
+        self.frames: list[CallFrame] = []
+        self.handles = Handles()
+        self.started_at: dict[int, float] = {}
+        self.exit_code = 0
+        self.ended = threading.Event()
+
+    # ---------------------------------------------------------------- the session
+
+    def launch(self) -> None:
+        """Start the run's thread; it holds at the first transition until `start`."""
+        self._thread = threading.Thread(target=self._thread_main, name="gpp-dap-run", daemon=True)
+        self._thread.start()
+        self.ready.wait()
+
+    def _thread_main(self) -> None:
+        try:
+            self.exit_code = self._run()
+        except BaseException as e:
+            self.exit_code = 1
+            self.setup_error = str(e) or type(e).__name__
+        finally:
+            self.ready.set()
+            self.ended.set()
+            self._held = False
+            self.client.ended(self.exit_code)
+
+    def start(self, stop_on_entry: bool) -> None:
+        self._stop_on_entry = stop_on_entry
+        self._go.set()
+
+    def stopped(self) -> bool:
+        return self._held
+
+    def terminate(self) -> None:
+        self._terminating = True
+        self._go.set()
+        if self._held:
+            self._jobs.put(_Terminate())
+        elif self.executor is not None and not self.ended.is_set():
+            request_attention(self.executor.platform.queue, self.executor.platform.now())
+        if self._thread is not None:
+            self._thread.join(timeout=30)
+
+    def pause(self) -> None:
+        if self._held or self.ended.is_set():
+            return
+        self._pause = True
+        if self.executor is not None:
+            request_attention(self.executor.platform.queue, self.executor.platform.now())
+
+    def resume(self, how: Resumption) -> Stop | None:
+        # Answered once the run went on: the response comes before the next `stopped` event.
+        job = _Resume(how, threading.Event())
+        self._jobs.put(job)
+        while not job.done.wait(0.05):
+            if self.ended.is_set():
+                return None
+        return job.at_once[0] if job.at_once else None
+
+    # ---------------------------------------------------------------- questions (run's thread)
+
+    def ask(self, do: Callable[[], T]) -> T:
+        """`do()` in the run's thread while it holds."""
+        from gpp.dap.protocol import DapError
+
+        if not self._held:
+            raise DapError("the run is running: pause it first")
+        job = _Job(do, threading.Event())
+        self._jobs.put(job)
+        job.done.wait()
+        if job.error is not None:
+            raise job.error
+        return job.result  # type: ignore[no-any-return]
+
+    def stack(self) -> list[StackFrame]:
+        return [StackFrame(i, f.name(), f.span) for i, f in enumerate(self.frames)]
+
+    def scopes(self, frame_id: int) -> list[Scope]:
+        return self.ask(lambda: self._scopes(frame_id))
+
+    def variables(self, reference: int) -> list[Variable]:
+        return self.ask(lambda: self.handles.expand(reference))
+
+    def evaluate(self, expression: str, frame_id: int | None, context: str) -> Evaluated:
+        return self.ask(lambda: self._evaluate(expression, frame_id))
+
+    # ---------------------------------------------------------------- the run control (run's thread)
+
+    def started(self, executor: Executor, prog: Prog) -> None:
+        self.program = DebugProgram(self.check, executor.program)
+        self.executor = executor
+        self.ready.set()
+        self._go.wait()
+        if self._terminating:
+            raise RunStopped("the debugger ended the run")
+        self.note_activities(executor)
+        if self._stop_on_entry:
+            self._last_steps = executor.steps
+            self.hold(executor, prog, Stop("entry", "stopped on entry"))
+
+    def checkpoint(self, executor: Executor, prog: Prog) -> None:
+        if self._terminating:
+            raise RunStopped("the debugger ended the run")
+        steps = executor.steps
+        self.note_activities(executor)
+        if self._pause:
+            self._pause = False
+            self._last_steps = steps
+            self.hold(executor, prog, Stop("pause", "paused"))
+            return
+        if steps == self._last_steps:
+            return  # a wake-up without a transition since the last look
+        self._last_steps = steps
+        at = heads(prog)
+        hit = self.breakpoint_stop(executor, prog, at)
+        if hit is not None:
+            stop, view = hit
+            self.hold(executor, view, stop)
+            return
+        if self._mode in ("next", "stepIn", "stepOut") and steps != self._steps_at_resume:
+            depth = len(call_frames(self.program, prog))
+            if (
+                self._mode == "stepIn"
+                or (self._mode == "next" and depth <= self._depth)
+                or (self._mode == "stepOut" and depth < self._depth)
+            ):
+                self.hold(executor, prog, Stop("step"))
+
+    def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
+        if happening.kind not in self.breakpoints.exceptions or self._terminating:
+            return
+        label = {"failed": "action failed", "blocked": "program blocked", "error": "run-time error"}.get(
+            happening.kind, "no plan"
+        )
+        self.hold(executor, prog if prog is not None else self.prog, Stop("exception", happening.description, label))
+
+    def attend(self, executor: Executor) -> None:
+        if self._terminating:
+            raise RunStopped("the debugger ended the run")
+
+    def note_activities(self, executor: Executor) -> None:
+        """The platform time each activity was first seen running (its start, to the step)."""
+        records = getattr(executor, "records", {})
+        if len(records) != len(self.started_at):
+            now = executor.platform.now()
+            for activity in records.values():
+                self.started_at.setdefault(activity.id, now)
+
+    # ---------------------------------------------------------------- stopping
+
+    def breakpoint_stop(self, executor: Executor, prog: Prog, at: list[Element]) -> tuple[Stop, Prog] | None:
+        """The stop of the line or function breakpoints at the next statements, if one stops
+        (logpoints print and go on)."""
+        table = self.breakpoints
+        ids: list[int] = []
+        view = prog
+        reason: Any = "breakpoint"
+        for e in at:
+            if e.stmt is None:
+                continue
+            for b in table.at_statement(e.stmt):
+                if self.passes(executor, b, e):
+                    ids.append(b.id)
+            if isinstance(e.stmt, ast.CallStmt) and table.functions:
+                symbol = self.program.model.target(e.stmt.call)
+                b2 = table.functions.get(symbol.name) if symbol is not None else None
+                if b2 is not None and self.passes(executor, b2, e):
+                    ids.append(b2.id)
+                    reason = "function breakpoint"
+                    if symbol is not None and symbol.kind is SymbolKind.PROCEDURE:
+                        view = self.entered(executor, prog)
+        if not ids:
+            return None
+        return Stop(
+            reason, "breakpoint hit" if reason == "breakpoint" else "call of a function breakpoint", None, tuple(ids)
+        ), view
+
+    def passes(self, executor: Executor, b: Any, e: Element) -> bool:
+        """Does breakpoint `b` stop here (its condition, then its hit count)? A logpoint prints
+        and does not stop."""
+        env = Env(executor.state, e.frame.vars if e.frame is not None else {}, executor.sem.ctx)
+        if b.condition is not None:
+            try:
+                if b.condition.evaluate(env) is not True:
+                    return False
+            except GppRuntimeError as err:
+                self.client.output(f"breakpoint condition `{b.condition.text}`: {err.message}\n", "stderr", e.span)
+                return True
+        b.hits += 1
+        if b.hit_condition is not None and not b.hit_condition.holds(b.hits):
+            return False
+        if b.log is not None:
+            text = "".join(p if isinstance(p, str) else self.shown(p.evaluate, env) for p in b.log_parts)
+            self.client.output(text + "\n", "console", e.span)
+            return False
+        return True
+
+    @staticmethod
+    def shown(evaluate: Callable[[Env], Any], env: Env) -> str:
+        try:
+            return show(evaluate(env))
+        except GppRuntimeError as e:
+            return f"<{e.message}>"
+
+    def entered(self, executor: Executor, prog: Prog) -> Prog:
+        """`prog` with its next statement, a procedure call, replaced by the callee's body with
+        its arguments bound: the same continuation, seen from inside the callee (stepping into
+        a call stops at the callee's first statement, before its first transition)."""
+        sem = executor.sem
+
+        def inside(p: Prog) -> Prog | None:
+            if isinstance(p, Seq):
+                first = inside(p.first)
+                return None if first is None else sem.seq(first, p.rest)
+            if isinstance(p, Rest) and p.index < len(p.block.body):
+                s = p.block.body[p.index]
+                body = inside(Code(s, p.frame))
+                if body is None:
+                    return None
+                rest: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(p.block.body) else DONE
+                return sem.seq(body, rest)
+            if isinstance(p, Code):
+                s = p.stmt
+                if isinstance(s, ast.Block) and s.body:
+                    return inside(Rest(s, 0, p.frame))
+                if isinstance(s, ast.CallStmt):
+                    callee = sem.callee(s)
+                    if callee.kind is SymbolKind.PROCEDURE:
+                        callee_body, callee_frame = sem.procedure_body(s, callee.name, executor.state, p.frame)
+                        return Code(callee_body, callee_frame)
+            return None
+
+        try:
+            found = inside(prog)
+        except GppRuntimeError:
+            found = None
+        return found if found is not None else prog
+
+    def hold(self, executor: Executor, prog: Prog, stop: Stop) -> None:
+        """Hold the run, stopped at `prog`, until the editor says how to go on; meanwhile do the
+        protocol loop's questions."""
+        self.prog = prog
+        self.frames = call_frames(self.program, prog)
+        self.handles.reset()
+        if not getattr(executor.platform, "virtual_time", True):
+            stop = Stop(stop.reason, f"{stop.description} ({REAL_TIME_NOTE})", stop.text, stop.breakpoint_ids)
+        self._held = True
+        self.client.stopped(stop)
+        try:
+            while True:
+                job = self._jobs.get()
+                if isinstance(job, _Terminate):
+                    raise RunStopped("the debugger ended the run")
+                if isinstance(job, _Resume):
+                    if job.how == "stepIn":
+                        inside = self.entered(executor, prog)
+                        if inside is not prog:
+                            self.prog, prog = inside, inside
+                            self.frames = call_frames(self.program, prog)
+                            self.handles.reset()
+                            job.at_once.append(Stop("step"))
+                            job.done.set()
+                            continue
+                    self._mode = job.how
+                    self._depth = len(self.frames)
+                    self._steps_at_resume = executor.steps
+                    self._held = False
+                    job.done.set()
+                    return
+                try:
+                    job.result = job.do()
+                except BaseException as e:
+                    job.error = e
+                finally:
+                    job.done.set()
+        finally:
+            self._held = False
+
+    # ---------------------------------------------------------------- what a stop shows
+
+    def frame_at(self, frame_id: int | None) -> CallFrame | None:
+        if not self.frames:
+            return None
+        i = 0 if frame_id is None else frame_id
+        if not 0 <= i < len(self.frames):
+            from gpp.dap.protocol import DapError
+
+            raise DapError(f"there is no stack frame {i}")
+        return self.frames[i]
+
+    def _scopes(self, frame_id: int) -> list[Scope]:
+        executor = self.executor
+        assert executor is not None
+        frame = self.frame_at(frame_id)
+        out: list[Scope] = []
+        if frame is not None:
+            params = [(p.name, frame.frame.vars[id(p)]) for p in frame.procedure.params if id(p) in frame.frame.vars]
+            param_ids = {id(p) for p in frame.procedure.params}
+            local_symbols = [s for s in self.program.visible(frame.stmt) if id(s) not in param_ids]
+            local = [(s.name, frame.frame.vars[id(s)]) for s in local_symbols if id(s) in frame.frame.vars]
+            out.append(values_scope(self.handles, "Arguments", params, "arguments"))
+            out.append(values_scope(self.handles, "Locals", local, "locals"))
+        out.append(fluent_scope(self.handles, executor.program, executor.state))
+        out.append(activity_scope(self.handles, executor.acts, getattr(executor, "records", {}), self.started_at))
+        planned = next((f.planned for f in self.frames if f.planned is not None), None)
+        if planned is None:
+            planned = _planned_in(self.prog)
+        if planned is not None:
+            out.append(plan_scope(self.handles, planned))
+        pending = executor.platform.queue.pending()
+        out.append(
+            values_scope(
+                self.handles, "Exogenous events", [(f"{t:.3f} s", str(event_text(e))) for t, e in pending], None
+            )
+        )
+        return out
+
+    def _evaluate(self, expression: str, frame_id: int | None) -> Evaluated:
+        from gpp.dap.protocol import DapError
+
+        executor = self.executor
+        assert executor is not None
+        frame = self.frame_at(frame_id)
+        try:
+            checked = self.program.expression(expression, frame.stmt if frame is not None else None)
+        except ExpressionError as e:
+            raise DapError(str(e)) from None
+        env = Env(executor.state, frame.frame.vars if frame is not None else {}, executor.sem.ctx)
+        try:
+            value = checked.evaluate(env)
+        except GppRuntimeError as e:
+            raise DapError(e.message) from None
+        v = value_variable(self.handles, "", value, checked.type, expression)
+        return Evaluated(v.value, v.type, v.reference)
+
+
+def _planned_in(p: Prog) -> Planned | None:
+    while isinstance(p, Seq):
+        p = p.first
+    return p if isinstance(p, Planned) else None
+
+
+def event_text(e: object) -> str:
+    """One line for a pending platform event."""
+    for name in ("action", "function"):
+        found = getattr(e, name, None)
+        if found is not None:
+            return f"{type(e).__name__}: {getattr(found, 'text', found)}"
+    return type(e).__name__
+
+
+def run_options_summary(path: Path) -> str:
+    return str(path)
+
+
+def check_errors(diagnostics: list[diag.Diagnostic]) -> str:
+    """The first error of a program that does not check, and how many there are."""
+    errors = [d for d in diagnostics if d.is_error]
+    first = errors[0]
+    where = f"{first.span}: " if first.span is not None else ""
+    more = (
+        f" (and {len(errors) - 1} more error{'s' if len(errors) > 2 else ''}: run `gpp check`)"
+        if len(errors) > 1
+        else ""
+    )
+    return f"the program does not check: {where}{first.message}{more}"
