@@ -13,6 +13,7 @@ from typing import Any
 from gpp.base.suggest import did_you_mean
 from gpp.dap.program import CheckedExpression, DebugProgram, ExpressionError
 from gpp.model.symbols import SymbolKind
+from gpp.model.types import BOOL
 from gpp.syntax import ast
 
 # Filter -> (label, description, on by default).
@@ -172,7 +173,7 @@ class Breakpoints:
             condition = wanted.get("condition")
             if isinstance(condition, str) and condition.strip():
                 b.condition = program.expression(condition, at)
-                if b.condition.type.__str__() != "bool":
+                if b.condition.type is not BOOL:
                     raise ExpressionError(f"a condition is a `bool`, not a `{b.condition.type}`", 1)
             hit = wanted.get("hitCondition")
             if isinstance(hit, str) and hit.strip():

@@ -116,7 +116,9 @@ def make_live_backend(args: Message, server: Host) -> SessionBackend:
     for key, value in _mapping(args, "platformOptions").items():
         if not isinstance(value, str | int | float | bool):
             raise DapError(f"launch's `platformOptions.{key}` is a string, number or true/false")
-        options[key] = value if not isinstance(value, str) or key != "world" else str(cwd / value)
+        # A file an option names is found from `cwd`, as `gpp run -o` finds it from the shell's.
+        named = cwd / value if isinstance(value, str) and value and not Path(value).is_absolute() else None
+        options[key] = str(named) if named is not None and named.exists() else value
     try:
         check = check_program(program)
     except OSError as e:
@@ -160,6 +162,10 @@ def make_live_backend(args: Message, server: Host) -> SessionBackend:
 
     backend = LiveBackend(server, server.breakpoints, check, run)
     run_options.control = backend
+    no_debug = args.get("noDebug", False)
+    if not isinstance(no_debug, bool):
+        raise DapError(f"launch's `noDebug` is true or false, not {json.dumps(no_debug)}")
+    backend.no_debug = no_debug
     backend.launch()
     if backend.setup_error is not None and backend.executor is None:
         raise DapError(f"the run cannot start: {backend.setup_error}")

@@ -17,20 +17,39 @@ from gpp.base import diagnostics as diag
 from gpp.check import CheckResult
 from gpp.dap.backend import Client, Evaluated, Resumption, Scope, SessionBackend, StackFrame, Stop, Variable
 from gpp.dap.breakpoints import Breakpoints
-from gpp.dap.program import DebugProgram, ExpressionError
-from gpp.dap.stack import CallFrame, Element, call_frames, heads
+from gpp.dap.program import CheckedExpression, DebugProgram, ExpressionError
+from gpp.dap.protocol import DapError
+from gpp.dap.stack import CallFrame, call_frames, elements, sees
 from gpp.dap.variables import Handles, activity_scope, fluent_scope, plan_scope, value_variable, values_scope
 from gpp.model.symbols import SymbolKind
 from gpp.runtime.compiled import Env
 from gpp.runtime.control import Executor, Happening, RunControl, RunStopped, request_attention
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.semantics import DONE, Code, Planned, Prog, Rest, Seq
-from gpp.runtime.values import show
+from gpp.runtime.semantics import (
+    DONE,
+    Code,
+    DoStep,
+    EndKind,
+    EndStep,
+    Planned,
+    PlanStep,
+    Prog,
+    ReplanStep,
+    Rest,
+    Seq,
+    StartStep,
+    Step,
+)
+from gpp.runtime.values import Value, show
 from gpp.syntax import ast
 
 T = TypeVar("T")
 
 # What a stop's description adds on a platform whose time does not stand still.
+# How many calls a stop enters at most to show where a transition is (a recursion that deep
+# before its first transition is shown from its outermost calls).
+MAX_ENTERED = 100
+
 REAL_TIME_NOTE = "the agent holds, but activities already started go on running on the robot"
 
 
@@ -73,13 +92,16 @@ class LiveBackend(RunControl, SessionBackend):
         self._stop_on_entry = False
         self._held = False
         self._terminating = False
+        self._ended_run = False
         self._pause = False
         self._mode: Resumption | None = None
         self._depth = 0
-        self._steps_at_resume = -1
-        self._last_steps = -1
         self.executor: Executor | None = None
         self.prog: Prog = DONE
+        # What remained of the program at the last checkpoint (where a happening is shown).
+        self.last_prog: Prog = DONE
+        # `noDebug`: the run goes on without stopping.
+        self.no_debug = False
         self.frames: list[CallFrame] = []
         self.handles = Handles()
         self.started_at: dict[int, float] = {}
@@ -104,7 +126,8 @@ class LiveBackend(RunControl, SessionBackend):
             self.ready.set()
             self.ended.set()
             self._held = False
-            self.client.ended(self.exit_code)
+            if self.executor is not None:  # a run that could not start is the launch's error
+                self.client.ended(self.exit_code)
 
     def start(self, stop_on_entry: bool) -> None:
         self._stop_on_entry = stop_on_entry
@@ -171,53 +194,69 @@ class LiveBackend(RunControl, SessionBackend):
     def started(self, executor: Executor, prog: Prog) -> None:
         self.program = DebugProgram(self.check, executor.program)
         self.executor = executor
+        self.last_prog = prog
         self.ready.set()
         self._go.wait()
-        if self._terminating:
-            raise RunStopped("the debugger ended the run")
+        self.end_if_asked()
         self.note_activities(executor)
-        if self._stop_on_entry:
-            self._last_steps = executor.steps
-            self.hold(executor, prog, Stop("entry", "stopped on entry"))
+        if self._stop_on_entry and not self.no_debug:
+            self.hold(executor, prog, call_frames(self.program, prog), Stop("entry", "stopped on entry"))
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
-        if self._terminating:
-            raise RunStopped("the debugger ended the run")
-        steps = executor.steps
+        self.end_if_asked()
+        self.last_prog = prog
+        if self.no_debug:
+            return
         self.note_activities(executor)
         if self._pause:
             self._pause = False
-            self._last_steps = steps
-            self.hold(executor, prog, Stop("pause", "paused"))
+            self.hold(executor, prog, call_frames(self.program, prog), Stop("pause", "paused"))
+
+    def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
+        self.end_if_asked()
+        self.last_prog = after
+        if self.no_debug:
             return
-        if steps == self._last_steps:
-            return  # a wake-up without a transition since the last look
-        self._last_steps = steps
-        at = heads(prog)
-        hit = self.breakpoint_stop(executor, prog, at)
-        if hit is not None:
-            stop, view = hit
-            self.hold(executor, view, stop)
+        stmt = self.statement_of(step)
+        if stmt is None:
             return
-        if self._mode in ("next", "stepIn", "stepOut") and steps != self._steps_at_resume:
-            depth = len(call_frames(self.program, prog))
+        frames, entered = self.position(executor, prog, stmt, after)
+        stop = self.breakpoint_stop(executor, step, frames, entered)
+        if stop is None and self._mode in ("next", "stepIn", "stepOut") and _is_statement_step(step):
+            depth = len(frames)
             if (
                 self._mode == "stepIn"
                 or (self._mode == "next" and depth <= self._depth)
                 or (self._mode == "stepOut" and depth < self._depth)
             ):
-                self.hold(executor, prog, Stop("step"))
+                stop = Stop("step")
+        if stop is not None:
+            self.hold(executor, prog, frames, stop)
 
     def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
-        if happening.kind not in self.breakpoints.exceptions or self._terminating:
+        if happening.kind not in self.breakpoints.exceptions or self._terminating or self.no_debug:
             return
         label = {"failed": "action failed", "blocked": "program blocked", "error": "run-time error"}.get(
             happening.kind, "no plan"
         )
-        self.hold(executor, prog if prog is not None else self.prog, Stop("exception", happening.description, label))
+        at = prog if prog is not None else self.last_prog
+        # Shown where it happened: inside the calls it is in (a test blocked in a procedure is
+        # still at the call of that procedure, a call being no transition of its own).
+        for _ in range(MAX_ENTERED):
+            inside = self.entered(executor, at)
+            if inside is at:
+                break
+            at = inside
+        self.hold(executor, at, call_frames(self.program, at), Stop("exception", happening.description, label))
 
     def attend(self, executor: Executor) -> None:
-        if self._terminating:
+        self.end_if_asked()
+
+    def end_if_asked(self) -> None:
+        """End the run if the editor asked to (once: the run's clean-up, which cancels the
+        activities, goes through the control's hooks again)."""
+        if self._terminating and not self._ended_run:
+            self._ended_run = True
             raise RunStopped("the debugger ended the run")
 
     def note_activities(self, executor: Executor) -> None:
@@ -230,64 +269,105 @@ class LiveBackend(RunControl, SessionBackend):
 
     # ---------------------------------------------------------------- stopping
 
-    def breakpoint_stop(self, executor: Executor, prog: Prog, at: list[Element]) -> tuple[Stop, Prog] | None:
-        """The stop of the line or function breakpoints at the next statements, if one stops
-        (logpoints print and go on)."""
-        table = self.breakpoints
-        ids: list[int] = []
-        view = prog
-        reason: Any = "breakpoint"
-        for e in at:
-            if e.stmt is None:
-                continue
-            for b in table.at_statement(e.stmt):
-                if self.passes(executor, b, e):
-                    ids.append(b.id)
-            if isinstance(e.stmt, ast.CallStmt) and table.functions:
-                symbol = self.program.model.target(e.stmt.call)
-                b2 = table.functions.get(symbol.name) if symbol is not None else None
-                if b2 is not None and self.passes(executor, b2, e):
-                    ids.append(b2.id)
-                    reason = "function breakpoint"
-                    if symbol is not None and symbol.kind is SymbolKind.PROCEDURE:
-                        view = self.entered(executor, prog)
-        if not ids:
-            return None
-        return Stop(
-            reason, "breakpoint hit" if reason == "breakpoint" else "call of a function breakpoint", None, tuple(ids)
-        ), view
+    def statement_of(self, step: Step) -> ast.Statement | None:
+        """The statement a transition executes (a `solve`'s planning: the `solve`)."""
+        if isinstance(step, PlanStep | ReplanStep):
+            return step.session.stmt
+        return self.program.statement_of(step.span)
 
-    def passes(self, executor: Executor, b: Any, e: Element) -> bool:
+    def position(
+        self, executor: Executor, prog: Prog, stmt: ast.Statement, after: Prog
+    ) -> tuple[list[CallFrame], list[CallFrame]]:
+        """The stack at a transition of statement `stmt` from `prog`: the calls of `prog`, entered
+        until the innermost is the procedure that holds `stmt` (a call is no transition of its
+        own: the callee's first transition is the call's), its place `stmt` and its bindings
+        those `stmt` sees (`after` has a `pick`'s value bound in this very transition). Also the
+        calls that begin with this transition."""
+        procedure = self.program.procedure_of(stmt)
+        frames = call_frames(self.program, prog)
+        depth = len(frames)
+        view = prog
+        for _ in range(MAX_ENTERED):
+            if not frames or frames[0].procedure is procedure:
+                break
+            inside = self.entered(executor, view)
+            if inside is view:
+                break
+            view = inside
+            frames = call_frames(self.program, view)
+        entered = frames[: max(len(frames) - depth, 0)]
+        if frames and frames[0].procedure is procedure:
+            top = frames[0]
+            frame = next(
+                (
+                    e.frame
+                    for p in (after, view)
+                    for e in elements(p, self.program)
+                    if e.frame is not None and sees(e.frame, self.program, stmt)
+                ),
+                top.frame,
+            )
+            frames[0] = CallFrame(top.procedure, frame, stmt.span, stmt, top.planned)
+        return frames, entered
+
+    def breakpoint_stop(
+        self, executor: Executor, step: Step, frames: list[CallFrame], entered: list[CallFrame]
+    ) -> Stop | None:
+        """The stop of the line or function breakpoints at this transition, if one stops
+        (logpoints print and go on)."""
+        if not frames:
+            return None
+        table = self.breakpoints
+        top = frames[0]
+        stmt = top.stmt
+        ids: list[int] = []
+        if stmt is not None and _is_statement_step(step):
+            ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
+        function_ids: list[int] = []
+        if table.functions:
+            names = [f.procedure.name for f in entered]
+            if isinstance(step, StartStep | DoStep):
+                names.append(step.action.name)
+            for name in names:
+                b = table.functions.get(name)
+                if b is not None and self.passes(executor, b, top):
+                    function_ids.append(b.id)
+        if function_ids and not ids:
+            return Stop("function breakpoint", "a call of a function breakpoint starts", None, tuple(function_ids))
+        if ids or function_ids:
+            return Stop("breakpoint", "breakpoint hit", None, tuple(ids + function_ids))
+        return None
+
+    def passes(self, executor: Executor, b: Any, at: CallFrame) -> bool:
         """Does breakpoint `b` stop here (its condition, then its hit count)? A logpoint prints
         and does not stop."""
-        env = Env(executor.state, e.frame.vars if e.frame is not None else {}, executor.sem.ctx)
+        env = Env(executor.state, at.frame.vars, executor.sem.ctx)
         if b.condition is not None:
             try:
-                if b.condition.evaluate(env) is not True:
+                if evaluated(b.condition, env) is not True:
                     return False
-            except GppRuntimeError as err:
-                self.client.output(f"breakpoint condition `{b.condition.text}`: {err.message}\n", "stderr", e.span)
+            except DapError as err:
+                self.client.output(f"breakpoint condition `{b.condition.text}`: {err}\n", "stderr", at.span)
                 return True
         b.hits += 1
         if b.hit_condition is not None and not b.hit_condition.holds(b.hits):
             return False
         if b.log is not None:
-            text = "".join(p if isinstance(p, str) else self.shown(p.evaluate, env) for p in b.log_parts)
-            self.client.output(text + "\n", "console", e.span)
+            text = "".join(p if isinstance(p, str) else self.shown(p, env) for p in b.log_parts)
+            self.client.output(text + "\n", "console", at.span)
             return False
         return True
 
     @staticmethod
-    def shown(evaluate: Callable[[Env], Any], env: Env) -> str:
+    def shown(expression: CheckedExpression, env: Env) -> str:
         try:
-            return show(evaluate(env))
-        except GppRuntimeError as e:
-            return f"<{e.message}>"
+            return show(evaluated(expression, env))
+        except DapError as e:
+            return f"<{e}>"
 
     def entered(self, executor: Executor, prog: Prog) -> Prog:
         """`prog` with its next statement, a procedure call, replaced by the callee's body with
-        its arguments bound: the same continuation, seen from inside the callee (stepping into
-        a call stops at the callee's first statement, before its first transition)."""
+        its arguments bound: the same continuation, seen from inside the callee."""
         sem = executor.sem
 
         def inside(p: Prog) -> Prog | None:
@@ -295,8 +375,7 @@ class LiveBackend(RunControl, SessionBackend):
                 first = inside(p.first)
                 return None if first is None else sem.seq(first, p.rest)
             if isinstance(p, Rest) and p.index < len(p.block.body):
-                s = p.block.body[p.index]
-                body = inside(Code(s, p.frame))
+                body = inside(Code(p.block.body[p.index], p.frame))
                 if body is None:
                     return None
                 rest: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(p.block.body) else DONE
@@ -318,11 +397,12 @@ class LiveBackend(RunControl, SessionBackend):
             found = None
         return found if found is not None else prog
 
-    def hold(self, executor: Executor, prog: Prog, stop: Stop) -> None:
-        """Hold the run, stopped at `prog`, until the editor says how to go on; meanwhile do the
-        protocol loop's questions."""
+    def hold(self, executor: Executor, prog: Prog, frames: list[CallFrame], stop: Stop) -> None:
+        """Hold the run, stopped at `prog` with the stack `frames`, until the editor says how to
+        go on; meanwhile do the protocol loop's questions."""
+        self.end_if_asked()
         self.prog = prog
-        self.frames = call_frames(self.program, prog)
+        self.frames = frames
         self.handles.reset()
         if not getattr(executor.platform, "virtual_time", True):
             stop = Stop(stop.reason, f"{stop.description} ({REAL_TIME_NOTE})", stop.text, stop.breakpoint_ids)
@@ -332,20 +412,11 @@ class LiveBackend(RunControl, SessionBackend):
             while True:
                 job = self._jobs.get()
                 if isinstance(job, _Terminate):
-                    raise RunStopped("the debugger ended the run")
+                    self.end_if_asked()
+                    continue
                 if isinstance(job, _Resume):
-                    if job.how == "stepIn":
-                        inside = self.entered(executor, prog)
-                        if inside is not prog:
-                            self.prog, prog = inside, inside
-                            self.frames = call_frames(self.program, prog)
-                            self.handles.reset()
-                            job.at_once.append(Stop("step"))
-                            job.done.set()
-                            continue
                     self._mode = job.how
                     self._depth = len(self.frames)
-                    self._steps_at_resume = executor.steps
                     self._held = False
                     job.done.set()
                     return
@@ -408,12 +479,28 @@ class LiveBackend(RunControl, SessionBackend):
         except ExpressionError as e:
             raise DapError(str(e)) from None
         env = Env(executor.state, frame.frame.vars if frame is not None else {}, executor.sem.ctx)
-        try:
-            value = checked.evaluate(env)
-        except GppRuntimeError as e:
-            raise DapError(e.message) from None
+        value = evaluated(checked, env)
         v = value_variable(self.handles, "", value, checked.type, expression)
         return Evaluated(v.value, v.type, v.reference)
+
+
+def evaluated(expression: CheckedExpression, env: Env) -> Value:
+    """An expression's value; DapError with the run-time error's message, or when a variable it
+    reads has no value yet (a `pick` that binds it in the transition about to be made)."""
+    try:
+        return expression.evaluate(env)
+    except GppRuntimeError as e:
+        raise DapError(e.message) from None
+    except KeyError:
+        raise DapError("a variable of this expression has no value at this point yet") from None
+
+
+def _is_statement_step(step: Step) -> bool:
+    """A transition that executes a statement (not the end of a call or `during` whose start
+    was its statement's, nor a re-planning)."""
+    if isinstance(step, EndStep):
+        return step.hook not in (EndKind.CALL, EndKind.DURING)
+    return not isinstance(step, ReplanStep)
 
 
 def _planned_in(p: Prog) -> Planned | None:

@@ -7,6 +7,7 @@ a fault in gpp itself is an error response too (the adapter never crashes on a r
 
 from __future__ import annotations
 
+import json
 import os
 import threading
 from collections.abc import Callable
@@ -343,7 +344,7 @@ class DebugServer:
 def _flag(args: Message, name: str) -> bool:
     value = args.get(name, False)
     if not isinstance(value, bool):
-        raise DapError(f"launch's `{name}` is true or false, not {value!r}")
+        raise DapError(f"launch's `{name}` is true or false, not {json.dumps(value)}")
     return value
 
 

@@ -19,16 +19,20 @@ from gpp.dap.program import DebugProgram
 from gpp.model.symbols import Symbol
 from gpp.runtime.semantics import (
     DONE,
+    AssignStep,
     AwaitEnd,
     Code,
     Conc,
     Done,
+    DoStep,
     DuringEnd,
     Frame,
     Planned,
     Prog,
     Rest,
     Seq,
+    StartStep,
+    TestStep,
     Watch,
 )
 from gpp.runtime.values import show
@@ -65,14 +69,14 @@ class CallFrame:
         return f"{self.procedure.name}({args})"
 
 
-def elements(p: Prog, planned: Planned | None = None) -> Iterator[Element]:
+def elements(p: Prog, program: DebugProgram, planned: Planned | None = None) -> Iterator[Element]:
     """The pieces of continuation `p`, the next one to execute first."""
     while True:
         match p:
             case Done():
                 return
             case Seq():
-                yield from elements(p.first, planned)
+                yield from elements(p.first, program, planned)
                 p = p.rest
                 continue
             case Rest():
@@ -91,43 +95,60 @@ def elements(p: Prog, planned: Planned | None = None) -> Iterator[Element]:
                 yield Element(None, p.span, None, planned)
                 return
             case Watch():
-                yield from elements(p.body, planned)
+                yield from elements(p.body, program, planned)
                 yield Element(p.stmt, p.stmt.span, p.frame, planned)
                 return
             case Conc():
                 branch = next((b for b in p.branches if not isinstance(b, Done)), DONE)
-                yield from elements(branch, planned)
+                yield from elements(branch, program, planned)
                 return
             case Planned():
                 session = p.session
-                inner = _policy_program(p)
-                if inner is not None:
-                    yield from elements(inner, p)
+                yield from _policy_elements(p, program)
                 stmt = session.stmt
                 frame = getattr(session, "frame", None)
                 yield Element(stmt, stmt.span, frame if isinstance(frame, Frame) else None, planned)
                 return
 
 
-def _policy_program(p: Planned) -> Prog | None:
-    """The program of the executed policy at `p`'s step (the planner's PlanHolder), if planned."""
-    program_at = getattr(p.session, "program_at", None)
-    if program_at is None or getattr(p.session, "policy", None) is None:
-        return None
+def _policy_elements(p: Planned, program: DebugProgram) -> Iterator[Element]:
+    """The elements of a `solve` being executed, at `p`'s step of its policy (the planner's
+    PlanHolder): the statement of the planned step first (the policy's program before the
+    step is still before the choices the step makes), then what remains after the step."""
+    step_at = getattr(p.session, "step_at", None)
+    if step_at is None or getattr(p.session, "policy", None) is None:
+        return
     try:
-        found = program_at(p.index)
+        planned = step_at(p.index)
     except (AssertionError, IndexError):
-        return None
-    return found if isinstance(found, ProgTypes) else None
+        return
+    if planned is None:
+        return
+    before, step, after = planned
+    rest = list(elements(after, program, p))
+    # A planned call whose activity runs (`calling`) is past its start: no breakpoint there.
+    if isinstance(step, StartStep | DoStep | AssignStep | TestStep) and not p.calling:
+        stmt = program.statement_of(step.span)
+        if stmt is not None:
+            frame = next((e.frame for e in rest if e.frame is not None and sees(e.frame, program, stmt)), None)
+            if frame is None:
+                frame = next((e.frame for e in elements(before, program, p) if e.frame is not None), None)
+            yield Element(stmt, stmt.span, frame, p)
+    else:
+        found = program.statement_of(step.span)
+        yield Element(None, step.span, None, p) if found is None else Element(None, found.span, None, p)
+    yield from rest
 
 
-ProgTypes = (Done, Seq, Code, Rest, AwaitEnd, DuringEnd, Watch, Conc, Planned)
+def sees(frame: Frame, program: DebugProgram, stmt: ast.Statement) -> bool:
+    """`frame` binds every variable visible at `stmt`."""
+    return all(id(s) in frame.vars for s in program.visible(stmt))
 
 
 def call_frames(program: DebugProgram, p: Prog) -> list[CallFrame]:
     """The procedure calls of continuation `p`, innermost first."""
     out: list[CallFrame] = []
-    for e in elements(p):
+    for e in elements(p, program):
         stmt = e.stmt if e.stmt is not None else program.statement_of(e.span)
         procedure = program.procedure_of(stmt) if stmt is not None else None
         if procedure is None:
@@ -154,17 +175,3 @@ def call_frames(program: DebugProgram, p: Prog) -> list[CallFrame]:
 def _arguments(top: CallFrame, frame: Frame) -> bool:
     """`frame` has the same values of the procedure's parameters as the frame of `top`."""
     return all(top.frame.vars.get(id(p)) == frame.vars.get(id(p)) for p in top.procedure.params)
-
-
-def heads(p: Prog) -> list[Element]:
-    """The statements the next transition may come from (each concurrent branch's)."""
-    match p:
-        case Seq():
-            found = heads(p.first)
-            return found
-        case Conc():
-            return [e for b in p.branches for e in heads(b)]
-        case Watch():
-            return heads(p.body)
-        case _:
-            return [e for e in [next(elements(p), None)] if e is not None and e.stmt is not None]

@@ -93,7 +93,9 @@ def values_scope(handles: Handles, name: str, values: Sequence[tuple[str, Value]
 def fluent_scope(handles: Handles, program: CompiledProgram, state: State) -> Scope:
     """One entry per fluent: its value, or (with parameters) its instances to expand."""
     model = program.model
-    fluents = sorted((s for s in model.globals.values() if s.kind is SymbolKind.FLUENT), key=lambda s: s.name)
+    fluents = sorted(
+        (s for s in model.globals.values() if s.kind is SymbolKind.FLUENT and not s.predefined), key=lambda s: s.name
+    )
 
     def instances(name: str) -> list[tuple[tuple[Value, ...], int]]:
         symbol = model.globals[name]

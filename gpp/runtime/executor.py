@@ -207,11 +207,6 @@ class Executor:
         self.warned_dropped: set[str] = set()
         self.warned_platform: set[str] = set()
 
-    @property
-    def steps(self) -> int:
-        """The transitions taken so far (for a run control)."""
-        return self.result.steps
-
     def wait_for_platform(self, deadline: float | None) -> bool:
         """The platform's `wait` until `deadline` (platform time) or the run's wall-clock bound. A
         platform plugin written before the port had `wall_deadline` is asked without it (its
@@ -276,6 +271,7 @@ class Executor:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
                         self.waiting_at = self.waiting_for = None
                     self.blocked = False
+                    self.control.stepping(self, prog, step, next_prog)
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog

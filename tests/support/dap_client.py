@@ -35,6 +35,7 @@ class DapClient:
         self.responses: dict[int, queue.Queue[Message]] = {}
         self.events: queue.Queue[Message] = queue.Queue()
         self.seen: list[Message] = []
+        self.disconnected = False
         self.lock = threading.Lock()
         self.reader = threading.Thread(target=self._read, daemon=True)
         self.reader.start()
@@ -59,6 +60,8 @@ class DapClient:
     # ---------------------------------------------------------------- requests
 
     def send(self, command: str, arguments: Message | None = None) -> int:
+        if command == "disconnect":
+            self.disconnected = True
         self.seq += 1
         message: Message = {"seq": self.seq, "type": "request", "command": command}
         if arguments is not None:
@@ -107,8 +110,10 @@ class DapClient:
             self.seen.append(found)
             if found.get("event") == name:
                 return found
-            if found.get("event") in ("<end of stream>", "<bad frame>"):
-                raise DapFailure(f"{found['event']} while waiting for `{name}`")
+            if found.get("event") in ("<end of stream>", "<bad frame>") or (
+                found.get("event") == "terminated" and name not in ("exited", "output")
+            ):
+                raise DapFailure(f"`{found['event']}` while waiting for `{name}`; seen {self.outputs()}")
 
     def stopped(self) -> Message:
         body: Message = self.event("stopped")["body"]
@@ -151,7 +156,7 @@ class DapClient:
         return self.ok("evaluate", args)
 
     def close(self) -> int:
-        if self.process.poll() is None:
+        if self.process.poll() is None and not self.disconnected:
             with suppress(DapFailure, OSError):
                 self.request("disconnect", {"terminateDebuggee": True})
         try:
@@ -186,3 +191,11 @@ def dap_session(cwd: Path | None = None) -> Iterator[DapClient]:
 
 def dumps(message: Message) -> str:
     return json.dumps(message, indent=1)
+
+
+def line_of(path: Path, text: str, occurrence: int = 1) -> int:
+    """The line (from 1) of the `occurrence`-th line of `path` that holds `text`."""
+    found = [i for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if text in line]
+    if len(found) < occurrence:
+        raise DapFailure(f"`{text}` is not in {path} {occurrence} times")
+    return found[occurrence - 1]
