@@ -93,6 +93,9 @@ class LiveBackend(RunControl, SessionBackend):
         self._held = False
         self._terminating = False
         self._ended_run = False
+        # Where the last stop was (statement, depth), and whether no transition was made since.
+        self._from: tuple[int, int] | None = None
+        self._fresh = False
         self._pause = False
         self._mode: Resumption | None = None
         self._depth = 0
@@ -200,7 +203,7 @@ class LiveBackend(RunControl, SessionBackend):
         self.end_if_asked()
         self.note_activities(executor)
         if self._stop_on_entry and not self.no_debug:
-            self.hold(executor, prog, call_frames(self.program, prog), Stop("entry", "stopped on entry"))
+            self.hold(executor, prog, self.frames_of(executor, prog), Stop("entry", "stopped on entry"), between=True)
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
         self.end_if_asked()
@@ -210,7 +213,7 @@ class LiveBackend(RunControl, SessionBackend):
         self.note_activities(executor)
         if self._pause:
             self._pause = False
-            self.hold(executor, prog, call_frames(self.program, prog), Stop("pause", "paused"))
+            self.hold(executor, prog, self.frames_of(executor, prog), Stop("pause", "paused"), between=True)
 
     def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
         self.end_if_asked()
@@ -220,18 +223,27 @@ class LiveBackend(RunControl, SessionBackend):
         stmt = self.statement_of(step)
         if stmt is None:
             return
-        frames, entered = self.position(executor, prog, stmt, after)
-        stop = self.breakpoint_stop(executor, step, frames, entered)
-        if stop is None and self._mode in ("next", "stepIn", "stepOut") and _is_statement_step(step):
-            depth = len(frames)
-            if (
-                self._mode == "stepIn"
-                or (self._mode == "next" and depth <= self._depth)
-                or (self._mode == "stepOut" and depth < self._depth)
-            ):
-                stop = Stop("step")
-        if stop is not None:
-            self.hold(executor, prog, frames, stop)
+        positions = self.positions(executor, prog, stmt, after)
+        first = 0
+        if self._fresh:  # the first transition after a stop between transitions begins there
+            self._fresh = False
+            if _place(positions[0]) == self._from:
+                first = 1
+        for i in range(first, len(positions)):
+            frames = positions[i]
+            last = i + 1 == len(positions)
+            stop = self.breakpoint_stop(executor, step, frames, entering=i > 0, last=last)
+            if stop is None and self._mode in ("next", "stepIn", "stepOut") and (not last or _is_statement_step(step)):
+                depth = len(frames)
+                if (
+                    self._mode == "stepIn"
+                    or (self._mode == "next" and depth <= self._depth)
+                    or (self._mode == "stepOut" and depth < self._depth)
+                ):
+                    stop = Stop("step")
+            if stop is not None:
+                self.hold(executor, prog, frames, stop)
+                self._fresh = False  # what comes next in this transition is past the stop
 
     def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
         if happening.kind not in self.breakpoints.exceptions or self._terminating or self.no_debug:
@@ -242,12 +254,8 @@ class LiveBackend(RunControl, SessionBackend):
         at = prog if prog is not None else self.last_prog
         # Shown where it happened: inside the calls it is in (a test blocked in a procedure is
         # still at the call of that procedure, a call being no transition of its own).
-        for _ in range(MAX_ENTERED):
-            inside = self.entered(executor, at)
-            if inside is at:
-                break
-            at = inside
-        self.hold(executor, at, call_frames(self.program, at), Stop("exception", happening.description, label))
+        frames = self.positions(executor, at, None, at)[-1]
+        self.hold(executor, at, frames, Stop("exception", happening.description, label), between=True)
 
     def attend(self, executor: Executor) -> None:
         self.end_if_asked()
@@ -269,34 +277,52 @@ class LiveBackend(RunControl, SessionBackend):
 
     # ---------------------------------------------------------------- stopping
 
+    def frames_of(self, executor: Executor, prog: Prog) -> list[CallFrame]:
+        """The calls of `prog` from the piece the next transition can come from on."""
+        sem, state, acts = executor.sem, executor.state, executor.acts
+
+        def final(piece: Prog) -> bool:
+            try:
+                return sem.final(piece, state, acts)
+            except GppRuntimeError:
+                return False
+
+        return call_frames(self.program, prog, final)
+
     def statement_of(self, step: Step) -> ast.Statement | None:
         """The statement a transition executes (a `solve`'s planning: the `solve`)."""
         if isinstance(step, PlanStep | ReplanStep):
             return step.session.stmt
         return self.program.statement_of(step.span)
 
-    def position(
-        self, executor: Executor, prog: Prog, stmt: ast.Statement, after: Prog
-    ) -> tuple[list[CallFrame], list[CallFrame]]:
-        """The stack at a transition of statement `stmt` from `prog`: the calls of `prog`, entered
-        until the innermost is the procedure that holds `stmt` (a call is no transition of its
-        own: the callee's first transition is the call's), its place `stmt` and its bindings
-        those `stmt` sees (`after` has a `pick`'s value bound in this very transition). Also the
-        calls that begin with this transition."""
-        procedure = self.program.procedure_of(stmt)
-        frames = call_frames(self.program, prog)
-        depth = len(frames)
+    def positions(
+        self, executor: Executor, prog: Prog, stmt: ast.Statement | None, after: Prog
+    ) -> list[list[CallFrame]]:
+        """The stacks a transition of statement `stmt` from `prog` may be shown at, outermost
+        first. A call is no transition of its own: the callee's first transition is the
+        call's. So when `stmt` is in a procedure `prog` has not entered yet, the transition is
+        first at each call it begins (the stack of the caller, at its call), then at `stmt`
+        (the calls of `prog` entered down to the procedure that holds `stmt`). At `stmt`, the
+        bindings are those it sees (`after` has a `pick`'s value, bound in this transition).
+        Without `stmt`, every call `prog` begins with is entered."""
+        procedure = self.program.procedure_of(stmt) if stmt is not None else None
+        frames = self.frames_of(executor, prog)
+        out: list[list[CallFrame]] = []
         view = prog
         for _ in range(MAX_ENTERED):
             if not frames or frames[0].procedure is procedure:
                 break
-            inside = self.entered(executor, view)
-            if inside is view:
+            entering = self.entered(executor, view)
+            if entering is None:
                 break
-            view = inside
-            frames = call_frames(self.program, view)
-        entered = frames[: max(len(frames) - depth, 0)]
-        if frames and frames[0].procedure is procedure:
+            view, call, callee = entering
+            top = frames[0]
+            # The caller stays on the stack at its call, also when nothing of it is left after
+            # the call (a call as the last statement leaves nothing of its caller behind).
+            caller = [CallFrame(top.procedure, top.frame, call.span, call, top.planned), *frames[1:]]
+            out.append(caller)
+            frames = self.frames_of(executor, callee) + caller
+        if stmt is not None and frames and frames[0].procedure is procedure:
             top = frames[0]
             frame = next(
                 (
@@ -307,35 +333,40 @@ class LiveBackend(RunControl, SessionBackend):
                 ),
                 top.frame,
             )
-            frames[0] = CallFrame(top.procedure, frame, stmt.span, stmt, top.planned)
-        return frames, entered
+            head = top.stmt if top.stmt is not stmt else None
+            frames = [CallFrame(top.procedure, frame, stmt.span, stmt, top.planned, head=head), *frames[1:]]
+        out.append(frames)
+        return out
 
     def breakpoint_stop(
-        self, executor: Executor, step: Step, frames: list[CallFrame], entered: list[CallFrame]
+        self, executor: Executor, step: Step, frames: list[CallFrame], entering: bool, last: bool
     ) -> Stop | None:
-        """The stop of the line or function breakpoints at this transition, if one stops
-        (logpoints print and go on)."""
+        """The stop of the line or function breakpoints at one place of this transition (see
+        `positions`; `entering`: a call begins with it, `last`: the place of its statement), if
+        one stops (logpoints print and go on). A function breakpoint on a procedure stops
+        inside it, at the first place of its call; on an action, where it starts."""
         if not frames:
             return None
         table = self.breakpoints
         top = frames[0]
-        stmt = top.stmt
         ids: list[int] = []
-        if stmt is not None and _is_statement_step(step):
-            ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
+        if top.stmt is not None and (not last or _is_statement_step(step)):
+            for stmt in (top.stmt, top.head):
+                if stmt is not None:
+                    ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
         function_ids: list[int] = []
         if table.functions:
-            names = [f.procedure.name for f in entered]
-            if isinstance(step, StartStep | DoStep):
+            names = [top.procedure.name] if entering else []
+            if last and isinstance(step, StartStep | DoStep):
                 names.append(step.action.name)
             for name in names:
                 b = table.functions.get(name)
                 if b is not None and self.passes(executor, b, top):
                     function_ids.append(b.id)
-        if function_ids and not ids:
-            return Stop("function breakpoint", "a call of a function breakpoint starts", None, tuple(function_ids))
-        if ids or function_ids:
+        if ids:
             return Stop("breakpoint", "breakpoint hit", None, tuple(ids + function_ids))
+        if function_ids:
+            return Stop("function breakpoint", "a call of a function breakpoint starts", None, tuple(function_ids))
         return None
 
     def passes(self, executor: Executor, b: Any, at: CallFrame) -> bool:
@@ -365,20 +396,32 @@ class LiveBackend(RunControl, SessionBackend):
         except DapError as e:
             return f"<{e}>"
 
-    def entered(self, executor: Executor, prog: Prog) -> Prog:
+    def entered(self, executor: Executor, prog: Prog) -> tuple[Prog, ast.CallStmt, Prog] | None:
         """`prog` with its next statement, a procedure call, replaced by the callee's body with
-        its arguments bound: the same continuation, seen from inside the callee."""
+        its arguments bound (the same continuation, seen from inside the callee), that call,
+        and the callee's body; None when the next statement is no procedure call."""
         sem = executor.sem
+        calls: list[tuple[ast.CallStmt, Prog]] = []
+
+        def final(p: Prog) -> bool:
+            try:
+                return sem.final(p, executor.state, executor.acts)
+            except GppRuntimeError:
+                return False
 
         def inside(p: Prog) -> Prog | None:
+            """Pieces that may end here are passed over: the next transition comes after them."""
             if isinstance(p, Seq):
                 first = inside(p.first)
-                return None if first is None else sem.seq(first, p.rest)
+                if first is None:
+                    return inside(p.rest) if final(p.first) else None
+                return sem.seq(first, p.rest)
             if isinstance(p, Rest) and p.index < len(p.block.body):
-                body = inside(Code(p.block.body[p.index], p.frame))
-                if body is None:
-                    return None
+                head = Code(p.block.body[p.index], p.frame)
                 rest: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(p.block.body) else DONE
+                body = inside(head)
+                if body is None:
+                    return inside(rest) if final(head) else None
                 return sem.seq(body, rest)
             if isinstance(p, Code):
                 s = p.stmt
@@ -388,18 +431,21 @@ class LiveBackend(RunControl, SessionBackend):
                     callee = sem.callee(s)
                     if callee.kind is SymbolKind.PROCEDURE:
                         callee_body, callee_frame = sem.procedure_body(s, callee.name, executor.state, p.frame)
-                        return Code(callee_body, callee_frame)
+                        entered = Code(callee_body, callee_frame)
+                        calls.append((s, entered))
+                        return entered
             return None
 
         try:
             found = inside(prog)
         except GppRuntimeError:
-            found = None
-        return found if found is not None else prog
+            return None
+        return (found, *calls[0]) if found is not None else None
 
-    def hold(self, executor: Executor, prog: Prog, frames: list[CallFrame], stop: Stop) -> None:
+    def hold(self, executor: Executor, prog: Prog, frames: list[CallFrame], stop: Stop, between: bool = False) -> None:
         """Hold the run, stopped at `prog` with the stack `frames`, until the editor says how to
-        go on; meanwhile do the protocol loop's questions."""
+        go on; meanwhile do the protocol loop's questions. `between`: stopped between two
+        transitions (on entry, paused, at a happening), where the next transition begins."""
         self.end_if_asked()
         self.prog = prog
         self.frames = frames
@@ -417,6 +463,8 @@ class LiveBackend(RunControl, SessionBackend):
                 if isinstance(job, _Resume):
                     self._mode = job.how
                     self._depth = len(self.frames)
+                    self._from = _place(self.frames)
+                    self._fresh = between
                     self._held = False
                     job.done.set()
                     return
@@ -493,6 +541,11 @@ def evaluated(expression: CheckedExpression, env: Env) -> Value:
         raise DapError(e.message) from None
     except KeyError:
         raise DapError("a variable of this expression has no value at this point yet") from None
+
+
+def _place(frames: list[CallFrame]) -> tuple[int, int] | None:
+    """Where a stack is: its innermost statement and its depth."""
+    return (id(frames[0].stmt), len(frames)) if frames and frames[0].stmt is not None else None
 
 
 def _is_statement_step(step: Step) -> bool:

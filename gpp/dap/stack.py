@@ -11,7 +11,7 @@ nothing of the caller behind (a tail call): the caller is then not on the stack.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from gpp.base.source import Span
@@ -50,6 +50,8 @@ class Element:
     planned: Planned | None = None
     # A Rest: the statement before it in its block (the call a caller's frame is at).
     before: ast.Statement | None = None
+    # What remains of the program from here to the end of this piece (a Rest or a Code).
+    piece: Prog | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -63,6 +65,9 @@ class CallFrame:
     planned: Planned | None
     # Its bindings are not known yet (it waits for an activity: the rest of it tells them).
     unbound: bool = False
+    # At a transition: the statement the transition starts from, when the transition's own
+    # statement is inside it (an `if` or `while` whose test is no transition of its own).
+    head: ast.Statement | None = None
 
     def name(self) -> str:
         args = ", ".join(show(self.frame.vars[id(p)]) for p in self.procedure.params if id(p) in self.frame.vars)
@@ -83,13 +88,13 @@ def elements(p: Prog, program: DebugProgram, planned: Planned | None = None) -> 
                 if p.index < len(p.block.body):
                     stmt = p.block.body[p.index]
                     before = p.block.body[p.index - 1] if p.index > 0 else None
-                    yield Element(stmt, stmt.span, p.frame, planned, before)
+                    yield Element(stmt, stmt.span, p.frame, planned, before, p)
                 return
             case Code():
                 stmt = p.stmt
                 while isinstance(stmt, ast.Block) and stmt.body:
                     stmt = stmt.body[0]
-                yield Element(stmt, stmt.span, p.frame, planned)
+                yield Element(stmt, stmt.span, p.frame, planned, None, p)
                 return
             case AwaitEnd() | DuringEnd():
                 yield Element(None, p.span, None, planned)
@@ -145,10 +150,17 @@ def sees(frame: Frame, program: DebugProgram, stmt: ast.Statement) -> bool:
     return all(id(s) in frame.vars for s in program.visible(stmt))
 
 
-def call_frames(program: DebugProgram, p: Prog) -> list[CallFrame]:
-    """The procedure calls of continuation `p`, innermost first."""
+def call_frames(program: DebugProgram, p: Prog, final: Callable[[Prog], bool] | None = None) -> list[CallFrame]:
+    """The procedure calls of continuation `p`, innermost first. `final` says of a piece of
+    the continuation that it may end here: the pieces it says so of at its start are passed
+    over (a loop whose condition no longer holds: the next transition comes after it)."""
     out: list[CallFrame] = []
+    leading = final is not None
     for e in elements(p, program):
+        if leading and final is not None:
+            if e.piece is not None and final(e.piece):
+                continue
+            leading = False
         stmt = e.stmt if e.stmt is not None else program.statement_of(e.span)
         procedure = program.procedure_of(stmt) if stmt is not None else None
         if procedure is None:

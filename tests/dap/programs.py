@@ -222,3 +222,13 @@ procedure main() {
 def write_programs(folder: Path) -> None:
     for name, text in PROGRAMS.items():
         (folder / name).write_text(text, encoding="utf-8")
+
+
+def tutorial_program(folder: Path, holding: str, name: str) -> Path:
+    """The program of the tutorial (docs/tutorial.md) that holds `holding`, saved in `folder`
+    as `name` with the tutorial's scenario files beside it."""
+    from tests.test_docs import GPP, ROOT, write
+
+    tutorial = ROOT / "docs" / "tutorial.md"
+    (example,) = [e for e in GPP if e.page == tutorial and holding in e.text]
+    return write(example, folder).rename(folder / name)
