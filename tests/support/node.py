@@ -33,16 +33,19 @@ def _node_major() -> int | None:
     return int(done.stdout.split(".")[0]) if done.returncode == 0 else None
 
 
+_WHAT = "the Node tests (the VS Code extension, the DebugClient driving gpp dap)"
+
+
 @functools.cache
 def why_not() -> str | None:
     """Why the Node tests cannot run here (None when they can)."""
     major = _node_major()
     if major is None:
-        return "Node is not installed: the VS Code extension's tests need Node 20 or newer and `make vscode`"
+        return f"Node is not installed: {_WHAT} need Node 20 or newer and `make vscode`"
     if major < 20:
-        return f"Node {major} is too old: the VS Code extension's tests need Node 20 or newer (@vscode/vsce 3)"
+        return f"Node {major} is too old: {_WHAT} need Node 20 or newer (@vscode/vsce 3)"
     if not (NODE_MODULES / ".package-lock.json").is_file():
-        return "the VS Code extension's npm packages are not installed: `make vscode` installs them"
+        return f"the npm packages of editors/vscode are not installed: {_WHAT} need them, `make vscode` installs them"
     return None
 
 
