@@ -1,8 +1,9 @@
 """`gpp dap` driven by the official DebugClient of @vscode/debugadapter-testsupport (Node), as VS
 Code drives it: editors/vscode/test/dap/scenario.test.js launches editors/vscode/test/dap/
-collect.gpp, hits a breakpoint, steps in, over and out, reads the variables, evaluates (also an
-expression that does not type-check) and stops at a conditional breakpoint; once on the dummy
-platform and once on the sim.
+collect.gpp, hits a breakpoint, steps over, in and out, reads the variables, evaluates (also an
+expression that does not type-check) and stops at a conditional breakpoint (one whose condition
+does not type-check is refused with the error's place); once on the dummy platform and once on
+the sim.
 
 The DebugClient is an npm package: it needs Node 20 or newer and `make vscode` (which `make
 test` runs); without them the test is skipped and says which is missing.

@@ -128,7 +128,14 @@ test(`gpp dap on the ${PLATFORM} platform, driven by the DebugClient`, { timeout
     assert.deepEqual([top.name, top.line], ['collect(kitchen)', pickUp]);
     assert.equal(await evaluate(dc, 'carried()'), '1');
 
-    // A conditional breakpoint (a golog++ expression): the pick-up with two cups carried, in the lab.
+    // A conditional breakpoint (a golog++ expression): one that does not type-check is refused
+    // with the place of the error; then the pick-up with two cups carried, in the lab.
+    const refused = await dc.setBreakpointsRequest({
+      source: { path: PROGRAM },
+      breakpoints: [{ line: pickUp, condition: 'carried() == lab' }],
+    });
+    assert.equal(refused.body.breakpoints[0].verified, false);
+    assert.match(refused.body.breakpoints[0].message, /^the condition does not check: column 11: cannot compare `number` with/);
     const set = await dc.setBreakpointsRequest({
       source: { path: PROGRAM },
       breakpoints: [{ line: pickUp, condition: 'carried() == 2' }],
