@@ -1,29 +1,30 @@
 // `gpp dap` driven by the official DebugClient of @vscode/debugadapter-testsupport, as VS Code
 // drives it: launch, a breakpoint hit, stepping in, over and out, the variables, evaluate (and
-// its located error) and a conditional breakpoint, on the agent collect.gpp.
-// Run by tests/dap/test_vscode_client.py as `node --test test/dap/scenario.test.js` with
+// its located error) and a conditional breakpoint (and its located error), on the agent
+// collect.gpp of tests/dap/test_vscode_client.py, which runs this as
+// `node --test test/dap/scenario.test.js` with
 //   GPP_COMMAND   the gpp command (the adapter is `GPP_COMMAND dap`)
 //   GPP_PLATFORM  dummy or sim
+//   GPP_PROGRAM   the agent's file (collect.gpp)
 'use strict';
 
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
-const path = require('node:path');
 const { test } = require('node:test');
 const { DebugClient } = require('@vscode/debugadapter-testsupport');
 
-const PROGRAM = path.join(__dirname, 'collect.gpp');
+const PROGRAM = process.env.GPP_PROGRAM;
 const LINES = fs.readFileSync(PROGRAM, 'utf8').split('\n');
 const PLATFORM = process.env.GPP_PLATFORM || 'dummy';
 // The sim needs a world; the agent's actions have no mapping, so the world's scenario serves them.
-const PLATFORM_OPTIONS = PLATFORM === 'sim' ? { world: process.env.GPP_WORLD || 'blocksworld' } : {};
+const PLATFORM_OPTIONS = PLATFORM === 'sim' ? { world: 'blocksworld' } : {};
 // Milliseconds the client waits for an answer or an event before the test fails.
 const WAIT = 60000;
 
 /** The 1-based line of the program that holds `text` (once). */
 function lineOf(text) {
   const found = LINES.flatMap((line, i) => (line.includes(text) ? [i + 1] : []));
-  assert.equal(found.length, 1, `collect.gpp has one line with ${text}`);
+  assert.equal(found.length, 1, `the program has one line with ${text}`);
   return found[0];
 }
 
