@@ -244,7 +244,7 @@ def test_the_vscode_launch_json_is_what_the_extension_writes() -> None:
 
 # The launches every editor's set-up offers: the program in the editor and a trace to replay.
 LAUNCH_ATTRIBUTES = [
-    {"type", "request", "name", "program", "platform", "stopOnEntry", "cwd"},
+    {"type", "request", "name", "program", "stopOnEntry", "cwd"},
     {"type", "request", "name", "trace", "cwd"},
 ]
 
