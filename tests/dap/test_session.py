@@ -4,9 +4,16 @@ evaluate, and the end of a session (tests.support.dap_client)."""
 from __future__ import annotations
 
 import json
+import os
+import signal
+import socket
+import subprocess
+import sys
 from pathlib import Path
 
-from tests.support.dap_client import DapClient, line_of
+from gpp.dap.protocol import encode_message, read_message
+from tests.support.cli import Runner
+from tests.support.dap_client import ROOT, DapClient, line_of
 
 ERRANDS_ARGS = {"first": "kitchen", "rounds": 2}
 
@@ -225,3 +232,59 @@ def test_no_debug_runs_without_stopping(dap: DapClient, programs: Path) -> None:
     )
     assert dap.event("exited")["body"] == {"exitCode": 0}
     assert not [e for e in dap.seen if e.get("event") == "stopped"]
+
+
+def test_sigterm_ends_the_session_and_its_run_with_the_trace_finished(dap: DapClient, programs: Path) -> None:
+    dap.start({"program": "forever.gpp", "traceFile": "run.jsonl"})
+    dap.ok("pause", {"threadId": 1})
+    dap.stopped()
+    dap.process.send_signal(signal.SIGTERM)
+    assert dap.process.wait(timeout=60) == 143
+    assert_ended_by_the_debugger(programs / "run.jsonl")
+
+
+def test_the_adapter_serves_one_session_on_a_loopback_tcp_port(programs: Path) -> None:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    server = subprocess.Popen(
+        [sys.executable, "-m", "gpp", "dap", "--tcp", f"127.0.0.1:{port}"],
+        cwd=programs,
+        env=env,
+        stderr=subprocess.PIPE,
+    )
+    try:
+        assert server.stderr is not None
+        assert server.stderr.readline().decode() == f"gpp dap: listening on 127.0.0.1:{port}\n"
+        with socket.create_connection(("127.0.0.1", port), timeout=60) as connection:
+            stream = connection.makefile("rwb")
+            stream.write(encode_message({"seq": 1, "type": "request", "command": "initialize", "arguments": {}}))
+            stream.flush()
+            answer = read_message(stream)
+            assert answer is not None and answer["success"] is True and answer["command"] == "initialize"
+            stream.write(encode_message({"seq": 2, "type": "request", "command": "disconnect"}))
+            stream.flush()
+            assert read_message(stream) is not None
+        assert server.wait(timeout=60) == 0
+    finally:
+        server.kill()
+        server.wait()
+
+
+def test_tcp_takes_loopback_addresses_only(gpp: Runner) -> None:
+    refused = gpp("dap", "--tcp", "0.0.0.0:4711")
+    assert refused.returncode == 2
+    assert "loopback addresses only" in refused.stderr
+
+
+def test_platform_options_reach_the_platform(dap: DapClient, programs: Path) -> None:
+    # failing.gpp without its `// scenario:` line: the scenario comes from the launch instead.
+    plain = programs / "plain.gpp"
+    plain.write_text((programs / "failing.gpp").read_text().replace("// scenario: failing.toml\n", ""))
+    dap.start(
+        {"program": "plain.gpp", "platform": "dummy", "platformOptions": {"scenario": "failing.toml"}},
+        exceptions=["failed"],
+    )
+    stop = dap.stopped()
+    assert (stop["reason"], stop["description"]) == ("exception", "go(lab) failed: scenario")
