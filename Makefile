@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test quick lint typecheck pytest browser neovim vscode vsix bench pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
+.PHONY: run test quick lint typecheck pytest browser neovim emacs vscode vsix bench pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -95,7 +95,12 @@ vsix: vscode
 	mkdir -p build
 	cd $(VSCODE) && npx --no-install vsce package --allow-missing-repository --out ../../build/gpp-golog.vsix
 
-test: browser neovim vscode lint typecheck pytest
+# The Emacs test (tests/lsp/test_editors.py) debugs an agent with Debian's Emacs and dap-mode,
+# set up as docs/editor.md says.
+emacs:
+	$(call debian_package,emacs,emacs-nox elpa-dap-mode,the Emacs dap-mode test)
+
+test: browser neovim emacs vscode lint typecheck pytest
 
 # The benches, their figures written into docs/performance.md: bench/performance.py runs each
 # bench with the options below (bench/performance.py's BENCHES keeps them) and replaces the text
