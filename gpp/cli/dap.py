@@ -6,8 +6,7 @@ from typing import Annotated
 
 import typer
 
-from gpp.cli.common import EXIT_OK, usage_error
-from gpp.cli.lsp import _loopback_address
+from gpp.cli.common import EXIT_OK, loopback_address, usage_error
 
 
 def register(app: typer.Typer) -> None:
@@ -26,7 +25,7 @@ def dap(
     """Run the golog++ debugger for editors (breakpoints, stepping, fluents as variables)."""
     if stdio and tcp is not None:
         usage_error("give either --stdio or --tcp, not both")
-    address = _loopback_address(tcp) if tcp is not None else None
+    address = loopback_address(tcp) if tcp is not None else None
     from gpp.dap.main import serve_stdio, serve_tcp
 
     if address is None:

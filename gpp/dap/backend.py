@@ -113,8 +113,6 @@ class SessionBackend(ABC):
     def start(self, stop_on_entry: bool) -> None:
         """Begin the run (after the editor's `configurationDone`)."""
 
-    # ---- breakpoints (the server keeps the table: gpp.dap.breakpoints)
-
     # ---- what a stopped run shows
 
     @abstractmethod

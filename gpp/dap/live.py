@@ -10,7 +10,6 @@ import queue
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, TypeVar, cast
 
 from gpp.base import diagnostics as diag
@@ -23,6 +22,7 @@ from gpp.dap.stack import CallFrame, call_frames, elements, sees
 from gpp.dap.variables import Handles, activity_scope, fluent_scope, plan_scope, value_variable, values_scope
 from gpp.model.symbols import SymbolKind
 from gpp.runtime.compiled import Env
+from gpp.runtime.contract import EventQueue, ExogFunctionChanged, ExogOccurrence
 from gpp.runtime.control import Executor, Happening, RunControl, RunStopped, request_attention
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.semantics import (
@@ -508,12 +508,8 @@ class LiveBackend(RunControl, SessionBackend):
             planned = _planned_in(self.prog)
         if planned is not None:
             out.append(plan_scope(self.handles, planned))
-        pending = executor.platform.queue.pending()
-        out.append(
-            values_scope(
-                self.handles, "Exogenous events", [(f"{t:.3f} s", str(event_text(e))) for t, e in pending], None
-            )
-        )
+        pending = pending_events(executor.platform.queue)
+        out.append(Scope("Exogenous events", self.handles.add(lambda: pending), count=len(pending)))
         return out
 
     def _evaluate(self, expression: str, frame_id: int | None) -> Evaluated:
@@ -562,17 +558,15 @@ def _planned_in(p: Prog) -> Planned | None:
     return p if isinstance(p, Planned) else None
 
 
-def event_text(e: object) -> str:
-    """One line for a pending platform event."""
-    for name in ("action", "function"):
-        found = getattr(e, name, None)
-        if found is not None:
-            return f"{type(e).__name__}: {getattr(found, 'text', found)}"
-    return type(e).__name__
-
-
-def run_options_summary(path: Path) -> str:
-    return str(path)
+def pending_events(queue: EventQueue) -> list[Variable]:
+    """The exogenous events the platform reported that the program has not taken in yet."""
+    out: list[Variable] = []
+    for t, e in queue.pending():
+        if isinstance(e, ExogOccurrence):
+            out.append(Variable(f"{t:.3f} s", f"{e.action}({', '.join(show(a) for a in e.args)})", "exogenous action"))
+        elif isinstance(e, ExogFunctionChanged):
+            out.append(Variable(f"{t:.3f} s", f"{e.function}(...) has a new answer", "exogenous function"))
+    return out
 
 
 def check_errors(diagnostics: list[diag.Diagnostic]) -> str:

@@ -38,7 +38,7 @@ class DebugServer:
         self.stop_on_entry = False
         self.started = False
         self._ended = threading.Event()
-        # The client's conventions (initialize's arguments).
+        # The client's conventions (initialize's arguments): lines and columns from 1 or from 0.
         self.lines_start_at1 = True
         self.columns_start_at1 = True
         self.handlers: dict[str, Handler] = {
@@ -113,6 +113,9 @@ class DebugServer:
             stop, self.after_response = self.after_response, None
             self.stopped(stop)
         if command == "launch":
+            if self.backend is not None and self.backend.capabilities.step_back:
+                more = {"supportsStepBack": True, **self.backend.capabilities.extra}
+                self.connection.event("capabilities", {"capabilities": more})
             self.connection.event("initialized")
             self.maybe_start()
         elif command == "configurationDone":
@@ -134,8 +137,8 @@ class DebugServer:
         body: Message = {"category": category, "output": text}
         if span is not None:
             body["source"] = _source(span)
-            body["line"] = span.line
-            body["column"] = span.col
+            body["line"] = self.line_out(span.line)
+            body["column"] = self.column_out(span.col)
         self.connection.event("output", body)
 
     def ended(self, exit_code: int) -> None:
@@ -158,7 +161,8 @@ class DebugServer:
             "supportsLogPoints": True,
             "supportsEvaluateForHovers": True,
             "supportsTerminateRequest": True,
-            "supportsStepBack": True,
+            # Per backend: a recorded run's says so after its launch (a `capabilities` event).
+            "supportsStepBack": False,
             "supportSuspendDebuggee": False,
             "supportTerminateDebuggee": True,
             "exceptionBreakpointFilters": [
@@ -200,10 +204,27 @@ class DebugServer:
         wanted = args.get("breakpoints")
         if wanted is None:
             wanted = [{"line": line} for line in args.get("lines", [])]
+        if not self.lines_start_at1 and isinstance(wanted, list):
+            wanted = [{**b, "line": b["line"] + 1} if isinstance(b.get("line"), int) else b for b in wanted]
         if not isinstance(wanted, list) or not all(isinstance(b, dict) for b in wanted):
             raise DapError("setBreakpoints' `breakpoints` is a list of objects")
         placed = self.breakpoints.set_lines(source["path"], wanted)
-        return {"breakpoints": [b.reported() for b in placed]}
+        return {"breakpoints": [self.placed(b.reported()) for b in placed]}
+
+    def placed(self, reported: Message) -> Message:
+        """A breakpoint as the client counts lines and columns."""
+        for key in ("line", "endLine"):
+            if key in reported:
+                reported[key] = self.line_out(reported[key])
+        if "column" in reported:
+            reported["column"] = self.column_out(reported["column"])
+        return reported
+
+    def line_out(self, line: int) -> int:
+        return line if self.lines_start_at1 else line - 1
+
+    def column_out(self, column: int) -> int:
+        return column if self.columns_start_at1 else column - 1
 
     def set_function_breakpoints(self, args: Message) -> Message:
         wanted = args.get("breakpoints", [])
@@ -247,10 +268,10 @@ class DebugServer:
             if f.span is not None:
                 frame |= {
                     "source": _source(f.span),
-                    "line": f.span.line,
-                    "column": f.span.col,
-                    "endLine": f.span.end_line,
-                    "endColumn": f.span.end_col,
+                    "line": self.line_out(f.span.line),
+                    "column": self.column_out(f.span.col),
+                    "endLine": self.line_out(f.span.end_line),
+                    "endColumn": self.column_out(f.span.end_col),
                 }
             out.append(frame)
         return {"stackFrames": out, "totalFrames": len(frames)}
@@ -330,15 +351,10 @@ class DebugServer:
             raise DapError(f"cannot read {path}: {e.strerror if isinstance(e, OSError) else e}") from None
 
     def end_backend(self) -> None:
-        """End the run (if any) and wait for its trace to be finished."""
+        """End the run (if any) and wait for its trace to be finished (the backend then tells
+        the end, `ended`)."""
         if self.backend is not None:
             self.backend.terminate()
-        if self.started or self.backend is not None:
-            self.ended_without_run()
-
-    def ended_without_run(self) -> None:
-        if not self.started:
-            self.ended(0)
 
 
 def _flag(args: Message, name: str) -> bool:

@@ -216,3 +216,15 @@ def test_filters_left_out_do_not_stop(dap: DapClient, programs: Path) -> None:
     dap.start({"program": str(programs / "failing.gpp")}, exceptions=[])
     assert dap.event("exited")["body"]["exitCode"] == 0
     assert not [e for e in dap.seen if e.get("event") == "stopped"]
+
+
+def test_a_client_counting_lines_from_0_gets_lines_from_0(dap: DapClient, programs: Path) -> None:
+    program = programs / "errands.gpp"
+    pick = line_of(program, "pick_up();")
+    dap.ok("initialize", {"adapterID": "gpp", "linesStartAt1": False, "columnsStartAt1": False})
+    dap.ok("launch", {"program": str(program), "args": ERRANDS_ARGS})
+    placed = set_lines(dap, program, [{"line": pick - 1}])
+    assert (placed[0]["line"], placed[0]["column"]) == (pick - 1, 8)
+    dap.ok("configurationDone")
+    dap.stopped()
+    assert (dap.top()["line"], dap.top()["column"]) == (pick - 1, 8)
