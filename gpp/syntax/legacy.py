@@ -179,6 +179,9 @@ class _Rewriter:
         # may replace one with its domain.
         self.sigil_edits: dict[int, diag.Edit] = {}
         self.first_sigil: Token | None = None
+        # An edit that E0040's fix makes with its sigils: the declaration of the symbols that
+        # the `§` sigils took for granted (E0050), which the file no longer says once they go.
+        self.sigil_declarations: list[diag.Edit] = []
 
     def span(self, start: int, end: int) -> Span:
         return Span(self.source, start, end)
@@ -236,8 +239,8 @@ class _Rewriter:
         first = self.first_sigil
         if first is None:
             return
-        edits = tuple(self.sigil_edits[k] for k in sorted(self.sigil_edits))
-        more = len(edits) - 1
+        edits = (*self.sigil_declarations, *(self.sigil_edits[k] for k in sorted(self.sigil_edits)))
+        more = len(self.sigil_edits) - 1
         self.diagnostics.append(
             diag.error(
                 E0040.sigil(first.value),
@@ -576,6 +579,7 @@ class _Rewriter:
         first = next(iter(used.values()))
         declaration = f"symbol domain {domain} = {{{', '.join(names)}}}"
         at = self.text.rfind("\n", 0, tokens[0].start) + 1
+        self.sigil_declarations.append(self.edit(at, at, declaration + "\n\n"))
         self.diagnostics.append(
             diag.error(
                 E0050.undeclared(first.value, len(names)),
@@ -588,7 +592,9 @@ class _Rewriter:
                 help=f"declare them: `{declaration}` (`gpp explain {E0050.code}`)",
                 fix=diag.Fix(
                     f"declare the symbols in a domain `{domain}`",
-                    (self.edit(at, at, declaration + "\n\n"),),
+                    # the first use kept as it is: the fix reaches it, so it overlaps E0040's
+                    # (which declares the symbols too) and `--fix` does not apply both at once
+                    (*self.sigil_declarations, self.edit(first.start, first.end, first.value)),
                     diag.Applicability.SAFE,
                 ),
             )
