@@ -812,9 +812,10 @@ class _Rewriter:
         its text; None for anything else."""
         if body and body[0].type == "LBRACE" and body[-1].type == "RBRACE":
             return self.returns(body[1:-1])
-        if len(body) >= 3 and body[0].value == "return" and body[0].type == "NAME" and body[-1].type == "SEMI":
-            expr = body[1:-1]
-            if any(t.type == "SEMI" for t in expr):
+        if len(body) >= 2 and body[0].value == "return" and body[0].type == "NAME":
+            # `return e;`, or the body's last `return e` without its `;` (2018)
+            expr = body[1:-1] if body[-1].type == "SEMI" else body[1:]
+            if not expr or any(t.type == "SEMI" for t in expr):
                 return None
             return expr, self.modern_text(expr[0].start, expr[-1].end)
         if body and body[0].type == "IF" and len(body) > 3 and body[1].type == "LPAR":

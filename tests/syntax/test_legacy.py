@@ -378,6 +378,17 @@ def test_a_number_quantifier_is_reported_once_by_its_legacy_code_and_modern_text
     assert [c for c in codes_of(path) if c.startswith("E")] == ["E0101"]
 
 
+def test_a_function_body_whose_last_return_has_no_semicolon_is_fixed(tmp_path: Path) -> None:
+    path = tmp_path / "r.gpp"
+    path.write_text("?function ready() {\n    return 1 < 2\n}\nprocedure main() { test(ready()); }\n")
+    assert [(d.code, d.fix is not None) for d in merged_diagnostics(check_paths([path]))] == [
+        ("E0040", True),
+        ("E0044", True),
+    ]
+    assert "bool function ready() = 1 < 2\n" in fix_file(path)
+    assert codes_of(path) == []
+
+
 def test_the_manifest_of_public_programs_names_each_and_its_result() -> None:
     """tests/legacy/manifest.tsv: the public programs measured (never copied into the project),
     each with where it is and whether one `gpp check --fix` left it clean, or why not."""
