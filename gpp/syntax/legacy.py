@@ -556,7 +556,7 @@ class _Rewriter:
             for k, t in enumerate(tokens)
             if t.type == "NAME"
             and k > 0
-            and (tokens[k - 1].type in _TYPE_TOKENS - {"NAME"} or tokens[k - 1].type in _DECLARES)
+            and (tokens[k - 1].type in _TYPE_TOKENS - {"NAME"} or tokens[k - 1].type in _DECLARES | {"COMPOUND"})
         }
         used: dict[str, Token] = {}
         for k, t in enumerate(tokens):
@@ -566,7 +566,9 @@ class _Rewriter:
                 and t.value != "return"
                 and not _is_kind(tokens, k + 1, "LPAR")
                 and not _is_kind(tokens, k + 1, "EQ")
+                and not _is_kind(tokens, k + 1, "NAME")  # a type: `Pose p`
                 and not (k > 0 and tokens[k - 1].type == "DOT")
+                and not (k > 1 and tokens[k - 1].type == "LBRACKET" and tokens[k - 2].type == "LIST")
                 and t.start < t.end
             ):
                 used.setdefault(t.value, t)

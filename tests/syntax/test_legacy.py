@@ -378,6 +378,21 @@ def test_a_number_quantifier_is_reported_once_by_its_legacy_code_and_modern_text
     assert [c for c in codes_of(path) if c.startswith("E")] == ["E0101"]
 
 
+def test_undeclared_symbols_leave_out_types_fields_and_compound_literals(tmp_path: Path) -> None:
+    path = tmp_path / "c.gpp"
+    path.write_text(
+        "compound Spot { number x }\n§fluent at() { initially: () = dock; }\n"
+        "Spot fluent here() { initially: () = Spot{x = 1}; }\n"
+        "list[Spot] fluent spots() { initially: () = list[Spot][]; }\n"
+        "action go(§p) { effect: at() = §p; }\n"
+        "procedure main() { go(hall); test(here().x == 1); }\n"
+    )
+    e0050 = next(d for d in merged_diagnostics(check_paths([path])) if d.code == "E0050")
+    assert e0050.help is not None and "`symbol domain symbols = {dock, hall}`" in e0050.help
+    assert fix_file(path).startswith("symbol domain symbols = {dock, hall}\n\ncompound Spot")
+    assert [c for c in codes_of(path) if c.startswith("E")] == []
+
+
 def test_a_function_body_whose_last_return_has_no_semicolon_is_fixed(tmp_path: Path) -> None:
     path = tmp_path / "r.gpp"
     path.write_text("?function ready() {\n    return 1 < 2\n}\nprocedure main() { test(ready()); }\n")
