@@ -194,6 +194,37 @@ class E0047(
         return Message(cls.code, f"`{name}` is declared with {arities} parameters")
 
 
+class E0048(
+    Code,
+    name="legacy-fluent-initial-value",
+    summary="a fluent's initial value written after its head (`%fluent on(%x) = 0`): legacy golog++",
+):
+    @classmethod
+    def initial_value(cls, name: str) -> Message:
+        return Message(cls.code, f"fluent `{name}` is given its initial value after its head")
+
+
+class E0049(
+    Code,
+    name="legacy-number-quantifier",
+    summary="a variable of `exists`, `forall` or `pick` over all numbers (`exists (%z)`): legacy golog++",
+):
+    @classmethod
+    def unbounded(cls, keyword: str, name: str, type_: str) -> Message:
+        return Message(cls.code, f"the `{keyword}` variable `{name}` ranges over every {type_}")
+
+
+class E0050(
+    Code,
+    name="legacy-undeclared-symbol",
+    summary="symbols used without being declared (`loc(a) == table`): legacy golog++",
+):
+    @classmethod
+    def undeclared(cls, name: str, count: int) -> Message:
+        more = f" (and {count - 1} more)" if count > 1 else ""
+        return Message(cls.code, f"the symbol `{name}`{more} is used without being declared")
+
+
 class E0030(Code, name="include-not-found", summary="an `#include` whose file cannot be found or read"):
     @classmethod
     def not_found(cls, name: str) -> Message:

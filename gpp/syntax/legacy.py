@@ -35,7 +35,7 @@ from collections.abc import Iterator
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
-from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046
+from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0048, E0049, E0050
 from gpp.syntax.legacy_names import positions, rename_legacy_names
 from gpp.syntax.lexer import SECTION_WORDS, Token
 
@@ -70,6 +70,8 @@ def modernize(source: Source, tokens: list[Token]) -> tuple[list[Token], list[di
     tokens = rewriter.structure(tokens)
     if _untyped_variables(tokens):
         tokens = rewriter.variables(tokens)
+    if any(rewriter.text[k] == "§" for k in rewriter.sigil_edits) and "DOMAIN" not in types:
+        tokens = rewriter.implicit_symbols(tokens)
     rewriter.report_sigils()
     return tokens, renamed + rewriter.diagnostics
 
@@ -114,6 +116,11 @@ def _structural_candidates(types: list[str]) -> bool:
                 or (types[i - 1] == "PICK" and types[i + 2] == "IN" and i + 3 < n and types[i + 3] == "LBRACE")
             )
         ):
+            return True
+    for i in positions(types, "FLUENT"):
+        # `number fluent on(number x) = 0;`: an initial value after the head
+        close = types.index("RPAR", i) if "RPAR" in types[i:] else n
+        if close + 1 < n and types[close + 1] == "EQ":
             return True
     if any(i + 1 < n and types[i + 1] == "NAME" for i in positions(types, "MAPPING")):
         return True
@@ -172,6 +179,9 @@ class _Rewriter:
         # may replace one with its domain.
         self.sigil_edits: dict[int, diag.Edit] = {}
         self.first_sigil: Token | None = None
+        # An edit that E0040's fix makes with its sigils: the declaration of the symbols that
+        # the `§` sigils took for granted (E0050), which the file no longer says once they go.
+        self.sigil_declarations: list[diag.Edit] = []
 
     def span(self, start: int, end: int) -> Span:
         return Span(self.source, start, end)
@@ -229,8 +239,8 @@ class _Rewriter:
         first = self.first_sigil
         if first is None:
             return
-        edits = tuple(self.sigil_edits[k] for k in sorted(self.sigil_edits))
-        more = len(edits) - 1
+        edits = (*self.sigil_declarations, *(self.sigil_edits[k] for k in sorted(self.sigil_edits)))
+        more = len(self.sigil_edits) - 1
         self.diagnostics.append(
             diag.error(
                 E0040.sigil(first.value),
@@ -288,6 +298,18 @@ class _Rewriter:
                     else:
                         out.append(self.exog_function_body(tokens, i, close, _declared_name(head)))
                     i = close + 1
+                    continue
+            if (
+                t.type == "EQ"
+                and depth == 0
+                and out
+                and out[-1].type == "RPAR"
+                and self.declaration_kind(out, declaration_start) == "FLUENT"
+            ):
+                end = _initial_value_end(tokens, i + 1)
+                if end > i + 1:
+                    out.extend(self.initial_value(tokens, i, end, out[declaration_start:]))
+                    i = end + 1 if _is_kind(tokens, end, "SEMI") else end
                     continue
             if t.type in ("LBRACE", "MAIN_LBRACE"):
                 depth += 1
@@ -375,7 +397,12 @@ class _Rewriter:
         for i, t in enumerate(tokens):
             if t.type == "NAME" and i > 1 and tokens[i - 1].type == "LPAR" and _untyped_variable(tokens, i - 1):
                 found = self.variable_type(tokens, i, signatures)
-                if found is not None:
+                if found is not None and tokens[i + 1].type != "IN" and _type_text(found[0]) in ("number", "string"):
+                    # E0049: every number, as its use types it (its sigil's edit only removes the
+                    # sigil, so the fixed file says the same)
+                    out.extend(_synthetic(k.type, k.value, t.start) for k in found[0])
+                    self.report_unbounded(tokens[i - 2], t, _type_text(found[0]), found[1])
+                elif found is not None:
                     type_tokens, how = found
                     out.extend(_synthetic(k.type, k.value, t.start) for k in type_tokens)
                     self.report_variable(tokens[i - 2], t, _type_text(type_tokens), how)
@@ -428,6 +455,24 @@ class _Rewriter:
                 return kinds, "the values it is picked from"
         return None
 
+    # E0049
+    def report_unbounded(self, keyword: Token, name: Token, type_text: str, how: str) -> None:
+        """E0049 for a variable that ranges over every number (or string): no fix, the values are
+        the author's choice. The parser reads it with that type (the checker, seeing a type
+        the legacy rewrite wrote, does not report E0210 as well)."""
+        kind = keyword.value
+        pick = "" if kind != "pick" else f", or pick from a list: `pick ({type_text} {name.value} in {{1, 2, 3}})`"
+        self.diagnostics.append(
+            diag.error(
+                E0049.unbounded(kind, name.value, type_text),
+                self.span(name.start, name.end),
+                f"every {type_text}",
+                notes=[f"`{type_text}`: {how}; it has infinitely many values, which cannot all be tried"],
+                help=f"declare the values it ranges over as a domain, `{type_text} domain D = {{...}}`, and write "
+                f"`{kind} (D {name.value} ...)`{pick} (`gpp explain {E0049.code}`)",
+            )
+        )
+
     def report_variable(self, keyword: Token, name: Token, type_text: str | None, how: str) -> None:
         """E0046 for an untyped variable, with the type as a fix; a variable that came with a
         sigil has its sigil's edit write the type instead (E0040 reports it)."""
@@ -461,6 +506,109 @@ class _Rewriter:
                 ),
             )
         )
+
+    # E0048
+    def initial_value(self, tokens: list[Token], eq: int, end: int, head: list[Token]) -> list[Token]:
+        """`%fluent on(%x) = 0;` (the tokens from its `=` up to `end`, its `;` or what follows
+        when it has none) becomes `{ initially: (x) = 0; }`: one entry for every instance."""
+        value = tokens[eq + 1 : end]
+        open_ = next((k for k, h in enumerate(head) if h.type == "LPAR"), None)
+        found = _parameters(head, open_) if open_ is not None else None
+        names = [name for _, name in found[0]] if found is not None else []
+        name = _declared_name(head)
+        value_text = self.modern_text(value[0].start, value[-1].end)
+        last = tokens[end] if _is_kind(tokens, end, "SEMI") else value[-1]
+        entry = f"({', '.join(names)}) = {value_text};"
+        self.diagnostics.append(
+            diag.error(
+                E0048.initial_value(name),
+                self.span(tokens[eq].start, value[-1].end),
+                "legacy initial value",
+                notes=["the value is every instance's initial value: an `initially:` entry for all of them"],
+                help=f"write `{{ initially: {entry} }}` (`gpp explain {E0048.code}`)",
+                fix=diag.Fix(
+                    "write an `initially:` section",
+                    (self.edit(tokens[eq].start, last.end, f"{{\ninitially:\n    {entry}\n}}"),),
+                    diag.Applicability.SAFE,
+                ),
+            )
+        )
+        at, after = tokens[eq].start, value[-1].end
+        section = [
+            _synthetic("LBRACE", "{", at),
+            _synthetic("INITIALLY", "initially:", at),
+            _synthetic("LPAR", "(", at),
+        ]
+        for k, parameter in enumerate(names):
+            if k:
+                section.append(_synthetic("COMMA", ",", at))
+            section.append(_synthetic("NAME", parameter, at))
+        section += [_synthetic("RPAR", ")", at), tokens[eq], *value]
+        return [*section, _synthetic("SEMI", ";", after), _synthetic("RBRACE", "}", after)]
+
+    # E0050
+    def implicit_symbols(self, tokens: list[Token]) -> list[Token]:
+        """In a file of the `§` sigils that declares no domain, the names used as values that
+        nothing declares are symbols, as the golog++ of 2018 took them: one error, and a
+        domain declaring them all, first in the file."""
+        declared = {
+            t.value
+            for k, t in enumerate(tokens)
+            if t.type == "NAME"
+            and k > 0
+            and (tokens[k - 1].type in _TYPE_TOKENS - {"NAME"} or tokens[k - 1].type in _DECLARES | {"COMPOUND"})
+        }
+        used: dict[str, Token] = {}
+        for k, t in enumerate(tokens):
+            if (
+                t.type == "NAME"
+                and t.value not in declared
+                and t.value != "return"
+                and not _is_kind(tokens, k + 1, "LPAR")
+                and not _is_kind(tokens, k + 1, "EQ")
+                and not _is_kind(tokens, k + 1, "NAME")  # a type: `Pose p`
+                and not (k > 0 and tokens[k - 1].type == "DOT")
+                and not (k > 1 and tokens[k - 1].type == "LBRACKET" and tokens[k - 2].type == "LIST")
+                and t.start < t.end
+            ):
+                used.setdefault(t.value, t)
+        if not used or not tokens:
+            return tokens
+        names = list(used)
+        domain = "symbols"
+        while domain in declared or domain in used:
+            domain += "_"
+        first = next(iter(used.values()))
+        declaration = f"symbol domain {domain} = {{{', '.join(names)}}}"
+        at = self.text.rfind("\n", 0, tokens[0].start) + 1
+        self.sigil_declarations.append(self.edit(at, at, declaration + "\n\n"))
+        self.diagnostics.append(
+            diag.error(
+                E0050.undeclared(first.value, len(names)),
+                self.span(first.start, first.end),
+                "not declared",
+                notes=[
+                    "golog++ of 2018 took a name it did not know for a symbol; used so here: "
+                    + ", ".join(f"`{n}`" for n in names)
+                ],
+                help=f"declare them: `{declaration}` (`gpp explain {E0050.code}`)",
+                fix=diag.Fix(
+                    f"declare the symbols in a domain `{domain}`",
+                    # the first use kept as it is: the fix reaches it, so it overlaps E0040's
+                    # (which declares the symbols too) and `--fix` does not apply both at once
+                    (*self.sigil_declarations, self.edit(first.start, first.end, first.value)),
+                    diag.Applicability.SAFE,
+                ),
+            )
+        )
+        start = tokens[0].start
+        header = [_synthetic("SYMBOL", "symbol", start), _synthetic("DOMAIN", "domain", start)]
+        header += [_synthetic("NAME", domain, start), _synthetic("EQ", "=", start), _synthetic("LBRACE", "{", start)]
+        for k, name in enumerate(names):
+            if k:
+                header.append(_synthetic("COMMA", ",", start))
+            header.append(_synthetic("NAME", name, start))
+        return [*header, _synthetic("RBRACE", "}", start), *tokens]
 
     # E0041
     def mapping_name(self, name: Token) -> Token:
@@ -666,9 +814,10 @@ class _Rewriter:
         its text; None for anything else."""
         if body and body[0].type == "LBRACE" and body[-1].type == "RBRACE":
             return self.returns(body[1:-1])
-        if len(body) >= 3 and body[0].value == "return" and body[0].type == "NAME" and body[-1].type == "SEMI":
-            expr = body[1:-1]
-            if any(t.type == "SEMI" for t in expr):
+        if len(body) >= 2 and body[0].value == "return" and body[0].type == "NAME":
+            # `return e;`, or the body's last `return e` without its `;` (2018)
+            expr = body[1:-1] if body[-1].type == "SEMI" else body[1:]
+            if not expr or any(t.type == "SEMI" for t in expr):
                 return None
             return expr, self.modern_text(expr[0].start, expr[-1].end)
         if body and body[0].type == "IF" and len(body) > 3 and body[1].type == "LPAR":
@@ -735,6 +884,34 @@ class _Rewriter:
             )
         )
         return _synthetic("SEMI", ";", brace.start, brace.end)
+
+
+# Where a declaration starts: after `%fluent on(%x) = 0` without its `;`, the next one.
+_STARTS_DECLARATION = _DECLARES | {
+    "BOOL",
+    "NUMBER_KW",
+    "STRING_KW",
+    "SYMBOL",
+    "VOID",
+    "LBRACE",
+    "MAIN_LBRACE",
+    "RBRACE",
+}
+
+
+def _initial_value_end(tokens: list[Token], i: int) -> int:
+    """The index of the `;` that ends the value starting at `i`, or, without one, of the first
+    token of the next declaration."""
+    depth = 0
+    for j in range(i, len(tokens)):
+        kind = tokens[j].type
+        if kind in ("LPAR", "LBRACKET"):
+            depth += 1
+        elif kind in ("RPAR", "RBRACKET"):
+            depth -= 1
+        elif depth == 0 and (kind == "SEMI" or kind in _STARTS_DECLARATION or kind == "EOF"):
+            return j
+    return len(tokens)
 
 
 def _type_text(type_tokens: list[Token]) -> str:

@@ -262,6 +262,47 @@ CASES = [
             "rename the exog_action and the calls with 1 arguments to `level_event` (`gpp explain E0047`)",
         ),
     ),
+    case(
+        "E0048-fluent-initial-value-after-its-head",
+        "number fluent n() = 0;\nprocedure main() { test(n() == 0); }\n",
+        E(
+            "E0048",
+            1,
+            19,
+            "fluent `n` is given its initial value after its head",
+            "write `{ initially: () = 0; }` (`gpp explain E0048`)",
+        ),
+    ),
+    case(
+        "E0049-quantifier-over-every-number",
+        "number fluent at(number r) { initially: (r) = 0; }\nprocedure main() { test(exists (z) at(z) == 0); }\n",
+        E(
+            "E0049",
+            2,
+            33,
+            "the `exists` variable `z` ranges over every number",
+            "declare the values it ranges over as a domain, `number domain D = {...}`, and write `exists (D z ...)` "
+            "(`gpp explain E0049`)",
+        ),
+    ),
+    case(
+        "E0050-undeclared-symbols",
+        "symbol fluent at() { initially: () = dock; }\naction go(§p) { effect: at() = §p; }\n",
+        E(
+            "E0050",
+            1,
+            38,
+            "the symbol `dock` is used without being declared",
+            "declare them: `symbol domain symbols = {dock}` (`gpp explain E0050`)",
+        ),
+        E(
+            "E0040",
+            2,
+            11,
+            "`§` before a name is the legacy way of writing a type",
+            "write the type names instead (`gpp explain E0040`)",
+        ),
+    ),
     # ------------------------------------------------------------ names (E01xx)
     case(
         "E0101-misspelled-symbol",

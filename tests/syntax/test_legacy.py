@@ -324,6 +324,86 @@ def test_the_start_effect_forms_of_the_tacos_fork_check_clean_fix_nothing_and_ru
     assert outcome.postcond is True, outcome.diagnostics
 
 
+# ---------------------------------------------------------------- the 2018 forms (issue 26)
+
+# Each fixture of tests/legacy for a form of the 2018 syntax, with what it reports; its twin in
+# tests/legacy/fixed is what `gpp check --fix` writes (numbers2018: and the hand E0049 asks for).
+FORMS_2018 = {
+    "initial2018.gpp": ["E0040", "E0048", "E0048"],  # `%fluent height(%tower) = 0;`, and without `;`
+    "symbols2018.gpp": ["E0040", "E0050"],  # `(r1) = dock` with no declaration of `r1` or `dock`
+    "numbers2018.gpp": ["E0040", "E0049", "E0049"],  # `exists (%z)`, `pick (%x)` over every number
+}
+
+
+@pytest.mark.parametrize("name", sorted(FORMS_2018))
+def test_a_2018_form_is_fixed_in_one_run_into_its_twin_or_says_what_to_write(name: str, tmp_path: Path) -> None:
+    path = copy_fixture(name, tmp_path)
+    diagnostics = merged_diagnostics(check_paths([path]))
+    assert [d.code for d in diagnostics] == FORMS_2018[name]
+    assert all(d.help and "gpp explain" in d.help for d in diagnostics)
+    unbounded = [d for d in diagnostics if d.code == "E0049"]
+    assert all(d.fix is None for d in unbounded) and all(d.fix is not None for d in diagnostics if d not in unbounded)
+    run("check", "--fix", name, cwd=tmp_path)
+    fixed = path.read_text()
+    assert [d.code for d in merged_diagnostics(check_paths([path])) if d.is_error] == [d.code for d in unbounded]
+    again = run("check", "--fix", name, cwd=tmp_path)
+    assert path.read_text() == fixed
+    twin = LEGACY / "fixed" / name
+    if not unbounded:
+        assert again.returncode == 0 and fixed == twin.read_text()
+    else:  # the hand: the values named in a domain, nothing else changed
+        assert again.returncode == 1
+        assert fixed.splitlines()[2:] == [line.replace("(Block ", "(") for line in twin.read_text().splitlines()[3:]]
+    assert [c for c in codes_of(twin) if c.startswith("E")] == []
+    outcome = run_program(twin, RunOptions(timeout=60))
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
+    assert outcome.postcond is True, outcome.diagnostics
+
+
+def test_a_number_quantifier_is_reported_once_by_its_legacy_code_and_modern_text_by_e0210(tmp_path: Path) -> None:
+    """E0049 stands in for E0210 only where the rewrite typed the variable; one written by hand
+    is E0210, and a symbol file with a declared domain or without sigils keeps its unknown names."""
+    path = tmp_path / "n.gpp"
+    path.write_text(
+        "number fluent on(number x) { initially: (x) = 0; }\nprocedure main() { test(!exists (z) on(z) == 1); }\n"
+    )
+    assert codes_of(path) == ["E0049"]
+    path.write_text(path.read_text().replace("exists (z)", "exists (number z)"))
+    assert codes_of(path) == ["E0210"]
+    path.write_text("symbol fluent at() { initially: () = dock; }\nprocedure main() { test(at() == dock); }\n")
+    assert codes_of(path) == ["E0101", "E0101"]  # no sigils: a typo, not the 2018 form
+    path.write_text("symbol domain places = {hall}\n§fluent at() { initially: () = dock; }\n")
+    assert codes_of(path) == ["E0040"]  # a domain declared: the checker's E0101 after the fix
+    fix_file(path)
+    assert [c for c in codes_of(path) if c.startswith("E")] == ["E0101"]
+
+
+def test_undeclared_symbols_leave_out_types_fields_and_compound_literals(tmp_path: Path) -> None:
+    path = tmp_path / "c.gpp"
+    path.write_text(
+        "compound Spot { number x }\n§fluent at() { initially: () = dock; }\n"
+        "Spot fluent here() { initially: () = Spot{x = 1}; }\n"
+        "list[Spot] fluent spots() { initially: () = list[Spot][]; }\n"
+        "action go(§p) { effect: at() = §p; }\n"
+        "procedure main() { go(hall); test(here().x == 1); }\n"
+    )
+    e0050 = next(d for d in merged_diagnostics(check_paths([path])) if d.code == "E0050")
+    assert e0050.help is not None and "`symbol domain symbols = {dock, hall}`" in e0050.help
+    assert fix_file(path).startswith("symbol domain symbols = {dock, hall}\n\ncompound Spot")
+    assert [c for c in codes_of(path) if c.startswith("E")] == []
+
+
+def test_a_function_body_whose_last_return_has_no_semicolon_is_fixed(tmp_path: Path) -> None:
+    path = tmp_path / "r.gpp"
+    path.write_text("?function ready() {\n    return 1 < 2\n}\nprocedure main() { test(ready()); }\n")
+    assert [(d.code, d.fix is not None) for d in merged_diagnostics(check_paths([path]))] == [
+        ("E0040", True),
+        ("E0044", True),
+    ]
+    assert "bool function ready() = 1 < 2\n" in fix_file(path)
+    assert codes_of(path) == []
+
+
 def test_the_manifest_of_public_programs_names_each_and_its_result() -> None:
     """tests/legacy/manifest.tsv: the public programs measured (never copied into the project),
     each with where it is and whether one `gpp check --fix` left it clean, or why not."""
