@@ -9,7 +9,7 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, TypeVar, cast
 
 from gpp.base import diagnostics as diag
@@ -45,11 +45,11 @@ from gpp.syntax import ast
 
 T = TypeVar("T")
 
-# What a stop's description adds on a platform whose time does not stand still.
 # How many calls a stop enters at most to show where a transition is (a recursion that deep
 # before its first transition is shown from its outermost calls).
 MAX_ENTERED = 100
 
+# What a stop's description adds on a platform whose time does not stand still.
 REAL_TIME_NOTE = "the agent holds, but activities already started go on running on the robot"
 
 
@@ -64,9 +64,8 @@ class _Job:
 @dataclass(frozen=True)
 class _Resume:
     how: Resumption
-    # Set once the run went on, or stopped again at once (stepping into a call: `at_once`).
+    # Set once the run went on.
     done: threading.Event
-    at_once: list[Stop] = field(default_factory=list)
 
 
 class _Terminate:
@@ -163,14 +162,12 @@ class LiveBackend(RunControl, SessionBackend):
         while not job.done.wait(0.05):
             if self.ended.is_set():
                 return None
-        return job.at_once[0] if job.at_once else None
+        return None  # a live run never stops without going on first
 
     # ---------------------------------------------------------------- questions (run's thread)
 
     def ask(self, do: Callable[[], T]) -> T:
         """`do()` in the run's thread while it holds."""
-        from gpp.dap.protocol import DapError
-
         if not self._held:
             raise DapError("the run is running: pause it first")
         job = _Job(do, threading.Event())
@@ -484,8 +481,6 @@ class LiveBackend(RunControl, SessionBackend):
             return None
         i = 0 if frame_id is None else frame_id
         if not 0 <= i < len(self.frames):
-            from gpp.dap.protocol import DapError
-
             raise DapError(f"there is no stack frame {i}")
         return self.frames[i]
 
@@ -513,8 +508,6 @@ class LiveBackend(RunControl, SessionBackend):
         return out
 
     def _evaluate(self, expression: str, frame_id: int | None) -> Evaluated:
-        from gpp.dap.protocol import DapError
-
         executor = self.executor
         assert executor is not None
         frame = self.frame_at(frame_id)
