@@ -13,7 +13,8 @@ The file is written after each bench, so an interrupted run keeps the sections i
 bench that fails leaves its section as it was (and the driver exits with 1).
 
 Without --only it runs the benches of `make bench` in their order; `pathological` (`make
-pathological`) runs only when named. --quick gives the benches that have one their smoke-run
+pathological`) and `peers` (`make bench-peers`, which installs Fast Downward first) run only
+when named. --quick gives the benches that have one their smoke-run
 options (fewer sizes or steps); the line under the table shows the command, so a quick run is
 never taken for a full one.
 """
@@ -57,6 +58,7 @@ BENCHES: dict[str, Bench] = {
     "ros2": Bench("ros2.py"),
     "soak": Bench("soak.py", quick=("--steps", "100000"), markdown=True),
     "pathological": Bench("pathological.py", quick=("--quick",), markdown=True, default=False),
+    "peers": Bench("planner.py", ("--targets", "--peers"), quick=("--peers", "--quick"), markdown=True, default=False),
 }
 
 # A marker is a line of its own (so that one quoted in the prose is not one).
