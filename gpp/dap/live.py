@@ -276,15 +276,7 @@ class LiveBackend(RunControl, SessionBackend):
 
     def frames_of(self, executor: Executor, prog: Prog) -> list[CallFrame]:
         """The calls of `prog` from the piece the next transition can come from on."""
-        sem, state, acts = executor.sem, executor.state, executor.acts
-
-        def final(piece: Prog) -> bool:
-            try:
-                return sem.final(piece, state, acts)
-            except GppRuntimeError:
-                return False
-
-        return call_frames(self.program, prog, final)
+        return call_frames(self.program, prog, lambda piece: may_end(executor, piece))
 
     def statement_of(self, step: Step) -> ast.Statement | None:
         """The statement a transition executes (a `solve`'s planning: the `solve`)."""
@@ -400,25 +392,19 @@ class LiveBackend(RunControl, SessionBackend):
         sem = executor.sem
         calls: list[tuple[ast.CallStmt, Prog]] = []
 
-        def final(p: Prog) -> bool:
-            try:
-                return sem.final(p, executor.state, executor.acts)
-            except GppRuntimeError:
-                return False
-
         def inside(p: Prog) -> Prog | None:
             """Pieces that may end here are passed over: the next transition comes after them."""
             if isinstance(p, Seq):
                 first = inside(p.first)
                 if first is None:
-                    return inside(p.rest) if final(p.first) else None
+                    return inside(p.rest) if may_end(executor, p.first) else None
                 return sem.seq(first, p.rest)
             if isinstance(p, Rest) and p.index < len(p.block.body):
                 head = Code(p.block.body[p.index], p.frame)
                 rest: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(p.block.body) else DONE
                 body = inside(head)
                 if body is None:
-                    return inside(rest) if final(head) else None
+                    return inside(rest) if may_end(executor, head) else None
                 return sem.seq(body, rest)
             if isinstance(p, Code):
                 s = p.stmt
@@ -519,6 +505,14 @@ class LiveBackend(RunControl, SessionBackend):
         value = evaluated(checked, env)
         v = value_variable(self.handles, "", value, checked.type, expression)
         return Evaluated(v.value, v.type, v.reference)
+
+
+def may_end(executor: Executor, piece: Prog) -> bool:
+    """`final` of a piece of the continuation in the run's situation (an error: it may not)."""
+    try:
+        return executor.sem.final(piece, executor.state, executor.acts)
+    except GppRuntimeError:
+        return False
 
 
 def evaluated(expression: CheckedExpression, env: Env) -> Value:
