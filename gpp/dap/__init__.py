@@ -14,9 +14,14 @@ Shape (what the editors' extension and the trace backend build on):
   Evaluated, Stop);
 * gpp.dap.launch: `launch`'s arguments -> a backend: `"program"` makes the live backend,
   `"trace": "run.jsonl"` the trace backend of module `gpp.dap.replay`
-  (`make_trace_backend(args, server) -> SessionBackend`);
+  (`make_trace_backend(args, host) -> SessionBackend`, `host` a gpp.dap.backend.Host: the
+  server's client interface and breakpoint table; the backend's `program`, a DebugProgram, is
+  where breakpoints are placed, and its `capabilities.step_back` turns on stepBack and
+  reverseContinue);
 * gpp.dap.live: `LiveBackend`, a run control (gpp.runtime.control) of a run made by
-  gpp.run.runner.run_program on a thread of its own;
+  gpp.run.runner.run_program on a thread of its own: it stops at the control's `stepping`
+  hook (breakpoints, steps), at `checkpoint` (pause), `started` (stop on entry) and
+  `happened` (the exception filters);
 * gpp.dap.program: `DebugProgram`, the checked program indexed for the debugger (statements by
   line, the procedure of each) and expressions typed in the editor checked by the real front
   end in the scope of a statement; gpp.dap.breakpoints: the breakpoint table; gpp.dap.stack:

@@ -137,11 +137,13 @@ class Breakpoints:
             self.prepare(b, w, program, stmt)
         with self.lock:
             self.lines[path] = placed
-            self.by_statement = {}
+            # Made aside, then put in place at once: the run's thread reads it meanwhile.
+            by_statement: dict[int, list[LineBreakpoint]] = {}
             for bs in self.lines.values():
                 for b in bs:
                     if b.verified and b.stmt is not None:
-                        self.by_statement.setdefault(id(b.stmt), []).append(b)
+                        by_statement.setdefault(id(b.stmt), []).append(b)
+            self.by_statement = by_statement
         return placed
 
     def set_functions(self, wanted: list[dict[str, Any]]) -> list[FunctionBreakpoint]:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, TypeVar, cast
 
 from gpp.base import diagnostics as diag
@@ -45,11 +45,11 @@ from gpp.syntax import ast
 
 T = TypeVar("T")
 
-# What a stop's description adds on a platform whose time does not stand still.
 # How many calls a stop enters at most to show where a transition is (a recursion that deep
 # before its first transition is shown from its outermost calls).
 MAX_ENTERED = 100
 
+# What a stop's description adds on a platform whose time does not stand still.
 REAL_TIME_NOTE = "the agent holds, but activities already started go on running on the robot"
 
 
@@ -64,9 +64,8 @@ class _Job:
 @dataclass(frozen=True)
 class _Resume:
     how: Resumption
-    # Set once the run went on, or stopped again at once (stepping into a call: `at_once`).
+    # Set once the run went on.
     done: threading.Event
-    at_once: list[Stop] = field(default_factory=list)
 
 
 class _Terminate:
@@ -163,14 +162,12 @@ class LiveBackend(RunControl, SessionBackend):
         while not job.done.wait(0.05):
             if self.ended.is_set():
                 return None
-        return job.at_once[0] if job.at_once else None
+        return None  # a live run never stops without going on first
 
     # ---------------------------------------------------------------- questions (run's thread)
 
     def ask(self, do: Callable[[], T]) -> T:
         """`do()` in the run's thread while it holds."""
-        from gpp.dap.protocol import DapError
-
         if not self._held:
             raise DapError("the run is running: pause it first")
         job = _Job(do, threading.Event())
@@ -279,15 +276,7 @@ class LiveBackend(RunControl, SessionBackend):
 
     def frames_of(self, executor: Executor, prog: Prog) -> list[CallFrame]:
         """The calls of `prog` from the piece the next transition can come from on."""
-        sem, state, acts = executor.sem, executor.state, executor.acts
-
-        def final(piece: Prog) -> bool:
-            try:
-                return sem.final(piece, state, acts)
-            except GppRuntimeError:
-                return False
-
-        return call_frames(self.program, prog, final)
+        return call_frames(self.program, prog, lambda piece: may_end(executor, piece))
 
     def statement_of(self, step: Step) -> ast.Statement | None:
         """The statement a transition executes (a `solve`'s planning: the `solve`)."""
@@ -403,25 +392,19 @@ class LiveBackend(RunControl, SessionBackend):
         sem = executor.sem
         calls: list[tuple[ast.CallStmt, Prog]] = []
 
-        def final(p: Prog) -> bool:
-            try:
-                return sem.final(p, executor.state, executor.acts)
-            except GppRuntimeError:
-                return False
-
         def inside(p: Prog) -> Prog | None:
             """Pieces that may end here are passed over: the next transition comes after them."""
             if isinstance(p, Seq):
                 first = inside(p.first)
                 if first is None:
-                    return inside(p.rest) if final(p.first) else None
+                    return inside(p.rest) if may_end(executor, p.first) else None
                 return sem.seq(first, p.rest)
             if isinstance(p, Rest) and p.index < len(p.block.body):
                 head = Code(p.block.body[p.index], p.frame)
                 rest: Prog = Rest(p.block, p.index + 1, p.frame) if p.index + 1 < len(p.block.body) else DONE
                 body = inside(head)
                 if body is None:
-                    return inside(rest) if final(head) else None
+                    return inside(rest) if may_end(executor, head) else None
                 return sem.seq(body, rest)
             if isinstance(p, Code):
                 s = p.stmt
@@ -484,8 +467,6 @@ class LiveBackend(RunControl, SessionBackend):
             return None
         i = 0 if frame_id is None else frame_id
         if not 0 <= i < len(self.frames):
-            from gpp.dap.protocol import DapError
-
             raise DapError(f"there is no stack frame {i}")
         return self.frames[i]
 
@@ -513,8 +494,6 @@ class LiveBackend(RunControl, SessionBackend):
         return out
 
     def _evaluate(self, expression: str, frame_id: int | None) -> Evaluated:
-        from gpp.dap.protocol import DapError
-
         executor = self.executor
         assert executor is not None
         frame = self.frame_at(frame_id)
@@ -526,6 +505,14 @@ class LiveBackend(RunControl, SessionBackend):
         value = evaluated(checked, env)
         v = value_variable(self.handles, "", value, checked.type, expression)
         return Evaluated(v.value, v.type, v.reference)
+
+
+def may_end(executor: Executor, piece: Prog) -> bool:
+    """`final` of a piece of the continuation in the run's situation (an error: it may not)."""
+    try:
+        return executor.sem.final(piece, executor.state, executor.acts)
+    except GppRuntimeError:
+        return False
 
 
 def evaluated(expression: CheckedExpression, env: Env) -> Value:

@@ -288,3 +288,39 @@ def test_platform_options_reach_the_platform(dap: DapClient, programs: Path) -> 
     )
     stop = dap.stopped()
     assert (stop["reason"], stop["description"]) == ("exception", "go(lab) failed: scenario")
+
+
+ODD_ARGUMENTS: list[object] = [
+    None,
+    {},
+    {"threadId": "one", "frameId": -1, "variablesReference": -5, "expression": "", "levels": -1},
+    {"source": {"path": 3}, "breakpoints": [1, 2], "lines": "12", "filters": "failed"},
+    {"breakpoints": [{"line": "ten", "condition": 5, "hitCondition": [], "logMessage": None}], "source": {"path": "x"}},
+    {"expression": "(((", "context": 7, "frameId": 99},
+]
+
+
+def test_every_request_with_odd_arguments_gets_an_answer_and_no_internal_error(dap: DapClient, programs: Path) -> None:
+    commands = [
+        "threads", "stackTrace", "scopes", "variables", "evaluate", "setBreakpoints", "setFunctionBreakpoints",
+        "setExceptionBreakpoints", "continue", "next", "stepIn", "stepOut", "stepBack", "reverseContinue", "pause",
+        "source", "configurationDone",
+    ]  # fmt: skip
+    dap.ok("initialize", {})
+
+    def ask_everything() -> None:
+        for command in commands:
+            for arguments in ODD_ARGUMENTS:
+                answer = dap.request(command, arguments)  # type: ignore[arg-type]
+                assert "internal error" not in str(answer.get("message", "")), (command, arguments, answer)
+
+    ask_everything()  # before a launch
+    dap.ok("launch", {"program": str(programs / "errands.gpp"), "args": ERRANDS_ARGS, "stopOnEntry": True})
+    dap.stopped()
+    ask_everything()  # stopped, or running after a continue among them
+    dap.ok("pause", {"threadId": 1})
+    assert dap.process.poll() is None
+    dap.ok("disconnect", {})
+    assert dap.close() == 0
+    assert dap.process.stderr is not None
+    assert b"Traceback" not in dap.process.stderr.read()
