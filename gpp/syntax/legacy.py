@@ -12,6 +12,8 @@ syntax errors; the rest of the file is checked as if it were modern. The forms:
 * E0043 a `domain:` section restricting parameters (`domain: room in rooms;`);
 * E0044 a function with a block body of `return` statements;
 * E0045 an `exog_function` with a body;
+* E0049 a variable of `exists`, `forall` or `pick` over every number (2018's `exists (%z)`):
+  typed with a `number domain` of the numbers the program's fluents and literals give;
 * E0046 a variable of `exists`, `forall` or `pick` without a type (`exists(z) loc(z) == x`,
   `pick (x in {a, b})`), as the 2019 sigil syntax leaves it once its sigils are removed: typed
   by its use (an argument of a fluent, function or action whose parameter has a type, or
@@ -393,13 +395,19 @@ class _Rewriter:
         `in {...}` values give it (see `variable_type`); one without is an
         error without a fix, read on as `symbol`."""
         signatures = _signatures(tokens)
+        numbers = _ProgramNumbers(tokens, signatures)
         out: list[Token] = []
         for i, t in enumerate(tokens):
             if t.type == "NAME" and i > 1 and tokens[i - 1].type == "LPAR" and _untyped_variable(tokens, i - 1):
                 found = self.variable_type(tokens, i, signatures)
-                if found is not None and tokens[i + 1].type != "IN" and _type_text(found[0]) in ("number", "string"):
-                    # E0049: every number, as its use types it (its sigil's edit only removes the
-                    # sigil, so the fixed file says the same)
+                unbounded = found is not None and tokens[i + 1].type != "IN"
+                if unbounded and found is not None and _type_text(found[0]) == "number" and numbers.values:
+                    # E0049 with a fix: the numbers the program's fluents and literals give
+                    out.append(_synthetic("NAME", numbers.name, t.start))
+                    numbers.variables.append((tokens[i - 2], t, found[1]))
+                elif unbounded and found is not None and _type_text(found[0]) in ("number", "string"):
+                    # E0049 without a fix: every number, as its use types it (its sigil's edit
+                    # only removes the sigil, so the fixed file says the same)
                     out.extend(_synthetic(k.type, k.value, t.start) for k in found[0])
                     self.report_unbounded(tokens[i - 2], t, _type_text(found[0]), found[1])
                 elif found is not None:
@@ -411,7 +419,20 @@ class _Rewriter:
                     out.append(_synthetic("SYMBOL", "symbol", t.start))
                     self.report_variable(tokens[i - 2], t, None, "")
             out.append(t)
-        return out
+        if not numbers.variables or not out:
+            return out
+        self.report_ranged(numbers)
+        start = out[0].start
+        header = [_synthetic("NUMBER_KW", "number", start), _synthetic("DOMAIN", "domain", start)]
+        header += [_synthetic("NAME", numbers.name, start), _synthetic("EQ", "=", start)]
+        header.append(_synthetic("LBRACE", "{", start))
+        for k, value in enumerate(numbers.values):
+            if k:
+                header.append(_synthetic("COMMA", ",", start))
+            if value.startswith("-"):
+                header.append(_synthetic("ADD_OP", "-", start))
+            header.append(_synthetic("NUMBER", value.lstrip("-"), start))
+        return [*header, _synthetic("RBRACE", "}", start), *out]
 
     def variable_type(
         self, tokens: list[Token], at: int, signatures: dict[str, list[list[Token] | None]]
@@ -457,19 +478,66 @@ class _Rewriter:
 
     # E0049
     def report_unbounded(self, keyword: Token, name: Token, type_text: str, how: str) -> None:
-        """E0049 for a variable that ranges over every number (or string): no fix, the values are
-        the author's choice. The parser reads it with that type (the checker, seeing a type
-        the legacy rewrite wrote, does not report E0210 as well)."""
+        """E0049 for a variable that ranges over every number (or string) where the program names
+        no number to range over (`_ProgramNumbers`): no fix, the values are the author's choice.
+        The parser reads it with that type (the checker, seeing a type the legacy rewrite wrote,
+        does not report E0210 as well)."""
         kind = keyword.value
         pick = "" if kind != "pick" else f", or pick from a list: `pick ({type_text} {name.value} in {{1, 2, 3}})`"
+        why = (
+            "the program names no number its fluents or literals could give it"
+            if type_text == "number"
+            else "a string ranges over no set the program could give"
+        )
         self.diagnostics.append(
             diag.error(
                 E0049.unbounded(kind, name.value, type_text),
                 self.span(name.start, name.end),
                 f"every {type_text}",
                 notes=[f"`{type_text}`: {how}; it has infinitely many values, which cannot all be tried"],
-                help=f"declare the values it ranges over as a domain, `{type_text} domain D = {{...}}`, and write "
+                help=f"{why}, so name them: declare the values it ranges over as a domain, "
+                f"`{type_text} domain D = {{...}}`, and write "
                 f"`{kind} (D {name.value} ...)`{pick} (`gpp explain {E0049.code}`)",
+            )
+        )
+
+    def report_ranged(self, numbers: _ProgramNumbers) -> None:
+        """One E0049 for all the number variables of the file, with a fix: a `number domain` of
+        the numbers the program's fluents and literals give (`_ProgramNumbers`), declared first
+        in the file, as each variable's type. A variable that came with a sigil has its sigil's
+        edit write the domain, and E0040's fix declares it too (the two fixes overlap, so
+        `--fix` applies one of them)."""
+        declaration = f"number domain {numbers.name} = {{{', '.join(numbers.values)}}}"
+        at = self.text.rfind("\n", 0, numbers.first_start) + 1
+        declare = self.edit(at, at, declaration + "\n\n")
+        edits = [declare]
+        for _, name, _ in numbers.variables:
+            sigil_at = next((k for k, e in self.sigil_edits.items() if e.span.end == name.start), None)
+            typed = self.edit(name.start if sigil_at is None else sigil_at, name.start, numbers.name + " ")
+            if sigil_at is not None:
+                self.sigil_edits[sigil_at] = typed
+            edits.append(typed)
+        if any(e.span.end == name.start for e in self.sigil_edits.values() for _, name, _ in numbers.variables):
+            self.sigil_declarations.append(declare)
+        keyword, first, how = numbers.variables[0]
+        more = len(numbers.variables) - 1
+        self.diagnostics.append(
+            diag.error(
+                E0049.unbounded(keyword.value, first.value, "number"),
+                self.span(first.start, first.end),
+                "every number",
+                notes=[
+                    f"`number`: {how}; the golog++ of 2018 tried the values the program's fluents and "
+                    f"literals give it: {', '.join(numbers.values)}"
+                    + (f"; {more} more such variable{'s' if more > 1 else ''} in this file" if more else "")
+                ],
+                help=f"declare them as a domain, `{declaration}`, and write "
+                f"`{keyword.value} ({numbers.name} {first.value} ...)` (`gpp explain {E0049.code}`)",
+                fix=diag.Fix(
+                    f"declare the numbers in a domain `{numbers.name}` and type the variables with it",
+                    tuple(sorted(edits, key=lambda e: e.span.start)),
+                    diag.Applicability.SAFE,
+                ),
             )
         )
 
@@ -897,6 +965,46 @@ _STARTS_DECLARATION = _DECLARES | {
     "MAIN_LBRACE",
     "RBRACE",
 }
+
+
+class _ProgramNumbers:
+    """The numbers a 2018 program's fluents and literals give a number variable, which the
+    original's quantifier and `pick` ranged over (its Prolog backend bound the variable by
+    unifying it with the fluents' instances and the program's constants): the numbers in the
+    fluents' `initially:` sections, the number arguments of calls of the declared fluents,
+    functions and actions, and the numbers compared (`==`, `!=`) or assigned. Empty when the
+    program has none, and then there is no fix. `name` is the domain's name, one the file does
+    not use; `variables` collects (keyword, variable, how its type was found)."""
+
+    def __init__(self, tokens: list[Token], signatures: dict[str, list[list[Token] | None]]) -> None:
+        found: dict[float, str] = {}
+        initially = False
+        for k, t in enumerate(tokens):
+            if t.type == "INITIALLY":
+                initially = True
+            elif t.type in _SECTIONS or t.type == "RBRACE":
+                initially = False
+            if t.type != "NUMBER":
+                continue
+            negative = k > 1 and tokens[k - 1].value == "-" and tokens[k - 2].type in ("LPAR", "COMMA", "CMP_OP", "EQ")
+            operand = k - 2 if negative else k - 1
+            call = _argument_of(tokens, k) if not negative else None
+            if (
+                initially
+                or (call is not None and call[0] in signatures)
+                or tokens[operand].type == "EQ"
+                or (tokens[operand].type == "CMP_OP" and tokens[operand].value in ("==", "!="))
+                or (k + 1 < len(tokens) and tokens[k + 1].type == "CMP_OP" and tokens[k + 1].value in ("==", "!="))
+            ):
+                text = ("-" if negative else "") + t.value
+                found.setdefault(float(text), text)
+        self.values = [found[v] for v in sorted(found)]
+        used = {t.value for t in tokens if t.type == "NAME"}
+        self.name = "numbers"
+        while self.name in used:
+            self.name += "_"
+        self.first_start = tokens[0].start if tokens else 0
+        self.variables: list[tuple[Token, Token, str]] = []
 
 
 def _initial_value_end(tokens: list[Token], i: int) -> int:

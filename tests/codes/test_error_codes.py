@@ -281,7 +281,7 @@ CASES = [
             2,
             33,
             "the `exists` variable `z` ranges over every number",
-            "declare the values it ranges over as a domain, `number domain D = {...}`, and write `exists (D z ...)` "
+            "declare them as a domain, `number domain numbers = {0}`, and write `exists (numbers z ...)` "
             "(`gpp explain E0049`)",
         ),
     ),
