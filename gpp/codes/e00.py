@@ -225,6 +225,16 @@ class E0050(
         return Message(cls.code, f"the symbol `{name}`{more} is used without being declared")
 
 
+class E0051(
+    Code,
+    name="legacy-procedure-variable",
+    summary="a variable a procedure assigns without declaring it (`%y = 1;`): legacy golog++",
+):
+    @classmethod
+    def assigned(cls, name: str, where: str) -> Message:
+        return Message(cls.code, f"`{name}` is assigned in {where}, but nothing declares it")
+
+
 class E0030(Code, name="include-not-found", summary="an `#include` whose file cannot be found or read"):
     @classmethod
     def not_found(cls, name: str) -> Message:

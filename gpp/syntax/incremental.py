@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from gpp.base import diagnostics as diag
 from gpp.base.perf import paused_gc
 from gpp.base.source import Source, Span
-from gpp.codes import E0014, E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0047, E0048, E0049, E0050
+from gpp.codes import E0014, E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0047, E0048, E0049, E0050, E0051
 from gpp.syntax import ast
 from gpp.syntax.fast import relocators
 from gpp.syntax.lexer import Token, Tokens
@@ -36,7 +36,7 @@ _CLEAN_END = frozenset({"SEMI", "RBRACE"})
 # Diagnostics whose cause is not local to one declaration: legacy rewrites (one error for all
 # the sigils of a file) and the nesting limit (the declaration is left out of the program).
 _NOT_LOCAL = frozenset(
-    c.code for c in (E0014, E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0047, E0048, E0049, E0050)
+    c.code for c in (E0014, E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0047, E0048, E0049, E0050, E0051)
 )
 _OPENERS = frozenset({"LBRACE", "MAIN_LBRACE"})
 _PLATFORM = frozenset({"COMPONENT", "CONSTRAINTS"})

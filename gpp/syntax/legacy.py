@@ -37,7 +37,7 @@ from collections.abc import Iterator
 
 from gpp.base import diagnostics as diag
 from gpp.base.source import Source, Span
-from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0048, E0049, E0050
+from gpp.codes import E0040, E0041, E0042, E0043, E0044, E0045, E0046, E0048, E0049, E0050, E0051
 from gpp.syntax.legacy_names import positions, rename_legacy_names
 from gpp.syntax.lexer import SECTION_WORDS, Token
 
@@ -72,6 +72,8 @@ def modernize(source: Source, tokens: list[Token]) -> tuple[list[Token], list[di
     tokens = rewriter.structure(tokens)
     if _untyped_variables(tokens):
         tokens = rewriter.variables(tokens)
+    if has_sigils and "EQ" in types:
+        tokens = rewriter.procedure_variables(tokens)
     if any(rewriter.text[k] == "§" for k in rewriter.sigil_edits) and "DOMAIN" not in types:
         tokens = rewriter.implicit_symbols(tokens)
     rewriter.report_sigils()
@@ -575,6 +577,137 @@ class _Rewriter:
             )
         )
 
+    # E0051
+    def procedure_variables(self, tokens: list[Token]) -> list[Token]:
+        """A variable with a sigil that a procedure (or the main block) assigns, `%y = 1;`, and
+        that is neither its parameter nor bound by `pick` or a quantifier: the golog++ of 2018
+        made it a variable of the procedure on its first use. gpp has no variables a procedure
+        assigns, so each becomes a fluent of no parameters with its type's zero as initial value
+        (`number fluent y() { initially: () = 0; }`, before the procedure), and every use of it
+        in the procedure is a call, `y()`: one error for each procedure, with that fix."""
+        declared = {tokens[k + 1].value for k, t in enumerate(tokens[:-1]) if t.type in _DECLARES}
+        inserts: dict[int, list[Token]] = {}
+        replaced: dict[int, str] = {}
+        for i, t in enumerate(tokens):
+            if t.type == "MAIN_LBRACE":
+                start, open_, params, where = i, i, set(), "the main block"
+            elif t.type == "PROCEDURE" and _is_kind(tokens, i + 1, "NAME") and _is_kind(tokens, i + 2, "LPAR"):
+                found = _parameters(tokens, i + 2)
+                if found is None or not _is_kind(tokens, found[1] + 1, "LBRACE"):
+                    continue
+                start, open_, where = i, found[1] + 1, f"procedure `{tokens[i + 1].value}`"
+                params = {name for _, name in found[0]}
+                if start > 0 and tokens[start - 1].type in _TYPE_TOKENS - {"NAME"}:
+                    start -= 1
+            else:
+                continue
+            close = _closing(tokens, open_, ("LBRACE", "MAIN_LBRACE"), "RBRACE")
+            if close is None:
+                continue
+            found_variables = self.assigned_variables(tokens, open_, close, params)
+            if not found_variables:
+                continue
+            declarations: list[str] = []
+            header: list[Token] = []
+            at = tokens[start].start
+            edits: list[diag.Edit] = []
+            for name, (type_name, uses) in found_variables.items():
+                fluent = name
+                while fluent in declared:
+                    fluent += "_"
+                declared.add(fluent)
+                zero = _ZEROS[type_name]
+                declarations.append(f"{type_name} fluent {fluent}() {{\ninitially:\n    () = {zero[1]};\n}}")
+                header += [
+                    _synthetic(_TYPE_KEYWORDS[type_name], type_name, at),
+                    _synthetic("FLUENT", "fluent", at),
+                    _synthetic("NAME", fluent, at),
+                    _synthetic("LPAR", "(", at),
+                    _synthetic("RPAR", ")", at),
+                    _synthetic("LBRACE", "{", at),
+                    _synthetic("INITIALLY", "initially:", at),
+                    _synthetic("LPAR", "(", at),
+                    _synthetic("RPAR", ")", at),
+                    _synthetic("EQ", "=", at),
+                    _synthetic(zero[0], zero[1], at),
+                    _synthetic("SEMI", ";", at),
+                    _synthetic("RBRACE", "}", at),
+                ]
+                for k, sigil_at in uses:
+                    use = tokens[k]
+                    replaced[k] = fluent
+                    self.sigil_edits[sigil_at] = self.edit(sigil_at, use.end, fluent + "()")
+                    edits.append(self.sigil_edits[sigil_at])
+            inserts[start] = header
+            line = self.text.rfind("\n", 0, at) + 1
+            declare = self.edit(line, line, "\n\n".join(declarations) + "\n\n")
+            self.sigil_declarations.append(declare)
+            first_name, (_, first_uses) = next(iter(found_variables.items()))
+            first = tokens[first_uses[0][0]]
+            others = len(found_variables) - 1
+            self.diagnostics.append(
+                diag.error(
+                    E0051.assigned(first_name, where),
+                    self.span(first.start, first.end),
+                    "not declared",
+                    notes=[
+                        "the golog++ of 2018 made a variable of the procedure on its first use; gpp's "
+                        "procedures assign fluents only, so it becomes a fluent that starts at its type's zero"
+                        + (f"; {others} more such variable{'s' if others > 1 else ''} here" if others else "")
+                    ],
+                    help=f"declare `{' '.join(declarations[0].split())}` and write `{first_name}()` for "
+                    f"`{first_name}` (`gpp explain {E0051.code}`)",
+                    fix=diag.Fix(
+                        "declare a fluent for each and call it where the variable was used",
+                        (declare, *sorted(edits, key=lambda e: e.span.start)),
+                        diag.Applicability.SAFE,
+                    ),
+                )
+            )
+        if not inserts:
+            return tokens
+        out: list[Token] = []
+        for k, t in enumerate(tokens):
+            out.extend(inserts.get(k, ()))
+            if k in replaced:
+                out += [_synthetic("NAME", replaced[k], t.start), _synthetic("LPAR", "(", t.end)]
+                out.append(_synthetic("RPAR", ")", t.end))
+            else:
+                out.append(t)
+        return out
+
+    def assigned_variables(
+        self, tokens: list[Token], open_: int, close: int, known: set[str]
+    ) -> dict[str, tuple[str, list[tuple[int, int]]]]:
+        """The variables with a number, bool or string sigil assigned as a statement between
+        `open_` and `close` that `known` does not name and nothing there binds, by name: the
+        sigil's type and every use (token index, sigil offset) there, calls excepted."""
+        bound = {
+            tokens[k].value
+            for k in range(open_ + 2, close)
+            if tokens[k].type == "NAME" and tokens[k - 1].type in _TYPE_TOKENS and tokens[k - 2].type == "LPAR"
+        }
+        sigils = {e.span.end: k for k, e in self.sigil_edits.items()}
+        found: dict[str, tuple[str, list[tuple[int, int]]]] = {}
+        for k in range(open_ + 1, close):
+            t = tokens[k]
+            sigil_at = sigils.get(t.start)
+            if (
+                t.type == "NAME"
+                and _is_kind(tokens, k + 1, "EQ")
+                and tokens[k - 1].type in ("LBRACE", "MAIN_LBRACE", "SEMI", "RBRACE", "RPAR", "ELSE")
+                and sigil_at is not None
+                and self.text[sigil_at] in "%?$"
+                and t.value not in known | bound
+            ):
+                found.setdefault(t.value, (SIGIL_TYPES[self.text[sigil_at]][0], []))
+        for k in range(open_ + 1, close):
+            t = tokens[k]
+            sigil_at = sigils.get(t.start)
+            if t.type == "NAME" and t.value in found and sigil_at is not None and not _is_kind(tokens, k + 1, "LPAR"):
+                found[t.value][1].append((k, sigil_at))
+        return found
+
     # E0048
     def initial_value(self, tokens: list[Token], eq: int, end: int, head: list[Token]) -> list[Token]:
         """`%fluent on(%x) = 0;` (the tokens from its `=` up to `end`, its `;` or what follows
@@ -965,6 +1098,11 @@ _STARTS_DECLARATION = _DECLARES | {
     "MAIN_LBRACE",
     "RBRACE",
 }
+
+
+# The initial value of the fluent that stands for a 2018 procedure variable, by its type: token type, text.
+_ZEROS = {"number": ("NUMBER", "0"), "bool": ("FALSE", "false"), "string": ("STRING", '""')}
+_TYPE_KEYWORDS = {type_name: token for type_name, token in SIGIL_TYPES.values()}
 
 
 class _ProgramNumbers:

@@ -286,6 +286,18 @@ CASES = [
         ),
     ),
     case(
+        "E0051-procedure-variable",
+        "number fluent n() { initially: () = 0; }\nprocedure main() { %v = 2; n() = %v; }\n",
+        E("E0040", 2, 20, "`%` before a name is the legacy way of writing a type"),
+        E(
+            "E0051",
+            2,
+            21,
+            "`v` is assigned in procedure `main`, but nothing declares it",
+            "declare `number fluent v() { initially: () = 0; }` and write `v()` for `v` (`gpp explain E0051`)",
+        ),
+    ),
+    case(
         "E0050-undeclared-symbols",
         "symbol fluent at() { initially: () = dock; }\naction go(§p) { effect: at() = §p; }\n",
         E(

@@ -332,6 +332,7 @@ FORMS_2018 = {
     "initial2018.gpp": ["E0040", "E0048", "E0048"],  # `%fluent height(%tower) = 0;`, and without `;`
     "symbols2018.gpp": ["E0040", "E0050"],  # `(r1) = dock` with no declaration of `r1` or `dock`
     "numbers2018.gpp": ["E0040", "E0049"],  # `exists (%z)`, `pick (%x)` over every number: one error
+    "variables2018.gpp": ["E0040", "E0051"],  # `%v = 1;` in the main block, `v` declared nowhere
 }
 
 
@@ -409,3 +410,22 @@ def test_the_manifest_of_public_programs_names_each_and_its_result() -> None:
     assert all(re.fullmatch(r"[0-9a-f]{40}", row[3]) and re.fullmatch(r"[0-9a-f]{40}|-", row[2]) for row in rows)
     assert all(row[4] == "clean" or row[4].startswith("not clean: ") for row in rows)
     assert len({row[3] for row in rows}) == len(rows)
+
+
+def test_a_procedure_variable_becomes_a_fluent_only_where_nothing_else_names_it(tmp_path: Path) -> None:
+    """E0051: a parameter assigned is E0306, a `pick` variable is bound, a name taken by a
+    declaration gets a fluent of another name, and a symbol variable (no zero to start at) is
+    left to E0101."""
+    path = tmp_path / "p.gpp"
+    head = "%fluent n() {\ninitially:\n    () = 0;\n}\n"
+    path.write_text(head + "procedure go(%n) { %n = 1; }\n")
+    assert "E0051" not in codes_of(path)
+    path.write_text(head + "procedure go() { pick (%k in {1, 2}) n() = %k; }\n")
+    assert "E0051" not in codes_of(path)
+    path.write_text(head + "procedure go() { %n = 1; n() = %n + 1; }\n")
+    assert codes_of(path) == ["E0040", "E0051"]
+    fixed = fix_file(path)
+    assert "number fluent n_() {" in fixed and "{ n_() = 1; n() = n_() + 1; }" in fixed
+    assert [c for c in codes_of(path) if c.startswith("E")] == []
+    path.write_text(head + "procedure go() { §s = a; }\n")
+    assert "E0051" not in codes_of(path)

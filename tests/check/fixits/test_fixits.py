@@ -35,7 +35,20 @@ FAMILIES = {
     "lint_": 4,  # the lints with a fix
 }
 # What a legacy recogniser (gpp.syntax.legacy) reports: every one has a file.
-LEGACY_CODES = {"E0040", "E0041", "E0042", "E0043", "E0044", "E0045", "E0046", "E0047", "E0048", "E0049", "E0050"}
+LEGACY_CODES = {
+    "E0040",
+    "E0041",
+    "E0042",
+    "E0043",
+    "E0044",
+    "E0045",
+    "E0046",
+    "E0047",
+    "E0048",
+    "E0049",
+    "E0050",
+    "E0051",
+}
 
 Key = tuple[str, str, bool]  # code, message, is an error
 
