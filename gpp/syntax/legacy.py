@@ -14,6 +14,8 @@ syntax errors; the rest of the file is checked as if it were modern. The forms:
 * E0045 an `exog_function` with a body;
 * E0049 a variable of `exists`, `forall` or `pick` over every number (2018's `exists (%z)`):
   typed with a `number domain` of the numbers the program's fluents and literals give;
+* E0051 a variable a 2018 procedure assigns (`%y = 1;`) that nothing declares: a fluent of no
+  parameters, and each use of the variable in the procedure a call of it;
 * E0046 a variable of `exists`, `forall` or `pick` without a type (`exists(z) loc(z) == x`,
   `pick (x in {a, b})`), as the 2019 sigil syntax leaves it once its sigils are removed: typed
   by its use (an argument of a fluent, function or action whose parameter has a type, or

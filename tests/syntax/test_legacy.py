@@ -364,6 +364,16 @@ def test_a_number_quantifier_is_reported_once_by_its_legacy_code_and_modern_text
     )
     assert codes_of(path) == ["E0049"]
     assert "exists (numbers z)" in fix_file(path) and codes_of(path) == []
+    assert path.read_text().startswith("number domain numbers = {0, 1}\n\nnumber fluent on")
+    unranged = tmp_path / "u.gpp"
+    unranged.write_text(
+        "number function twice(number y) = y + y\nbool function even(number y) = exists (z) twice(z) == y\n"
+    )
+    found = merged_diagnostics(check_paths([unranged]))
+    assert [(d.code, d.fix) for d in found] == [("E0049", None)]
+    assert found[0].help is not None and "names no number" in found[0].help
+    unranged.write_text(unranged.read_text() + "procedure main() { test(even(4)); }\n")
+    assert fix_file(unranged).startswith("number domain numbers = {4}\n")  # a number named: a range
     path.write_text(path.read_text().replace("exists (numbers z)", "exists (number z)"))
     assert codes_of(path) == ["E0210"]
     path.write_text("symbol fluent at() { initially: () = dock; }\nprocedure main() { test(at() == dock); }\n")
