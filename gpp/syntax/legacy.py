@@ -759,7 +759,11 @@ class _Rewriter:
             for k, t in enumerate(tokens)
             if t.type == "NAME"
             and k > 0
-            and (tokens[k - 1].type in _TYPE_TOKENS - {"NAME"} or tokens[k - 1].type in _DECLARES | {"COMPOUND"})
+            and (
+                tokens[k - 1].type in _TYPE_TOKENS - {"NAME"}
+                or tokens[k - 1].type in _DECLARES | {"COMPOUND"}
+                or (k > 1 and tokens[k - 1].type == "NAME" and tokens[k - 2].type == "LPAR")  # `exists (numbers z)`
+            )
         }
         used: dict[str, Token] = {}
         for k, t in enumerate(tokens):
@@ -784,7 +788,8 @@ class _Rewriter:
         first = next(iter(used.values()))
         declaration = f"symbol domain {domain} = {{{', '.join(names)}}}"
         at = self.text.rfind("\n", 0, tokens[0].start) + 1
-        self.sigil_declarations.append(self.edit(at, at, declaration + "\n\n"))
+        declare = self.edit(at, at, declaration + "\n\n")
+        self.sigil_declarations.append(declare)
         self.diagnostics.append(
             diag.error(
                 E0050.undeclared(first.value, len(names)),
@@ -799,7 +804,7 @@ class _Rewriter:
                     f"declare the symbols in a domain `{domain}`",
                     # the first use kept as it is: the fix reaches it, so it overlaps E0040's
                     # (which declares the symbols too) and `--fix` does not apply both at once
-                    (*self.sigil_declarations, self.edit(first.start, first.end, first.value)),
+                    (declare, self.edit(first.start, first.end, first.value)),
                     diag.Applicability.SAFE,
                 ),
             )

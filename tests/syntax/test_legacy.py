@@ -439,3 +439,22 @@ def test_a_procedure_variable_becomes_a_fluent_only_where_nothing_else_names_it(
     assert [c for c in codes_of(path) if c.startswith("E")] == []
     path.write_text(head + "procedure go() { §s = a; }\n")
     assert "E0051" not in codes_of(path)
+
+
+def test_the_2018_forms_together_are_fixed_in_one_run_and_run(tmp_path: Path) -> None:
+    """E0040, E0050, E0049 and E0051 in one file: each fix declares only its own names (the
+    quantifier's variable is no undeclared symbol), one `--fix` leaves it clean, and it runs."""
+    path = tmp_path / "all.gpp"
+    path.write_text(
+        "§fluent at() {\ninitially:\n    () = dock;\n}\n%fluent on(%x) {\ninitially:\n    (%x) = 0;\n}\n"
+        "?function free(%y) = !exists (%z) on(%z) == %y\n"
+        "procedure main() {\n    %v = 1;\n    test(free(%v) & at() == dock);\n}\n"
+    )
+    assert codes_of(path) == ["E0040", "E0050", "E0049", "E0051"]
+    assert run("check", "--fix", "all.gpp", cwd=tmp_path).returncode == 0
+    fixed = path.read_text()
+    assert fixed.startswith("number domain numbers = {0, 1}\n\nsymbol domain symbols = {dock}\n\n")
+    assert "number fluent v() {" in fixed and "test(free(v()) & at() == dock);" in fixed
+    assert codes_of(path) == []
+    outcome = run_program(path, RunOptions(timeout=60))
+    assert outcome.result is not None and outcome.result.status is RunStatus.FINISHED
