@@ -427,16 +427,11 @@ class _Rewriter:
             return out
         self.report_ranged(numbers)
         start = out[0].start
-        header = [_synthetic("NUMBER_KW", "number", start), _synthetic("DOMAIN", "domain", start)]
-        header += [_synthetic("NAME", numbers.name, start), _synthetic("EQ", "=", start)]
-        header.append(_synthetic("LBRACE", "{", start))
-        for k, value in enumerate(numbers.values):
-            if k:
-                header.append(_synthetic("COMMA", ",", start))
-            if value.startswith("-"):
-                header.append(_synthetic("ADD_OP", "-", start))
-            header.append(_synthetic("NUMBER", value.lstrip("-"), start))
-        return [*header, _synthetic("RBRACE", "}", start), *out]
+        sign = [_synthetic("ADD_OP", "-", start)]
+        members = [
+            sign * value.startswith("-") + [_synthetic("NUMBER", value.lstrip("-"), start)] for value in numbers.values
+        ]
+        return [*_domain_declaration("NUMBER_KW", "number", numbers.name, members, start), *out]
 
     def variable_type(
         self, tokens: list[Token], at: int, signatures: dict[str, list[list[Token] | None]]
@@ -810,13 +805,8 @@ class _Rewriter:
             )
         )
         start = tokens[0].start
-        header = [_synthetic("SYMBOL", "symbol", start), _synthetic("DOMAIN", "domain", start)]
-        header += [_synthetic("NAME", domain, start), _synthetic("EQ", "=", start), _synthetic("LBRACE", "{", start)]
-        for k, name in enumerate(names):
-            if k:
-                header.append(_synthetic("COMMA", ",", start))
-            header.append(_synthetic("NAME", name, start))
-        return [*header, _synthetic("RBRACE", "}", start), *tokens]
+        members = [[_synthetic("NAME", name, start)] for name in names]
+        return [*_domain_declaration("SYMBOL", "symbol", domain, members, start), *tokens]
 
     # E0041
     def mapping_name(self, name: Token) -> Token:
@@ -1150,6 +1140,18 @@ class _ProgramNumbers:
             self.name += "_"
         self.first_start = tokens[0].start if tokens else 0
         self.variables: list[tuple[Token, Token, str]] = []
+
+
+def _domain_declaration(type_token: str, type_name: str, name: str, members: list[list[Token]], at: int) -> list[Token]:
+    """The tokens of `type_name domain name = {members}`, all at the offset `at` (a declaration
+    a legacy rewrite adds)."""
+    out = [_synthetic(type_token, type_name, at), _synthetic("DOMAIN", "domain", at), _synthetic("NAME", name, at)]
+    out += [_synthetic("EQ", "=", at), _synthetic("LBRACE", "{", at)]
+    for k, member in enumerate(members):
+        if k:
+            out.append(_synthetic("COMMA", ",", at))
+        out += member
+    return [*out, _synthetic("RBRACE", "}", at)]
 
 
 def _initial_value_end(tokens: list[Token], i: int) -> int:

@@ -374,6 +374,10 @@ def test_a_number_quantifier_is_reported_once_by_its_legacy_code_and_modern_text
     assert found[0].help is not None and "names no number" in found[0].help
     unranged.write_text(unranged.read_text() + "procedure main() { test(even(4)); }\n")
     assert fix_file(unranged).startswith("number domain numbers = {4}\n")  # a number named: a range
+    unranged.write_text(
+        "number fluent on(number x) { initially: (x) = -1; }\nprocedure main() { test(!exists (z) on(z) == 2); }\n"
+    )
+    assert fix_file(unranged).startswith("number domain numbers = {-1, 2}\n") and codes_of(unranged) == []
     path.write_text(path.read_text().replace("exists (numbers z)", "exists (number z)"))
     assert codes_of(path) == ["E0210"]
     path.write_text("symbol fluent at() { initially: () = dock; }\nprocedure main() { test(at() == dock); }\n")
