@@ -24,6 +24,7 @@ from gpp.platform import choose_platform, platform_class
 from gpp.platform.base import OptionValue, Platform, PlatformConfig, PlatformError, Problem
 from gpp.platform.values import ConversionError, to_value
 from gpp.runtime.contract import program_interface, unfit_error
+from gpp.runtime.control import RunControl
 from gpp.runtime.errors import GppRuntimeError
 from gpp.runtime.events import TRACE_SCHEMA_VERSION, ErrorEvent, FinishEvent, HeaderEvent, TraceEvent
 from gpp.runtime.executor import Executor, RunResult, RunStatus
@@ -70,6 +71,8 @@ class RunOptions:
     progress: Callable[[Progress], None] | None = None
     # Told the platform's clock once the platform exists (the live view shows it between events).
     clock: Callable[[Callable[[], float]], None] | None = None
+    # A debugger or the operator console: holds, steps and stops the run (gpp.runtime.control).
+    control: RunControl | None = None
 
 
 @dataclass
@@ -175,6 +178,7 @@ def run_program(
             planner=PolicyPlanner(options.search_strategy, options.progress),
             timeout=options.timeout,
             entry_args=entry_args,
+            control=options.control,
         )
         problems = platform.attach(program_interface(program))
         if problems:

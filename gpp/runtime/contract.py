@@ -138,6 +138,12 @@ class PlatformWarning:
     help: str | None = None
 
 
+@dataclass(frozen=True, slots=True)
+class Attention:
+    """Put by a run control's own thread (gpp.runtime.control): the executor hands it to the
+    control in the executor's thread. It wakes a waiting executor like any event."""
+
+
 Event = (
     ActivityUpdate
     | ExogOccurrence
@@ -146,6 +152,7 @@ Event = (
     | PlatformWarning
     | PlatformFault
     | PlatformNotice
+    | Attention
 )
 
 

@@ -34,6 +34,7 @@ from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
+    Attention,
     ExogFunctionChanged,
     ExogOccurrence,
     MessageDropped,
@@ -46,6 +47,7 @@ from gpp.runtime.contract import (
     Problem,
     unfit_error,
 )
+from gpp.runtime.control import Happening, RunControl, RunStopped
 from gpp.runtime.errors import GppRuntimeError, Unanswered, WallClockReached
 from gpp.runtime.planning import PlanReport
 from gpp.runtime.semantics import (
@@ -76,6 +78,9 @@ from gpp.runtime.trace import Trace, TraceWriteError
 from gpp.runtime.values import Value
 from gpp.syntax import ast
 
+# Wall-clock seconds a blocked program waits at a time for a run control's events (it looks
+# again at the run's bounds in between).
+CONTROL_WAIT = 0.5
 # Wall-clock seconds the executor waits, when a run ends, for the platform to acknowledge the
 # cancellation of the activities still running.
 CANCEL_GRACE = 2.0
@@ -152,12 +157,14 @@ class Executor:
         planner: OnlinePlanner | None = None,
         timeout: float | None = None,
         entry_args: tuple[Value, ...] = (),
+        control: RunControl | None = None,
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.run.runner gives gpp.planner's); without one, a
         program that reaches them stops with an error (R0010). The run's two bounds (SEMANTICS
         §4): `timeout`, wall-clock seconds (`--timeout`), and `time_limit`, seconds of platform
-        time (`--time-limit`)."""
+        time (`--time-limit`). `control`: a debugger or the operator console (gpp.runtime.control)."""
         self.program = program
+        self.control = control if control is not None else RunControl()
         self.platform = platform
         self.trace = trace
         self.time_limit = time_limit
@@ -234,6 +241,7 @@ class Executor:
             if self.planner is not None:
                 self.planner.stop_at(self.wall_deadline)
             prog = self.sem.entry(self.entry, self.entry_args)
+            self.control.started(self, prog)
             # Wake-ups in a row at which the program still could not step.
             chased = 0
             while True:
@@ -241,6 +249,7 @@ class Executor:
                     self.trace.next_part(self.snapshot())
                 self.drain()
                 self.stop_at_fault()
+                self.control.checkpoint(self, prog)
                 # An exogenous function's answer may have changed since the last look.
                 self.sem.forget()
                 # Comparisons with the clock evaluated from here on say when to wake up.
@@ -291,8 +300,20 @@ class Executor:
                         break
                     if self.platform.live():
                         continue
-                result.status = RunStatus.BLOCKED
+                if self.control.live():
+                    # Nothing else can happen, but the control (an operator) may still bring events.
+                    self.blocked = True
+                    self.note_waiting(prog)
+                    self.platform.queue.wait(CONTROL_WAIT)
+                    continue
+                if len(self.platform.queue) > 0:
+                    continue  # the control brought something while the executor looked
                 d = self.blocked_diagnostic(prog)
+                said = "\n".join((d.message + (f": {d.label}" if d.label else ""), *d.notes))
+                self.control.happened(self, prog, Happening("blocked", said, d.span))
+                if len(self.platform.queue) > 0:
+                    continue  # the control brought something while it held the run
+                result.status = RunStatus.BLOCKED
                 result.diagnostics.append(d)
                 self.trace.emit(ev.BlockedEvent(t=self.platform.now(), message=d.message, at=_where(d.span)))
                 break
@@ -310,6 +331,10 @@ class Executor:
                     label="while executing this statement",
                 )
             )
+        except RunStopped as e:
+            result.status = RunStatus.INTERRUPTED
+            message = e.reason
+            self.trace.emit(ev.ErrorEvent(t=self.platform.now(), message=message))
         except KeyboardInterrupt as e:
             result.status = RunStatus.INTERRUPTED
             result.terminated = signals.is_termination(e)
@@ -333,6 +358,7 @@ class Executor:
             )
         finally:
             self.stop_running_activities()
+            self.control.finished(self)
             result.state, result.activities = self.state, self.acts
             result.platform_time = self.platform.now()
             result.wall_time = time.perf_counter() - started
@@ -460,6 +486,8 @@ class Executor:
             self.result.diagnostics.append(error)
         at = _where(error.span if error is not None else None)
         self.trace.emit(ev.ErrorEvent(t=self.platform.now(), code=e.code, message=e.message, at=at))
+        with contextlib.suppress(RunStopped):  # the run ends anyway
+            self.control.happened(self, None, Happening("error", e.message, error.span if error else None))
 
     def entry_span(self) -> Span | None:
         symbol = self.program.model.globals.get(self.entry)
@@ -499,6 +527,8 @@ class Executor:
                 self.on_warning(t, event)
             elif isinstance(event, PlatformFault):
                 self.faults.extend(event.problems)
+            elif isinstance(event, Attention):
+                self.control.attend(self)
             else:
                 assert_never(event)
 
@@ -582,6 +612,8 @@ class Executor:
         )
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
+            reason = f": {update.reason}" if update.reason else ""
+            self.control.happened(self, None, Happening("failed", f"{g.text} failed{reason}"))
 
     def on_exog(self, t: float, event: ExogOccurrence) -> None:
         info = self.program.action(event.action)
@@ -707,6 +739,8 @@ class Executor:
             self.trace.emit(ev.PlanEvent(**shared))
         else:
             self.trace.emit(record)
+        if not plan.feasible:
+            self.control.happened(self, None, Happening("no-plan", f"`{plan.kind}` found no feasible plan"))
 
     def start(self, g: GroundAction, span: Span) -> None:
         status = self.acts.status(g)
@@ -723,6 +757,11 @@ class Executor:
         mapped = info.mapped_name
         if "{" in mapped:  # placeholders: `"/{r}/navigate"` is `/robot1/navigate` for r = robot1
             mapped = fill_placeholders(mapped, dict(zip(info.param_names, g.args, strict=True)))
+        # The start effects: evaluated in the state the precondition held in, applied with the
+        # start (before the platform hears of it, so an update it sends sees them).
+        updates = self.sem.effects(g, self.state, at_start=True) if info.start_effects else {}
+        if updates:
+            self.state = self.state.updated(updates, self.program.initial)
         activity = Activity(self.next_id, g, mapped, args, duration)
         self.next_id += 1
         self.records[g] = activity
@@ -739,6 +778,7 @@ class Executor:
                 args={k: ev.json_value(v) for k, v in args.items()},
                 at=_where(span),
                 silent=self.quiet(g.name),
+                changes=self.changes(updates),
             )
         )
         try:
