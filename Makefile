@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test quick lint typecheck pytest browser neovim bench bench-peers pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
+.PHONY: run test quick lint typecheck pytest browser neovim emacs vscode vsix bench bench-peers pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -72,7 +72,35 @@ browser:
 neovim:
 	$(call debian_package,nvim,neovim,the editor test)
 
-test: browser neovim lint typecheck pytest
+# The VS Code extension's npm packages, at the versions of editors/vscode/package-lock.json, into
+# editors/vscode/node_modules: its language client, and for the tests vscode-tmgrammar-test (the
+# grammar), @vscode/debugadapter-testsupport (the DebugClient that drives `gpp dap`) and
+# @vscode/vsce (packaging). They need Node 20 or newer with npm; without them the tests that use
+# them are skipped and say why.
+VSCODE := editors/vscode
+
+vscode:
+	@if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then \
+		echo "note: Node or npm is missing: the VS Code extension's tests and the Node DAP test will be skipped (install Node 20 or newer)"; \
+	elif [ "$$(node -p 'process.versions.node.split(".")[0]')" -lt 20 ]; then \
+		echo "note: Node $$(node -v) is older than 20: the VS Code extension's tests and the Node DAP test will be skipped"; \
+	elif [ ! -f $(VSCODE)/node_modules/.package-lock.json ] || [ $(VSCODE)/package-lock.json -nt $(VSCODE)/node_modules/.package-lock.json ]; then \
+		cd $(VSCODE) && npm ci --no-audit --no-fund --loglevel=error; \
+	fi
+
+# The VS Code extension, built into build/gpp-golog.vsix with @vscode/vsce (Node 20 or newer);
+# `code --install-extension build/gpp-golog.vsix` installs it (docs/editor.md).
+vsix: vscode
+	@command -v npm >/dev/null 2>&1 || { echo "make vsix needs Node 20 or newer with npm" >&2; exit 2; }
+	mkdir -p build
+	cd $(VSCODE) && npx --no-install vsce package --allow-missing-repository --out ../../build/gpp-golog.vsix
+
+# The Emacs test (tests/lsp/test_editors.py) debugs an agent with Debian's Emacs and dap-mode,
+# set up as docs/editor.md says.
+emacs:
+	$(call debian_package,emacs,emacs-nox elpa-dap-mode,the Emacs dap-mode test)
+
+test: browser neovim emacs vscode lint typecheck pytest
 
 # The benches, their figures written into docs/performance.md: bench/performance.py runs each
 # bench with the options below (bench/performance.py's BENCHES keeps them) and replaces the text

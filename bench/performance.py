@@ -52,6 +52,7 @@ BENCHES: dict[str, Bench] = {
     "lint_reuse": Bench("lint_reuse.py"),
     "model_speed": Bench("model_speed.py"),
     "lsp": Bench("lsp.py", quick=("--quick",)),
+    "dap": Bench("dap.py", quick=("--quick",), markdown=True),
     "planner": Bench("planner.py", quick=("--quick",)),
     "sim": Bench("sim.py", markdown=True),
     "ros2": Bench("ros2.py"),

@@ -26,6 +26,7 @@ from gpp.runtime.events import (
     SenseEvent,
     SnapshotEvent,
     StartEvent,
+    StepEvent,
     TraceEvent,
     UpdateEvent,
     WaitingEvent,
@@ -90,8 +91,8 @@ def describe(event: TraceEvent) -> str | None:
                 # (the live panel, the summary and the page show which step of the plan it is).
                 return None
             return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
-        case HeaderEvent() | SnapshotEvent():
-            return None
+        case HeaderEvent() | SnapshotEvent() | StepEvent():
+            return None  # a step's records say what it did
         case _:
             assert_never(event)
 

@@ -1,10 +1,11 @@
 """The editor set-ups of docs/editor.md and the editor files of editors/: the generated files are
 current, the Neovim 0.7 set-up works in Debian's headless Neovim against the real `gpp lsp`
-(diagnostics arrive, the syntax file colours the keywords), and the other snippets parse and
-start `gpp lsp`.
+(diagnostics arrive, the syntax file colours the keywords), the dap-mode set-up debugs an agent
+in Debian's Emacs against the real `gpp dap`, and the other snippets parse and start `gpp lsp`
+or `gpp dap` as the VS Code extension does.
 
-Neovim comes from Debian's package (`make neovim` installs it as root with apt-get): without
-`nvim` the Neovim tests are skipped and say so.
+Neovim, Emacs and dap-mode come from Debian's packages (`make neovim`, `make emacs` install them
+as root with apt-get): without them their tests are skipped and say so.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -224,11 +226,173 @@ def test_the_helix_snippet_is_toml_that_starts_gpp_lsp_for_gpp_files() -> None:
     assert language["name"] == "golog"
 
 
-def test_the_vscode_snippet_is_json_that_starts_gpp_lsp() -> None:
+def vscode_manifest() -> dict[str, Any]:
+    loaded: dict[str, Any] = json.loads((ROOT / "editors" / "vscode" / "package.json").read_text(encoding="utf-8"))
+    return loaded
+
+
+def test_the_vscode_snippet_sets_the_extensions_gpp_command() -> None:
     settings = json.loads(snippet("vscode"))
-    assert Path(settings["glspc.server.command"]).name == "gpp"
-    assert settings["glspc.server.commandArguments"] == ["lsp"]
-    assert settings["files.associations"]["*.gpp"] in settings["glspc.server.languageId"]
+    assert Path(settings["gpp.path"]).name == "gpp"
+    assert set(settings) <= set(vscode_manifest()["contributes"]["configuration"]["properties"])
+
+
+def test_the_vscode_launch_json_is_what_the_extension_writes() -> None:
+    launch = json.loads(snippet("vscode-launch"))
+    (debugger,) = vscode_manifest()["contributes"]["debuggers"]
+    assert launch["configurations"] == debugger["initialConfigurations"]
+
+
+# The launches every editor's set-up offers: the program in the editor and a trace to replay.
+LAUNCH_ATTRIBUTES = [
+    {"type", "request", "name", "program", "stopOnEntry", "cwd"},
+    {"type", "request", "name", "trace", "cwd"},
+]
+
+
+@needs_nvim
+def test_the_nvim_dap_snippet_defines_the_adapter_and_the_launches(tmp_path: Path) -> None:
+    """The snippet runs (in Debian's Neovim 0.7, with a stand-in for nvim-dap, which needs 0.9)
+    and gives nvim-dap the adapter `gpp dap` and the two launches of the VS Code extension."""
+    code = snippet("nvim-dap")
+    out = tmp_path / "dap.json"
+    stub = (
+        "local calls = {}\n"
+        "local dap = { adapters = {}, configurations = {}, repl = { open = function() end } }\n"
+        "for _, name in ipairs({ 'continue', 'toggle_breakpoint', 'step_over', 'step_into', 'step_out', "
+        "'set_breakpoint' }) do dap[name] = function() end end\n"
+        "package.preload['dap'] = function() return dap end\n"
+    )
+    probe = (
+        stub
+        + "dofile('snippet.lua')\n"
+        + "local launches = {}\n"
+        + "for i, c in ipairs(dap.configurations.golog) do\n"
+        + "  local copy = {}\n"
+        + "  for k, v in pairs(c) do copy[k] = type(v) == 'function' and '<asked>' or v end\n"
+        + "  launches[i] = copy\n"
+        + "end\n"
+        + "local result = vim.fn.json_encode({ adapter = dap.adapters.gpp, launches = launches })\n"
+        + f"vim.fn.writefile({{ result }}, {json.dumps(str(out))})\n"
+        + 'vim.cmd("qa!")\n'
+    )
+    (tmp_path / "snippet.lua").write_text(code, encoding="utf-8")
+    done = run_nvim(tmp_path, "", probe, tmp_path / "snippet.lua")
+    assert done.returncode == 0, done.stdout + done.stderr
+    result = json.loads(out.read_text(encoding="utf-8"))
+    assert result["adapter"] == {"type": "executable", "command": "/path/to/gpp/.venv/bin/gpp", "args": ["dap"]}
+    assert [set(launch) for launch in result["launches"]] == LAUNCH_ATTRIBUTES
+    program, replay = result["launches"]
+    (debugger,) = vscode_manifest()["contributes"]["debuggers"]
+    assert program == debugger["initialConfigurations"][0]
+    assert replay == {**debugger["initialConfigurations"][1], "trace": "<asked>"}
+
+
+def test_the_emacs_dap_snippet_registers_gpp_dap_and_the_launches() -> None:
+    forms = read_sexps(snippet("emacs-dap"))
+    flat = json.dumps(forms)
+    assert ["require", "'", "dap-mode"] in forms
+    assert json.dumps([["str", "/path/to/gpp/.venv/bin/gpp"], ["str", "dap"]]) in flat
+    templates = [f for f in forms if isinstance(f, list) and f[:1] == ["dap-register-debug-template"]]
+    assert len(templates) == 2
+    for template, attributes in zip(templates, LAUNCH_ATTRIBUTES, strict=True):
+        plist = template[2]
+        assert isinstance(plist, list) and plist[0] == "list"
+        keys = {str(k).removeprefix(":") for k in plist[1::2]}
+        assert keys == attributes
+        assert plist[plist.index(":type") + 1] == ("str", "gpp")
+
+
+EMACS = shutil.which("emacs")
+needs_emacs = pytest.mark.skipif(
+    EMACS is None, reason="emacs is not installed: `make emacs` installs Debian's emacs-nox and elpa-dap-mode (as root)"
+)
+
+# A program to debug, and what Emacs does after the documented init.el: set a breakpoint on
+# `go(office);`, start the launch "golog++: Debug the agent" (stopped on entry), continue to the
+# breakpoint, ask for the stack and evaluate an expression there, and write what it got.
+DEBUGGED = """\
+symbol domain Room = {office, kitchen}
+Room fluent robot_at() { initially: () = office; }
+number fluent cups() { initially: () = 0; }
+action go(Room r) { precondition: robot_at() != r effect: robot_at() = r; }
+action take() { effect: cups() = cups() + 1; }
+procedure main() {
+    go(kitchen);
+    take();
+    go(office);
+}
+"""
+DAP_PROBE = """\
+(unless (require 'dap-mode nil t)
+  (with-temp-file OUT (insert "{\\"missing\\": \\"dap-mode\\"}"))
+  (kill-emacs 0))
+(defvar probe-stops 0)
+(add-hook 'dap-stopped-hook (lambda (_session) (setq probe-stops (1+ probe-stops))))
+(defun probe-wait (what)
+  (let ((i 0))
+    (while (and (< i 600) (not (funcall what)))
+      (accept-process-output nil 0.1)
+      (setq i (1+ i)))))
+(defun probe-request (command arguments)
+  (let ((answer nil) (session (dap--cur-session)))
+    (dap--send-message (dap--make-request command arguments)
+                       (dap--resp-handler (lambda (response) (setq answer (gethash "body" response))))
+                       session)
+    (probe-wait (lambda () answer))
+    answer))
+(find-file PROGRAM)
+(goto-char (point-min))
+(search-forward "go(office);")
+(dap-breakpoint-add)
+(dap-debug (cdr (assoc "golog++: Debug the agent" dap-debug-template-configurations)))
+(probe-wait (lambda () (= probe-stops 1)))
+(dap-continue (dap--cur-session) (dap--debug-session-thread-id (dap--cur-session)))
+(probe-wait (lambda () (= probe-stops 2)))
+(let* ((top (car (gethash "stackFrames" (probe-request "stackTrace" (list :threadId 1)))))
+       (value (probe-request "evaluate" (list :expression "cups() + 1" :frameId (gethash "id" top)
+                                              :context "repl"))))
+  (with-temp-file OUT
+    (insert (json-encode (list (cons "stops" probe-stops)
+                               (cons "top" (list (gethash "name" top) (gethash "line" top)))
+                               (cons "evaluated" (gethash "result" value)))))))
+(dap-disconnect (dap--cur-session))
+(kill-emacs 0)
+"""
+
+
+@needs_emacs
+def test_the_emacs_dap_snippet_debugs_with_dap_mode(tmp_path: Path) -> None:
+    """Debian's Emacs and dap-mode with the documented set-up, against the real `gpp dap`."""
+    init = snippet("emacs-dap").replace("/path/to/gpp/.venv/bin/gpp", str(Path(sys.executable).with_name("gpp")))
+    assert "/path/to" not in init
+    program = tmp_path / "agent.gpp"
+    program.write_text(DEBUGGED, encoding="utf-8")
+    out = tmp_path / "result.json"
+    names = f"(defvar PROGRAM {json.dumps(str(program))})\n(defvar OUT {json.dumps(str(out))})\n"
+    (tmp_path / "probe.el").write_text("(package-initialize)\n" + init + "\n" + names + DAP_PROBE, encoding="utf-8")
+    assert EMACS is not None
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "HOME": str(tmp_path)}
+    done = subprocess.run(
+        [EMACS, "--batch", "-l", "probe.el"], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    result = json.loads(out.read_text(encoding="utf-8"))
+    if result.get("missing"):
+        pytest.skip("Emacs has no dap-mode: `make emacs` installs Debian's elpa-dap-mode (as root)")
+    line = DEBUGGED.splitlines().index("    go(office);") + 1
+    assert result == {"stops": 2, "top": ["main()", line], "evaluated": "2"}
+
+
+def test_the_helix_debugger_extends_the_golog_language_with_gpp_dap() -> None:
+    config = tomllib.loads(snippet("helix") + "\n" + snippet("helix-dap"))
+    (language,) = config["language"]
+    debugger = language["debugger"]
+    assert (Path(debugger["command"]).name, debugger["args"], debugger["transport"]) == ("gpp", ["dap"], "stdio")
+    program, replay = debugger["templates"]
+    assert program["args"] == {"program": "{0}", "stopOnEntry": True}
+    assert replay["args"] == {"trace": "{0}"}
+    assert {t["request"] for t in debugger["templates"]} == {"launch"}
 
 
 def test_the_vim_files_detect_gpp_files_and_colour_them() -> None:
