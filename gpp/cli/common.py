@@ -113,6 +113,27 @@ def split_ros_arguments(args: list[str]) -> tuple[list[str], tuple[str, ...] | N
     return rest, tuple(ros)
 
 
+# `gpp run --console` without an address (gpp.console.access.DEFAULT_ADDRESS).
+DEFAULT_CONSOLE = "127.0.0.1:8765"
+
+
+def with_console_address(args: list[str]) -> list[str]:
+    """The command line with the default address after a bare `--console` (one followed by
+    nothing, another option or an argument that is not HOST:PORT): the CLI library has no
+    option whose value may be left out."""
+    import re
+
+    shown: list[str] = []
+    for i, arg in enumerate(args):
+        shown.append(arg)
+        if arg != "--console":
+            continue
+        following = args[i + 1] if i + 1 < len(args) else None
+        if following is None or not re.fullmatch(r"(\[[^\]]+\]|[^\s:\[\]/]*):[0-9]{1,5}|[0-9]{1,5}", following):
+            shown.append(DEFAULT_CONSOLE)
+    return shown
+
+
 def usage_error(message: str) -> NoReturn:
     print(f"error: {message}", file=sys.stderr)
     raise SystemExit(EXIT_USAGE)

@@ -22,9 +22,12 @@ from gpp.cli.common import usage_error
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
+    from gpp.console.access import Access
+    from gpp.console.server import ConsoleServer
+    from gpp.run.runner import RunOptions
     from gpp.run.testing import TestCase
     from gpp.run.view import RunView
-    from gpp.runtime.trace import TraceSplit
+    from gpp.runtime.trace import TraceListener, TraceSplit
 
 PlatformOption = Annotated[
     str | None,
@@ -313,6 +316,34 @@ def run(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No live view or event lines; only the summary.")
     ] = False,
+    console: Annotated[
+        str | None,
+        typer.Option(
+            "--console",
+            metavar="[HOST:PORT]",
+            help="Serve the operator console, a live page of the run with Start, Pause, Stop and events to "
+            "send (default 127.0.0.1:8765; any other address than loopback needs a token).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
+    console_wait: Annotated[
+        bool,
+        typer.Option(
+            "--console-wait",
+            help="Wait for Start on the console page before `main` begins (actions and events can be "
+            "triggered before).",
+            rich_help_panel="Operator console",
+        ),
+    ] = False,
+    console_token: Annotated[
+        str | None,
+        typer.Option(
+            "--console-token",
+            metavar="TOKEN",
+            help="The token the console asks for (default: none on loopback, else a new one, printed).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
     **flags: Any,
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
@@ -338,6 +369,7 @@ def run(
     require_readable(file)
     check_timeout(timeout)
     check_timeout(time_limit, "--time-limit")
+    access = console_access(console, console_wait, console_token)
     from gpp.planner.search import STRATEGIES
 
     if search_strategy not in STRATEGIES:
@@ -391,11 +423,12 @@ def run(
     options.progress = view.progress
     options.clock = view.watch_clock
     from gpp.runtime.events import ErrorEvent, PlanEvent, ReplanEvent
-    from gpp.runtime.trace import Recording, TraceListener, TraceWriteError
+    from gpp.runtime.trace import Recording, TraceWriteError
 
     # The planner profile needs the plans and the errors that stopped planning, nothing else.
     plans = Recording(kinds=(PlanEvent, ReplanEvent, ErrorEvent)) if profile else None
     listeners: list[TraceListener] = [*([view] if view.shows else []), *([plans] if plans is not None else [])]
+    served = open_console(access, checked, console_wait, options, listeners) if access is not None else None
     try:
         with view:
             outcome = run_program(file, options, listeners or None, checked=checked)
@@ -404,6 +437,9 @@ def run(
     except TraceWriteError as e:  # the run stopped, its activities cancelled
         print(f"error: {e}", file=sys.stderr)
         raise typer.Exit(EXIT_PROBLEMS) from None
+    finally:
+        if served is not None:
+            served.close()
     runtime = [d for d in outcome.diagnostics if d not in shown]
     if runtime:
         emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
@@ -421,6 +457,59 @@ def run(
     if outcome.result is not None and outcome.result.status.value == "interrupted":
         raise typer.Exit(signals.EXIT_TERMINATED if outcome.result.terminated else signals.EXIT_INTERRUPTED)
     raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
+
+
+def console_access(address: str | None, wait: bool, token: str | None) -> Access | None:
+    """Who may use the console `--console` asks for (None: no console); a usage error for an
+    address that is not one, or for --console-wait or --console-token without --console."""
+    if address is None:
+        if wait or token is not None:
+            usage_error(
+                f"{'--console-wait' if wait else '--console-token'} is for the operator console: it needs --console"
+            )
+        return None
+    from gpp.console.access import Access, AccessError, new_token, parse_address
+
+    try:
+        where = parse_address(address)
+    except AccessError as e:
+        usage_error(str(e))
+    if token is not None and not token.strip():
+        usage_error("--console-token must not be empty")
+    if token is None and not where.loopback:
+        token = new_token()
+    return Access(where, token)
+
+
+def open_console(
+    access: Access, checked: CheckResult, wait: bool, options: RunOptions, listeners: list[TraceListener]
+) -> ConsoleServer:
+    """Serve the console for this run (its state a listener of the run, its control the
+    run's), and say where."""
+    from gpp.console.access import AccessError
+    from gpp.console.control import ConsoleControl
+    from gpp.console.server import serve
+    from gpp.console.state import ConsoleState
+
+    state = ConsoleState()
+    control = ConsoleControl(state, checked.model, wait)
+    try:
+        server = serve(state, control, access)
+    except AccessError as e:
+        usage_error(str(e))
+    options.control = control
+    listeners.append(state)
+    print(f"console: {server.url}", file=sys.stderr, flush=True)
+    if not access.address.loopback:
+        print(
+            f"warning: the console listens on {access.address.host}, beyond this machine, without TLS: its token "
+            "and everything it shows cross the network in plain text (use a network you trust, or a TLS proxy)",
+            file=sys.stderr,
+            flush=True,
+        )
+    if wait:
+        print("console: the run waits for Start on the page", file=sys.stderr, flush=True)
+    return server
 
 
 def test_command(
