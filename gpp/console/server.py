@@ -61,7 +61,9 @@ class ConsoleServer:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._tick: asyncio.Event | None = None
         self._woken: asyncio.Event | None = None
+        # The newest view (JSON) and how many there were: a stream sends each it has not sent.
         self._latest = "{}"
+        self._sequence = 0
         self._closing = False
         self._server: uvicorn.Server | None = None
         self._thread: threading.Thread | None = None
@@ -141,9 +143,8 @@ class ConsoleServer:
             self._socket.close()
 
     def _finish(self) -> None:
-        self._latest = self._view(closed=True)
         self._closing = True
-        self._pulse()
+        self._publish(self._view(closed=True))
         if self._server is not None:
             self._server.should_exit = True
 
@@ -170,9 +171,14 @@ class ConsoleServer:
             woken.clear()
             view = self._view()
             if view != self._latest:
-                self._latest = view
-                self._pulse()
+                self._publish(view)
             await asyncio.sleep(1.0 / PUSHES_PER_SECOND)
+
+    def _publish(self, view: str) -> None:
+        """A new view for the streams."""
+        self._latest = view
+        self._sequence += 1
+        self._pulse()
 
     def _pulse(self) -> None:
         tick = self._tick
@@ -205,7 +211,11 @@ class ConsoleServer:
         refused = self._refused(request, control=False)
         if refused is not None:
             return refused
-        return Response(self._latest if self._closing else self._view(), media_type="application/json")
+        if not self._closing:
+            view = self._view()
+            if view != self._latest:
+                self._publish(view)
+        return Response(self._latest, media_type="application/json")
 
     async def _events(self, request: HttpRequest) -> Response:
         refused = self._refused(request, control=False)
@@ -216,18 +226,23 @@ class ConsoleServer:
     async def _stream(self) -> AsyncIterator[str]:
         self.streams += 1
         try:
-            sent = self._latest if self._closing else self._view()
-            yield f"data: {sent}\n\n"
-            while not self._closing or sent != self._latest:
-                tick = self._tick
-                if sent == self._latest and tick is not None:
-                    with contextlib.suppress(TimeoutError):
-                        await asyncio.wait_for(tick.wait(), HEARTBEAT * 5)
-                if sent == self._latest:
-                    yield ": still here\n\n"  # a comment: a vanished browser is noticed
-                    continue
-                sent = self._latest
-                yield f"data: {sent}\n\n"
+            if self._sequence == 0:
+                self._publish(self._view())
+            seen = self._sequence
+            yield f"data: {self._latest}\n\n"
+            while True:
+                if seen == self._sequence:
+                    if self._closing:
+                        return
+                    tick = self._tick
+                    if tick is not None:
+                        with contextlib.suppress(TimeoutError):
+                            await asyncio.wait_for(tick.wait(), HEARTBEAT * 5)
+                    if seen == self._sequence:
+                        yield ": still here\n\n"  # a comment: a vanished browser is noticed
+                        continue
+                seen = self._sequence
+                yield f"data: {self._latest}\n\n"
         finally:
             self.streams -= 1
 
