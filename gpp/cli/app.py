@@ -24,6 +24,7 @@ COMMANDS: dict[str, str] = {
     "explain": "gpp.cli.explain",
     "lsp": "gpp.cli.lsp",
     "run": "gpp.cli.run",
+    "console": "gpp.cli.console",
     "test": "gpp.cli.run",
     "trace": "gpp.cli.trace",
     "config": "gpp.cli.project",

@@ -335,6 +335,15 @@ def run(
             rich_help_panel="Operator console",
         ),
     ] = False,
+    console_join: Annotated[
+        str | None,
+        typer.Option(
+            "--console-join",
+            metavar="URL",
+            help="Show this run on the page of `gpp console` at URL too (several agents on one page).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
     console_token: Annotated[
         str | None,
         typer.Option(
@@ -370,6 +379,8 @@ def run(
     check_timeout(timeout)
     check_timeout(time_limit, "--time-limit")
     access = console_access(console, console_wait, console_token)
+    if console_join is not None and access is None:
+        usage_error("--console-join shows the run's console on another page: it needs --console")
     from gpp.planner.search import STRATEGIES
 
     if search_strategy not in STRATEGIES:
@@ -429,6 +440,13 @@ def run(
     plans = Recording(kinds=(PlanEvent, ReplanEvent, ErrorEvent)) if profile else None
     listeners: list[TraceListener] = [*([view] if view.shows else []), *([plans] if plans is not None else [])]
     served = open_console(access, checked, console_wait, options, listeners) if access is not None else None
+    if served is not None and console_join is not None:
+        from gpp.console.hub import join
+
+        problem = join(console_join, served.url)
+        if problem is not None:
+            served.close()
+            usage_error(f"--console-join: {problem}")
     try:
         with view:
             outcome = run_program(file, options, listeners or None, checked=checked)
@@ -496,7 +514,7 @@ def open_console(
     try:
         server = serve(state, control, access)
     except AccessError as e:
-        usage_error(str(e))
+        usage_error(f"--console: {e}")
     options.control = control
     listeners.append(state)
     print(f"console: {server.url}", file=sys.stderr, flush=True)

@@ -20,7 +20,7 @@ import importlib.resources
 import json
 import socket
 import threading
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from typing import Any
 
 import uvicorn
@@ -41,37 +41,105 @@ HEARTBEAT = 1.0
 CLOSE_GRACE = 2
 
 
-def page_html() -> str:
-    """The page: gpp/console/page.html with its CSS and JS put in."""
+def page_html(name: str = "page") -> str:
+    """A page of the console: gpp/console/NAME.html with the CSS and its JS put in."""
     files = importlib.resources.files("gpp.console")
-    html = files.joinpath("page.html").read_text("utf-8")
+    html = files.joinpath(f"{name}.html").read_text("utf-8")
     css = files.joinpath("page.css").read_text("utf-8")
-    js = files.joinpath("page.js").read_text("utf-8")
+    js = files.joinpath(f"{name}.js").read_text("utf-8")
     return html.replace("/*CSS*/", css).replace("/*JS*/", js)
 
 
-class ConsoleServer:
-    """Serves one run's console at `access.address` until `close`."""
+PAGE = page_html()
 
-    def __init__(self, state: ConsoleState, control: ConsoleControl, access: Access) -> None:
-        self.state = state
-        self.control = control
-        self.access = access
-        self._page = page_html()
-        self._loop: asyncio.AbstractEventLoop | None = None
+
+class Channel:
+    """The newest view of one run (JSON text) for its live streams, on the server's event loop.
+    A stream sends each view it has not sent (by number), the newest only: a slow reader skips
+    views, never queues them."""
+
+    def __init__(self) -> None:
+        self.latest = "{}"
+        self.sequence = 0
+        self.closing = False
+        self.streams = 0  # open live streams (the tests and the bench look)
         self._tick: asyncio.Event | None = None
-        self._woken: asyncio.Event | None = None
-        # The newest view (JSON) and how many there were: a stream sends each it has not sent.
-        self._latest = "{}"
-        self._sequence = 0
-        self._closing = False
+
+    def publish(self, view: str) -> None:
+        """A view for the streams (nothing when it is the one they have)."""
+        if view == self.latest:
+            return
+        self.latest = view
+        self.sequence += 1
+        tick, self._tick = self._tick, asyncio.Event()
+        if tick is not None:
+            tick.set()
+
+    def close(self, view: str) -> None:
+        """The last view: the streams send it and end."""
+        self.closing = True
+        self.publish(view)
+        if self._tick is not None:
+            self._tick.set()
+
+    async def stream(self) -> AsyncIterator[str]:
+        self.streams += 1
+        try:
+            seen = self.sequence
+            yield f"data: {self.latest}\n\n"
+            while True:
+                if seen == self.sequence:
+                    if self.closing:
+                        return
+                    if self._tick is None:
+                        self._tick = asyncio.Event()
+                    with contextlib.suppress(TimeoutError):
+                        await asyncio.wait_for(self._tick.wait(), HEARTBEAT * 5)
+                    if seen == self.sequence:
+                        yield ": still here\n\n"  # a comment: a vanished browser is noticed
+                        continue
+                seen = self.sequence
+                yield f"data: {self.latest}\n\n"
+        finally:
+            self.streams -= 1
+
+
+def event_stream(channel: Channel) -> StreamingResponse:
+    return StreamingResponse(channel.stream(), media_type="text/event-stream", headers={"Cache-Control": "no-store"})
+
+
+def refused(access: Access, request: HttpRequest, control: bool) -> Response | None:
+    """The answer to a request `access` refuses (None: it is allowed)."""
+    why = access.refusal(request.headers, request.query_params, control=control)
+    if why is None:
+        return None
+    return JSONResponse({"error": f"refused: {why}"}, status_code=401 if "token" in why else 403)
+
+
+def page_response() -> HTMLResponse:
+    return HTMLResponse(PAGE, headers={"Cache-Control": "no-store", "Referrer-Policy": "no-referrer"})
+
+
+class WebServer:
+    """A web server in a thread of its own (uvicorn), its routes those of the subclass, at
+    `access.address` until `close`."""
+
+    def __init__(self, access: Access) -> None:
+        self.access = access
+        self.port = access.address.port
+        self._loop: asyncio.AbstractEventLoop | None = None
         self._server: uvicorn.Server | None = None
         self._thread: threading.Thread | None = None
         self._socket: socket.socket | None = None
-        self.port = access.address.port
-        self.streams = 0  # open live streams (tests and the bench look)
 
-    # ------------------------------------------------------------ life cycle
+    def routes(self) -> list[Route]:
+        raise NotImplementedError
+
+    async def begin(self) -> None:
+        """On the server's loop, before it serves."""
+
+    def closing(self) -> None:
+        """On the server's loop, when it closes: end the streams (with their last view)."""
 
     def start(self) -> None:
         """Listen (AccessError when the address cannot be used) and serve in a thread."""
@@ -84,20 +152,16 @@ class ConsoleServer:
         except (OSError, OverflowError) as e:
             sock.close()
             reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
-            raise AccessError(f"--console: cannot listen on {address.host}:{address.port}: {reason}") from None
+            raise AccessError(f"cannot listen on {address.host}:{address.port}: {reason}") from None
         sock.listen(64)
         self._socket = sock
         self.port = sock.getsockname()[1]
-        app = Starlette(
-            routes=[
-                Route("/", self._index),
-                Route("/state", self._state),
-                Route("/events", self._events),
-                Route("/control", self._control, methods=["POST"]),
-            ]
-        )
         config = uvicorn.Config(
-            app, log_level="error", lifespan="off", timeout_graceful_shutdown=CLOSE_GRACE, access_log=False
+            Starlette(routes=self.routes()),
+            log_level="error",
+            lifespan="off",
+            timeout_graceful_shutdown=CLOSE_GRACE,
+            access_log=False,
         )
         self._server = uvicorn.Server(config)
         started = threading.Event()
@@ -111,51 +175,74 @@ class ConsoleServer:
         return base + (f"?token={self.access.token}" if self.access.token else "")
 
     def _serve(self, started: threading.Event) -> None:
-        assert self._server is not None and self._socket is not None
-
         async def serve() -> None:
             self._loop = asyncio.get_running_loop()
-            self._tick = asyncio.Event()
-            self.state.on_change(self._changed)
-            pusher = asyncio.create_task(self._push())
+            await self.begin()
             started.set()
             assert self._server is not None and self._socket is not None
-            try:
-                await self._server.serve(sockets=[self._socket])
-            finally:
-                pusher.cancel()
+            await self._server.serve(sockets=[self._socket])
 
         try:
             asyncio.run(serve())
         finally:
             started.set()
 
-    def close(self) -> None:
-        """Send the last view to the open streams, end them, stop serving."""
-        self.state.on_change(None)
+    def call_soon(self, fn: Callable[..., None], *args: object) -> None:
+        """Have the server's loop call `fn(*args)` (from any thread)."""
         loop = self._loop
-        if loop is not None and not loop.is_closed():
-            with contextlib.suppress(RuntimeError):
-                loop.call_soon_threadsafe(self._finish)
+        if loop is not None:
+            with contextlib.suppress(RuntimeError):  # the loop closed meanwhile
+                loop.call_soon_threadsafe(fn, *args)
+
+    def close(self) -> None:
+        """Send the last views to the open streams, end them, stop serving."""
+        self.call_soon(self._finish)
         if self._thread is not None:
             self._thread.join(CLOSE_GRACE + 3.0)
         if self._socket is not None:
             self._socket.close()
 
     def _finish(self) -> None:
-        self._closing = True
-        self._publish(self._view(closed=True))
+        self.closing()
         if self._server is not None:
             self._server.should_exit = True
+
+
+class ConsoleServer(WebServer):
+    """Serves one run's console at `access.address` until `close`."""
+
+    def __init__(self, state: ConsoleState, control: ConsoleControl, access: Access) -> None:
+        super().__init__(access)
+        self.state = state
+        self.control = control
+        self.channel = Channel()
+        self._woken: asyncio.Event | None = None
+        self._pusher: asyncio.Task[None] | None = None
+
+    def routes(self) -> list[Route]:
+        return [
+            Route("/", self._index),
+            Route("/state", self._state),
+            Route("/events", self._events),
+            Route("/control", self._control, methods=["POST"]),
+        ]
+
+    async def begin(self) -> None:
+        self.state.on_change(self._changed)
+        self._pusher = asyncio.create_task(self._push())
+
+    def close(self) -> None:
+        self.state.on_change(None)
+        super().close()
+
+    def closing(self) -> None:
+        self.channel.close(self._view(closed=True))
 
     # ------------------------------------------------------------ pushing
 
     def _changed(self) -> None:
         """From the executor's thread: the run changed the view."""
-        loop = self._loop
-        if loop is not None:
-            with contextlib.suppress(RuntimeError):  # the loop closed meanwhile
-                loop.call_soon_threadsafe(self._wake)
+        self.call_soon(self._wake)
 
     def _wake(self) -> None:
         if self._woken is not None:
@@ -165,26 +252,12 @@ class ConsoleServer:
         """Fold the run's records into a new view when they come (or the clock moved), and
         tell the streams."""
         woken = self._woken = asyncio.Event()
-        while not self._closing:
+        while not self.channel.closing:
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(woken.wait(), HEARTBEAT)
             woken.clear()
-            view = self._view()
-            if view != self._latest:
-                self._publish(view)
+            self.channel.publish(self._view())
             await asyncio.sleep(1.0 / PUSHES_PER_SECOND)
-
-    def _publish(self, view: str) -> None:
-        """A new view for the streams."""
-        self._latest = view
-        self._sequence += 1
-        self._pulse()
-
-    def _pulse(self) -> None:
-        tick = self._tick
-        self._tick = asyncio.Event()
-        if tick is not None:
-            tick.set()
 
     def _view(self, closed: bool = False) -> str:
         data = self.state.view(self.control.clock())
@@ -194,62 +267,29 @@ class ConsoleServer:
 
     # ------------------------------------------------------------ routes
 
-    def _refused(self, request: HttpRequest, control: bool) -> Response | None:
-        why = self.access.refusal(request.headers, request.query_params, control=control)
-        if why is None:
-            return None
-        status = 401 if "token" in why else 403
-        return JSONResponse({"error": f"refused: {why}"}, status_code=status)
-
     async def _index(self, request: HttpRequest) -> Response:
-        refused = self._refused(request, control=False)
-        if refused is not None:
-            return refused
-        return HTMLResponse(self._page, headers={"Cache-Control": "no-store", "Referrer-Policy": "no-referrer"})
+        return refused(self.access, request, control=False) or page_response()
 
     async def _state(self, request: HttpRequest) -> Response:
-        refused = self._refused(request, control=False)
-        if refused is not None:
-            return refused
-        if not self._closing:
-            view = self._view()
-            if view != self._latest:
-                self._publish(view)
-        return Response(self._latest, media_type="application/json")
+        answer = refused(self.access, request, control=False)
+        if answer is not None:
+            return answer
+        if not self.channel.closing:
+            self.channel.publish(self._view())
+        return Response(self.channel.latest, media_type="application/json")
 
     async def _events(self, request: HttpRequest) -> Response:
-        refused = self._refused(request, control=False)
-        if refused is not None:
-            return refused
-        return StreamingResponse(self._stream(), media_type="text/event-stream", headers={"Cache-Control": "no-store"})
-
-    async def _stream(self) -> AsyncIterator[str]:
-        self.streams += 1
-        try:
-            if self._sequence == 0:
-                self._publish(self._view())
-            seen = self._sequence
-            yield f"data: {self._latest}\n\n"
-            while True:
-                if seen == self._sequence:
-                    if self._closing:
-                        return
-                    tick = self._tick
-                    if tick is not None:
-                        with contextlib.suppress(TimeoutError):
-                            await asyncio.wait_for(tick.wait(), HEARTBEAT * 5)
-                    if seen == self._sequence:
-                        yield ": still here\n\n"  # a comment: a vanished browser is noticed
-                        continue
-                seen = self._sequence
-                yield f"data: {self._latest}\n\n"
-        finally:
-            self.streams -= 1
+        answer = refused(self.access, request, control=False)
+        if answer is not None:
+            return answer
+        if self.channel.sequence == 0:
+            self.channel.publish(self._view())
+        return event_stream(self.channel)
 
     async def _control(self, request: HttpRequest) -> Response:
-        refused = self._refused(request, control=True)
-        if refused is not None:
-            return refused
+        answer = refused(self.access, request, control=True)
+        if answer is not None:
+            return answer
         try:
             body: Any = await request.json()
         except ValueError:
@@ -288,4 +328,4 @@ def serve(state: ConsoleState, control: ConsoleControl, access: Access) -> Conso
     return server
 
 
-__all__ = ["ConsoleServer", "serve"]
+__all__ = ["Channel", "ConsoleServer", "WebServer", "serve"]

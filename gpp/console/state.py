@@ -31,7 +31,6 @@ from gpp.runtime.events import (
     FinishEvent,
     HeaderEvent,
     JsonValue,
-    OperatorEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -110,7 +109,8 @@ class _View:
     plan: dict[str, JsonValue] | None = None
     plan_step: int = 0
     waiting: dict[str, JsonValue] | None = None
-    events: deque[dict[str, JsonValue]] = field(default_factory=lambda: deque(maxlen=EVENTS_SHOWN))
+    # The latest records, described (a line each) only when the page is sent.
+    latest: deque[TraceEvent] = field(default_factory=lambda: deque(maxlen=EVENTS_SHOWN * 4))
     failures: deque[dict[str, JsonValue]] = field(default_factory=lambda: deque(maxlen=FAILURES_SHOWN))
     problem: str | None = None
     exogenous: list[dict[str, JsonValue]] = field(default_factory=list)
@@ -199,7 +199,7 @@ class ConsoleState:
                 ],
                 "plan": None if view.plan is None else {**view.plan, "step": view.plan_step},
                 "waiting": view.waiting,
-                "events": list(view.events),
+                "events": _latest_lines(view.latest),
                 "failures": list(view.failures),
                 "problem": view.problem,
                 "exogenous": view.exogenous,
@@ -213,67 +213,118 @@ def _fold(view: _View, event: TraceEvent) -> None:
     """Take one record into the view."""
     view.t = event.t
     view.records += 1
-    line = describe(event)
-    if line is not None and not getattr(event, "silent", False):
-        view.events.append({"t": event.t, "kind": event.EVENT, "text": line})
-    match event:
-        case HeaderEvent():
-            view.agent = {
-                "program": event.program,
-                "platform": event.platform,
-                "started": event.started,
-                "node": event.node,
-                "world": event.world,
-            }
-            view.status = "running"
-        case SnapshotEvent():
-            for change in event.fluents:
-                _set_fluent(view, change, event.t)
-        case StartEvent():
-            view.activities[event.id] = _Activity(event.id, event.action, event.t, dict(event.args))
-            policy = view.plan["policy"] if view.plan is not None else None
-            if isinstance(policy, list) and view.plan_step < len(policy) and policy[view.plan_step] == event.action:
-                view.plan_step += 1
-        case UpdateEvent():
-            activity = view.activities.get(event.id)
-            if activity is not None:
-                activity.status = event.status
-            if event.status == "failed":
-                view.failures.append({"t": event.t, "action": event.action, "reason": event.reason or ""})
-        case CancelEvent():
-            activity = view.activities.get(event.id)
-            if activity is not None:
-                activity.cancelling = True
-        case EndEvent():
-            _consume(view, event.action)
-            for change in event.changes:
-                _set_fluent(view, change, event.t)
-        case ExogEvent():
-            for change in event.changes:
-                _set_fluent(view, change, event.t)
-        case SenseEvent():
-            _set_fluent(view, {"fluent": event.fluent, "value": event.value}, event.t)
-        case AssignEvent():
-            _set_fluent(view, {"fluent": event.fluent, "value": event.value}, event.t)
-        case PlanEvent() | ReplanEvent():
-            view.plan = {"kind": event.kind, "feasible": event.feasible, "policy": list(event.policy), "t": event.t}
-            view.plan_step = 0
-        case WaitingEvent():
-            view.waiting = None if event.resumed else waiting_fields(event)
-        case BlockedEvent() | ErrorEvent():
-            view.problem = event.message
-        case FinishEvent():
-            view.status = event.status
-            view.waiting = None
-            view.counts = {
-                "actions": event.actions,
-                "failures": event.failures,
-                "exog_events": event.exog_events,
-            }
-        case OperatorEvent():
-            pass
-        case _:
-            pass
+    view.latest.append(event)
+    fold = _FOLDS.get(type(event))
+    if fold is not None:
+        fold(view, event)
+
+
+def _header(view: _View, event: HeaderEvent) -> None:
+    view.agent = {
+        "program": event.program,
+        "platform": event.platform,
+        "started": event.started,
+        "node": event.node,
+        "world": event.world,
+    }
+    view.status = "running"
+
+
+def _snapshot(view: _View, event: SnapshotEvent) -> None:
+    for change in event.fluents:
+        _set_fluent(view, change, event.t)
+
+
+def _start(view: _View, event: StartEvent) -> None:
+    view.activities[event.id] = _Activity(event.id, event.action, event.t, dict(event.args))
+    policy = view.plan["policy"] if view.plan is not None else None
+    if isinstance(policy, list) and view.plan_step < len(policy) and policy[view.plan_step] == event.action:
+        view.plan_step += 1
+
+
+def _update(view: _View, event: UpdateEvent) -> None:
+    activity = view.activities.get(event.id)
+    if activity is not None:
+        activity.status = event.status
+    if event.status == "failed":
+        view.failures.append({"t": event.t, "action": event.action, "reason": event.reason or ""})
+
+
+def _cancel(view: _View, event: CancelEvent) -> None:
+    activity = view.activities.get(event.id)
+    if activity is not None:
+        activity.cancelling = True
+
+
+def _end(view: _View, event: EndEvent) -> None:
+    """An `end` (which has no id) consumes the oldest terminated activity of its action, or
+    else the oldest of that action."""
+    same = [a for a in view.activities.values() if a.action == event.action]
+    ended = [a for a in same if a.status != "running"]
+    for a in (ended or same)[:1]:
+        del view.activities[a.id]
+    _changes(view, event)
+
+
+def _changes(view: _View, event: EndEvent | ExogEvent) -> None:
+    for change in event.changes:
+        _set_fluent(view, change, event.t)
+
+
+def _assigned(view: _View, event: SenseEvent | AssignEvent) -> None:
+    view.fluents[event.fluent] = event.value
+    view.changed[event.fluent] = event.t
+
+
+def _plan(view: _View, event: PlanEvent | ReplanEvent) -> None:
+    view.plan = {"kind": event.kind, "feasible": event.feasible, "policy": list(event.policy), "t": event.t}
+    view.plan_step = 0
+
+
+def _waiting(view: _View, event: WaitingEvent) -> None:
+    view.waiting = None if event.resumed else waiting_fields(event)
+
+
+def _problem(view: _View, event: BlockedEvent | ErrorEvent) -> None:
+    view.problem = event.message
+
+
+def _finish(view: _View, event: FinishEvent) -> None:
+    view.status = event.status
+    view.waiting = None
+    view.counts = {"actions": event.actions, "failures": event.failures, "exog_events": event.exog_events}
+
+
+# What each kind of record changes in the view (the others only go to the latest events).
+_FOLDS: dict[type, Callable[[_View, Any], None]] = {
+    HeaderEvent: _header,
+    SnapshotEvent: _snapshot,
+    StartEvent: _start,
+    UpdateEvent: _update,
+    CancelEvent: _cancel,
+    EndEvent: _end,
+    ExogEvent: _changes,
+    SenseEvent: _assigned,
+    AssignEvent: _assigned,
+    PlanEvent: _plan,
+    ReplanEvent: _plan,
+    WaitingEvent: _waiting,
+    BlockedEvent: _problem,
+    ErrorEvent: _problem,
+    FinishEvent: _finish,
+}
+
+
+def _latest_lines(latest: deque[TraceEvent]) -> list[dict[str, JsonValue]]:
+    """The lines of the latest records worth one (silent actions' records left out)."""
+    lines: list[dict[str, JsonValue]] = []
+    for event in reversed(latest):
+        line = None if getattr(event, "silent", False) else describe(event)
+        if line is not None:
+            lines.append({"t": event.t, "kind": event.EVENT, "text": line})
+            if len(lines) == EVENTS_SHOWN:
+                break
+    return lines[::-1]
 
 
 def _set_fluent(view: _View, change: dict[str, JsonValue], t: float) -> None:
@@ -281,12 +332,3 @@ def _set_fluent(view: _View, change: dict[str, JsonValue], t: float) -> None:
     if isinstance(name, str):
         view.fluents[name] = change.get("value")
         view.changed[name] = t
-
-
-def _consume(view: _View, action: str) -> None:
-    """An `end` (which has no id) consumes the oldest terminated activity of its action, or
-    else the oldest of that action."""
-    same = [a for a in view.activities.values() if a.action == action]
-    ended = [a for a in same if a.status != "running"]
-    for a in (ended or same)[:1]:
-        del view.activities[a.id]

@@ -29,6 +29,10 @@ class ConsoleRun:
         self.process = subprocess.Popen(
             command, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=pipe, stderr=pipe, text=True
         )
+        self._follow()
+
+    def _follow(self) -> None:
+        """Read what the process writes on stderr (in a thread), up to its console's address."""
         self.lines: queue.Queue[str | None] = queue.Queue()
         self.stderr: list[str] = []
         threading.Thread(target=self._read, daemon=True).start()
@@ -76,13 +80,13 @@ class ConsoleRun:
             self.process.kill()
             self.process.communicate(timeout=WAIT)
 
-    def state_when(self, holds: Any, what: str) -> dict[str, Any]:
-        """The console's view once `holds(view)` (looked at again and again, up to WAIT)."""
+    def state_when(self, holds: Any, what: str, path: str = "state") -> dict[str, Any]:
+        """The console's view (at `path`) once `holds(view)` (looked at again and again, up to WAIT)."""
         import time
 
         deadline = time.monotonic() + WAIT
         while True:
-            status, view = self.request("state")
+            status, view = self.request(path)
             assert status == 200, view
             if holds(view):
                 return dict(view)
