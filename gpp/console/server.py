@@ -35,7 +35,7 @@ from gpp.console.state import ConsoleState
 from gpp.model.symbols import SymbolKind
 from gpp.runtime.events import OPERATOR_COMMANDS
 
-PUSHES_PER_SECOND = 10
+PUSHES_PER_SECOND = 5
 HEARTBEAT = 1.0
 # Seconds the server gives the open streams to send the last view when it closes.
 CLOSE_GRACE = 2
@@ -82,8 +82,13 @@ class Channel:
         if self._tick is not None:
             self._tick.set()
 
-    async def stream(self) -> AsyncIterator[str]:
+    def stream(self) -> AsyncIterator[str]:
+        """A live stream of the views (counted from now on: the run's changes are pushed while
+        one is open)."""
         self.streams += 1
+        return self._stream()
+
+    async def _stream(self) -> AsyncIterator[str]:
         try:
             seen = self.sequence
             yield f"data: {self.latest}\n\n"
@@ -228,7 +233,6 @@ class ConsoleServer(WebServer):
         ]
 
     async def begin(self) -> None:
-        self.state.on_change(self._changed)
         self._pusher = asyncio.create_task(self._push())
 
     def close(self) -> None:
@@ -253,6 +257,10 @@ class ConsoleServer(WebServer):
         tell the streams."""
         woken = self._woken = asyncio.Event()
         while not self.channel.closing:
+            # Told of each change only while a browser looks; else the records are folded once
+            # a heartbeat (their deque stays short): each wake of this thread costs the run a
+            # hand-over of the interpreter's lock.
+            self.state.on_change(self._changed if self.channel.streams else None)
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(woken.wait(), HEARTBEAT)
             woken.clear()
@@ -284,6 +292,9 @@ class ConsoleServer(WebServer):
             return answer
         if self.channel.sequence == 0:
             self.channel.publish(self._view())
+        # The pusher makes a new view now and is told of changes from now on (a browser that
+        # comes and goes again and again costs no view of its own).
+        self._wake()
         return event_stream(self.channel)
 
     async def _control(self, request: HttpRequest) -> Response:

@@ -161,16 +161,20 @@ class ConsoleState:
         with self._fold_lock:
             self._told = False
             view = self._view
-            while self._handed:
-                item = self._handed.popleft()
+            # The fold of each record, with the lookups done once (it is the console's main cost).
+            handed, take, keep, folds = self._handed, self._handed.popleft, view.latest.append, _FOLDS
+            while handed:
+                item = take()
                 self.version += 1
+                fold = folds.get(type(item))
+                if fold is not None:
+                    fold(view, item)
                 if isinstance(item, Setup):
-                    view.fluents.update(item.fluents)
-                    view.fluents_left_out = item.fluents_left_out
-                    view.exogenous = [f.as_json() for f in item.exogenous]
-                    view.actions = [f.as_json() for f in item.actions]
+                    _set_up(view, item)
                 else:
-                    _fold(view, item)
+                    keep(item)
+                    view.t = item.t
+                    view.records += 1
             now = clock if clock is not None and math.isfinite(clock) else view.t
             status = view.status
             if self.control_status is not None and status == "running":
@@ -209,14 +213,11 @@ class ConsoleState:
             }
 
 
-def _fold(view: _View, event: TraceEvent) -> None:
-    """Take one record into the view."""
-    view.t = event.t
-    view.records += 1
-    view.latest.append(event)
-    fold = _FOLDS.get(type(event))
-    if fold is not None:
-        fold(view, event)
+def _set_up(view: _View, setup: Setup) -> None:
+    view.fluents.update(setup.fluents)
+    view.fluents_left_out = setup.fluents_left_out
+    view.exogenous = [f.as_json() for f in setup.exogenous]
+    view.actions = [f.as_json() for f in setup.actions]
 
 
 def _header(view: _View, event: HeaderEvent) -> None:
