@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
+    from gpp.console.access import Access
     from gpp.project.config import Config, ConfigError
 
 # The settings of every typer app of gpp (the root one and `gpp trace`'s).
@@ -132,6 +133,28 @@ def with_console_address(args: list[str]) -> list[str]:
         if following is None or not re.fullmatch(r"(\[[^\]]+\]|[^\s:\[\]/]*):[0-9]{1,5}|[0-9]{1,5}", following):
             shown.append(DEFAULT_CONSOLE)
     return shown
+
+
+def console_access(address: str | None, wait: bool, token: str | None) -> Access | None:
+    """Who may use the console `--console` asks for (None: no console); a usage error for an
+    address that is not one, or for --console-wait or --console-token without --console."""
+    if address is None:
+        if wait or token is not None:
+            usage_error(
+                f"{'--console-wait' if wait else '--console-token'} is for the operator console: it needs --console"
+            )
+        return None
+    from gpp.console.access import Access, AccessError, new_token, parse_address
+
+    try:
+        where = parse_address(address)
+    except AccessError as e:
+        usage_error(str(e))
+    if token is not None and not token.strip():
+        usage_error("--console-token must not be empty")
+    if token is None and not where.loopback:
+        token = new_token()
+    return Access(where, token)
 
 
 def usage_error(message: str) -> NoReturn:

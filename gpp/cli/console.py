@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from gpp.cli.common import usage_error
+from gpp.cli.common import console_access, usage_error
 
 DEFAULT_HUB = "127.0.0.1:8770"
 
@@ -49,7 +49,6 @@ def console(
 ) -> None:
     """Serve one page for several agents: those named here, and every `gpp run --console
     --console-join URL` that joins. Runs until Ctrl-C."""
-    from gpp.cli.run import console_access
     from gpp.console.access import AccessError
     from gpp.console.hub import HttpFeed, Hub, Ros2Feed
 

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
-from gpp.cli.common import usage_error
+from gpp.cli.common import console_access, usage_error
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
@@ -475,28 +475,6 @@ def run(
     if outcome.result is not None and outcome.result.status.value == "interrupted":
         raise typer.Exit(signals.EXIT_TERMINATED if outcome.result.terminated else signals.EXIT_INTERRUPTED)
     raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
-
-
-def console_access(address: str | None, wait: bool, token: str | None) -> Access | None:
-    """Who may use the console `--console` asks for (None: no console); a usage error for an
-    address that is not one, or for --console-wait or --console-token without --console."""
-    if address is None:
-        if wait or token is not None:
-            usage_error(
-                f"{'--console-wait' if wait else '--console-token'} is for the operator console: it needs --console"
-            )
-        return None
-    from gpp.console.access import Access, AccessError, new_token, parse_address
-
-    try:
-        where = parse_address(address)
-    except AccessError as e:
-        usage_error(str(e))
-    if token is not None and not token.strip():
-        usage_error("--console-token must not be empty")
-    if token is None and not where.loopback:
-        token = new_token()
-    return Access(where, token)
 
 
 def open_console(
