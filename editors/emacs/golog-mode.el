@@ -34,8 +34,8 @@
     (,(regexp-opt '("resets" "state" "next" "previous" "future" "past" "since") 'symbols)
      . font-lock-keyword-face)
     ;; the section words, before their colon (`precondition:`)
-    (,(concat (regexp-opt '("initially" "precondition" "effect" "senses" "mapping" "silent" "duration" "clocks"
-                              "states" "transitions") 'symbols)
+    (,(concat (regexp-opt '("initially" "precondition" "effect" "start_effect" "senses" "mapping" "silent" "duration"
+                              "clocks" "states" "transitions") 'symbols)
               "[ \t\n]*:")
      1 font-lock-builtin-face)
     ("^[ \t]*\\(#include\\)\\_>" 1 font-lock-preprocessor-face)

@@ -662,8 +662,8 @@ def double_effect(program: _Program) -> Iterator[diag.Diagnostic]:
         if not isinstance(decl, ast.ActionDecl):
             continue
         for section in decl.sections or ():
-            if not isinstance(section, ast.EffectSection):
-                continue
+            if not isinstance(section, ast.EffectSection | ast.StartEffectSection):
+                continue  # the start effects and the end effects are applied at different times
             seen: list[ast.Effect] = []
             for effect in section.effects:
                 if effect.condition is not None:

@@ -2,7 +2,7 @@
 
 Runs after collect, resolve and domains, over every declaration of every file: fluents'
 initial values (literals, each parameter in its own position), action sections (precondition,
-effects, sensing, mapping, `silent:` and `duration:`, and what an exogenous action may not
+effects at the end and at the start, sensing, mapping, `silent:` and `duration:`, and what an exogenous action may not
 have), function bodies against the function's type, procedure and legacy main bodies,
 components (clock formulas, transitions between its states) and constraints (components,
 states, actions and argument patterns). Expressions and statements go to the type checker
@@ -147,7 +147,7 @@ class DeclarationChecker(Phase):
     def check_section(
         self, action: Symbol, decl: ast.ActionDecl, params: tuple[Symbol, ...], section: ast.ActionSection
     ) -> None:
-        if decl.exogenous and isinstance(section, ast.SensesSection | ast.DurationSection):
+        if decl.exogenous and isinstance(section, ast.SensesSection | ast.DurationSection | ast.StartEffectSection):
             word = ast.SECTION_KINDS[type(section)].value
             self.error(
                 E0309.exogenous(word),
@@ -156,7 +156,7 @@ class DeclarationChecker(Phase):
             )
         if isinstance(section, ast.PreconditionSection):
             self.checker.expect(section.condition, BOOL, "a precondition")
-        elif isinstance(section, ast.EffectSection):
+        elif isinstance(section, ast.EffectSection | ast.StartEffectSection):
             for effect in section.effects:
                 if effect.condition is not None:
                     self.checker.expect(effect.condition, BOOL, "an effect's condition")

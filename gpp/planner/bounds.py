@@ -622,6 +622,9 @@ class _Analysis:
                     self._stored(effect.value, fluent.type, {})
             elif isinstance(section, ast.SensesSection):
                 raise Unsafe(f"action `{symbol.name}` senses", section.span)
+            elif isinstance(section, ast.StartEffectSection):
+                # Two writes per call, in two states: not what the step analysis assumes.
+                raise Unsafe(f"action `{symbol.name}` has start effects", section.span)
         self.checked_actions.add(symbol.name)
 
 

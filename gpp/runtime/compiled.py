@@ -138,7 +138,10 @@ class ActionInfo:
     param_names: tuple[str, ...]
     # The conjuncts of the precondition (top-level `&` split), to say which one is false.
     precondition: tuple[tuple[Evaluator, ast.Expr], ...]
+    # `effect:`, applied when the activity ends `final`.
     effects: tuple[Effect, ...]
+    # `start_effect:`, applied when the activity starts.
+    start_effects: tuple[Effect, ...]
     senses: Effect | None
     mapped_name: str
     mapped_args: tuple[tuple[str, Evaluator], ...]
@@ -243,6 +246,7 @@ class CompiledProgram:
         decl = symbol.decl if isinstance(symbol.decl, ast.ActionDecl) else None
         precondition: list[tuple[Evaluator, ast.Expr]] = []
         effects: list[Effect] = []
+        start_effects: list[Effect] = []
         senses: Effect | None = None
         mapped_name = symbol.name
         mapped: list[tuple[str, Evaluator]] | None = None
@@ -253,15 +257,9 @@ class CompiledProgram:
                 for conjunct in _conjuncts(self.model.effective(section.condition)):
                     precondition.append((self.expr(conjunct), conjunct))
             elif isinstance(section, ast.EffectSection):
-                for e in section.effects:
-                    condition = self.expr(e.condition) if e.condition is not None else None
-                    target, value = self.target(e.target), self.expr(e.value)
-                    static = (
-                        not target.path
-                        and isinstance(e.target, ast.Call)
-                        and all(reads_only_variables(self.model, a) for a in e.target.args)
-                    )
-                    effects.append(Effect(condition, target, value, e.span, e.value.span, static))
+                effects.extend(self._effect(e) for e in section.effects)
+            elif isinstance(section, ast.StartEffectSection):
+                start_effects.extend(self._effect(e) for e in section.effects)
             elif isinstance(section, ast.SensesSection):
                 senses = Effect(
                     None, self.target(section.target), self.expr(section.value), section.span, section.value.span
@@ -285,6 +283,7 @@ class CompiledProgram:
             param_names=tuple(p.name for p in symbol.params),
             precondition=tuple(precondition),
             effects=tuple(effects),
+            start_effects=tuple(start_effects),
             senses=senses,
             mapped_name=mapped_name,
             mapped_args=tuple(mapped),
@@ -292,6 +291,16 @@ class CompiledProgram:
             duration=duration,
             decl=decl,
         )
+
+    def _effect(self, e: ast.Effect) -> Effect:
+        condition = self.expr(e.condition) if e.condition is not None else None
+        target, value = self.target(e.target), self.expr(e.value)
+        static = (
+            not target.path
+            and isinstance(e.target, ast.Call)
+            and all(reads_only_variables(self.model, a) for a in e.target.args)
+        )
+        return Effect(condition, target, value, e.span, e.value.span, static)
 
     def procedure(self, name: str) -> tuple[tuple[int, ...], ast.Statement | None]:
         symbol = self.model.globals[name]

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.6"
+TRACE_SCHEMA_VERSION: Final = "1.7"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -205,6 +205,8 @@ class StartEvent(EventBase):
     args: dict[str, JsonValue]  # mapped argument names to values
     at: str | None  # source location of the statement that started it
     silent: bool = field(default=False, metadata=_OPTIONAL)
+    # Since 1.6: the fluent instances its `start_effect:` section set.
+    changes: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -336,7 +338,7 @@ OPERATOR_COMMANDS: Final = ("start", "pause", "resume", "stop", "exog", "act")
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OperatorEvent(EventBase):
-    """Since 1.6: an operator did something at the console (`gpp run --console`): started,
+    """Since 1.7: an operator did something at the console (`gpp run --console`): started,
     paused, resumed or stopped the run, sent an exogenous event, or had an action run before
     the start."""
 

@@ -778,6 +778,11 @@ class Executor:
         mapped = info.mapped_name
         if "{" in mapped:  # placeholders: `"/{r}/navigate"` is `/robot1/navigate` for r = robot1
             mapped = fill_placeholders(mapped, dict(zip(info.param_names, g.args, strict=True)))
+        # The start effects: evaluated in the state the precondition held in, applied with the
+        # start (before the platform hears of it, so an update it sends sees them).
+        updates = self.sem.effects(g, self.state, at_start=True) if info.start_effects else {}
+        if updates:
+            self.state = self.state.updated(updates, self.program.initial)
         activity = Activity(self.next_id, g, mapped, args, duration)
         self.next_id += 1
         self.records[g] = activity
@@ -794,6 +799,7 @@ class Executor:
                 args={k: ev.json_value(v) for k, v in args.items()},
                 at=_where(span),
                 silent=self.quiet(g.name),
+                changes=self.changes(updates),
             )
         )
         try:

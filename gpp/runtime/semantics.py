@@ -410,7 +410,8 @@ class Semantics:
         self.planner = planner
         self.model = program.model
         self._final_memo: dict[tuple[int, Frame, State, Activities], bool] = {}
-        self._effect_plans: dict[GroundAction, _EffectPlan | None] = {}
+        # Per ground action and moment (`at_start`): its prepared effects (`_effect_plan`).
+        self._effect_plans: dict[tuple[GroundAction, bool], _EffectPlan | None] = {}
         # `pick` values skipped because a precondition conjunct already rules them out.
         self.pruned_bindings = 0
         # Online: an exogenous function found without an answer, and the statement that reads
@@ -857,12 +858,13 @@ class Semantics:
 
     # ---------------------------------------------------------------- effects
 
-    def effects(self, g: GroundAction, state: State) -> dict[int, Value]:
-        """The updates of `g`'s effects, all evaluated in `state` (SEMANTICS §4). Two effects
-        that give one instance (or one field or element of it) different values are an error."""
-        plan = self._effect_plans.get(g, _NO_PLAN)
+    def effects(self, g: GroundAction, state: State, at_start: bool = False) -> dict[int, Value]:
+        """The updates of `g`'s effects (`effect:`, or with `at_start` its `start_effect:`), all
+        evaluated in `state` (SEMANTICS §4). Two effects that give one instance (or one field
+        or element of it) different values are an error."""
+        plan = self._effect_plans.get((g, at_start), _NO_PLAN)
         if plan is _NO_PLAN:
-            plan = self._effect_plans[g] = self._effect_plan(g)
+            plan = self._effect_plans[g, at_start] = self._effect_plan(g, at_start)
         if plan is not None:
             bindings, writes = plan
             env = Env(state, bindings, self.ctx)
@@ -874,22 +876,23 @@ class Semantics:
                 check_domain(value, value_type, span)
                 pending[slot] = value
             return pending
-        return self._effects(g, state)
+        return self._effects(g, state, at_start)
 
-    def _effect_plan(self, g: GroundAction) -> _EffectPlan | None:
+    def _effect_plan(self, g: GroundAction, at_start: bool = False) -> _EffectPlan | None:
         """`g`'s effects with their slots worked out once, when every effect assigns a whole
         fluent instance whose arguments read only the action's parameters, and no two assign
         the same instance (so they cannot conflict): then `effects` is, step for step, the
         general evaluation below (condition, value, domain check, update) without computing
         the slots and paths again. None otherwise."""
         action = self.program.action(g.name)
-        if not all(effect.static_target for effect in action.effects):
+        effects = action.start_effects if at_start else action.effects
+        if not all(effect.static_target for effect in effects):
             return None
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         env = Env(State(), bindings, self.ctx)
         writes = []
         try:
-            for effect in action.effects:
+            for effect in effects:
                 target = effect.target
                 slot = self.program.slot(target.fluent, tuple(a(env) for a in target.args))
                 span = effect.value_span if effect.value_span is not None else target.span
@@ -900,13 +903,13 @@ class Semantics:
             return None
         return bindings, tuple(writes)
 
-    def _effects(self, g: GroundAction, state: State) -> dict[int, Value]:
+    def _effects(self, g: GroundAction, state: State, at_start: bool = False) -> dict[int, Value]:
         action = self.program.action(g.name)
         env = Env(state, dict(zip(action.param_ids, g.args, strict=True)), self.ctx)
         pending: dict[int, Value] = {}
         # Per instance: the (path, value, span) of every effect that wrote into it.
         written: dict[int, list[tuple[tuple[str | int, ...], Value, Span]]] = {}
-        for effect in action.effects:
+        for effect in action.start_effects if at_start else action.effects:
             if effect.condition is not None and effect.condition(env) is not True:
                 continue
             value = effect.value(env)
@@ -928,14 +931,20 @@ class Semantics:
         return pending
 
     def apply(self, step: Step, state: State, acts: Activities) -> tuple[State, Activities]:
-        """Perform a step hypothetically (planning): activities end instantly in `final`."""
+        """Perform a step hypothetically (planning): activities end instantly in `final`. A
+        call is its start, then its end: the start effects are evaluated in `state`, the end
+        effects in the state after them."""
         program = self.program
         match step:
             case DoStep():
+                if program.action(step.action.name).start_effects:
+                    state = state.updated(self.effects(step.action, state, at_start=True), program.initial)
                 return state.updated(self.effects(step.action, state), program.initial), acts
             case AssignStep():
                 return state.updated(dict(step.updates), program.initial), acts
             case StartStep():
+                if program.action(step.action.name).start_effects:
+                    state = state.updated(self.effects(step.action, state, at_start=True), program.initial)
                 return state, acts.with_status(step.action, ActivityStatus.FINAL)
             case EndStep():
                 status = acts.status(step.action)

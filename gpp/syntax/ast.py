@@ -441,6 +441,7 @@ class Mapping(Node):
 class SectionKind(Enum):
     PRECONDITION = "precondition"
     EFFECT = "effect"
+    START_EFFECT = "start_effect"
     SENSES = "senses"
     MAPPING = "mapping"
     SILENT = "silent"
@@ -461,6 +462,13 @@ class PreconditionSection(ActionSection):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class EffectSection(ActionSection):
+    effects: tuple[Effect, ...]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StartEffectSection(ActionSection):
+    """`start_effect:`: effects applied when the action's activity starts (docs/semantics.md)."""
+
     effects: tuple[Effect, ...]
 
 
@@ -489,6 +497,7 @@ class DurationSection(ActionSection):
 SECTION_KINDS: dict[type[ActionSection], SectionKind] = {
     PreconditionSection: SectionKind.PRECONDITION,
     EffectSection: SectionKind.EFFECT,
+    StartEffectSection: SectionKind.START_EFFECT,
     SensesSection: SectionKind.SENSES,
     MappingSection: SectionKind.MAPPING,
     SilentSection: SectionKind.SILENT,

@@ -220,6 +220,9 @@ class AstBuilder:
     def sec_effect(self, c: list[Child]) -> ast.EffectSection:
         return ast.EffectSection(span=self.span(c), keyword=self.tspan(c[0]), effects=_nodes(c, ast.Effect))
 
+    def sec_start_effect(self, c: list[Child]) -> ast.StartEffectSection:
+        return ast.StartEffectSection(span=self.span(c), keyword=self.tspan(c[0]), effects=_nodes(c, ast.Effect))
+
     def sec_senses(self, c: list[Child]) -> ast.SensesSection:
         return ast.SensesSection(span=self.span(c), keyword=self.tspan(c[0]), target=c[1], value=c[3])
 

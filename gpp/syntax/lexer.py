@@ -250,6 +250,7 @@ SECTION_WORDS: dict[str, str] = {
     "initially": "INITIALLY",
     "precondition": "PRECONDITION",
     "effect": "EFFECT",
+    "start_effect": "START_EFFECT",
     "senses": "SENSES",
     "mapping": "MAPPING",
     "silent": "SILENT",

@@ -492,6 +492,8 @@ def _action_section(s: ast.ActionSection) -> list[str]:
             return ["precondition:", INDENT + format_expr(s.condition)]
         case ast.EffectSection():
             return ["effect:", *(INDENT + _effect(e) for e in s.effects)]
+        case ast.StartEffectSection():
+            return ["start_effect:", *(INDENT + _effect(e) for e in s.effects)]
         case ast.SensesSection():
             return ["senses:", f"{INDENT}{_target(s.target)} = {format_expr(s.value)};"]
         case ast.MappingSection():

@@ -7,7 +7,7 @@ activities of that action overlap), and collects exogenous events, plans, waits,
 and the numeric series to plot.
 
 Fluent values over time come from `fluent_histories`, the one place that knows which records set a
-fluent (assignments, sensing results, and the `changes` of each `end` and `exog`): a fluent
+fluent (assignments, sensing results, and the `changes` of each `start`, `end` and `exog`): a fluent
 instance whose values are all numbers is a numeric series (`numeric_samples` adds the numeric
 arguments of exogenous events), any other one (a symbol such as where the robot is, a truth
 value, text, a list or compound) is a state series: bands of the value it held from one change
@@ -488,14 +488,14 @@ class FluentValue:
 
     t: float
     value: JsonValue
-    kind: str  # the record kind that carried it: assign, sense, end, exog
-    label: str  # what set it: `assignment`, the sensing or ending action, the exogenous action
+    kind: str  # the record kind that carried it: assign, sense, start, end, exog
+    label: str  # what set it: `assignment`, the sensing, starting or ending action, the exogenous action
     at: str | None = None
 
 
 def fluent_histories(events: Iterable[TraceEvent]) -> dict[str, list[FluentValue]]:
     """Every fluent instance's values, in trace order, in order of its first value: from
-    assignments, sensing results, and the effects (`changes`) of each `end` and `exog`."""
+    assignments, sensing results, and the effects (`changes`) of each `start`, `end` and `exog`."""
     histories: dict[str, list[FluentValue]] = defaultdict(list)
     for event in events:
         match event:
@@ -503,7 +503,7 @@ def fluent_histories(events: Iterable[TraceEvent]) -> dict[str, list[FluentValue
                 histories[event.fluent].append(FluentValue(event.t, event.value, "assign", "assignment", event.at))
             case SenseEvent():
                 histories[event.fluent].append(FluentValue(event.t, event.value, "sense", event.action))
-            case EndEvent() | ExogEvent():
+            case StartEvent() | EndEvent() | ExogEvent():
                 for change in event.changes:
                     fluent = change.get("fluent")
                     if isinstance(fluent, str):

@@ -69,7 +69,7 @@ STATEMENT_KEYWORDS = [
 EXPRESSION_KEYWORDS = ["true", "false", "null", "exists", "forall", "if", "length", "to_string"]
 CONSTRAINT_KEYWORDS = ["state", "during", "start", "end", "finish", "fail", "cancel", "next", "previous", "future"]
 CONSTRAINT_KEYWORDS += ["past", "until", "since"]
-ACTION_SECTIONS = ["precondition", "effect", "senses", "mapping", "silent", "duration"]
+ACTION_SECTIONS = ["precondition", "effect", "start_effect", "senses", "mapping", "silent", "duration"]
 
 _EXPECTED, _LOCAL, _GLOBAL, _KEYWORD = "0", "1", "2", "3"
 

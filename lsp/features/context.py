@@ -35,7 +35,9 @@ OPERAND_ENDS = frozenset({"NAME", "RPAR", "RBRACKET", "NUMBER", "STRING", "TRUE"
 _OPENERS = {"LPAR": "RPAR", "LBRACE": "RBRACE", "MAIN_LBRACE": "RBRACE", "LBRACKET": "RBRACKET"}
 _STATEMENT_HEADS = frozenset({"IF", "WHILE", "PICK", "SOLVE", "DURING", "UNTIL"})
 _HAS_PARAMETERS = frozenset({"action", "exog_action", "fluent", "function", "exog_function", "procedure"})
-_SECTIONS = frozenset({"INITIALLY", "PRECONDITION", "EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"})
+_SECTIONS = frozenset(
+    {"INITIALLY", "PRECONDITION", "EFFECT", "START_EFFECT", "SENSES", "MAPPING", "SILENT", "DURATION"}
+)
 
 
 class Position(Enum):
@@ -347,7 +349,7 @@ def _position(tokens: list[Token], opens: list[_Open], n: int, ctx: Context) -> 
     if pt == "RPAR":
         statement_start = _closes_statement_head(tokens, n - 1)
     if ctx.decl_keyword in ("action", "exog_action") and len(braces) == 1:
-        if ctx.section == "effect" and statement_start:
+        if ctx.section in ("effect", "start_effect") and statement_start:
             return Position.EFFECT
         if pt in ("LBRACE", "SEMI", "RBRACE"):
             return Position.SECTION

@@ -35,6 +35,12 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         return None
     ref = doc.model.reference_at(doc.source, offset)
     if ref is None:
+        section = _action_section_at(doc.file.program, offset)
+        if section is not None:
+            word = ast.SECTION_KINDS[type(section)]
+            text = f"`{word.value}:` {_SECTION_DOCS[word]}"
+            markdown = types.MarkupContent(kind=types.MarkupKind.Markdown, value=text)
+            return types.Hover(contents=markdown, range=lsp_range(section.keyword))
         allowed = suppressed_code_at(doc.source, offset)
         if allowed is not None:
             return _explain(*allowed)
@@ -49,6 +55,29 @@ def hover(result: CheckResult, path: Path, offset: int) -> types.Hover | None:
         contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=describe(result, ref.symbol)),
         range=lsp_range(ref.span),
     )
+
+
+# What each section of an action does, for a hover on its keyword (docs/language.md says more).
+_SECTION_DOCS = {
+    ast.SectionKind.PRECONDITION: "the condition under which the action can start.",
+    ast.SectionKind.EFFECT: "assignments applied when the action's activity ends `final`, evaluated "
+    "together in the state at its end.",
+    ast.SectionKind.START_EFFECT: "assignments applied when the action's activity starts, evaluated "
+    "together in the state its precondition held in; they stay if the activity fails or is cancelled, "
+    "and its `effect:` sees them.",
+    ast.SectionKind.SENSES: "sets a fluent from the action's result when its activity ends `final`.",
+    ast.SectionKind.MAPPING: "the name and arguments the platform knows the action by.",
+    ast.SectionKind.SILENT: "`true`: console views leave the action's records out.",
+    ast.SectionKind.DURATION: "`[min, max]` in seconds: how long the activity takes on the dummy platform.",
+}
+
+
+def _action_section_at(program: ast.Program, offset: int) -> ast.ActionSection | None:
+    """The section of an action whose keyword (`start_effect:`, ...) is at `offset`."""
+    for decl in program.declarations:
+        if isinstance(decl, ast.ActionDecl) and decl.span.contains(offset):
+            return next((s for s in decl.sections or () if s.keyword.contains(offset)), None)
+    return None
 
 
 def _explain(span: Span, written: str) -> types.Hover | None:

@@ -824,6 +824,11 @@ CASES = [
         ),
     ),
     case(
+        "E0309-exog-start-effect",
+        FLUENT_N + "exog_action tick() {\nstart_effect:\n    n() = 1;\n}\n",
+        E("E0309", 6, 1, "an exogenous action cannot have a `start_effect:` section"),
+    ),
+    case(
         "E0310-main-twice",
         "action go() {}\nprocedure main() {\n    go();\n}\n{\n    go();\n}\n",
         E("E0310", 5, 1, "a legacy main block and `main` in one program"),

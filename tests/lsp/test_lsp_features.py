@@ -141,7 +141,8 @@ def test_hover_on_a_domain_element_a_parameter_and_a_pick_variable(blocks: Doc) 
     assert value(blocks.at("x != y")) == "```gpp\nblock x\n```\n\nparameter of action `stack`"
     assert value(blocks.at("stack(x, y)", delta=9)) == "```gpp\nplace y\n```\n\npick variable"
     assert value(blocks.at("domain place", delta=7)) == ("```gpp\nsymbol domain place = {table, a, b, c}\n```")
-    assert F.hover(blocks.result, blocks.path, blocks.at("precondition")) is None
+    assert value(blocks.at("precondition")) == "`precondition:` the condition under which the action can start."
+    assert F.hover(blocks.result, blocks.path, blocks.at("procedure build")) is None
 
 
 def test_hover_range_counts_utf16_units_after_non_ascii_text(tmp_path: Path) -> None:
@@ -442,6 +443,21 @@ def test_semantic_tokens_classify_names_by_kind(blocks: Doc) -> None:
     assert F.SEMANTIC_TOKENS_LEGEND.token_types == TOKEN_TYPES
 
 
+def test_a_start_effect_section_is_a_keyword_with_a_hover_and_its_targets_are_completed(tmp_path: Path) -> None:
+    text = BLOCKS.replace("effect:\n    loc(x) = y;", "start_effect:\n    clear(x) = false;\neffect:\n    loc(x) = y;")
+    doc = Doc.check(text, tmp_path / "s.gpp")
+    found = {(line, char): (length, t) for line, char, length, t, _ in decode(F.semantic_tokens(doc.result, doc.path))}
+    assert found[doc.pos(doc.at("start_effect"))] == (len("start_effect"), "keyword")
+    assert found[doc.pos(doc.at("clear(x) = false"))] == (len("clear"), "fluent")
+    h = F.hover(doc.result, doc.path, doc.at("start_effect", delta=6))
+    assert h is not None and isinstance(h.contents, types.MarkupContent)
+    assert h.contents.value.startswith("`start_effect:` assignments applied when the action's activity starts")
+    assert h.range is not None and rng(h.range) == doc.rng("start_effect:", length=len("start_effect:"))
+    # At the start of a start effect: the fluents it may assign, as in `effect:`.
+    items = labels(complete(text.replace("    clear(x) = false;", "    clear(x) = false;\n    @"), tmp_path))
+    assert items == labels(complete(BLOCKS.replace("    loc(x) = y;", "    loc(x) = y;\n    @"), tmp_path))
+
+
 def test_semantic_tokens_count_utf16_units(tmp_path: Path) -> None:
     doc = Doc.check(
         'string function greet(string s) = s\nbool function ok() = greet("🤖") == "é" & true // 🤖 ü\n',
@@ -539,7 +555,7 @@ def test_completion_of_types_sections_and_effects(tmp_path: Path) -> None:
         "block", "place", "bool", "list", "number", "string", "symbol", "void",
     ]  # fmt: skip
     assert labels(complete(BLOCKS.replace("precondition:", "@"), tmp_path)) == [
-        "duration", "effect", "mapping", "precondition", "senses", "silent",
+        "duration", "effect", "mapping", "precondition", "senses", "silent", "start_effect",
     ]  # fmt: skip
     assert labels(complete(BLOCKS.replace("    loc(x) = y;", "    loc(x) = y;\n    @"), tmp_path)) == [
         "clear", "context_time", "loc", "if",
@@ -683,6 +699,7 @@ def test_completion_of_the_action_in_a_hook_and_of_the_next_section(tmp_path: Pa
         "senses",
         "silent",
     ]
+    assert "start_effect" in items
     assert "clear" in items
 
 

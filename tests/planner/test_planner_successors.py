@@ -76,6 +76,7 @@ def check_case(case: Case) -> None:
         for _, step in sem.trans(p, s, a):
             if isinstance(step, DoStep):
                 assert answer(sem.effects, step.action, s) == answer(general._effects, step.action, s)
+                assert answer(sem.effects, step.action, s, True) == answer(general._effects, step.action, s, True)
         # The generated `apply` of the steps the generated `trans` returns.
         fast_successors = answer(fast.trans, p, s, a)
         if fast_successors[0] == "ok":  # type: ignore[index]

@@ -2,9 +2,10 @@
 planners' property tests (tests/planner).
 
 A world has a domain, bool fluents, maybe a bounded counter, actions with random preconditions
-and effects (conditional ones included) and a reward that sums random terms; a program over it
-has action calls, assignments, tests, `if`, `while`, `choose`, `pick` and blocks. `attempt`,
-`outcome` and `replay` run and compare the planners' results."""
+and effects (conditional ones included; at the end, and on some actions at the start too) and
+a reward that sums random terms; a program over it has action calls, assignments, tests,
+`if`, `while`, `choose`, `pick` and blocks. `attempt`, `outcome` and `replay` run and compare
+the planners' results."""
 
 from __future__ import annotations
 
@@ -124,6 +125,10 @@ def worlds(draw: st.DrawFn) -> World:
         effect_lines = draw(effects(shell, scope))
         if effect_lines:
             body.append("effect:\n    " + "\n    ".join(effect_lines))
+        # Start effects on one action in three: applied at its start, before its end effects.
+        start_lines = draw(effects(shell, scope)) if draw(st.integers(0, 2)) == 0 else []
+        if start_lines:
+            body.append("start_effect:\n    " + "\n    ".join(start_lines))
         lines.append(f"action {a.name}({'D p' if a.unary else ''}) {{\n" + "\n".join(body) + "\n}")
     terms = [
         f"(if ({draw(conditions(shell, [], 1))}) {draw(st.integers(-2, 6))} else {draw(st.integers(-2, 6))})"

@@ -293,6 +293,12 @@ def _section_strategies() -> tuple[st.SearchStrategy[ast.ActionSection], ...]:
             keyword=kw,
             effects=st.lists(_effects(), min_size=1, max_size=3).map(tuple),
         ),
+        st.builds(
+            ast.StartEffectSection,
+            span=st.just(SPAN),
+            keyword=kw,
+            effects=st.lists(_effects(), min_size=1, max_size=3).map(tuple),
+        ),
         st.builds(ast.SensesSection, span=st.just(SPAN), keyword=kw, target=targets(), value=exprs(2)),
         st.builds(ast.MappingSection, span=st.just(SPAN), keyword=kw, mapping=mapping),
         st.builds(ast.SilentSection, span=st.just(SPAN), keyword=kw, value=exprs(1)),

@@ -24,7 +24,7 @@ syntax keyword gologQuantifier exists forall
 " the words of `component` and `constraints` declarations
 syntax keyword gologPlatform resets state next previous future past since
 " the section words, before their colon (`precondition:`)
-syntax match gologSection "\<\%(initially\|precondition\|effect\|senses\|mapping\|silent\|duration\|clocks\|states\|transitions\)\>\ze\_s*:"
+syntax match gologSection "\<\%(initially\|precondition\|effect\|start_effect\|senses\|mapping\|silent\|duration\|clocks\|states\|transitions\)\>\ze\_s*:"
 
 syntax match gologInclude "^\s*#include\>"
 syntax match gologNumber "\<\d\+\%(\.\d*\)\=\%([eE][+-]\=\d\+\)\="

@@ -345,37 +345,39 @@ class ApplyGen:
         return fn
 
     def write(self, step: DoStep) -> bool:
-        """Write the function; False if this action is left to the semantics."""
+        """Write the function; False if this action is left to the semantics. An action with
+        a `start_effect:` section: its start effects are written out (they read the state
+        before the step, which the function reads at its start), then its end effects, which
+        read the state after the start effects, are evaluated by the semantics."""
         program, unit, g = self.program, self.unit, step.action
         action = program.action(g.name)
         decl = action.decl
-        written = [e for section in decl.sections or () for e in _effects_of(section)] if decl else []
-        if len(written) != len(action.effects) or not all(effect.static_target for effect in action.effects):
+        at_start = bool(action.start_effects)
+        effects = action.start_effects if at_start else action.effects
+        written = [e for section in decl.sections or () for e in _effects_of(section, at_start)] if decl else []
+        if len(written) != len(effects) or not all(effect.static_target for effect in effects):
             return False
         bindings = dict(zip(action.param_ids, g.args, strict=True))
         env = Env(_EMPTY, bindings, self.sem.ctx)
         try:
-            slots = [
-                program.slot(effect.target.fluent, tuple(a(env) for a in effect.target.args))
-                for effect in action.effects
-            ]
+            slots = [program.slot(e.target.fluent, tuple(a(env) for a in e.target.args)) for e in effects]
         except GppRuntimeError:
             return False
         if len(set(slots)) < len(slots):
             return False
         unit.emit(0, f"# {g.text}")
-        one = self._one_constant(action.effects, written, slots, bindings)
+        one = None if at_start else self._one_constant(effects, written, slots, bindings)
         if one is not None:
             slot, value = one
             # `updated` of one constant value: its hash and its comparisons worked out here.
             v = unit.const(value, show(value))
             known = f"{item_hash(slot, value)}, {identical(value, program.initial(slot))}, {type(value) in _PLAIN}"
-            unit.emit(0, f"# {_snippet(action.effects[0].span)}")
+            unit.emit(0, f"# {_snippet(effects[0].span)}")
             unit.emit(0, f"return state.updated_one({slot}, {v}, {known}), acts")
             return True
         unit.emit(0, "_pending = {}")
         initial = unit.const(program.initial, "CompiledProgram.initial")
-        for effect, e, slot in zip(action.effects, written, slots, strict=True):
+        for effect, e, slot in zip(effects, written, slots, strict=True):
             span = effect.value_span if effect.value_span is not None else effect.target.span
             unit.emit(0, f"# {_snippet(effect.span)}")
             d = 0
@@ -400,6 +402,12 @@ class ApplyGen:
                 check = unit.const(check_domain, "check_domain")
                 unit.emit(d, f"{check}(_value, {unit.const(effect.target.value_type)}, {unit.const(span, 'its span')})")
             unit.emit(d, f"_pending[{slot}] = _value")
+        if at_start:
+            end = unit.const(self.sem.effects, "Semantics.effects")
+            unit.emit(0, "# the end effects, in the state after the start effects")
+            unit.emit(0, f"state = state.updated(_pending, {initial})")
+            unit.emit(0, f"return state.updated({end}({unit.const(g, g.text)}, state), {initial}), acts")
+            return True
         unit.emit(0, f"return state.updated(_pending, {initial}), acts")
         return True
 
@@ -443,5 +451,6 @@ class ApplyGen:
         return self.exprs.text(v), v.const, v.value
 
 
-def _effects_of(section: ast.ActionSection) -> tuple[ast.Effect, ...]:
-    return section.effects if isinstance(section, ast.EffectSection) else ()
+def _effects_of(section: ast.ActionSection, at_start: bool) -> tuple[ast.Effect, ...]:
+    kind = ast.StartEffectSection if at_start else ast.EffectSection
+    return section.effects if isinstance(section, kind) else ()
