@@ -241,6 +241,7 @@ def _start(view: _View, event: StartEvent) -> None:
     policy = view.plan["policy"] if view.plan is not None else None
     if isinstance(policy, list) and view.plan_step < len(policy) and policy[view.plan_step] == event.action:
         view.plan_step += 1
+    _changes(view, event)  # its `start_effect:`
 
 
 def _update(view: _View, event: UpdateEvent) -> None:
@@ -267,7 +268,7 @@ def _end(view: _View, event: EndEvent) -> None:
     _changes(view, event)
 
 
-def _changes(view: _View, event: EndEvent | ExogEvent) -> None:
+def _changes(view: _View, event: StartEvent | EndEvent | ExogEvent) -> None:
     for change in event.changes:
         _set_fluent(view, change, event.t)
 

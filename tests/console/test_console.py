@@ -172,3 +172,56 @@ def test_a_bare_console_takes_the_default_address() -> None:
     assert with_console_address(["run", "a.gpp", "--console"]) == ["run", "a.gpp", "--console", "127.0.0.1:8765"]
     assert with_console_address(["run", "--console", "a.gpp"]) == ["run", "--console", "127.0.0.1:8765", "a.gpp"]
     assert with_console_address(["run", "--console", ":9"]) == ["run", "--console", ":9"]
+
+
+def test_the_view_folds_a_runs_records() -> None:
+    from gpp.console.state import ConsoleState
+    from gpp.runtime.events import EndEvent, PlanEvent, StartEvent, WaitingEvent
+
+    state = ConsoleState()
+    plan = PlanEvent(
+        t=0.0,
+        kind="solve",
+        feasible=True,
+        value=1.0,
+        horizon=2,
+        policy=("go(a)", "go(b)"),
+        nodes=3,
+        cache_hits=0,
+        pruned=0,
+        reward_evaluations=1,
+        seconds=0.0,
+    )
+    for event in (
+        plan,
+        StartEvent(
+            t=1.0,
+            action="go(a)",
+            id=1,
+            mapped="go",
+            args={"to": {"symbol": "a"}},
+            at=None,
+            changes=({"fluent": "moving()", "value": True},),
+        ),
+        UpdateEvent(t=2.0, action="go(a)", status="failed", id=1, reason="blocked way"),
+        WaitingEvent(t=2.0, statement="test(x)", at=None, condition="x is false"),
+    ):
+        state(event)
+    view = state.view(clock=3.5)
+    assert view["fluents"] == [{"name": "moving()", "value": "true", "changed": 1.0}]  # a start effect
+    assert view["plan"]["step"] == 1 and view["plan"]["policy"] == ["go(a)", "go(b)"]
+    assert view["activities"] == [
+        {
+            "id": 1,
+            "action": "go(a)",
+            "status": "failed",
+            "cancelling": False,
+            "started": 1.0,
+            "elapsed": 2.5,
+            "args": {"to": "a"},
+        }
+    ]
+    assert view["failures"] == [{"t": 2.0, "action": "go(a)", "reason": "blocked way"}]
+    assert view["waiting"] == {"statement": "test(x)", "at": None, "condition": "x is false"}
+    state(EndEvent(t=4.0, action="go(a)", status="failed", hook="call"))
+    assert state.view()["activities"] == []
