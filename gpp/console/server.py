@@ -183,9 +183,13 @@ class WebServer:
         async def serve() -> None:
             self._loop = asyncio.get_running_loop()
             await self.begin()
-            started.set()
             assert self._server is not None and self._socket is not None
-            await self._server.serve(sockets=[self._socket])
+            serving = asyncio.create_task(self._server.serve(sockets=[self._socket]))
+            # Ready once uvicorn has set itself up: that work is not the run's.
+            while not self._server.started and not serving.done():
+                await asyncio.sleep(0.005)
+            started.set()
+            await serving
 
         try:
             asyncio.run(serve())
