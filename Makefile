@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test quick lint typecheck pytest browser neovim bench pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
+.PHONY: run test quick lint typecheck pytest browser neovim bench bench-peers pathological fuzz clean ros-interfaces ros-robot ros-run ros-fleet
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "gpp needs Python 3.11 or newer"'
@@ -83,6 +83,16 @@ test: browser neovim lint typecheck pytest
 # benches' smoke-run options.
 bench: $(VENV)/.installed
 	$(BIN)/python bench/performance.py
+
+# The planner beside Fast Downward on the same blocksworld instances, and the targets of gpp
+# issue #27 (`bench/planner.py --targets --peers`), written into docs/performance.md as `make
+# bench` does. Installs the `bench` extra (Fast Downward's wheel) first; `make test` never does.
+$(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e '.[bench]'
+	touch $@ $(VENV)/.installed
+
+bench-peers: $(VENV)/.installed-bench
+	$(BIN)/python bench/performance.py --only peers
 
 # Pathological inputs (deep nesting, long lines, binary files, ...) at four sizes each: time,
 # peak memory and growth exponent per family, written into docs/performance.md as `make bench`

@@ -13,7 +13,8 @@ The file is written after each bench, so an interrupted run keeps the sections i
 bench that fails leaves its section as it was (and the driver exits with 1).
 
 Without --only it runs the benches of `make bench` in their order; `pathological` (`make
-pathological`) runs only when named. --quick gives the benches that have one their smoke-run
+pathological`) and `peers` (`make bench-peers`, which installs Fast Downward first) run only
+when named. --quick gives the benches that have one their smoke-run
 options (fewer sizes or steps); the line under the table shows the command, so a quick run is
 never taken for a full one.
 """
@@ -51,12 +52,14 @@ BENCHES: dict[str, Bench] = {
     "lint_reuse": Bench("lint_reuse.py"),
     "model_speed": Bench("model_speed.py"),
     "lsp": Bench("lsp.py", quick=("--quick",)),
+    "dap": Bench("dap.py", quick=("--quick",), markdown=True),
     "planner": Bench("planner.py", quick=("--quick",)),
     "sim": Bench("sim.py", markdown=True),
     "ros2": Bench("ros2.py"),
     "soak": Bench("soak.py", quick=("--steps", "100000"), markdown=True),
     "console": Bench("console.py", quick=("--rounds", "3", "--steps", "2000"), markdown=True),
     "pathological": Bench("pathological.py", quick=("--quick",), markdown=True, default=False),
+    "peers": Bench("planner.py", ("--targets", "--peers"), quick=("--peers", "--quick"), markdown=True, default=False),
 }
 
 # A marker is a line of its own (so that one quoted in the prose is not one).

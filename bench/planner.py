@@ -5,6 +5,8 @@ Run: .venv/bin/python bench/planner.py [--quick] [--budget N] [--count]
      .venv/bin/python bench/planner.py --targets [--runs N] [--no-bound]
      .venv/bin/python bench/planner.py --profile [--blocks 6 7] [--no-bound]
      .venv/bin/python bench/planner.py --bound [--runs N]
+     .venv/bin/python bench/planner.py --peers [--targets] [--runs N] [--limit SECONDS] [--quick]
+     .venv/bin/python bench/planner.py --search [--quick]
 
 For every (blocks, horizon) it runs the production planner (gpp.planner.dp) and the reference
 planner (gpp.planner.reference, the plain recursive definition) and prints their node counts,
@@ -35,17 +37,34 @@ their own. cProfile slows every call down alike, so the shares matter, not the s
 gpp.planner.bounds (the same plan, checked): nodes, options skipped by the bound, CPU seconds
 (interleaved, best of --runs), on the towers and on a case built for it (visit places avoiding
 a trap: the best plan is worth 0, the most the reward can give).
+
+--peers runs Fast Downward (A* with LM-cut, the `bench` extra) and gpp on the same blocksworld
+instances, interleaved, and prints both, in-process and as whole processes, with the ratios
+(bench/peers.py says how each figure is taken); the towers of 5 to 12 blocks and random
+instances of 7 to 10 blocks, three seeds each, `solve(14)` (--quick: towers of 5 to 7 and the
+random 7-block instances, one run). With --targets it adds the table of gpp issue #27: its
+problems with the figures before, gpp's now, Fast Downward's, the target and pass or miss.
+
+--search times `search` with iterative deepening (gpp.planner.search) on the towers and random
+instances, each in a fresh process (its peak memory its own, at most SEARCH_LIMIT CPU seconds):
+cut by the goal distance (the default), uncut on the generated successors (the same nodes as
+before), and uncut on the semantics itself (what `search` ran on before); nodes, CPU seconds of
+the search, µs per node and the peak memory; uncut only on the towers of 8 and 10 blocks
+(--quick: the towers of 6 and 8 blocks).
 """
 
 from __future__ import annotations
 
 import argparse
 import cProfile
+import json
 import math
 import pstats
 import resource
+import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 from gpp.check import check_text
 from gpp.planner.bounds import analyse
@@ -53,34 +72,16 @@ from gpp.planner.problem import PlanningProblem, first_solve
 from gpp.planner.reference import NodeBudgetExceeded
 from gpp.runtime.codegen import COMPILE_CACHE
 
-NAMES = "abcdefg"
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run as a script: bench.blocksworld, bench.peers
+from bench import peers as peer_bench
+from bench.blocksworld import NAMES, program, tower
 
 
 def tower_program(blocks: int, horizon: int, twice: bool = False) -> str:
     """A tower blocks[0] on blocks[1] on ... on the table, to be reversed: the optimum moves
     every block once (the top one to the table, each next one onto the one moved before).
     `twice`: a choice of two copies of the loop (the second is planned after the first)."""
-    loop = "while (!goal()) pick (block x) pick (location y) stack(x, y);"
-    body = f"choose {{ {loop} {loop} }}" if twice else loop
-    names = NAMES[:blocks]
-    initially = " ".join(f"({names[i]}) = {names[i + 1] if i + 1 < blocks else 'table'};" for i in range(blocks))
-    goal = " & ".join(f"loc({names[i]}) == {names[i - 1] if i > 0 else 'table'}" for i in range(blocks))
-    return f"""
-symbol domain block = {{{", ".join(names)}}}
-symbol domain location = block | {{table}}
-location fluent loc(block x) {{ initially: {initially} }}
-action stack(block x, location y) {{
-precondition:
-    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
-effect:
-    loc(x) = y;
-}}
-bool function goal() = {goal}
-number function reward() = if (goal()) 100 else -1
-procedure main() {{
-    solve({horizon}, reward()) {body}
-}}
-"""
+    return program(tower(blocks), horizon, twice)
 
 
 def hazards_program(places: int, trap: int, horizon: int) -> str:
@@ -333,6 +334,79 @@ def bound_table(runs: int) -> None:
         print(f"load average: {load.read().split()[0]}")
 
 
+def peers(with_targets: bool, runs: int, limit: float, quick: bool) -> None:
+    cases = peer_bench.peer_cases()
+    if quick:
+        quick_names = ("tower 5", "tower 6", "tower 7", "random 7 #")
+        cases = [c for c in cases if c.instance.name.startswith(quick_names)]
+        runs = 1
+    if with_targets:
+        cases += peer_bench.target_cases()
+    driver = peer_bench.fast_downward()
+    if driver is None:
+        sys.exit(f"error: {peer_bench.NOT_INSTALLED}")
+
+    def progress(line: str) -> None:
+        print(line, file=sys.stderr, flush=True)
+
+    rows = peer_bench.measure(driver, cases, runs, limit, progress)
+    peer_bench.report(rows, limit, with_targets, lambda line: print(line, flush=True))
+
+
+# `search` modes of --search: cut by the goal distance, uncut, uncut on the semantics itself.
+SEARCH_MODES = ("cut", "uncut", "interpreted")
+# The CPU seconds a --search child may take.
+SEARCH_LIMIT = 150
+
+
+def search_child() -> None:
+    """In the child: search the instance given as JSON in argv[1] in the mode it names, and
+    print the figures as JSON."""
+    from bench.blocksworld import Instance
+    from gpp.planner.search import DEFAULT_STEP_BOUND, GENERATED, INTERPRETED, ITERATIVE_DEEPENING
+
+    spec = json.loads(sys.argv[1])
+    instance = Instance(spec["name"], tuple(spec["blocks"]), tuple(spec["start"]), tuple(spec["goal"]))
+    pb = first_solve(check_text(program(instance, 14), lint=False).model)
+    mode = spec["mode"]
+    tier = INTERPRETED if mode == "interpreted" else GENERATED
+    started = time.process_time()
+    plan = pb.search(DEFAULT_STEP_BOUND, ITERATIVE_DEEPENING, prune=mode == "cut", tier=tier)
+    seconds = time.process_time() - started
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KiB on Linux
+    print(json.dumps({"steps": len(plan.steps), "nodes": plan.stats.nodes, "seconds": seconds, "peak_mib": peak}))
+
+
+def search_table(quick: bool) -> None:
+    """`search` with iterative deepening, cut and uncut (see the module's docstring)."""
+    from bench.blocksworld import random_instance
+
+    # Every mode on the towers of 8 and 10 blocks; the others cut only (uncut, they take long).
+    instances = [(tower(n), SEARCH_MODES) for n in ((6, 8) if quick else (8, 10))]
+    if not quick:
+        instances += [(tower(12), SEARCH_MODES[:1])]
+        instances += [(random_instance(n, seed), SEARCH_MODES[:1]) for n in (8, 10) for seed in (1, 2, 3)]
+    print("| problem | steps | mode | nodes | CPU | µs/node | peak |")
+    print("|---|---:|---|---:|---:|---:|---:|")
+    for instance, modes in instances:
+        spec = {"name": instance.name, "blocks": instance.blocks, "start": instance.start, "goal": instance.goal}
+        for mode in modes:
+            code = "from bench.planner import search_child; search_child()"
+            run = peer_bench.run_child(
+                [sys.executable, "-c", code, json.dumps(spec | {"mode": mode})], peer_bench.ROOT, SEARCH_LIMIT
+            )
+            if run.ok:
+                found = json.loads(run.output.strip().splitlines()[-1])
+                nodes, seconds = found["nodes"], found["seconds"]
+                cells = [str(found["steps"]), mode, f"{nodes:,}", f"{seconds:.3f} s"]
+                cells += [f"{seconds / nodes * 1e6:.0f}", f"{found['peak_mib']:.0f} MiB"]
+            else:
+                cells = ["", mode, "", f">{SEARCH_LIMIT} s", "", ""]
+            print(f"| {instance.name} | " + " | ".join(cells) + " |", flush=True)
+    with open("/proc/loadavg", encoding="ascii") as load:
+        print(f"\nload average: {load.read().split()[0]}")
+
+
 _HASHING = {"<method 'get' of 'dict' objects>", "<built-in method builtins.hash>", "__eq__", "__hash__"}
 
 
@@ -351,7 +425,27 @@ def main() -> None:
         action="store_true",
         help="--targets/--profile without branch and bound (every node of the reference's)",
     )
+    parser.add_argument(
+        "--peers", action="store_true", help="beside Fast Downward (with --targets: the targets of gpp issue #27)"
+    )
+    parser.add_argument(
+        "--limit", type=float, default=60, help="--peers: CPU seconds a gpp planning may take (default 60)"
+    )
+    parser.add_argument("--markdown", action="store_true", help="--peers: (its tables are Markdown anyway)")
+    parser.add_argument("--search", action="store_true", help="`search` with iterative deepening, cut and uncut")
     args = parser.parse_args()
+    if (args.limit != 60 or args.markdown) and not args.peers:
+        parser.error("--limit and --markdown apply to --peers only")
+    if args.peers:
+        if args.no_bound or args.profile or args.bound or args.count:
+            parser.error("--peers goes with --targets, --runs, --limit and --quick only")
+        peers(args.targets, args.runs, args.limit, args.quick)
+        return
+    if args.search:
+        if args.targets or args.no_bound or args.profile or args.bound or args.count:
+            parser.error("--search goes with --quick only")
+        search_table(args.quick)
+        return
     if args.bound:
         bound_table(args.runs)
         return

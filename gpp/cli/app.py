@@ -23,6 +23,7 @@ COMMANDS: dict[str, str] = {
     "check": "gpp.cli.check",
     "explain": "gpp.cli.explain",
     "lsp": "gpp.cli.lsp",
+    "dap": "gpp.cli.dap",
     "run": "gpp.cli.run",
     "console": "gpp.cli.console",
     "test": "gpp.cli.run",

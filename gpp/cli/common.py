@@ -251,3 +251,21 @@ def emit_diagnostics(
     else:
         sys.stdout.write(render.render_text(diagnostics, summary=summary, max_per_code=limit))
     sys.stdout.flush()
+
+
+def loopback_address(text: str) -> tuple[str, int]:
+    """HOST:PORT for a server's --tcp (`gpp lsp`, `gpp dap`); only loopback hosts: the servers have
+    no authentication."""
+    import ipaddress
+
+    host, sep, port = text.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
+        usage_error(f"--tcp wants HOST:PORT with a port from 1 to 65535, not `{text}`")
+    try:
+        loopback = host == "localhost" or ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = False
+    if not loopback:
+        usage_error(f"--tcp listens on loopback addresses only (127.0.0.1, ::1, localhost), not `{host}`")
+    return host, int(port)

@@ -301,6 +301,14 @@ def run(
             help="Go on in a new part of the trace once a part covers TIME of platform time (90s, 30m, 2h).",
         ),
     ] = None,
+    trace_steps: Annotated[
+        bool,
+        typer.Option(
+            "--trace-steps",
+            help="Write a `step` record before each transition of the program, so that `gpp dap` replays "
+            "the trace statement by statement.",
+        ),
+    ] = False,
     timeout: TimeoutOption = None,
     time_limit: TimeLimitOption = None,
     profile: Annotated[bool, typer.Option("--profile", help="Print a table of every `solve`/`search`.")] = False,
@@ -391,6 +399,8 @@ def run(
     if time_limit is None:
         time_limit = config.run_time_limit
     split = trace_split(trace, trace_max_size, trace_max_time)
+    if trace_steps and trace is None:
+        usage_error("--trace-steps adds records to the trace file: it needs --trace FILE")
     if trace is not None:
         from gpp.base.paths import output_problem
 
@@ -424,6 +434,7 @@ def run(
         time_limit=time_limit,
         trace=trace,
         trace_split=split,
+        trace_steps=trace_steps,
         args=key_values(arg, "--arg"),
         platform_arguments=ros_arguments,
         include_dirs=config.include,

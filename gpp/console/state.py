@@ -288,7 +288,8 @@ def _waiting(view: _View, event: WaitingEvent) -> None:
 
 
 def _problem(view: _View, event: BlockedEvent | ErrorEvent) -> None:
-    view.problem = event.message
+    # The first says why the run ended; what went wrong while it ended comes after it.
+    view.problem = event.message if view.problem is None else f"{view.problem}\n{event.message}"
 
 
 def _finish(view: _View, event: FinishEvent) -> None:

@@ -11,17 +11,21 @@ The bounds and the proof that pruning with them is exact: docs/design.md, "Branc
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 from gpp.base.source import Span
 from gpp.model.model import Model
 from gpp.model.symbols import Symbol, SymbolKind
 from gpp.model.types import BOOL, DomainType, ListType, Sym, Type
 from gpp.planner.guards import FREE_STEP_LIMIT
+from gpp.runtime.codegen import ExprGen, Unit, Unsupported
 from gpp.runtime.compiled import Env
 from gpp.runtime.semantics import Semantics
 from gpp.runtime.state import State
+from gpp.runtime.values import Value
 from gpp.syntax import ast
 from gpp.syntax.walk import walk
 
@@ -35,6 +39,9 @@ STEPS_TO_GOAL = "steps to the goal"
 
 # A bound on the value of the rest of a branch from a state with h steps of horizon left.
 StateBound = Callable[[State, int], float]
+
+# The bounds of goal loops (GOAL_LOOP, STEPS_TO_GOAL): see `ends_at_goal`.
+_GOAL_BOUNDS: weakref.WeakSet[StateBound] = weakref.WeakSet()
 
 # Pruning is enabled up to this horizon (docs/design.md, "Branch and bound").
 MAX_HORIZON = 1000
@@ -107,6 +114,13 @@ class BoundAnalysis:
     goal_atoms: tuple[ast.Expr, ...] | None = None
     writes_per_step: int = 1
     goal_values: tuple[float, float] | None = None
+    # GOAL_LOOP, STEPS_TO_GOAL: every run of the loop's body makes exactly one costed step (it is
+    # never final), so the loop ends only at the goal.
+    always_steps: bool = False
+    # STEPS_TO_GOAL: the goal's fluent F and the value of each of its instances the goal names,
+    # when the not-well-placed distance holds; else why not (docs/design.md, "Branch and bound").
+    placement: tuple[Symbol, dict[Sym, Sym]] | None = None
+    placement_reason: str | None = None
 
     @property
     def enabled(self) -> bool:
@@ -437,10 +451,8 @@ class _Analysis:
         (through functions without parameters) with the same G reading no variable, and S a
         statement each run of which makes at most one step, that step costed and last: the
         condition G and the facts of `a` and `b`. None if the `solve` is not of that form."""
-        body = solve.body
-        while isinstance(body, ast.Block) and len(body.body) == 1:
-            body = body.body[0]
-        if not isinstance(body, ast.While) or not self._one_step(body.body):
+        body = self.loop_of(solve.body)
+        if body is None or not self._one_step(body.body):
             return None
         condition = self.model.effective(body.condition)
         reward = self.model.effective(solve.reward)
@@ -458,6 +470,19 @@ class _Analysis:
         ):
             return None
         return reward.condition, self.expr(reward.then, {}), self.expr(reward.otherwise, {})
+
+    @staticmethod
+    def loop_of(body: ast.Statement) -> ast.While | None:
+        """`body` if it is a `while` loop (in blocks of one statement), else None."""
+        while isinstance(body, ast.Block) and len(body.body) == 1:
+            body = body.body[0]
+        return body if isinstance(body, ast.While) else None
+
+    def always_steps(self, body: ast.Statement) -> bool:
+        """`body` is a loop whose body makes exactly one costed step on every run that is not
+        stuck: the loop ends only when its condition is false."""
+        loop = self.loop_of(body)
+        return loop is not None and self._one_step(loop.body, exactly=True)
 
     def goal_atoms(self, goal: ast.Expr) -> tuple[ast.Expr, ...] | None:
         """The conjuncts of `goal` (through functions without parameters), if each reads
@@ -519,6 +544,114 @@ class _Analysis:
             case _:
                 return None
 
+    def stacking(self, atoms: tuple[ast.Expr, ...]) -> tuple[Symbol, dict[Sym, Sym]] | str:
+        """For conjuncts that are all `F(b) == v` (F a unary fluent over a finite domain of
+        objects, b and v symbols) where every action the analysed program calls that writes an
+        instance F(p) requires `!exists(T z) F(z) == p` (nothing has p as its value: p is
+        clear) and no statement assigns F: F and the goal {b: v}. Otherwise why not (the
+        not-well-placed distance does not hold; docs/design.md, "Branch and bound")."""
+        fluent: Symbol | None = None
+        goal: dict[Sym, Sym] = {}
+        for atom in atoms:
+            atom = self.model.effective(atom)
+            sides = self._sides(atom)
+            call = next((s for s in sides if isinstance(s, ast.Call)), None) if sides is not None else None
+            value = next((s for s in sides if not isinstance(s, ast.Call)), None) if sides is not None else None
+            symbol = self.model.target(call) if call is not None else None
+            if call is None or symbol is None or symbol.kind is not SymbolKind.FLUENT or len(call.args) != 1:
+                return "a conjunct of the goal is not `F(b) == v` for a unary fluent F"
+            if fluent is not None and symbol is not fluent:
+                return "the goal's conjuncts are on more than one fluent"
+            fluent = symbol
+            b, v = self._symbol(call.args[0]), self._symbol(value) if value is not None else None
+            if b is None or v is None:
+                return "a conjunct of the goal is not `F(b) == v` for symbols b and v"
+            goal[b] = v
+        if fluent is None:
+            return "the goal has no conjunct"
+        objects = _values(self.model, fluent.params[0].type)
+        if objects is None:
+            return f"the parameter of `{fluent.name}` is not of a finite domain"
+        for parsed in self.model.files:
+            for node in walk(parsed.program):
+                if isinstance(node, ast.Assign | ast.ListStmt) and self._writes(node.target, fluent):
+                    return f"a statement assigns `{fluent.name}`"
+        for name in sorted(self.checked_actions):
+            decl = self.model.globals[name].decl
+            assert isinstance(decl, ast.ActionDecl)
+            if not self._clears_before_writing(decl, fluent):
+                return f"action `{name}` writes `{fluent.name}(p)` without requiring `!exists(z) {fluent.name}(z) == p`"
+        return fluent, goal
+
+    def _sides(self, e: ast.Expr) -> tuple[ast.Expr, ast.Expr] | None:
+        if isinstance(e, ast.Binary) and e.op is ast.BinaryOp.EQ:
+            return self.model.effective(e.left), self.model.effective(e.right)
+        return None
+
+    def _symbol(self, e: ast.Expr) -> Sym | None:
+        e = self.model.effective(e)
+        target = self.model.target(e) if isinstance(e, ast.Name) else None
+        return Sym(target.name) if target is not None and target.kind is SymbolKind.SYMBOL else None
+
+    def _writes(self, target: ast.Expr, fluent: Symbol) -> bool:
+        while isinstance(target, ast.FieldAccess | ast.Index):
+            target = target.subject
+        return self.model.target(target) is fluent
+
+    def _clears_before_writing(self, decl: ast.ActionDecl, fluent: Symbol) -> bool:
+        """Every effect of `decl` on `fluent` writes F(p) for a parameter p, and the
+        precondition has the conjunct `!exists(T z) F(z) == p` with T the type of F's
+        parameter."""
+        conjuncts: list[ast.Expr] = []
+        for section in decl.sections or ():
+            if isinstance(section, ast.PreconditionSection):
+                pending = [section.condition]
+                while pending:
+                    e = self.model.effective(pending.pop())
+                    if isinstance(e, ast.Binary) and e.op is ast.BinaryOp.AND:
+                        pending += [e.left, e.right]
+                    else:
+                        conjuncts.append(e)
+        for section in decl.sections or ():
+            if not isinstance(section, ast.EffectSection):
+                continue
+            for effect in section.effects:
+                if not self._writes(effect.target, fluent):
+                    continue
+                target = self.model.effective(effect.target)
+                if not isinstance(target, ast.Call) or len(target.args) != 1:
+                    return False
+                written = self.model.target(target.args[0]) if isinstance(target.args[0], ast.Name) else None
+                if written is None or written.kind is not SymbolKind.PARAMETER:
+                    return False
+                if not any(self._requires_clear(c, fluent, written) for c in conjuncts):
+                    return False
+        return True
+
+    def _requires_clear(self, e: ast.Expr, fluent: Symbol, p: Symbol) -> bool:
+        """`e` is `!exists(T z) F(z) == p` (either side of `==`), T the type of F's parameter."""
+        if not (isinstance(e, ast.Unary) and e.op is ast.UnaryOp.NOT):
+            return False
+        q = self.model.effective(e.operand)
+        if not (isinstance(q, ast.Quantified) and q.quantifier is ast.Quantifier.EXISTS):
+            return False
+        z = self.model.target(q.var)
+        sides = self._sides(self.model.effective(q.body))
+        if z is None or z.type != fluent.params[0].type or sides is None:
+            return False
+        for call, other in (sides, sides[::-1]):
+            if (
+                isinstance(call, ast.Call)
+                and self.model.target(call) is fluent
+                and len(call.args) == 1
+                and isinstance(call.args[0], ast.Name)
+                and self.model.target(call.args[0]) is z
+                and isinstance(other, ast.Name)
+                and self.model.target(other) is p
+            ):
+                return True
+        return False
+
     def writes_per_step(self) -> int:
         """The most fluent instances one step of the analysed program writes: an assignment
         writes one, an action one per effect."""
@@ -547,22 +680,28 @@ class _Analysis:
                     return False
         return True
 
-    def _one_step(self, s: ast.Statement) -> bool:
-        """Every run of `s` makes at most one step, a costed one, and `s` is done after it."""
+    def _one_step(self, s: ast.Statement, exactly: bool = False) -> bool:
+        """Every run of `s` makes at most one step, a costed one, and `s` is done after it.
+        `exactly`: and `s` is never final before that step (a run that cannot make it is
+        stuck, not done)."""
         match s:
             case ast.Block():
-                return not s.body or (len(s.body) == 1 and self._one_step(s.body[0]))
+                if not s.body:
+                    return not exactly
+                return len(s.body) == 1 and self._one_step(s.body[0], exactly)
             case ast.Assign():
                 return True
             case ast.CallStmt():
                 symbol = self.model.target(s.call)
                 return symbol is not None and symbol.kind is SymbolKind.ACTION
             case ast.Pick():
-                return self._one_step(s.body)
+                return self._one_step(s.body, exactly)
             case ast.Choose():
-                return all(self._one_step(x) for x in s.alternatives)
+                return all(self._one_step(x, exactly) for x in s.alternatives)
             case ast.If():
-                return self._one_step(s.then) and (s.otherwise is None or self._one_step(s.otherwise))
+                if s.otherwise is None:
+                    return not exactly and self._one_step(s.then)
+                return self._one_step(s.then, exactly) and self._one_step(s.otherwise, exactly)
             case _:
                 return False
 
@@ -655,9 +794,20 @@ def analyse(model: Model, solve: ast.Solve) -> BoundAnalysis:
 
         atoms = analysis.goal_atoms(condition)
         writes = analysis.writes_per_step()
+        always = analysis.always_steps(solve.body)
+        if always:
+            # The loop ends only at the goal: a branch that never reaches it makes all h steps.
+            def until_goal(h: int) -> float:
+                return max(h * elsewhere, at_goal + (h - 1) * max(elsewhere, 0.0)) if h > 0 else 0.0
+
+        values = (at_goal, elsewhere)
         if atoms is not None:
-            return BoundAnalysis(low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, (at_goal, elsewhere))
-        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP)
+            placed = analysis.stacking(atoms)
+            placement, why_not = (None, placed) if isinstance(placed, str) else (placed, None)
+            return BoundAnalysis(
+                low, high, None, None, until_goal, STEPS_TO_GOAL, atoms, writes, values, always, placement, why_not
+            )
+        return BoundAnalysis(low, high, None, None, until_goal, GOAL_LOOP, always_steps=always)
     per_step = max(high, 0.0)
 
     def bound(h: int) -> float:
@@ -678,29 +828,162 @@ def solve_bound(sem: Semantics, solve: ast.Solve, horizon: int) -> StateBound | 
         return None  # sums of rewards might not be exact
     table = [bound(h) for h in range(horizon + 1)]
     if result.goal_atoms is None or result.goal_values is None:
-        return lambda state, h: table[h]
-    return _steps_to_goal(sem, result.goal_atoms, result.writes_per_step, *result.goal_values)
+
+        def by_horizon(state: State, h: int) -> float:
+            return table[h]
+
+        if result.kind == GOAL_LOOP:
+            _GOAL_BOUNDS.add(by_horizon)
+        return by_horizon
+    distance = _distance(sem, result.goal_atoms, result.writes_per_step, result.placement)
+    by_state = _steps_to_goal(distance, *result.goal_values, result.always_steps)
+    _GOAL_BOUNDS.add(by_state)
+    return by_state
 
 
-def _steps_to_goal(
-    sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, at_goal: float, elsewhere: float
-) -> StateBound:
-    """U(s, h) of the goal loop with the steps the goal still needs from s (docs/design.md)."""
+def ends_at_goal(bound: StateBound) -> bool:
+    """Is `bound` that of a goal loop (GOAL_LOOP, STEPS_TO_GOAL)? Its values are close to the
+    best plan's, so a search may start from the root's bound and lower it (IDA*); a bound per
+    step is far above it (docs/design.md, "Global pruning")."""
+    return bound in _GOAL_BOUNDS
+
+
+# A lower bound on the costed steps any run of a goal loop needs from a state to its goal
+# (0: the goal holds there).
+GoalDistance = Callable[[State], int]
+
+
+@dataclass(frozen=True)
+class DistanceAnalysis:
+    """`goal_distance` of a program: the distance function, or the reason why there is none."""
+
+    distance: GoalDistance | None
+    reason: str | None  # why there is no distance (None: there is one)
+    span: Span | None = None
+
+
+def goal_distance(sem: Semantics, body: ast.Statement) -> DistanceAnalysis:
+    """For `body` = `while (!G) S` (in blocks of one statement) where every run of S that is not
+    stuck makes exactly one costed step (so the loop, and `body`, end exactly when G holds), G
+    reads no variable and is a conjunction of conjuncts on distinct fluent instances named by
+    constants (through functions without parameters), and no step of planning `body` can raise:
+    a lower bound on the costed steps from a state to an end of `body` (docs/design.md, "Branch
+    and bound"). Otherwise no distance, and the reason."""
+    analysis = _Analysis(sem.model)
+    loop = analysis.loop_of(body)
+    try:
+        analysis.statement(body, False)
+    except Unsafe as e:
+        return DistanceAnalysis(None, e.reason, e.span)
+    if loop is None:
+        return DistanceAnalysis(None, "not a `while` loop", body.span)
+    condition = sem.model.effective(loop.condition)
+    if not (isinstance(condition, ast.Unary) and condition.op is ast.UnaryOp.NOT):
+        return DistanceAnalysis(None, "the loop's condition is not `!G`", loop.condition.span)
+    goal = condition.operand
+    if not analysis.always_steps(body):
+        return DistanceAnalysis(None, "a run of the loop's body may end without a costed step", loop.body.span)
+    atoms = analysis.goal_atoms(goal) if analysis._same_goal(goal, goal) else None
+    if atoms is None:
+        return DistanceAnalysis(None, "the goal is not a conjunction on distinct fluent instances", goal.span)
+    placed = analysis.stacking(atoms)
+    placement = None if isinstance(placed, str) else placed
+    return DistanceAnalysis(_distance(sem, atoms, analysis.writes_per_step(), placement), None)
+
+
+def _distance(
+    sem: Semantics, atoms: tuple[ast.Expr, ...], writes: int, placement: tuple[Symbol, dict[Sym, Sym]] | None
+) -> GoalDistance:
+    """The not-well-placed distance where it holds, else the misplaced one; remembered per
+    state."""
+    count = _not_well_placed(sem, *placement) if placement is not None else _misplaced(sem, atoms)
+    needed: dict[State, int] = {}
+
+    def distance(state: State) -> int:
+        n = needed.get(state)
+        if n is None:
+            n = needed[state] = -(-count(state) // writes)
+        return n
+
+    return distance
+
+
+def _not_well_placed(sem: Semantics, fluent: Symbol, goal: dict[Sym, Sym]) -> Callable[[State], int]:
+    """The writes of F's instances any run needs to reach the goal {b: v} of F (the analysis
+    proved that F(p) is written only while nothing is on p): an object must move if its goal
+    instance is false, or if it is on an object that must move (which cannot move before it
+    leaves); one that must move costs 2 if its goal instance holds now (it leaves and comes
+    back), else 1 (docs/design.md, "Branch and bound")."""
+    program = sem.program
+    objects = _values(sem.model, fluent.params[0].type)
+    assert objects is not None
+    slots = [(x, program.slot(fluent.name, (cast(Value, x),))) for x in objects]
+    initial = program.initial
+    goals = list(goal.items())
+
+    def count(state: State) -> int:
+        on = {x: state.get(s, initial) for x, s in slots}
+        above: dict[object, list[object]] = {}
+        for x, y in on.items():
+            if y is not None:
+                above.setdefault(y, []).append(x)
+        moving: list[object] = [b for b, v in goals if on.get(b) != v]
+        total = len(moving)
+        must: set[object] = set(moving)
+        none: list[object] = []
+        while moving:
+            for x in above.get(moving.pop(), none):
+                if x not in must:
+                    must.add(x)
+                    moving.append(x)
+                    total += 2 if x in goal else 1  # x in goal here: its goal instance holds now
+        return total
+
+    return count
+
+
+def _misplaced(sem: Semantics, atoms: tuple[ast.Expr, ...]) -> Callable[[State], int]:
+    """How many of the conjuncts `atoms` are not true in a state: generated code
+    (gpp.runtime.codegen) where the generator writes them out."""
+    count = _generated_count(sem, atoms)
+    if count is not None:
+        return count
     evaluators = [sem.program.expr(atom) for atom in atoms]
     ctx = sem.ctx
-    needed: dict[State, int] = {}
+
+    def evaluated(state: State) -> int:
+        env = Env(state, {}, ctx)
+        return sum(1 for evaluate in evaluators if evaluate(env) is not True)
+
+    return evaluated
+
+
+def _generated_count(sem: Semantics, atoms: tuple[ast.Expr, ...]) -> Callable[[State], int] | None:
+    """`def misplaced(state)`: how many of `atoms` are not true in the state; None when the
+    generator does not write one of them out."""
+    unit = Unit("misplaced", "state")
+    generate = ExprGen(sem.program, unit)
+    try:
+        terms = [f"(0 if {generate.text(generate.expr(atom, {}))} is True else 1)" for atom in atoms]
+    except Unsupported:
+        return None
+    unit.emit(0, "return " + (" + ".join(terms) if terms else "0"))
+    built: Callable[[State], int] = unit.build()
+    return built
+
+
+def _steps_to_goal(distance: GoalDistance, at_goal: float, elsewhere: float, always: bool) -> StateBound:
+    """U(s, h) of the goal loop with the steps the goal still needs from s (docs/design.md);
+    `always`: the loop ends only at the goal."""
 
     def bound(state: State, h: int) -> float:
         if h <= 0:
             return 0.0
-        n = needed.get(state)
-        if n is None:
-            env = Env(state, {}, ctx)
-            false = sum(1 for evaluate in evaluators if evaluate(env) is not True)
-            n = needed[state] = -(-false // writes)
+        n = distance(state)
         if n == 0:
             return 0.0  # the goal holds: the loop is over, no further step
-        never = h * elsewhere if elsewhere > 0 else 0.0
+        # A branch that does not reach the goal: at most h steps (exactly h if `always`).
+        never = h * elsewhere if always or elsewhere > 0 else 0.0
         if n > h:
             return never
         reach = (h - 1 if elsewhere > 0 else n - 1) * elsewhere + at_goal

@@ -2,8 +2,9 @@
 
 `solve_plan` plans by dynamic programming over (continuation, state, activities, remaining
 horizon): memoised, one expansion per configuration, results kept for every horizon they hold
-for, duplicate options skipped, and branch and bound where gpp.planner.bounds proves it exact;
-`final`, `trans` and `apply` run through the speed tier gpp.planner.fast. Why each of these
+for, duplicate options skipped (`expand`: no bound, every node the reference expands); where
+gpp.planner.bounds proves a bound exact, global branch and bound with an inherited threshold
+instead (`bounded`); `final`, `trans` and `apply` run through the speed tier gpp.planner.fast. Why each of these
 keeps the reference's result, and how the loop is laid out: docs/design.md, "The production
 planner".
 """
@@ -11,13 +12,14 @@ planner".
 from __future__ import annotations
 
 import gc
+import math
 import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
 from gpp.base.source import Span
-from gpp.planner.bounds import StateBound
+from gpp.planner.bounds import StateBound, ends_at_goal
 from gpp.planner.fast.port import ApplyFn, FinalFn, TransFn
 from gpp.planner.fast.successors import successors_of
 from gpp.planner.guards import FREE_STEP_LIMIT, free_loop_error, free_run_error, planning_recursion_guard
@@ -35,25 +37,32 @@ Config = tuple[Prog, State, Activities]
 #   [0] feasible or not, [1] its value,
 #   [2] depth: the most costed steps on a branch of the subtree (== horizon: it was reached),
 #   [3] free run: the most free steps a branch of the subtree starts with,
-#   [4] its first step and [5] the result of the rest (None, None: it stops here).
-_Result = tuple[bool, float, int, int, "PolicyStep | None", "_Result | None"]
+#   [4] the option of its first step and [5] the result of the rest (None, None: it stops
+#   here). The option, not the policy step: one policy step is made per step of the plan, at
+#   the end, not one per option (see `_steps`).
+_Result = tuple[bool, float, int, int, "_Option | None", "_Result | None"]
 
 _LEAF: _Result = (True, 0.0, 0, 0, None, None)
 
 
-def _steps(result: _Result) -> tuple[PolicyStep, ...]:
-    """The steps of a result's branch, first to last."""
+def _steps(result: _Result, start: Prog) -> tuple[PolicyStep, ...]:
+    """The steps of a result's branch from a configuration of continuation `start`, first to
+    last: each from the continuation of the configuration the step before led to."""
     out: list[PolicyStep] = []
     r: _Result | None = result
+    before = start
     while r is not None and r[4] is not None:
-        out.append(r[4])
+        _, target, step, after = r[4]
+        out.append((before, step, after))
+        before = target.prog
         r = r[5]
     return tuple(out)
 
 
 # An option of a configuration: its step's cost, the configuration it leads to, the step, and
-# the step as a policy step (a tuple: unpacked in the loop, cheaper than attribute lookups).
-_Option = tuple[int, "_Config", Step, PolicyStep]
+# the continuation `trans` gave with it (a tuple: unpacked in the loop, cheaper than attribute
+# lookups).
+_Option = tuple[int, "_Config", Step, Prog]
 
 
 class _Config:
@@ -72,6 +81,7 @@ class _Config:
         "prog",
         "reward",
         "seen",
+        "settled",
         "state",
         "successors",
     )
@@ -85,11 +95,13 @@ class _Config:
         self.successors: list[tuple[Prog, Step]] = []
         self.options: list[_Option | None] = []  # None: a duplicate of an earlier option
         self.live: list[_Option] | None = None  # the options but the duplicates, once all are made
-        self.seen: set[tuple[int, int]] | None = None
-        # The result for each remaining horizon (None: not known yet). A result known for
-        # every horizon above some depth (see 4 above) is stored for each of them: it is
-        # told from one for its horizon alone by its depth, which is below the horizon.
-        self.memo: list[_Result | None] = [None] * (horizon + 1)
+        # The (target, cost) of the options made: a target alone for a cost of 1 (most steps),
+        # sparing a tuple per option. Dropped, with the successors, once all options are made.
+        self.seen: set[object] | None = None
+        # The result known for every remaining horizon above its depth (see 4 above), and the
+        # results for one horizon alone, by horizon (None: not known; see `remember`).
+        self.settled: _Result | None = None
+        self.memo: list[_Result | None] | None = None  # made when a result needs it
         self.on_path = 0  # bit h: this configuration is on the path with remaining horizon h
         self.reward: float | None = None
 
@@ -149,6 +161,7 @@ def solve_plan(
     `generate=False`: `trans` and `apply` by the closures of gpp.planner.fast.successors only (no
     generated source; for tests and benchmarks)."""
     assert sem.planning
+    deepening = bound is not None and ends_at_goal(bound)
     stats = PlanStats()
     started = time.perf_counter()
     # The configurations met, by continuation, then activities, then state. A continuation
@@ -223,7 +236,8 @@ def solve_plan(
                     entry = applies[id(step)] = (step, successors.apply_fn(step))  # keeps step alive
                 s2, a2 = entry[1](state, acts)
                 target = intern(q, s2, a2)
-                key = (id(target), step.cost)
+                cost = step.cost
+                key = target if cost == 1 else (target, cost)
                 seen = c.seen
                 if seen is None:
                     seen = c.seen = set()
@@ -232,7 +246,7 @@ def solve_plan(
                     o = None
                 else:
                     seen.add(key)
-                    o = (step.cost, target, step, (c.prog, step, q))
+                    o = (cost, target, step, q)
                 options.append(o)
             if o is not None:
                 yield o
@@ -256,11 +270,24 @@ def solve_plan(
         except GppRuntimeError:
             return None
 
+    def open_config(c: _Config) -> None:
+        """`final` and `trans` of a configuration, once."""
+        p = c.prog
+        fns = functions.get(id(p))
+        if fns is None or fns[0] is not p:
+            fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
+        c.final = fns[1](c.state, c.acts)
+        c.successors = fns[2](c.state, c.acts)
+        c.expanded = True
+
     def best(c: _Config, h: int, run: int) -> _Result:
         # `run`: the free steps since the last costed step on the way here.
         if h <= 0:
             return _LEAF
-        known = c.memo[h]
+        known = c.settled
+        if known is None or known[2] >= h:
+            m = c.memo
+            known = m[h] if m is not None and h < len(m) else None
         if known is not None:
             if known[0] or known[2] >= h:
                 stats.cache_hits += 1
@@ -272,19 +299,13 @@ def solve_plan(
         return expand(c, h, run)
 
     def expand(c: _Config, h: int, run: int) -> _Result:
-        """`best` of a configuration and remaining horizon not known yet."""
+        """`best` of a configuration and remaining horizon not known yet (without a bound)."""
         stats.nodes += 1
         if not stats.nodes % _PROGRESS_EVERY:
             report()
         c.on_path |= 1 << h
         if not c.expanded:
-            p = c.prog
-            fns = functions.get(id(p))
-            if fns is None or fns[0] is not p:
-                fns = functions[id(p)] = (p, successors.final_of(p), successors.trans_of(p))  # keeps p alive
-            c.final = fns[1](c.state, c.acts)
-            c.successors = fns[2](c.state, c.acts)
-            c.expanded = True
+            open_config(c)
         feasible = c.final
         value = 0.0
         chosen: _Option | None = None
@@ -297,19 +318,15 @@ def solve_plan(
         for o in walk:
             cost, target, step, _ = o
             if cost:
-                if bound is not None and feasible:  # branch and bound (gpp.planner.bounds)
-                    r = target.reward
-                    if (value_of(target) if r is None else r) + bound(target.state, max(h - cost, 0)) <= value:
-                        stats.pruned += 1  # it cannot be strictly better
-                        stats.bound_skips += 1
-                        depth = h  # what it skipped is not known: keep the result for this h only
-                        continue
                 # `best(target, h - cost, 0)`, the lookups written out (most options are known).
                 left = h - cost
                 if left <= 0:
                     rest = _LEAF
                 else:
-                    known = target.memo[left]
+                    known = target.settled
+                    if known is None or known[2] >= left:
+                        m = target.memo
+                        known = m[left] if m is not None and left < len(m) else None
                     if known is None:
                         rest = expand(target, left, 0)
                     else:
@@ -347,18 +364,156 @@ def solve_plan(
         stats.cache_hits += hits - infeasible
         stats.pruned += infeasible
         if live is None and c.live is None and len(c.options) == len(c.successors):
-            c.live = [o for o in c.options if o is not None]
+            settle(c, [o for o in c.options if o is not None])
         if chosen is None:
             result: _Result = (feasible, value if feasible else 0.0, depth, free_run, None, None)
         else:
-            result = (True, value, depth, free_run, chosen[3], chosen_rest)
-        memo = c.memo
-        if depth < h:
-            # The same result for every horizon above depth (see 4 above).
-            memo[depth + 1 :] = [result] * (len(memo) - depth - 1)
-        else:
-            memo[h] = result
+            result = (True, value, depth, free_run, chosen, chosen_rest)
+        remember(c, h, result)
         return result
+
+    def remember(c: _Config, h: int, result: _Result) -> None:
+        """Keep the result of `c` with `h` steps left: for every horizon above its depth if
+        that is below h (see 4 above: one slot, `settled`), else for h alone (a list by
+        horizon up to the largest one kept, made for the configurations that need one: one met
+        deep in the tree only has small horizons left)."""
+        if result[2] < h:
+            c.settled = result
+            return
+        memo = c.memo
+        if memo is None:
+            memo = c.memo = [None] * (h + 1)
+        elif len(memo) <= h:
+            memo.extend([None] * (h + 1 - len(memo)))
+        memo[h] = result
+
+    def options_of(c: _Config) -> list[_Option]:
+        """All options of `c` but the duplicates (with a bound no step of planning can raise:
+        they are all made at once)."""
+        live = c.live
+        if live is None:
+            if not c.expanded:
+                open_config(c)
+            live = list(made(c))
+            settle(c, live)
+        return live
+
+    def settle(c: _Config, live: list[_Option]) -> None:
+        """All options of `c` are made: keep those but the duplicates, and drop what making
+        them needed (new objects, not cleared in place: an enclosing `made` of `c` may still
+        hold them)."""
+        c.live = live
+        c.options = []
+        c.successors = []
+        c.seen = None
+
+    def bounded(c: _Config, h: int, need: float) -> _Result:
+        """Branch and bound with an inherited threshold (docs/design.md, "Global pruning"): the
+        exact result of `c` with `h` steps left if its value is at least `need`; otherwise
+        either that, or (False, u, h, ...) with u < need an upper bound of its value (-inf:
+        exactly infeasible). The options are tried in the order of their bounds, best first,
+        ties in textual order; the first best option in textual order is chosen, as the
+        reference chooses."""
+        assert bound is not None
+        stats.nodes += 1
+        if not stats.nodes % _PROGRESS_EVERY:
+            report()
+        c.on_path |= 1 << h
+        options = options_of(c)
+        feasible = c.final
+        value = 0.0
+        chosen = -1  # the index of the incumbent (-1: stopping here, before every option)
+        chosen_rest: _Result | None = None
+        partial = False  # an option was skipped or only bounded: not every value is known
+        ceiling = -math.inf  # an upper bound of the options not chosen
+        depth = 0
+        ranked: list[tuple[float, int]] = []
+        for i, (cost, target, _, _) in enumerate(options):
+            if cost:
+                r = target.reward
+                ranked.append((-((value_of(target) if r is None else r) + bound(target.state, max(h - cost, 0))), i))
+            else:
+                ranked.append((-math.inf, i))  # a free step: no bound, tried first
+        ranked.sort()
+        for negated, i in ranked:
+            cost, target, step, _ = options[i]
+            threshold = need
+            if feasible:
+                beat = value + 1.0 if i > chosen else value  # whole numbers: "strictly better" is +1
+                if beat > threshold:
+                    threshold = beat
+            if cost:
+                if -negated < threshold:
+                    partial = True
+                    if -negated > ceiling:
+                        ceiling = -negated
+                    stats.pruned += 1
+                    stats.bound_skips += 1
+                    continue
+                earned = target.reward
+                assert earned is not None
+                left = h - cost
+            else:
+                if target.on_path >> h & 1:
+                    raise free_loop_error(target.prog, step)
+                earned, left = 0.0, h
+            if left <= 0:
+                rest = _LEAF
+            else:
+                known = target.settled
+                if known is None or known[2] >= left:
+                    m = target.memo
+                    known = m[left] if m is not None and left < len(m) else None
+                if known is None or not (known[0] or known[1] < threshold - earned or known[1] == -math.inf):
+                    rest = bounded(target, left, threshold - earned)
+                else:
+                    stats.cache_hits += 1
+                    rest = known
+            if cost + rest[2] > depth:
+                depth = cost + rest[2]
+            if not rest[0]:
+                if rest[1] != -math.inf:
+                    partial = True  # only bounded
+                    if earned + rest[1] > ceiling:
+                        ceiling = earned + rest[1]
+                continue
+            v = earned + rest[1]
+            if not feasible or v > value or (v == value and i < chosen):
+                if feasible and value > ceiling:
+                    ceiling = value
+                feasible, value, chosen, chosen_rest = True, v, i, rest
+                if c is root and h == horizon:
+                    root_best.append(value)
+            elif v > ceiling:
+                ceiling = v
+        c.on_path &= ~(1 << h)
+        result: _Result
+        if feasible and (value >= need or not partial):
+            if partial:
+                depth = h
+            first = options[chosen] if chosen >= 0 else None
+            result = (True, value, depth, 0, first, chosen_rest if chosen >= 0 else None)
+        elif not partial:
+            result = (False, -math.inf, depth, 0, None, None)  # infeasible, exactly
+        else:
+            result = (False, max(ceiling, value) if feasible else ceiling, h, 0, None, None)
+        remember(c, h, result)
+        return result
+
+    def iterative(c: _Config) -> _Result:
+        """The root's result by `bounded`. For a goal loop's bound (close to the value) with the
+        threshold lowered from the bound, each attempt to the upper bound the one before
+        returned (as IDA* lowers its f-limit; the memo keeps what each attempt learned);
+        for another bound (far above it) in one attempt that keeps every feasible branch."""
+        assert bound is not None
+        if horizon <= 0:
+            return _LEAF
+        need = bound(c.state, horizon) if deepening else -math.inf
+        while True:
+            result = bounded(c, horizon, need)
+            if result[0] or result[1] == -math.inf:
+                return result
+            need = result[1]
 
     def release() -> None:
         """Break the cycles between configurations (an option holds the configuration it leads
@@ -374,10 +529,10 @@ def solve_plan(
     root = intern(prog, state, acts)
     with planning_recursion_guard(span), _collector_paused():
         try:
-            result = best(root, horizon, 0)
+            result = best(root, horizon, 0) if bound is None else iterative(root)
         finally:
             release()
     value = value_of(root) + result[1] if result[0] else 0.0
     stats.pruned += sem.pruned_bindings
     stats.seconds = time.perf_counter() - started
-    return Plan(result[0], value, _steps(result) if result[0] else (), horizon, stats)
+    return Plan(result[0], value, _steps(result, root.prog) if result[0] else (), horizon, stats)

@@ -245,10 +245,23 @@ class PlanHolder:
                 bound=bound,
                 deadline=self.deadline,
             )
-        from gpp.planner.search import search_plan
+        from gpp.planner.bounds import goal_distance
+        from gpp.planner.search import ITERATIVE_DEEPENING, search_plan
 
+        # The bound holds for every configuration the body reaches, so for a re-search too.
+        distance = None
+        if self.search_strategy == ITERATIVE_DEEPENING:
+            distance = goal_distance(planning, stmt.body).distance
         return search_plan(
-            planning, prog, state, acts, self.horizon, stmt.span, self.search_strategy, deadline=self.deadline
+            planning,
+            prog,
+            state,
+            acts,
+            self.horizon,
+            stmt.span,
+            self.search_strategy,
+            deadline=self.deadline,
+            distance=distance,
         )
 
     def plan(self, sem: Semantics, state: State, acts: Activities) -> PlanReport:

@@ -10,11 +10,11 @@ from gpp.base.source import Span
 from gpp.codes import R0002, R0007
 from gpp.model.model import Model
 from gpp.model.types import Type
-from gpp.planner.bounds import solve_bound
+from gpp.planner.bounds import goal_distance, solve_bound
 from gpp.planner.dp import solve_plan
 from gpp.planner.reference import Reward, reference_node_count, reference_plan
 from gpp.planner.result import Plan
-from gpp.planner.search import DEPTH_FIRST, search_plan
+from gpp.planner.search import DEPTH_FIRST, GENERATED, ITERATIVE_DEEPENING, search_plan
 from gpp.runtime.codegen import state_function
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.errors import GppRuntimeError
@@ -83,8 +83,15 @@ class PlanningProblem:
     def reference_nodes(self) -> int:
         return reference_node_count(self.sem, self.prog, self.state, self.acts, self.horizon)
 
-    def search(self, bound: int, strategy: str = DEPTH_FIRST) -> Plan:
-        return search_plan(self.sem, self.prog, self.state, self.acts, bound, self.span, strategy)
+    def search(self, bound: int, strategy: str = DEPTH_FIRST, prune: bool = True, tier: str = GENERATED) -> Plan:
+        """`search` of the body; `prune`: iterative deepening cut by gpp.planner.bounds.goal_distance
+        where it is exact; `tier`: gpp.planner.search.TIERS."""
+        distance = None
+        if prune and strategy == ITERATIVE_DEEPENING and isinstance(self.prog, Code):
+            distance = goal_distance(self.sem, self.prog.stmt).distance
+        return search_plan(
+            self.sem, self.prog, self.state, self.acts, bound, self.span, strategy, distance=distance, tier=tier
+        )
 
 
 def first_solve(model: Model, procedure: str = "main") -> PlanningProblem:

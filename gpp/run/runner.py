@@ -58,6 +58,8 @@ class RunOptions:
     trace: Path | None = None
     # When the trace file goes on in a new part (`--trace-max-size`, `--trace-max-time`).
     trace_split: TraceSplit | None = None
+    # A `step` record before each transition (`--trace-steps`): the trace replays step by step.
+    trace_steps: bool = False
     # Keep every event of the run in `RunOutcome.recording` (for tests and tools: its memory
     # grows with the run; `gpp run` keeps none).
     record: bool = False
@@ -179,6 +181,7 @@ def run_program(
             timeout=options.timeout,
             entry_args=entry_args,
             control=options.control,
+            trace_steps=options.trace_steps,
         )
         problems = platform.attach(program_interface(program))
         if problems:

@@ -27,6 +27,7 @@ from gpp.runtime.events import (
     SenseEvent,
     SnapshotEvent,
     StartEvent,
+    StepEvent,
     TraceEvent,
     UpdateEvent,
     WaitingEvent,
@@ -97,8 +98,8 @@ def describe(event: TraceEvent) -> str | None:
                 + (f" {event.action}" if event.action else "")
                 + (f" (from {event.client})" if event.client else "")
             )
-        case HeaderEvent() | SnapshotEvent():
-            return None
+        case HeaderEvent() | SnapshotEvent() | StepEvent():
+            return None  # a step's records say what it did
         case _:
             assert_never(event)
 

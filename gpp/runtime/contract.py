@@ -205,6 +205,11 @@ class EventQueue:
         with self._ready:
             return len(self._items)
 
+    def pending(self) -> list[tuple[float, Event]]:
+        """The events queued and not yet taken (what a debugger shows), oldest first."""
+        with self._ready:
+            return list(self._items)
+
 
 class PlatformPort(Protocol):
     """What the executor needs of a platform while it runs a program."""

@@ -9,6 +9,9 @@ The executor calls its control from the executor's own thread, at these points:
 * `checkpoint(executor, prog)` at the top of every turn of the executor's loop, after the
   platform's events are taken in and before the program's next transition is looked for (also
   on each wake-up of a waiting program);
+* `stepping(executor, prog, step, after)` when the next transition is found, before it is
+  performed: `step` (what it does to the world, with the span of its statement) takes `prog`
+  to `after` (a debugger's breakpoints and stepping stop here, before the statement);
 * `happened(executor, prog, happening)` when something a user may want to stop at happens: an
   action failed, the program is blocked, a run-time error, `solve` found no plan (before the run
   goes on or ends because of it);
@@ -46,7 +49,7 @@ from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.trace import Trace
 
 if TYPE_CHECKING:
-    from gpp.runtime.semantics import Prog, Semantics
+    from gpp.runtime.semantics import Prog, Semantics, Step
 
 
 class Executor(Protocol):
@@ -107,6 +110,9 @@ class RunControl:
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
         """A turn of the executor's loop begins: `prog` is what remains of the program."""
+
+    def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
+        """The next transition is found: `step` takes `prog` to `after`; it is performed next."""
 
     def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
         """Something a user may want to stop at happened."""

@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.7"
+TRACE_SCHEMA_VERSION: Final = "1.8"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -190,6 +190,27 @@ def waiting_fields(event: WaitingEvent) -> dict[str, JsonValue]:
     return fields
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StepEvent(EventBase):
+    """Since 1.7, in a trace recorded with steps (`gpp run --trace-steps`): the program takes
+    its next transition (written before the records of what the transition does), so that a
+    replay can stop where a debugger stopped the live run."""
+
+    EVENT: ClassVar[str] = "step"
+
+    at: str | None  # the statement that takes the transition
+    step: str  # what it does: `test`, `start(goto(a))`, `end(goto(a))`, `loc = a`, `plan`, ...
+    # The procedure calls the statement is in, innermost first: `{"procedure": "deliver",
+    # "args": {"r": ...}, "at": the call's location or null}` each (the entry procedure last).
+    frames: tuple[dict[str, JsonValue], ...] = field(default=(), metadata={**_OPTIONAL, **_TUPLE})
+    # When the calls are more than `frames` lists (a deep recursion: the innermost ones and the
+    # entry procedure are listed), how many there are.
+    depth: int | None = field(default=None, metadata=_OPTIONAL)
+    # The transition goes on with a statement an earlier one began (the end of a call or of a
+    # `during`) or plans again: a debugger's stepping does not stop at it, a breakpoint does.
+    continues: bool = field(default=False, metadata=_OPTIONAL)
+
+
 # ---------------------------------------------------------------- activities
 
 
@@ -338,7 +359,7 @@ OPERATOR_COMMANDS: Final = ("start", "pause", "resume", "stop", "exog", "act")
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class OperatorEvent(EventBase):
-    """Since 1.7: an operator did something at the console (`gpp run --console`): started,
+    """Since 1.8: an operator did something at the console (`gpp run --console`): started,
     paused, resumed or stopped the run, sent an exogenous event, or had an action run before
     the start."""
 
@@ -414,6 +435,7 @@ TraceEvent: TypeAlias = (
     | CancelEvent
     | NoticeEvent
     | WaitingEvent
+    | StepEvent
     | BlockedEvent
     | ErrorEvent
     | FinishEvent
@@ -438,6 +460,7 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         CancelEvent,
         NoticeEvent,
         WaitingEvent,
+        StepEvent,
         BlockedEvent,
         ErrorEvent,
         FinishEvent,
@@ -572,6 +595,7 @@ __all__ = [
     "SenseEvent",
     "SnapshotEvent",
     "StartEvent",
+    "StepEvent",
     "TraceEvent",
     "UpdateEvent",
     "WaitingEvent",

@@ -30,6 +30,7 @@ from gpp.codes import R0007, R0009, R0011, R0012, R0013, R0014, R0015, R0099
 from gpp.model.declarations import fill_placeholders
 from gpp.model.types import Type
 from gpp.runtime.blocked import BLOCKED, Wait, waits_for, why_blocked
+from gpp.runtime.callstack import MAX_FRAMES, CallStacks
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.contract import (
     Activity,
@@ -59,6 +60,7 @@ from gpp.runtime.semantics import (
     Done,
     DoStep,
     DuringEnd,
+    EndKind,
     EndStep,
     OnlinePlanner,
     Planned,
@@ -158,15 +160,18 @@ class Executor:
         timeout: float | None = None,
         entry_args: tuple[Value, ...] = (),
         control: RunControl | None = None,
+        trace_steps: bool = False,
     ) -> None:
         """`planner` runs `solve`/`search` (gpp.run.runner gives gpp.planner's); without one, a
         program that reaches them stops with an error (R0010). The run's two bounds (SEMANTICS
         §4): `timeout`, wall-clock seconds (`--timeout`), and `time_limit`, seconds of platform
-        time (`--time-limit`). `control`: a debugger or the operator console (gpp.runtime.control)."""
+        time (`--time-limit`). `control`: a debugger or the operator console (gpp.runtime.control).
+        `trace_steps`: a `step` record before each transition (`--trace-steps`), for a replay."""
         self.program = program
         self.control = control if control is not None else RunControl()
         self.platform = platform
         self.trace = trace
+        self.call_stacks = CallStacks(program) if trace_steps else None
         self.time_limit = time_limit
         self.timeout = timeout
         self.planner = planner
@@ -267,10 +272,13 @@ class Executor:
                 if successors:
                     chased = 0
                     next_prog, step = successors[0]
+                    if self.call_stacks is not None:
+                        self.trace_step(prog, next_prog, step)
                     if self.waiting_at is not None:
                         self.trace.emit(dataclasses.replace(self.waiting_at, t=self.platform.now(), resumed=True))
                         self.waiting_at = self.waiting_for = None
                     self.blocked = False
+                    self.control.stepping(self, prog, step, next_prog)
                     self.perform(step)
                     result.steps += 1
                     prog = next_prog
@@ -653,6 +661,26 @@ class Executor:
         return silent
 
     # ---------------------------------------------------------------- steps
+
+    def trace_step(self, prog: Prog, next_prog: Prog, step: Step) -> None:
+        """The `step` record of the transition `step` from `prog` to `next_prog`."""
+        assert self.call_stacks is not None
+        span = step.session.stmt.span if isinstance(step, PlanStep | ReplanStep) else step.span
+        frames = self.call_stacks.step_frames(prog, next_prog, span)
+        depth = len(frames) if len(frames) > MAX_FRAMES else None
+        if depth is not None:  # a deep recursion: the innermost calls and the entry procedure
+            frames = (*frames[: MAX_FRAMES - 1], frames[-1])
+        self.trace.emit(
+            ev.StepEvent(
+                t=self.platform.now(),
+                at=_where(span),
+                step=step.describe() or (span.text.strip().splitlines() or [""])[0],
+                frames=frames,
+                depth=depth,
+                continues=isinstance(step, ReplanStep)
+                or (isinstance(step, EndStep) and step.hook in (EndKind.CALL, EndKind.DURING)),
+            )
+        )
 
     def perform(self, step: Step) -> None:
         now = self.platform.now()

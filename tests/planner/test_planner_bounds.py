@@ -20,10 +20,13 @@ from hypothesis import strategies as st
 
 from bench.planner import hazards_program, tower_problem
 from gpp.check import check_text
-from gpp.planner.bounds import PER_STEP, STEPS_TO_GOAL, analyse, solve_bound
+from gpp.planner.bounds import PER_STEP, STEPS_TO_GOAL, analyse, goal_distance, solve_bound
 from gpp.planner.dp import solve_plan
-from gpp.planner.problem import PlanningProblem, first_solve
+from gpp.planner.problem import PlanningProblem, first_solve, procedure_body
 from gpp.runtime.errors import GppRuntimeError
+from gpp.runtime.state import State
+from gpp.syntax import ast
+from gpp.syntax.walk import walk
 from tests.support.budget import examples
 from tests.support.planner_worlds import (
     PROPERTY,
@@ -241,7 +244,7 @@ def test_a_result_that_skipped_an_option_is_kept_for_its_horizon_only() -> None:
     pruned, reference = pb.production(), pb.reference()
     assert (pruned.value, pruned.actions()) == (reference.value, reference.actions())
     assert (pruned.value, pruned.actions()) == (2.0, ["idle()", "on()", "on()"])
-    assert pruned.stats.bound_skips == 1
+    assert pruned.stats.bound_skips > 0
 
 
 # ---------------------------------------------------------------- what it prunes
@@ -277,8 +280,10 @@ def test_the_towers_bound_counts_the_steps_to_the_goal() -> None:
     bound = solve_bound(pb.sem, pb.solve, pb.horizon)
     assert bound is not None
     # From the start all four blocks are misplaced: at least 4 steps, so at most 100 - 3; with
-    # 3 steps left the goal is out of reach, and 0 is the bound of not reaching it.
-    assert [bound(pb.state, h) for h in range(6)] == [0.0, 0.0, 0.0, 0.0, 97.0, 97.0]
+    # 3 steps left the goal is out of reach, and as the loop's body always steps (the loop ends
+    # only at the goal) a branch that does not reach it makes every step, worth -1 each.
+    assert analysis.always_steps
+    assert [bound(pb.state, h) for h in range(6)] == [0.0, -1.0, -2.0, -3.0, 97.0, 97.0]
     pruned, full = pb.production(), pb.production(prune=False)
     assert (pruned.value, pruned.steps) == (full.value, full.steps)
     assert full.stats.nodes == 392 and pruned.stats.nodes < 392 // 10
@@ -338,3 +343,116 @@ def test_no_bound_beyond_exact_sums_or_the_largest_horizon() -> None:
     assert small.solve is not None
     assert solve_bound(small.sem, small.solve, 1000) is not None
     assert solve_bound(small.sem, small.solve, 1001) is None
+
+
+@pytest.mark.parametrize(
+    ("body", "reason", "distance"),
+    [
+        ("while (!(p(a) & p(b))) pick (D x) mark(x);", None, 2),
+        ("while (!(!p(a) & p(b))) pick (D x) mark(x);", None, 1),
+        ("while (!(p(a) & p(b))) choose { mark(a); if (p(a)) mark(b); else go(b); }", None, 2),
+        ("while (!(p(a) & p(b))) if (p(a)) mark(b);", "a run of the loop's body may end without a costed step", 0),
+        ("while (!(p(a) & p(b))) {}", "a run of the loop's body may end without a costed step", 0),
+        ("while (!(p(a) & p(b))) { mark(a); mark(b); }", "a run of the loop's body may end without a costed step", 0),
+        ("while (p(a)) mark(b);", "the loop's condition is not `!G`", 0),
+        ("mark(a);", "not a `while` loop", 0),
+        ("while (!(p(a) | p(b))) mark(a);", None, 1),
+        ("while (!exists(D x) p(x)) mark(a);", "the goal is not a conjunction on distinct fluent instances", 0),
+        ("while (!(p(a) & !p(a))) mark(a);", "the goal is not a conjunction on distinct fluent instances", 0),
+        ("while (!p(a)) { test(p(b)); mark(a); }", "a test inside a loop (a loop of free steps is an error)", 0),
+    ],
+)
+def test_the_goal_distance_for_search_or_why_not(body: str, reason: str | None, distance: int) -> None:
+    text = WORLD + "action mark(D x) { effect: p(x) = true; }\n"
+    text += f"procedure main() {{ search {body} }}\n"
+    result = check_text(text, lint=False)
+    assert result.errors == 0, [d.message for d in result.diagnostics]
+    sem, _ = procedure_body(result.model)
+    search = next(n for f in result.model.files for n in walk(f.program) if isinstance(n, ast.Search))
+    analysis = goal_distance(sem, search.body)
+    assert analysis.reason == reason
+    assert (analysis.distance is None) == (reason is not None)
+    if analysis.distance is not None:
+        assert analysis.distance(State()) == distance  # conjuncts false at the start, one instance a step
+
+
+# ---------------------------------------------------------------- objects not well placed
+
+STACKS = """
+symbol domain block = {a, b, c}
+symbol domain location = block | {table}
+location fluent loc(block x) { initially: (a) = b; (b) = table; (c) = table; }
+bool fluent lit() { initially: () = false; }
+action stack(block x, location y) {
+precondition:
+    x != y & loc(x) != y & (!exists(block z) loc(z) == x) & (y == table | !exists(block z) loc(z) == y)
+effect:
+    loc(x) = y;
+}
+action put(block x, location y) { precondition: x != y effect: loc(x) = y; }
+action light() { effect: lit() = true; }
+"""
+
+
+@pytest.mark.parametrize(
+    ("goal", "body", "reason", "distance"),
+    [
+        # b must move onto c; a is on b (its goal holds) and must leave and come back: 2 + 1.
+        ("loc(a) == b & loc(b) == c", "pick (block x) pick (location y) stack(x, y);", None, 3),
+        ("loc(a) == b & loc(b) == c & loc(c) == table", "pick (block x) stack(x, table);", None, 3),
+        ("loc(c) == a", "pick (block x) pick (location y) stack(x, y);", None, 1),
+        # `put` moves a block with others on it: b onto c carries a along, one step.
+        (
+            "loc(a) == b & loc(b) == c",
+            "pick (block x) pick (location y) put(x, y);",
+            "action `put` writes `loc(p)` without requiring `!exists(z) loc(z) == p`",
+            1,
+        ),
+        (
+            "loc(a) == b & lit()",
+            "choose { light(); pick (block x) stack(x, table); }",
+            "a conjunct of the goal is not `F(b) == v` for a unary fluent F",
+            1,
+        ),
+        (
+            "loc(a) == b & loc(b) == c",
+            "choose { loc(c) = a; pick (block x) stack(x, table); }",
+            "a statement assigns `loc`",
+            1,
+        ),
+    ],
+)
+def test_the_not_well_placed_distance_or_why_not(goal: str, body: str, reason: str | None, distance: int) -> None:
+    text = STACKS + f"bool function goal() = {goal}\nnumber function reward() = if (goal()) 10 else -1\n"
+    pb = problem(text + f"procedure main() {{ solve(4, reward()) while (!goal()) {body} }}\n")
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert analysis.kind == STEPS_TO_GOAL
+    assert analysis.placement_reason == reason
+    assert (analysis.placement is None) == (reason is not None)
+    bound = solve_bound(pb.sem, pb.solve, pb.horizon)
+    assert bound is not None
+    # Reaching the goal at step n at the soonest: worth at most 10 - (n - 1).
+    assert bound(pb.state, 4) == 10 - (distance - 1)
+    pruned, reference = pb.production(), pb.reference()
+    assert (pruned.feasible, pruned.value, pruned.steps) == (reference.feasible, reference.value, reference.steps)
+    if reason is not None and "put" in body:
+        # The stronger distance would say 3 here: it does not hold without the precondition.
+        assert reference.actions() == ["put(b,c)"]
+
+
+# ---------------------------------------------------------------- global pruning
+
+
+@pytest.mark.parametrize("blocks", [5, 6, 7])
+def test_global_pruning_walks_straight_to_the_towers_reversal(blocks: int) -> None:
+    # The root is asked for its bound (every block moved once: 100 - (blocks - 1), and the
+    # plan's value counts R(s0) = -1 too); the best
+    # option first is always one that puts a block in place, and nothing else reaches the
+    # threshold: one node per step and the root, the plan of the full planner.
+    pb = tower_problem(blocks, 14)
+    pruned, full = pb.production(), pb.production(prune=False)
+    assert (pruned.value, pruned.steps) == (full.value, full.steps)
+    assert pruned.value == 100 - blocks
+    assert pruned.stats.nodes == blocks + 1
+    assert full.stats.nodes > 100 * pruned.stats.nodes

@@ -27,7 +27,7 @@ def test_progress_reports_nodes_configurations_best_value_and_time_as_planning_g
     pb = first_solve(result.model)
     reports: list[Progress] = []
     plan = solve_plan(pb.sem, pb.prog, pb.state, pb.acts, pb.horizon, pb.reward, pb.span, reports.append, 0.0)
-    quiet = first_solve(check_text(tower(4, 10, twice=True), lint=False).model).production()
+    quiet = first_solve(check_text(tower(4, 10, twice=True), lint=False).model).production(prune=False)
     assert (plan.value, plan.actions(), plan.stats.nodes) == (quiet.value, quiet.actions(), quiet.stats.nodes)
     assert len(reports) == plan.stats.nodes // 128
     assert [r.nodes for r in reports] == [128 * (i + 1) for i in range(len(reports))]

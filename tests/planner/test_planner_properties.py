@@ -21,10 +21,13 @@ What is checked (SEMANTICS §5, §6):
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
-from hypothesis import given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
+from gpp.planner.bounds import analyse, solve_bound
 from gpp.planner.problem import PlanningProblem
 from gpp.planner.result import PolicyStep
 from gpp.runtime.errors import GppRuntimeError
@@ -140,12 +143,14 @@ def test_raising_the_horizon_never_lowers_the_value_of_a_plan_that_ends_the_prog
 
 
 @st.composite
-def blocks_worlds(draw: st.DrawFn) -> Case:
+def blocks_worlds(draw: st.DrawFn, sizes: tuple[int, int] = (3, 4), risky: bool = False) -> Case:
     """Larger instances: a blocks world of 3 or 4 blocks from a random arrangement to a random
     goal, with a random reward for the goal and per step, the whole `pick` program and a
     horizon up to 6 (3 blocks) or 4 (4 blocks): the shape the production planner is tuned for
-    (pick guards, specialised successors, remembered quantifiers)."""
-    blocks = draw(st.integers(3, 4))
+    (pick guards, specialised successors, remembered quantifiers). `sizes`: other numbers of
+    blocks (more than 4: horizons up to 8). `risky`: a step that divides by a fluent another
+    step may set to 0, in the loop (the analysis must refuse to prune)."""
+    blocks = draw(st.integers(*sizes))
     names = [f"b{i}" for i in range(blocks)]
 
     def arrangement() -> dict[str, str]:
@@ -187,7 +192,12 @@ number function reward() = if (goal()) {win} else {step}
             ]
         )
     )
-    return Case(world, body, draw(st.integers(1, 6 if blocks == 3 else 4)))
+    if risky:
+        extra = "number fluent den() { initially: () = 1; }\naction zero() { effect: den() = 0; }\n"
+        extra += "action risky() { precondition: 6 / den() > 1 }\n"
+        world = replace(world, text=extra + world.text)
+        body = "while (!goal()) choose { pick (block x) pick (location y) stack(x, y); zero(); risky(); }"
+    return Case(world, body, draw(st.integers(1, 6 if blocks == 3 else 4 if blocks == 4 else 8)))
 
 
 @given(blocks_worlds())
@@ -195,6 +205,34 @@ number function reward() = if (goal()) {win} else {step}
 def test_production_planner_returns_exactly_the_reference_result_on_larger_blocks_worlds(case: Case) -> None:
     pb = case.problem()
     assert outcome(attempt(pb, "production")) == outcome(attempt(pb, "reference"))
+
+
+@given(blocks_worlds(sizes=(5, 6)))
+@settings(PROPERTY, max_examples=examples(40))
+def test_pruning_keeps_the_full_planners_result_on_blocks_worlds_too_large_for_the_reference(case: Case) -> None:
+    # The planner without a bound is the reference's result node for node (the tests above);
+    # with the bound it must still choose the same plan where the reference is out of reach.
+    pb = case.problem()
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert analysis.enabled
+    event(f"pruning: {analysis.kind}")
+    pruned, full = pb.production(), pb.production(prune=False)
+    assert (pruned.feasible, pruned.value, pruned.steps) == (full.feasible, full.value, full.steps)
+    assert pruned.stats.nodes <= full.stats.nodes
+
+
+@given(blocks_worlds(sizes=(3, 3), risky=True))
+@settings(PROPERTY, max_examples=examples(20))
+def test_pruning_is_refused_where_a_branch_could_raise_and_the_result_is_the_references(case: Case) -> None:
+    pb = case.problem()
+    assert pb.solve is not None
+    analysis = analyse(pb.sem.model, pb.solve)
+    assert (analysis.enabled, analysis.reason) == (False, "`/` by a value that may be 0")
+    assert solve_bound(pb.sem, pb.solve, pb.horizon) is None
+    reference = attempt(pb, "reference")
+    event("raises" if isinstance(reference, GppRuntimeError) else "plans")
+    assert outcome(attempt(pb, "production")) == outcome(reference)
 
 
 # ---------------------------------------------------------------- search

@@ -13,7 +13,7 @@ from gpp.runtime.contract import EventQueue, ExogOccurrence
 from gpp.runtime.control import Happening, RunControl, RunStopped, request_attention
 from gpp.runtime.events import ErrorEvent, ExogEvent, FinishEvent, UpdateEvent
 from gpp.runtime.executor import Executor, RunStatus
-from gpp.runtime.semantics import Prog
+from gpp.runtime.semantics import Prog, Step
 from gpp.runtime.state import ActivityStatus
 
 PROGRAM = """\
@@ -157,3 +157,30 @@ def test_a_held_run_keeps_its_clock_and_a_stop_ends_it_as_ctrl_c_does(tmp_path: 
     assert isinstance(finish, FinishEvent) and finish.status == "interrupted"
     # The drive that was running when the stop came was cancelled.
     assert [(e.action, e.status) for e in outcome.recording.of(UpdateEvent)][-1] == ("drive()", "cancelled")
+
+
+class Stepper(Watcher):
+    """Records each transition it is told of, with the world as it is before the step."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.steps: list[tuple[str, str, int]] = []
+
+    def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
+        trips = executor.program.read(executor.state, "trips", ())
+        assert isinstance(trips, int)
+        self.steps.append((step.describe(), step.span.text.strip(), trips))
+
+
+def test_a_control_is_told_each_transition_before_it_is_taken(tmp_path: Path) -> None:
+    stepper = Stepper()
+    outcome = run(tmp_path, stepper)
+    assert outcome.result is not None
+    # Each step with its statement, told before it is performed: the ends have not yet counted.
+    assert stepper.steps == [
+        ("start(drive())", "drive();", 0),
+        ("end(drive())", "drive();", 0),
+        ("start(drive())", "drive();", 1),
+        ("end(drive())", "drive();", 1),
+    ]
+    assert len(stepper.steps) == outcome.result.steps

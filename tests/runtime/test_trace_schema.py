@@ -116,6 +116,9 @@ def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
         ("exog_sensing", EXAMPLES / "exog_sensing.gpp", RunOptions()),
         ("blocks_planning", EXAMPLES / "blocks_planning.gpp", RunOptions()),
         ("sim_blocksworld", EXAMPLES / "blocksworld_faults.gpp", RunOptions(platform="sim")),
+        # Recorded with steps (--trace-steps): `step` records, with procedure calls and a pick's local.
+        ("steps", EXAMPLES / "blocksworld.gpp", RunOptions(platform="sim", trace_steps=True)),
+        ("steps_pick", PROGRAMS / "choose_pick.gpp", RunOptions(trace_steps=True)),
         ("sim_does_not_fit", EXAMPLES / "blocks_planning.gpp", RunOptions(platform="sim")),
         ("replan", SCENARIOS / "blocks.gpp", RunOptions(platform_options={"scenario": SCENARIOS / "knocked.toml"})),
         (

@@ -21,13 +21,14 @@ source (gpp.runtime.codegen), which calls the closure of any expression it does 
 Imports run one way: successors -> codegen -> port.
 
 The switch: `gpp.planner.dp.solve_plan(..., generate=False)` (`successors_of(sem, False)`)
-plans with the closures alone, no generated source. `GPP_DUMP_CODE=1` prints the generated
-source as it is built.
+plans with the closures alone, no generated source (`gpp.planner.search.search_plan(...,
+tier=CLOSURES)` searches so). `GPP_DUMP_CODE=1` prints the generated source as it is built.
 
 The tests that keep the forms equal: tests/planner/test_planner_successors.py (closures and generated
 functions against `Semantics.final`/`trans`/`apply` on every configuration reachable in random
 programs, errors included, and a planning with and without generated source),
 tests/runtime/test_compile_cache.py (compiled source reused, constants per build), and
 tests/planner/test_planner.py and tests/planner/test_planner_properties.py (the production planner against
-gpp.planner.reference, which runs the semantics itself).
+gpp.planner.reference, which runs the semantics itself), and tests/planner/test_search_fast.py
+(`search`, which runs on this tier too, against the same search on the semantics, node for node).
 """
