@@ -713,6 +713,27 @@ class Executor:
         else:
             assert_never(step)
 
+    def operate(self, g: GroundAction, span: Span) -> str | None:
+        """Run one action a run control asks for (the operator console's actions before the
+        start), from the control's call in the executor's thread: start it, let the platform's
+        time pass until it ends, consume it (its `senses:` and effects apply when it ended
+        final). None when it ran; else why it did not (its precondition is false, it runs
+        already, or the platform can never end it)."""
+        info = self.program.action(g.name)
+        if self.acts.status(g) is not None:
+            return f"`{g.text}` runs already"
+        if not self.sem.precondition_holds(info, g, self.state):
+            return f"the precondition of `{g.text}` does not hold"
+        self.start(g, span)
+        while self.acts.status(g) is ActivityStatus.RUNNING:
+            self.drain()
+            if self.acts.status(g) is not ActivityStatus.RUNNING:
+                break
+            if not self.wait_for_platform(None) and len(self.platform.queue) == 0 and not self.platform.live():
+                return f"platform `{self.platform.name}` has nothing more to report: `{g.text}` does not end"
+        self.end(EndStep(g, "call", span))
+        return None
+
     def warn_unfinished(self, stmt: ast.Solve | ast.Search, report: PlanReport) -> None:
         """A warning (once per `solve`) when its plan ends at the horizon with the program
         unfinished: what runs after the plan is not planned."""
