@@ -62,8 +62,8 @@ define debian_package
 	fi
 endef
 
-# The trace viewer's browser test (tests/traceview/test_traceview_browser.py) opens the page in
-# Debian's chromium.
+# The browser tests (the trace viewer's, tests/traceview/test_traceview_browser.py, and the operator
+# console's, tests/console/) open their pages in Debian's chromium.
 browser:
 	$(call debian_package,chromium,chromium,the browser test)
 

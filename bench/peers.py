@@ -409,13 +409,17 @@ def targets_table(rows: list[Row], limit: float) -> Iterator[str]:
     for row in rows:
         if row.case.method != SOLVE or not row.case.instance.name.startswith("tower"):
             continue
+        label = f"whole process, {row.case.label}: `gpp run` − start-up"
+        fd_whole = "" if row.fd is None else f"whole process {_s(row.fd.whole)}"
         if row.whole is None or row.startup is None or row.fd is None:
+            # over the limit in-process (then its whole process is not run), or failed
+            now = gpp_seconds(row, limit) if row.gpp_over_limit else "not measured"
+            yield f"| {label} | | {now} | {fd_whole} | below Fast Downward's | miss |"
             continue
         planning = row.whole - row.startup
         yield (
-            f"| whole process, {row.case.label}: `gpp run` − start-up | | {_s(row.whole)} − {_s(row.startup)} = "
-            f"{_s(planning)} | whole process {_s(row.fd.whole)} | below Fast Downward's | "
-            f"{'pass' if planning < row.fd.whole and not row.problems else 'miss'} |"
+            f"| {label} | | {_s(row.whole)} − {_s(row.startup)} = {_s(planning)} | {fd_whole} | "
+            f"below Fast Downward's | {'pass' if planning < row.fd.whole and not row.problems else 'miss'} |"
         )
 
 

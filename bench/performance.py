@@ -57,6 +57,7 @@ BENCHES: dict[str, Bench] = {
     "sim": Bench("sim.py", markdown=True),
     "ros2": Bench("ros2.py"),
     "soak": Bench("soak.py", quick=("--steps", "100000"), markdown=True),
+    "console": Bench("console.py", quick=("--rounds", "3", "--steps", "2000"), markdown=True),
     "pathological": Bench("pathological.py", quick=("--quick",), markdown=True, default=False),
     "peers": Bench("planner.py", ("--targets", "--peers"), quick=("--peers", "--quick"), markdown=True, default=False),
 }

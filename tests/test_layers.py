@@ -22,7 +22,7 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("check", {"gpp.check"}),
     ("runtime", {"gpp.runtime"}),
     ("planner and platforms", {"gpp.planner", "gpp.platform"}),
-    ("run", {"gpp.run", "gpp.traceview", "gpp.dap"}),
+    ("run", {"gpp.run", "gpp.traceview", "gpp.dap", "gpp.console"}),
     ("commands", {"gpp.cli", "gpp.__main__", "lsp"}),
 ]
 # Units of one layer that must not import each other.

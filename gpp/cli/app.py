@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "lsp": "gpp.cli.lsp",
     "dap": "gpp.cli.dap",
     "run": "gpp.cli.run",
+    "console": "gpp.cli.console",
     "test": "gpp.cli.run",
     "trace": "gpp.cli.trace",
     "config": "gpp.cli.project",

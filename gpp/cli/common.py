@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 if TYPE_CHECKING:
     from gpp.base.diagnostics import Diagnostic
+    from gpp.console.access import Access
     from gpp.project.config import Config, ConfigError
 
 # The settings of every typer app of gpp (the root one and `gpp trace`'s).
@@ -111,6 +112,49 @@ def split_ros_arguments(args: list[str]) -> tuple[list[str], tuple[str, ...] | N
         else:
             (ros if inside else rest).append(arg)
     return rest, tuple(ros)
+
+
+# `gpp run --console` without an address (gpp.console.access.DEFAULT_ADDRESS).
+DEFAULT_CONSOLE = "127.0.0.1:8765"
+
+
+def with_console_address(args: list[str]) -> list[str]:
+    """The command line with the default address after a bare `--console` (one followed by
+    nothing, another option or an argument that is not HOST:PORT): the CLI library has no
+    option whose value may be left out."""
+    import re
+
+    shown: list[str] = []
+    for i, arg in enumerate(args):
+        shown.append(arg)
+        if arg != "--console":
+            continue
+        following = args[i + 1] if i + 1 < len(args) else None
+        if following is None or not re.fullmatch(r"(\[[^\]]+\]|[^\s:\[\]/]*):[0-9]{1,5}|[0-9]{1,5}", following):
+            shown.append(DEFAULT_CONSOLE)
+    return shown
+
+
+def console_access(address: str | None, wait: bool, token: str | None) -> Access | None:
+    """Who may use the console `--console` asks for (None: no console); a usage error for an
+    address that is not one, or for --console-wait or --console-token without --console."""
+    if address is None:
+        if wait or token is not None:
+            usage_error(
+                f"{'--console-wait' if wait else '--console-token'} is for the operator console: it needs --console"
+            )
+        return None
+    from gpp.console.access import Access, AccessError, new_token, parse_address
+
+    try:
+        where = parse_address(address)
+    except AccessError as e:
+        usage_error(str(e))
+    if token is not None and not token.strip():
+        usage_error("--console-token must not be empty")
+    if token is None and not where.loopback:
+        token = new_token()
+    return Access(where, token)
 
 
 def usage_error(message: str) -> NoReturn:

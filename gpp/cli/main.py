@@ -47,10 +47,12 @@ def _run(args: list[str]) -> int:
 
     try:
         from gpp.cli.app import make_app
-        from gpp.cli.common import split_ros_arguments
+        from gpp.cli.common import split_ros_arguments, with_console_address
 
         # The CLI library would refuse rcl's `-r`/`-p`: the ROS arguments go to the platform.
         args, ros_arguments = split_ros_arguments(args)
+        if args[:1] == ["run"]:
+            args = with_console_address(args)
         if ros_arguments is not None and args[:1] != ["run"]:
             print("error: --ros-args: only `gpp run` (on platform ros2) takes ROS arguments", file=sys.stderr)
             return EXIT_USAGE

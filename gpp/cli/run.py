@@ -18,13 +18,16 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
-from gpp.cli.common import usage_error
+from gpp.cli.common import console_access, usage_error
 
 if TYPE_CHECKING:
     from gpp.check import CheckResult
+    from gpp.console.access import Access
+    from gpp.console.server import ConsoleServer
+    from gpp.run.runner import RunOptions
     from gpp.run.testing import TestCase
     from gpp.run.view import RunView
-    from gpp.runtime.trace import TraceSplit
+    from gpp.runtime.trace import TraceListener, TraceSplit
 
 PlatformOption = Annotated[
     str | None,
@@ -321,6 +324,43 @@ def run(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No live view or event lines; only the summary.")
     ] = False,
+    console: Annotated[
+        str | None,
+        typer.Option(
+            "--console",
+            metavar="[HOST:PORT]",
+            help="Serve the operator console, a live page of the run with Start, Pause, Stop and events to "
+            "send (default 127.0.0.1:8765; any other address than loopback needs a token).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
+    console_wait: Annotated[
+        bool,
+        typer.Option(
+            "--console-wait",
+            help="Wait for Start on the console page before `main` begins (actions and events can be "
+            "triggered before).",
+            rich_help_panel="Operator console",
+        ),
+    ] = False,
+    console_join: Annotated[
+        str | None,
+        typer.Option(
+            "--console-join",
+            metavar="URL",
+            help="Show this run on the page of `gpp console` at URL too (several agents on one page).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
+    console_token: Annotated[
+        str | None,
+        typer.Option(
+            "--console-token",
+            metavar="TOKEN",
+            help="The token the console asks for (default: none on loopback, else a new one, printed).",
+            rich_help_panel="Operator console",
+        ),
+    ] = None,
     **flags: Any,
 ) -> None:
     """Check FILE, run its `main()` on a platform, and evaluate `postcond()` if it has one.
@@ -346,6 +386,9 @@ def run(
     require_readable(file)
     check_timeout(timeout)
     check_timeout(time_limit, "--time-limit")
+    access = console_access(console, console_wait, console_token)
+    if console_join is not None and access is None:
+        usage_error("--console-join shows the run's console on another page: it needs --console")
     from gpp.planner.search import STRATEGIES
 
     if search_strategy not in STRATEGIES:
@@ -402,11 +445,19 @@ def run(
     options.progress = view.progress
     options.clock = view.watch_clock
     from gpp.runtime.events import ErrorEvent, PlanEvent, ReplanEvent
-    from gpp.runtime.trace import Recording, TraceListener, TraceWriteError
+    from gpp.runtime.trace import Recording, TraceWriteError
 
     # The planner profile needs the plans and the errors that stopped planning, nothing else.
     plans = Recording(kinds=(PlanEvent, ReplanEvent, ErrorEvent)) if profile else None
     listeners: list[TraceListener] = [*([view] if view.shows else []), *([plans] if plans is not None else [])]
+    served = open_console(access, checked, console_wait, options, listeners) if access is not None else None
+    if served is not None and console_join is not None:
+        from gpp.console.hub import join
+
+        problem = join(console_join, served.url)
+        if problem is not None:
+            served.close()
+            usage_error(f"--console-join: {problem}")
     try:
         with view:
             outcome = run_program(file, options, listeners or None, checked=checked)
@@ -415,6 +466,9 @@ def run(
     except TraceWriteError as e:  # the run stopped, its activities cancelled
         print(f"error: {e}", file=sys.stderr)
         raise typer.Exit(EXIT_PROBLEMS) from None
+    finally:
+        if served is not None:
+            served.close()
     runtime = [d for d in outcome.diagnostics if d not in shown]
     if runtime:
         emit_diagnostics(runtime, OutputFormat.TEXT, ColorMode.AUTO, summary=False)
@@ -432,6 +486,37 @@ def run(
     if outcome.result is not None and outcome.result.status.value == "interrupted":
         raise typer.Exit(signals.EXIT_TERMINATED if outcome.result.terminated else signals.EXIT_INTERRUPTED)
     raise typer.Exit(EXIT_OK if outcome.ok else EXIT_PROBLEMS)
+
+
+def open_console(
+    access: Access, checked: CheckResult, wait: bool, options: RunOptions, listeners: list[TraceListener]
+) -> ConsoleServer:
+    """Serve the console for this run (its state a listener of the run, its control the
+    run's), and say where."""
+    from gpp.console.access import AccessError
+    from gpp.console.control import ConsoleControl
+    from gpp.console.server import serve
+    from gpp.console.state import ConsoleState
+
+    state = ConsoleState()
+    control = ConsoleControl(state, checked.model, wait)
+    try:
+        server = serve(state, control, access)
+    except AccessError as e:
+        usage_error(f"--console: {e}")
+    options.control = control
+    listeners.append(state)
+    print(f"console: {server.url}", file=sys.stderr, flush=True)
+    if not access.address.loopback:
+        print(
+            f"warning: the console listens on {access.address.host}, beyond this machine, without TLS: its token "
+            "and everything it shows cross the network in plain text (use a network you trust, or a TLS proxy)",
+            file=sys.stderr,
+            flush=True,
+        )
+    if wait:
+        print("console: the run waits for Start on the page", file=sys.stderr, flush=True)
+    return server
 
 
 def test_command(

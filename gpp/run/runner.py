@@ -274,6 +274,12 @@ def entry_arguments(
     return tuple(values)
 
 
+def value_from_text(text: str, t: Type) -> Value:
+    """Text a user typed (`--arg`, a form of the operator console) as a value of type `t`
+    (ConversionError when it is not one)."""
+    return to_value(_literal(text, t), t)
+
+
 def _literal(text: str, t: Type) -> object:
     """Text from the command line as plain data for `to_value`."""
     element = t.element if isinstance(t, DomainType) else t

@@ -21,6 +21,7 @@ from gpp.runtime.events import (
     FinishEvent,
     HeaderEvent,
     NoticeEvent,
+    OperatorEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -91,6 +92,12 @@ def describe(event: TraceEvent) -> str | None:
                 # (the live panel, the summary and the page show which step of the plan it is).
                 return None
             return f"wait   {event.condition}: {event.statement}" + (f" at {event.at}" if event.at else "")
+        case OperatorEvent():
+            return (
+                f"operator {event.command}"
+                + (f" {event.action}" if event.action else "")
+                + (f" (from {event.client})" if event.client else "")
+            )
         case HeaderEvent() | SnapshotEvent() | StepEvent():
             return None  # a step's records say what it did
         case _:

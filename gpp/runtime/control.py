@@ -45,7 +45,7 @@ from typing import TYPE_CHECKING, Literal, Protocol
 from gpp.base.source import Span
 from gpp.runtime.compiled import CompiledProgram
 from gpp.runtime.contract import Attention, EventQueue, PlatformPort
-from gpp.runtime.state import Activities, State
+from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.trace import Trace
 
 if TYPE_CHECKING:
@@ -68,6 +68,15 @@ class Executor(Protocol):
     def state(self) -> State: ...
     @property
     def acts(self) -> Activities: ...
+
+    def drain(self) -> None:
+        """Take in the platform's queued events now (while the control holds the run)."""
+        ...
+
+    def operate(self, action: GroundAction, span: Span) -> str | None:
+        """Run one action now, to its end (the console's actions before the start): None when
+        it ran, else why not."""
+        ...
 
 
 class RunStopped(KeyboardInterrupt):

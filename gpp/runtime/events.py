@@ -26,7 +26,7 @@ from typing import Any, ClassVar, Final, TypeAlias, TypeVar, cast
 
 from gpp.runtime.values import Value, to_json
 
-TRACE_SCHEMA_VERSION: Final = "1.7"
+TRACE_SCHEMA_VERSION: Final = "1.8"
 # The JSON Schema (draft 2020-12) of a trace record, shipped inside the package.
 SCHEMA_RESOURCE: Final = "trace.schema.json"
 
@@ -351,6 +351,27 @@ class AssignEvent(EventBase):
     at: str | None
 
 
+# ---------------------------------------------------------------- the operator
+
+# What an `operator` record's `command` can be (the operator console, `gpp run --console`).
+OPERATOR_COMMANDS: Final = ("start", "pause", "resume", "stop", "exog", "act")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class OperatorEvent(EventBase):
+    """Since 1.8: an operator did something at the console (`gpp run --console`): started,
+    paused, resumed or stopped the run, sent an exogenous event, or had an action run before
+    the start."""
+
+    EVENT: ClassVar[str] = "operator"
+
+    command: str  # one of OPERATOR_COMMANDS
+    # The exogenous event sent or the action run (`exog`, `act`).
+    action: str | None = field(default=None, metadata=_OPTIONAL)
+    # Who: the address of the browser that asked (`127.0.0.1`, `[::1]`, `192.168.1.20`).
+    client: str | None = field(default=None, metadata=_OPTIONAL)
+
+
 # ---------------------------------------------------------------- planning
 
 
@@ -420,6 +441,7 @@ TraceEvent: TypeAlias = (
     | FinishEvent
     | DroppedEvent
     | WarningEvent
+    | OperatorEvent
 )
 
 EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
@@ -444,6 +466,7 @@ EVENT_TYPES: Final[Mapping[str, type[EventBase]]] = {
         FinishEvent,
         DroppedEvent,
         WarningEvent,
+        OperatorEvent,
     )
 }
 
@@ -550,6 +573,7 @@ def decode(line: str | bytes) -> TraceEvent:
 __all__ = [
     "ABSENT",
     "EVENT_TYPES",
+    "OPERATOR_COMMANDS",
     "SCHEMA_RESOURCE",
     "TRACE_SCHEMA_VERSION",
     "WAIT_REASONS",
@@ -565,6 +589,7 @@ __all__ = [
     "HeaderEvent",
     "JsonValue",
     "NoticeEvent",
+    "OperatorEvent",
     "PlanEvent",
     "ReplanEvent",
     "SenseEvent",

@@ -36,6 +36,7 @@ from gpp.runtime.contract import (
     Activity,
     ActivityUpdate,
     Attention,
+    Event,
     ExogFunctionChanged,
     ExogOccurrence,
     MessageDropped,
@@ -365,8 +366,10 @@ class Executor:
                 )
             )
         finally:
+            # The run has ended: no control holds or stops the clean-up (it is told once it is done).
+            control, self.control = self.control, RunControl()
             self.stop_running_activities()
-            self.control.finished(self)
+            control.finished(self)
             result.state, result.activities = self.state, self.acts
             result.platform_time = self.platform.now()
             result.wall_time = time.perf_counter() - started
@@ -520,25 +523,47 @@ class Executor:
     # ---------------------------------------------------------------- events
 
     def drain(self) -> None:
+        """Take in what the platform queued. Every event taken is handled even when the control
+        stops the run on one of them (a debugger's stop at a failure, then terminate): an
+        activity's end must not be lost, or the run's end would wait for it. The control's
+        `attend` comes once, after the platform's events."""
+        stopped: RunStopped | None = None
+        attention = False
         for t, event in self.platform.queue.drain():
-            if isinstance(event, ActivityUpdate):
-                self.on_update(t, event)
-            elif isinstance(event, PlatformNotice):
-                self.on_notice(t, event)
-            elif isinstance(event, ExogOccurrence):
-                self.on_exog(t, event)
-            elif isinstance(event, ExogFunctionChanged):
-                pass  # the program evaluates its conditions again: that is all
-            elif isinstance(event, MessageDropped):
-                self.on_dropped(t, event)
-            elif isinstance(event, PlatformWarning):
-                self.on_warning(t, event)
-            elif isinstance(event, PlatformFault):
-                self.faults.extend(event.problems)
-            elif isinstance(event, Attention):
+            try:
+                attention = self.take(t, event) or attention
+            except RunStopped as e:
+                stopped = stopped or e
+        if attention and stopped is None:
+            try:
                 self.control.attend(self)
-            else:
-                assert_never(event)
+            except RunStopped as e:
+                stopped = e
+        if stopped is not None:
+            raise stopped
+
+    def take(self, t: float, event: Event) -> bool:
+        """Handle one event of the platform's queue; True for an `Attention` (the caller tells
+        the control)."""
+        if isinstance(event, ActivityUpdate):
+            self.on_update(t, event)
+        elif isinstance(event, PlatformNotice):
+            self.on_notice(t, event)
+        elif isinstance(event, ExogOccurrence):
+            self.on_exog(t, event)
+        elif isinstance(event, ExogFunctionChanged):
+            pass  # the program evaluates its conditions again: that is all
+        elif isinstance(event, MessageDropped):
+            self.on_dropped(t, event)
+        elif isinstance(event, PlatformWarning):
+            self.on_warning(t, event)
+        elif isinstance(event, PlatformFault):
+            self.faults.extend(event.problems)
+        elif isinstance(event, Attention):
+            return True
+        else:
+            assert_never(event)
+        return False
 
     def stop_at_fault(self) -> None:
         """Stop the run when the platform reported problems with the program (PlatformFault):
@@ -712,6 +737,27 @@ class Executor:
             pass
         else:
             assert_never(step)
+
+    def operate(self, g: GroundAction, span: Span) -> str | None:
+        """Run one action a run control asks for (the operator console's actions before the
+        start), from the control's call in the executor's thread: start it, let the platform's
+        time pass until it ends, consume it (its `senses:` and effects apply when it ended
+        final). None when it ran; else why it did not (its precondition is false, it runs
+        already, or the platform can never end it)."""
+        info = self.program.action(g.name)
+        if self.acts.status(g) is not None:
+            return f"`{g.text}` runs already"
+        if not self.sem.precondition_holds(info, g, self.state):
+            return f"the precondition of `{g.text}` does not hold"
+        self.start(g, span)
+        while self.acts.status(g) is ActivityStatus.RUNNING:
+            self.drain()
+            if self.acts.status(g) is not ActivityStatus.RUNNING:
+                break
+            if not self.wait_for_platform(None) and len(self.platform.queue) == 0 and not self.platform.live():
+                return f"platform `{self.platform.name}` has nothing more to report: `{g.text}` does not end"
+        self.end(EndStep(g, "call", span))
+        return None
 
     def warn_unfinished(self, stmt: ast.Solve | ast.Search, report: PlanReport) -> None:
         """A warning (once per `solve`) when its plan ends at the horizon with the program

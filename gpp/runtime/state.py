@@ -67,23 +67,29 @@ class State:
         advance (by generated code): `item_hash` is `_item_hash(slot, value)`, `initial` says
         whether `value` is the slot's initial value, `plain` whether it is a symbol, a string
         or null."""
-        values = dict(self._values)
+        held = self._values
         h = self._hash
-        old = values.get(slot, _ABSENT)
+        old = held.get(slot, _ABSENT)
         if old is not _ABSENT:
             if old is value or (type(old) is type(value) and old == value):  # _identical, inline
-                return State(values, h, self._plain)
-            del values[slot]
+                return self  # unchanged (states are never changed: no copy needed)
             if h is not None:
                 h ^= hash((slot, type(old).__name__, old))  # _item_hash, inline
-        keep = self._plain
-        if not initial:
-            values[slot] = value
-            if h is not None:
-                h ^= item_hash
-            if keep and not plain:
-                keep = False
-        return State(values, h, keep)
+            if initial:
+                # Dropped by a copy without it, not deleted from a full copy: a deletion
+                # leaves its entry used, and the copies of this state's copies would keep the
+                # larger table (docs/design.md, "Packed states").
+                return State({k: v for k, v in held.items() if k != slot}, h, self._plain)
+        elif initial:
+            return self  # not held, and not to be
+        # A held slot is overwritten in place, not deleted and added again: the copy has no
+        # free entry for a new key, and the addition would grow its table though the state
+        # holds no more instances (docs/design.md, "Packed states").
+        values = dict(held)
+        values[slot] = value
+        if h is not None:
+            h ^= item_hash
+        return State(values, h, self._plain and plain)
 
     def is_plain(self) -> bool:
         """Is every held value a symbol, a string or null?"""

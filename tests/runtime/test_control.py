@@ -184,3 +184,26 @@ def test_a_control_is_told_each_transition_before_it_is_taken(tmp_path: Path) ->
         ("end(drive())", "drive();", 1),
     ]
     assert len(stepper.steps) == outcome.result.steps
+
+
+class StopOnAttention(Watcher):
+    """Asks for attention while an activity runs, and stops the run when it gets it."""
+
+    def checkpoint(self, executor: Executor, prog: Prog) -> None:
+        super().checkpoint(executor, prog)
+        if any(True for _ in executor.acts.running()) and not self.attended:
+            self.attended = -1
+            request_attention(executor.platform.queue, executor.platform.now())
+
+    def attend(self, executor: Executor) -> None:
+        raise RunStopped("stopped by the operator")
+
+
+def test_a_stop_in_the_middle_of_the_queue_loses_no_activity_end(tmp_path: Path) -> None:
+    # The attention is queued before the drive's end: the end is still taken in, so the run's
+    # end does not wait for an acknowledgement that was already there.
+    outcome = run(tmp_path, StopOnAttention())
+    assert outcome.result is not None and outcome.result.status is RunStatus.INTERRUPTED
+    assert outcome.recording is not None
+    assert [e.message for e in outcome.recording.of(ErrorEvent)] == ["stopped by the operator"]
+    assert [(e.action, e.status) for e in outcome.recording.of(UpdateEvent)] == [("drive()", "final")]
