@@ -343,12 +343,14 @@ def test_the_plan_of_the_enclosing_solve_and_its_progress(tmp_path: Path) -> Non
 
 
 Frames = tuple[tuple[str, int | None], ...]
+# The stops of a session: the stack and a value at each.
+Stops = list[tuple[Frames, str | None]]
 
 
-def step_in_to_the_end(client: DapClient, value: str | None = None) -> list[tuple[Frames, str | None]]:
-    """Step in from the first stop to the end of the run (live: until the session ends) or of
-    the recording: at each stop the stack's (name, line) and `value` evaluated there."""
-    seen: list[tuple[Frames, str | None]] = []
+def stops_to_the_end(client: DapClient, value: str | None = None, how: str = "stepIn") -> Stops:
+    """Go on (`how`) from the first stop to the end of the run (live: until the session ends)
+    or of the recording: at each stop the stack's (name, line) and `value` evaluated there."""
+    seen: Stops = []
     while True:
         try:
             stop = client.stopped()
@@ -359,19 +361,21 @@ def step_in_to_the_end(client: DapClient, value: str | None = None) -> list[tupl
         frames = client.ok("stackTrace", {"threadId": 1})["stackFrames"]
         shown = client.evaluate(value)["result"] if value is not None else None
         seen.append((tuple((f["name"], f.get("line")) for f in frames), shown))
-        client.ok("stepIn", {"threadId": 1})
+        client.ok(how, {"threadId": 1})
 
 
 def live_and_replayed(
-    tmp_path: Path, launch: Message, value: str | None = None
-) -> tuple[list[tuple[Frames, str | None]], list[tuple[Frames, str | None]]]:
-    """The stops of a live session stepping in from its entry, and of its trace replayed."""
+    tmp_path: Path, launch: Message, value: str | None = None, breakpoints: dict[str, list[Message]] | None = None
+) -> tuple[Stops, Stops]:
+    """The stops of a live session stepping in from its entry (with `breakpoints`: going from
+    breakpoint to breakpoint), and of its trace replayed the same way."""
+    entry, how = (True, "stepIn") if breakpoints is None else (False, "continue")
     with dap_session(tmp_path) as client:
-        client.start({**launch, "traceFile": "live.jsonl", "stopOnEntry": True})
-        live = step_in_to_the_end(client, value)
+        client.start({**launch, "traceFile": "live.jsonl", "stopOnEntry": entry}, breakpoints)
+        live = stops_to_the_end(client, value, how)
     with dap_session(tmp_path) as client:
-        client.start({"trace": "live.jsonl", "stopOnEntry": True})
-        replayed = step_in_to_the_end(client, value)
+        client.start({"trace": "live.jsonl", "stopOnEntry": entry}, breakpoints)
+        replayed = stops_to_the_end(client, value, how)
     return live, replayed
 
 
@@ -407,3 +411,16 @@ def test_a_recursion_has_the_same_stack_live_and_replayed(tmp_path: Path) -> Non
     # transition, and nothing of it is left after (a tail call).
     assert live[-2:] == [(("visit(hall)", 30), ("main()", 56)), (("visit(hall)", 31),)]
     assert replayed[: len(stops)] == stops
+
+
+def test_a_breakpoint_on_a_call_stops_at_its_first_transition_live_and_replayed(tmp_path: Path) -> None:
+    """Line 37, `count_down(n - 1);`: the calls count_down(2) and count_down(1) begin with a
+    transition (line 36); count_down(0) has none of its own, so no stop there."""
+    breakpoints = {str(REPLAY_AGENT): [{"line": 37}]}
+    live, replayed = live_and_replayed(tmp_path, {"program": str(REPLAY_AGENT)}, "n", breakpoints)
+    main = ("main()", 46)
+    assert live == [
+        ((("count_down(2)", 36), ("count_down(3)", 37), main), "2"),
+        ((("count_down(1)", 36), ("count_down(2)", 37), ("count_down(3)", 37), main), "1"),
+    ]
+    assert replayed == live
