@@ -9,7 +9,7 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, TypeVar, cast
 
 from gpp.base import diagnostics as diag
@@ -18,9 +18,10 @@ from gpp.dap.backend import Client, Evaluated, Resumption, Scope, SessionBackend
 from gpp.dap.breakpoints import Breakpoints
 from gpp.dap.program import CheckedExpression, DebugProgram, ExpressionError
 from gpp.dap.protocol import DapError
-from gpp.dap.stack import CallFrame, call_frames, elements, sees
+from gpp.dap.stack import CallFrame, elements, sees
 from gpp.dap.variables import Handles, activity_scope, fluent_scope, plan_scope, value_variable, values_scope
 from gpp.model.symbols import SymbolKind
+from gpp.runtime.callstack import Call, CallStacks
 from gpp.runtime.compiled import Env
 from gpp.runtime.contract import EventQueue, ExogFunctionChanged, ExogOccurrence
 from gpp.runtime.control import Executor, Happening, RunControl, RunStopped, request_attention
@@ -31,6 +32,7 @@ from gpp.runtime.semantics import (
     DoStep,
     EndKind,
     EndStep,
+    Frame,
     Planned,
     PlanStep,
     Prog,
@@ -45,8 +47,8 @@ from gpp.syntax import ast
 
 T = TypeVar("T")
 
-# How many calls a stop enters at most to show where a transition is (a recursion that deep
-# before its first transition is shown from its outermost calls).
+# How many calls a stop between transitions enters at most to show where the next transition
+# is (a recursion that deep before its first transition is shown from its outermost calls).
 MAX_ENTERED = 100
 
 # What a stop's description adds on a platform whose time does not stand still.
@@ -89,6 +91,10 @@ class LiveBackend(RunControl, SessionBackend):
         self.setup_error: str | None = None
         self._go = threading.Event()
         self._stop_on_entry = False
+        # Stop on entry at the first transition (or where the program waits before it).
+        self._entry = False
+        # The calls of the run's continuations (made when the run starts).
+        self.stacks: CallStacks = cast(CallStacks, None)
         self._held = False
         self._terminating = False
         self._ended_run = False
@@ -193,14 +199,15 @@ class LiveBackend(RunControl, SessionBackend):
 
     def started(self, executor: Executor, prog: Prog) -> None:
         self.program = DebugProgram(self.check, executor.program)
+        self.stacks = CallStacks(executor.program)
         self.executor = executor
         self.last_prog = prog
         self.ready.set()
         self._go.wait()
         self.end_if_asked()
         self.note_activities(executor)
-        if self._stop_on_entry and not self.no_debug:
-            self.hold(executor, prog, self.frames_of(executor, prog), Stop("entry", "stopped on entry"), between=True)
+        # Stopping on entry is stopping before the first transition (see `stepping`).
+        self._entry = self._stop_on_entry and not self.no_debug
 
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
         self.end_if_asked()
@@ -208,11 +215,19 @@ class LiveBackend(RunControl, SessionBackend):
         if self.no_debug:
             return
         self.note_activities(executor)
+        if self._entry and getattr(executor, "blocked", False):
+            # The program waits before its first transition: stop on entry where it waits.
+            self._entry = False
+            self.hold(executor, prog, self.frames_of(executor, prog), Stop("entry", "stopped on entry"), between=True)
         if self._pause:
             self._pause = False
             self.hold(executor, prog, self.frames_of(executor, prog), Stop("pause", "paused"), between=True)
 
     def stepping(self, executor: Executor, prog: Prog, step: Step, after: Prog) -> None:
+        """Every stop of a transition is before it, at its statement, inside the calls it is
+        in (gpp.runtime.callstack, as the trace's `step` records): a procedure call is no
+        transition of its own, so a breakpoint on a call line stops at the first transition
+        of that call, inside the callee."""
         self.end_if_asked()
         self.last_prog = after
         if self.no_debug:
@@ -220,27 +235,28 @@ class LiveBackend(RunControl, SessionBackend):
         stmt = self.statement_of(step)
         if stmt is None:
             return
-        positions = self.positions(executor, prog, stmt, after)
-        first = 0
+        span = step.session.stmt.span if isinstance(step, PlanStep | ReplanStep) else step.span
+        calls = self.stacks.step_calls(prog, after, span)
+        frames = self.stack_of(executor, calls, stmt, prog, after)
+        if self._entry:
+            self._entry = False
+            self.hold(executor, prog, frames, Stop("entry", "stopped on entry"))
+            return
         if self._fresh:  # the first transition after a stop between transitions begins there
             self._fresh = False
-            if _place(positions[0]) == self._from:
-                first = 1
-        for i in range(first, len(positions)):
-            frames = positions[i]
-            last = i + 1 == len(positions)
-            stop = self.breakpoint_stop(executor, step, frames, entering=i > 0, last=last)
-            if stop is None and self._mode in ("next", "stepIn", "stepOut") and (not last or _is_statement_step(step)):
-                depth = len(frames)
-                if (
-                    self._mode == "stepIn"
-                    or (self._mode == "next" and depth <= self._depth)
-                    or (self._mode == "stepOut" and depth < self._depth)
-                ):
-                    stop = Stop("step")
-            if stop is not None:
-                self.hold(executor, prog, frames, stop)
-                self._fresh = False  # what comes next in this transition is past the stop
+            if _place(frames) == self._from:
+                return
+        stop = self.breakpoint_stop(executor, step, frames, calls)
+        if stop is None and self._mode in ("next", "stepIn", "stepOut") and _is_statement_step(step):
+            depth = len(frames)
+            if (
+                self._mode == "stepIn"
+                or (self._mode == "next" and depth <= self._depth)
+                or (self._mode == "stepOut" and depth < self._depth)
+            ):
+                stop = Stop("step")
+        if stop is not None:
+            self.hold(executor, prog, frames, stop)
 
     def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
         if happening.kind not in self.breakpoints.exceptions or self._terminating or self.no_debug:
@@ -249,10 +265,9 @@ class LiveBackend(RunControl, SessionBackend):
             happening.kind, "no plan"
         )
         at = prog if prog is not None else self.last_prog
-        # Shown where it happened: inside the calls it is in (a test blocked in a procedure is
-        # still at the call of that procedure, a call being no transition of its own).
-        frames = self.positions(executor, at, None, at)[-1]
-        self.hold(executor, at, frames, Stop("exception", happening.description, label), between=True)
+        self.hold(
+            executor, at, self.frames_of(executor, at), Stop("exception", happening.description, label), between=True
+        )
 
     def attend(self, executor: Executor) -> None:
         self.end_if_asked()
@@ -275,8 +290,35 @@ class LiveBackend(RunControl, SessionBackend):
     # ---------------------------------------------------------------- stopping
 
     def frames_of(self, executor: Executor, prog: Prog) -> list[CallFrame]:
-        """The calls of `prog` from the piece the next transition can come from on."""
-        return call_frames(self.program, prog, lambda piece: may_end(executor, piece))
+        """The stack between two transitions: the calls of `prog` (gpp.runtime.callstack) at
+        the statement the next transition can come from (pieces that may end where they are
+        are passed over, as `trans` passes over them)."""
+        view, first = prog, None
+        for _ in range(MAX_ENTERED):  # a call is no transition: the stop is inside the callee
+            entering = self.entered(executor, view)
+            if entering is None:
+                break
+            view = entering[0]
+            first = first or entering[1]
+        head = self.head_of(executor, view)
+        if head is None:
+            return []
+        calls = self.stacks.calls(view)
+        outer = self.stacks.calls(prog)
+        if (
+            first is not None
+            and outer
+            and calls
+            and (calls[-1].procedure, calls[-1].args)
+            != (
+                outer[-1].procedure,
+                outer[-1].args,
+            )
+        ):
+            # The caller, at the call it began, also when nothing of it is left after the call.
+            at = calls[-1] if calls[-1].at is not None else replace(calls[-1], at=first)
+            calls = (*calls[:-1], at, *outer)
+        return self.stack_of(executor, calls, head[0], view, view)
 
     def statement_of(self, step: Step) -> ast.Statement | None:
         """The statement a transition executes (a `solve`'s planning: the `solve`)."""
@@ -284,69 +326,66 @@ class LiveBackend(RunControl, SessionBackend):
             return step.session.stmt
         return self.program.statement_of(step.span)
 
-    def positions(
-        self, executor: Executor, prog: Prog, stmt: ast.Statement | None, after: Prog
-    ) -> list[list[CallFrame]]:
-        """The stacks a transition of statement `stmt` from `prog` may be shown at, outermost
-        first. A call is no transition of its own: the callee's first transition is the
-        call's. So when `stmt` is in a procedure `prog` has not entered yet, the transition is
-        first at each call it begins (the stack of the caller, at its call), then at `stmt`
-        (the calls of `prog` entered down to the procedure that holds `stmt`). At `stmt`, the
-        bindings are those it sees (`after` has a `pick`'s value, bound in this transition).
-        Without `stmt`, every call `prog` begins with is entered."""
-        procedure = self.program.procedure_of(stmt) if stmt is not None else None
-        frames = self.frames_of(executor, prog)
-        out: list[list[CallFrame]] = []
-        view = prog
-        for _ in range(MAX_ENTERED):
-            if not frames or frames[0].procedure is procedure:
-                break
-            entering = self.entered(executor, view)
-            if entering is None:
-                break
-            view, call, callee = entering
-            top = frames[0]
-            # The caller stays on the stack at its call, also when nothing of it is left after
-            # the call (a call as the last statement leaves nothing of its caller behind).
-            caller = [CallFrame(top.procedure, top.frame, call.span, call, top.planned), *frames[1:]]
-            out.append(caller)
-            frames = self.frames_of(executor, callee) + caller
-        if stmt is not None and frames and frames[0].procedure is procedure:
-            top = frames[0]
-            frame = next(
-                (
-                    e.frame
-                    for p in (after, view)
-                    for e in elements(p, self.program)
-                    if e.frame is not None and sees(e.frame, self.program, stmt)
-                ),
-                top.frame,
-            )
-            head = top.stmt if top.stmt is not stmt else None
-            frames = [CallFrame(top.procedure, frame, stmt.span, stmt, top.planned, head=head), *frames[1:]]
-        out.append(frames)
+    def head_of(self, executor: Executor, prog: Prog) -> tuple[ast.Statement, Prog] | None:
+        """The statement the next transition of `prog` comes from, and the piece that holds it."""
+        for e in elements(prog, self.program):
+            if e.piece is not None and may_end(executor, e.piece):
+                continue
+            stmt = e.stmt if e.stmt is not None else self.program.statement_of(e.span)
+            return (stmt, e.piece or prog) if stmt is not None else None
+        return None
+
+    def stack_of(
+        self, executor: Executor, calls: tuple[Call, ...], stmt: ast.Statement, prog: Prog, after: Prog
+    ) -> list[CallFrame]:
+        """The stack of calls `calls` (innermost first), the innermost at `stmt`: each caller
+        at its call statement. The innermost call's bindings are those `stmt` sees (a `pick`
+        binds its variable in the transition that runs its body's first statement, and inside a
+        `solve` they are the executed policy's)."""
+        out: list[CallFrame] = []
+        for i, call in enumerate(calls):
+            if i == 0:
+                frame = call.frame
+                if frame is None or not sees(frame, self.program, stmt):
+                    found = (
+                        e.frame
+                        for p in (after, prog)
+                        for e in elements(p, self.program)
+                        if e.frame is not None and sees(e.frame, self.program, stmt)
+                    )
+                    frame = next(found, frame)
+                head = self.head_of(executor, prog)
+                outer = head[0] if head is not None else None
+                contains = outer is not None and outer is not stmt and _inside(stmt, outer)
+                out.append(
+                    CallFrame(call.procedure, frame or Frame(), stmt.span, stmt, None, head=outer if contains else None)
+                )
+                continue
+            at = calls[i - 1].at
+            out.append(CallFrame(call.procedure, call.frame or Frame(), at.span if at else None, at, None))
         return out
 
     def breakpoint_stop(
-        self, executor: Executor, step: Step, frames: list[CallFrame], entering: bool, last: bool
+        self, executor: Executor, step: Step, frames: list[CallFrame], calls: tuple[Call, ...]
     ) -> Stop | None:
-        """The stop of the line or function breakpoints at one place of this transition (see
-        `positions`; `entering`: a call begins with it, `last`: the place of its statement), if
-        one stops (logpoints print and go on). A function breakpoint on a procedure stops
-        inside it, at the first place of its call; on an action, where it starts."""
+        """The stop of the line or function breakpoints at this transition, if one stops
+        (logpoints print and go on): a line breakpoint on its statement (or on the `if` or
+        `while` it starts from) or on the call statement of a call it begins; a function
+        breakpoint on a procedure a call of which it begins, or on the action it starts."""
         if not frames:
             return None
         table = self.breakpoints
         top = frames[0]
         ids: list[int] = []
-        if top.stmt is not None and (not last or _is_statement_step(step)):
-            for stmt in (top.stmt, top.head):
-                if stmt is not None:
-                    ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
+        statements = [top.stmt, top.head] if _is_statement_step(step) else []
+        statements += [c.at for c in calls if c.entered]
+        for stmt in statements:
+            if stmt is not None:
+                ids.extend(b.id for b in table.at_statement(stmt) if self.passes(executor, b, top))
         function_ids: list[int] = []
         if table.functions:
-            names = [top.procedure.name] if entering else []
-            if last and isinstance(step, StartStep | DoStep):
+            names = [c.procedure.name for c in calls if c.entered]
+            if isinstance(step, StartStep | DoStep):
                 names.append(step.action.name)
             for name in names:
                 b = table.functions.get(name)
@@ -524,6 +563,12 @@ def evaluated(expression: CheckedExpression, env: Env) -> Value:
         raise DapError(e.message) from None
     except KeyError:
         raise DapError("a variable of this expression has no value at this point yet") from None
+
+
+def _inside(stmt: ast.Statement, outer: ast.Statement) -> bool:
+    """Is `stmt` inside statement `outer` (an `if` or `while` whose test is no transition)?"""
+    a, b = stmt.span, outer.span
+    return a.source is b.source and b.start <= a.start and a.end <= b.end
 
 
 def _place(frames: list[CallFrame]) -> tuple[int, int] | None:

@@ -40,7 +40,7 @@ from gpp.model.symbols import SymbolKind
 from gpp.model.types import Type
 from gpp.runtime.compiled import CompiledProgram, Env
 from gpp.runtime.errors import GppRuntimeError
-from gpp.runtime.events import JsonValue, UpdateEvent
+from gpp.runtime.events import JsonValue, StepEvent, UpdateEvent
 from gpp.runtime.state import State
 from gpp.runtime.values import Value, from_json, show_json
 from gpp.syntax import ast
@@ -173,6 +173,11 @@ class TraceBackend(SessionBackend):
         for b in table.at_statement(stmt) if stmt is not None else ():
             if self.passes(b, q, stmt):
                 ids.append(b.id)
+        for call in self.calls_begun(q) if table.by_statement and not position.continues else ():
+            # A call is no transition of its own: its line's breakpoint stops at its first one.
+            for b in table.at_statement(call):
+                if self.passes(b, q, stmt):
+                    ids.append(b.id)
         functions = table.functions
         if functions:
             for name in (position.started, position.procedure):
@@ -200,6 +205,28 @@ class TraceBackend(SessionBackend):
             message = str(getattr(record, "message", position.kind))
             return "exception", (), message
         return None
+
+    def calls_begun(self, q: int) -> list[ast.Statement]:
+        """The call statements of the calls position `q`'s step begins: its calls (innermost
+        first) that the step before it was not in, compared from the entry procedure inwards."""
+        record = self.replay.record(q)
+        if not isinstance(record, StepEvent) or not record.frames:
+            return []
+        before: tuple[dict[str, JsonValue], ...] = ()
+        if q > 0:
+            previous = self.replay.record(q - 1)
+            before = previous.frames if isinstance(previous, StepEvent) else ()
+        frames = record.frames
+        same = 0
+        while same < min(len(frames), len(before)) and _call(frames[-1 - same]) == _call(before[-1 - same]):
+            same += 1
+        found = []
+        for frame in frames[: len(frames) - same]:
+            at = frame.get("at")
+            stmt = self.statement(at) if isinstance(at, str) else None
+            if stmt is not None:
+                found.append(stmt)
+        return found
 
     def passes(self, b: Breakpoint, q: int, stmt: ast.Statement | None) -> bool:
         """Does breakpoint `b` stop at position `q` (its condition in that position's state,
@@ -521,6 +548,11 @@ def make_trace_backend(args: Message, server: Host) -> SessionBackend:
     for limit in replay.limits():
         server.output(f"not in this trace: {limit}\n", "console")
     return backend
+
+
+def _call(frame: dict[str, JsonValue]) -> tuple[JsonValue, ...]:
+    """What tells one call of a `step` record from another: its procedure, arguments and call."""
+    return frame.get("procedure"), frame.get("args"), frame.get("at")
 
 
 def _base(found: Path, given: Path) -> Path:

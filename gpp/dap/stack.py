@@ -11,7 +11,7 @@ nothing of the caller behind (a tail call): the caller is then not on the stack.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from gpp.base.source import Span
@@ -59,7 +59,7 @@ class CallFrame:
     procedure: Symbol
     frame: Frame
     # Where this call is: the next statement of the innermost frame, the call of the others.
-    span: Span
+    span: Span | None
     # The statement that scopes its expressions (evaluate, conditions).
     stmt: ast.Statement | None
     planned: Planned | None
@@ -148,42 +148,3 @@ def _policy_elements(p: Planned, program: DebugProgram) -> Iterator[Element]:
 def sees(frame: Frame, program: DebugProgram, stmt: ast.Statement) -> bool:
     """`frame` binds every variable visible at `stmt`."""
     return all(id(s) in frame.vars for s in program.visible(stmt))
-
-
-def call_frames(program: DebugProgram, p: Prog, final: Callable[[Prog], bool] | None = None) -> list[CallFrame]:
-    """The procedure calls of continuation `p`, innermost first. `final` says of a piece of
-    the continuation that it may end here: the pieces it says so of at its start are passed
-    over (a loop whose condition no longer holds: the next transition comes after it)."""
-    out: list[CallFrame] = []
-    leading = final is not None
-    for e in elements(p, program):
-        if leading and final is not None:
-            if e.piece is not None and final(e.piece):
-                continue
-            leading = False
-        stmt = e.stmt if e.stmt is not None else program.statement_of(e.span)
-        procedure = program.procedure_of(stmt) if stmt is not None else None
-        if procedure is None:
-            continue
-        frame = e.frame
-        if out and out[-1].procedure is procedure:
-            top = out[-1]
-            if frame is None:
-                continue  # more of the same call
-            if top.unbound:  # what it waits for, then the rest of its body: one call
-                out[-1] = CallFrame(procedure, frame, top.span, top.stmt, top.planned)
-                continue
-            if _arguments(top, frame):
-                continue
-        unbound = frame is None
-        # A caller's frame is at its call (the statement before what remains of its block).
-        span = e.span
-        if out and isinstance(e.before, ast.CallStmt):
-            span = e.before.span
-        out.append(CallFrame(procedure, frame or Frame(), span, stmt, e.planned, unbound))
-    return out
-
-
-def _arguments(top: CallFrame, frame: Frame) -> bool:
-    """`frame` has the same values of the procedure's parameters as the frame of `top`."""
-    return all(top.frame.vars.get(id(p)) == frame.vars.get(id(p)) for p in top.procedure.params)

@@ -10,7 +10,7 @@ statement leaves nothing of the caller behind, so that caller is not shown (as a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import assert_never
 
 from gpp.base.source import Span
@@ -36,6 +36,32 @@ from gpp.syntax import ast
 # A `step` record lists at most this many calls: the innermost ones and the entry procedure
 # (a deep recursion would make each record as long as the recursion is deep).
 MAX_FRAMES = 32
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """One procedure call of a continuation: the procedure, the bindings its part sees (None:
+    not known there), the call statement in its caller (when the caller's rest shows it),
+    whether the transition read began it, and its arguments and other bound variables as the
+    trace writes them."""
+
+    procedure: Symbol
+    frame: Frame | None
+    at: ast.Statement | None
+    args: dict[str, JsonValue]
+    locals: dict[str, JsonValue]
+    entered: bool = False
+
+    def record(self) -> dict[str, JsonValue]:
+        """The call as a `step` record lists it: `procedure`, `args`, `at` and `locals`."""
+        out: dict[str, JsonValue] = {
+            "procedure": self.procedure.name,
+            "args": self.args,
+            "at": str(self.at.span) if self.at is not None else None,
+        }
+        if self.locals:
+            out["locals"] = self.locals
+        return out
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,52 +111,61 @@ class CallStacks:
 
     def step_frames(self, prog: Prog, next_prog: Prog, span: Span) -> tuple[dict[str, JsonValue], ...]:
         """The calls of the statement at `span` that takes the transition from `prog` to
-        `next_prog`. The part of `prog` that stepped is the outermost one `next_prog` does not
-        share (the parts before it were finished and skipped): when the statement is one of
-        that part's own, the calls are that part's and those outside it; when the transition
-        entered a procedure from there, they are read after it (the callee's rest), and a
-        procedure entered and left in one transition is listed without its arguments."""
+        `next_prog`, as the `step` record lists them (see `step_calls`)."""
+        return tuple(call.record() for call in self.step_calls(prog, next_prog, span))
+
+    def step_calls(self, prog: Prog, next_prog: Prog, span: Span) -> tuple[Call, ...]:
+        """The calls of the statement at `span` that takes the transition from `prog` to
+        `next_prog`, innermost first. The part of `prog` that stepped is the outermost one
+        `next_prog` does not share (the parts before it were finished and skipped): when the
+        statement is one of that part's own, the calls are that part's and those outside it;
+        when the transition entered a procedure from there, they are read after it (the
+        callee's rest), and a procedure entered and left in one transition is listed without
+        its arguments. The calls the transition began are marked `entered`."""
         procedure = self.procedure_at(span)
-        name = procedure.name if procedure is not None else None
         before, after = _chain(prog), _chain(next_prog)
         shared = 0
         while shared < min(len(before), len(after)) and before[-1 - shared] is after[-1 - shared]:
             shared += 1
         stepped = before[: len(before) - shared]
-        outside = self._frames(_parts(before[len(stepped) - 1 :])) if stepped else ()
-        if stepped and _holds(stepped[-1], span):
+        outside = self._calls(_parts(before[len(stepped) - 1 :])) if stepped else ()
+        if stepped and self._holds(stepped[-1], span):
             return outside
-        entered = self.frames(next_prog)
-        if entered and entered[0]["procedure"] == name:
+        entered = self.calls(next_prog)
+        if entered and procedure is not None and entered[0].procedure is procedure:
             # The calls this transition entered, on the calls it was made in (which the rest
             # after it may have lost: a call that was its caller's last statement).
             top = outside[0] if outside else None
             cut = next(
                 (
                     i
-                    for i, f in enumerate(entered)
-                    if top is not None and (f["procedure"], f["args"]) == (top["procedure"], top["args"])
+                    for i, c in enumerate(entered)
+                    if top is not None and (c.procedure, c.args) == (top.procedure, top.args)
                 ),
                 len(entered),
             )
-            new = [dict(f) for f in entered[:cut]]
+            new = [replace(c, entered=True) for c in entered[:cut]]
             call = _head_statement(stepped[-1]) if stepped else None
-            if new and new[-1]["at"] is None and isinstance(call, ast.CallStmt):
-                new[-1]["at"] = str(call.span)
+            if new and new[-1].at is None and isinstance(call, ast.CallStmt):
+                new[-1] = replace(new[-1], at=call)
             return (*new, *outside)
-        if name is None or (outside and outside[0]["procedure"] == name):
+        if procedure is None or (outside and outside[0].procedure is procedure):
             return outside
-        return ({"procedure": name, "args": {}, "at": None}, *outside)
+        return (Call(procedure, None, None, {}, {}, entered=True), *outside)
 
     def frames(self, prog: Prog) -> tuple[dict[str, JsonValue], ...]:
-        """The calls `prog`'s next statement is in (see `_frames`)."""
-        return self._frames(_path(prog))
+        """The calls `prog`'s next statement is in (see `_calls`), as records."""
+        return tuple(call.record() for call in self.calls(prog))
 
-    def _frames(self, path: list[_Part]) -> tuple[dict[str, JsonValue], ...]:
-        """The calls of the parts `path` (innermost first), innermost first: `procedure`,
-        `args` (its parameters by name), `at` (the call statement, when the caller's rest shows
-        it) and, when there are any, `locals` (other variables bound there, a `pick`'s)."""
-        frames: list[dict[str, JsonValue]] = []
+    def calls(self, prog: Prog) -> tuple[Call, ...]:
+        """The calls `prog`'s next statement is in (see `_calls`)."""
+        return self._calls(_path(prog))
+
+    def _calls(self, path: list[_Part]) -> tuple[Call, ...]:
+        """The calls of the parts `path` (innermost first), innermost first, each with its
+        arguments, the call statement (when the caller's rest shows it) and the other
+        variables bound there (a `pick`'s)."""
+        calls: list[Call] = []
         last: tuple[str, tuple[JsonValue, ...]] | None = None
         parts = [(part, self.procedure_at(part.span)) for part in path]
         for index, (part, symbol) in enumerate(parts):
@@ -144,18 +179,32 @@ class CallStacks:
             key = (symbol.name, tuple(args.values()))
             if last == key:
                 continue
-            if frames and isinstance(part.before, ast.CallStmt):
-                # The caller goes on after the call that made the frame before (inner) this one.
+            if calls and isinstance(part.before, ast.CallStmt):
+                # The caller goes on after the call that made the call before (inner) this one.
                 callee = self.program.model.target(part.before.call)
-                if callee is not None and callee.name == frames[-1]["procedure"]:
-                    frames[-1]["at"] = str(part.before.span)
+                if callee is not None and callee.name == calls[-1].procedure.name:
+                    calls[-1] = replace(calls[-1], at=part.before)
             last = key
-            frame: dict[str, JsonValue] = {"procedure": symbol.name, "args": args, "at": None}
-            local = self._locals(bound, set(params))
-            if local:
-                frame["locals"] = local
-            frames.append(frame)
-        return tuple(frames)
+            calls.append(Call(symbol, part.frame, None, args, self._locals(bound, set(params))))
+        return tuple(calls)
+
+    def _holds(self, item: Prog, span: Span) -> bool:
+        """Is the statement at `span` one of `item`'s own (a statement it will run, or one
+        inside such a statement), not one of a procedure a call of it enters?"""
+        match item:
+            case Rest():
+                statements: tuple[ast.Statement, ...] = tuple(item.block.body[item.index :])
+            case Code():
+                statements = (item.stmt,)
+            case _:
+                return False
+        for stmt in statements:
+            if stmt.span.source is span.source and stmt.span.start <= span.start and span.end <= stmt.span.end:
+                if not isinstance(stmt, ast.CallStmt):
+                    return True
+                callee = self.program.model.target(stmt.call)
+                return callee is None or callee.kind is not SymbolKind.PROCEDURE
+        return False
 
     def _locals(self, bound: dict[int, Value], params: set[int]) -> dict[str, JsonValue]:
         """The variables of `bound` that are not the procedure's parameters, by name."""
@@ -222,22 +271,6 @@ def _chain(prog: Prog) -> list[Prog]:
 def _parts(items: list[Prog]) -> list[_Part]:
     """The parts of each of `items` (innermost first), one after the other."""
     return [part for item in items for part in _path(item)]
-
-
-def _holds(item: Prog, span: Span) -> bool:
-    """Is the statement at `span` one of `item`'s own (a statement it will run, or one inside
-    such a statement), not one of a procedure a call of it enters?"""
-    match item:
-        case Rest():
-            statements: tuple[ast.Statement, ...] = tuple(item.block.body[item.index :])
-        case Code():
-            statements = (item.stmt,)
-        case _:
-            return False
-    for stmt in statements:
-        if stmt.span.source is span.source and stmt.span.start <= span.start and span.end <= stmt.span.end:
-            return not isinstance(stmt, ast.CallStmt)
-    return False
 
 
 def _head_statement(item: Prog) -> ast.Statement | None:

@@ -48,12 +48,15 @@ def test_line_breakpoints_are_verified_and_moved_to_the_next_statement(dap: DapC
     assert elsewhere["breakpoints"][0]["message"] == "this file is not part of the program being debugged"
 
 
-def test_a_breakpoint_on_a_call_stops_at_the_call_before_the_callee_runs(dap: DapClient, programs: Path) -> None:
+def test_a_breakpoint_on_a_call_stops_at_the_calls_first_transition(dap: DapClient, programs: Path) -> None:
     program = errands(dap, programs, [{"line": line_of(programs / "errands.gpp", "collect(lab);")}])
     stop = dap.stopped()
     assert stop["reason"] == "breakpoint"
     frames = dap.ok("stackTrace", {"threadId": 1})["stackFrames"]
-    assert [(f["name"], f["line"]) for f in frames] == [("main(kitchen, 2)", line_of(program, "collect(lab);"))]
+    assert [(f["name"], f["line"]) for f in frames] == [
+        ("collect(lab)", line_of(program, "go(r);")),
+        ("main(kitchen, 2)", line_of(program, "collect(lab);")),
+    ]
     # The first call is over: the kitchen's cups are all carried.
     assert dap.evaluate("carried()")["result"] == "2"
 

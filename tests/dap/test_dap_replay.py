@@ -342,41 +342,85 @@ def test_the_plan_of_the_enclosing_solve_and_its_progress(tmp_path: Path) -> Non
         assert "Plan" not in scopes and "Fluents" in scopes
 
 
+Frames = tuple[tuple[str, int | None], ...]
+# The stops of a session: the stack and a value at each.
+Stops = list[tuple[Frames, str | None]]
+
+
+def stops_to_the_end(client: DapClient, value: str | None = None, how: str = "stepIn") -> Stops:
+    """Go on (`how`) from the first stop to the end of the run (live: until the session ends)
+    or of the recording: at each stop the stack's (name, line) and `value` evaluated there."""
+    seen: Stops = []
+    while True:
+        try:
+            stop = client.stopped()
+        except AssertionError:  # a live session ends with its run: no more stops
+            return seen
+        if "the end of the recorded run" in stop.get("description", ""):
+            return seen
+        frames = client.ok("stackTrace", {"threadId": 1})["stackFrames"]
+        shown = client.evaluate(value)["result"] if value is not None else None
+        seen.append((tuple((f["name"], f.get("line")) for f in frames), shown))
+        client.ok(how, {"threadId": 1})
+
+
+def live_and_replayed(
+    tmp_path: Path, launch: Message, value: str | None = None, breakpoints: dict[str, list[Message]] | None = None
+) -> tuple[Stops, Stops]:
+    """The stops of a live session stepping in from its entry (with `breakpoints`: going from
+    breakpoint to breakpoint), and of its trace replayed the same way."""
+    entry, how = (True, "stepIn") if breakpoints is None else (False, "continue")
+    with dap_session(tmp_path) as client:
+        client.start({**launch, "traceFile": "live.jsonl", "stopOnEntry": entry}, breakpoints)
+        live = stops_to_the_end(client, value, how)
+    with dap_session(tmp_path) as client:
+        client.start({"trace": "live.jsonl", "stopOnEntry": entry}, breakpoints)
+        replayed = stops_to_the_end(client, value, how)
+    return live, replayed
+
+
 def test_a_replay_stops_where_the_live_session_stopped_with_the_same_stack_and_values(tmp_path: Path) -> None:
     """Stepping in through a live run and through its trace: the same statements, calls and
     values, stop by stop."""
-    program = BLOCKSWORLD
+    live, replayed = live_and_replayed(tmp_path, {"program": str(BLOCKSWORLD), "platform": "sim"}, "loc(a)")
+    # Every stop is before a transition, at its statement, as the trace's steps are; the
+    # replay's last stop is the end of the recording, where the run's last step left it.
+    assert len(live) > 10
+    assert replayed[: len(live)] == live and len(replayed) == len(live) + 1
 
-    Stop = tuple[list[tuple[str, int]], str]
 
-    def stops(client: DapClient, seen: list[Stop]) -> None:
-        while True:
-            stop = client.stopped()
-            if "the end of the recorded run" in stop.get("description", ""):
-                return
-            frames = client.ok("stackTrace", {"threadId": 1})["stackFrames"]
-            seen.append(([(f["name"], f["line"]) for f in frames], client.evaluate("loc(a)")["result"]))
-            client.ok("stepIn", {"threadId": 1})
-
-    live: list[Stop] = []
-    with dap_session(tmp_path) as client:
-        launch = {"program": str(program), "platform": "sim", "traceFile": "live.jsonl", "stopOnEntry": True}
-        client.start(launch)
-        with pytest.raises(AssertionError):  # the session ends with the run: no more stops
-            stops(client, live)
-    replayed: list[Stop] = []
-    with dap_session(tmp_path) as client:
-        client.start({"trace": "live.jsonl", "stopOnEntry": True})
-        stops(client, replayed)
-    # The live session also stops at a procedure's call statement before it enters the call
-    # (a call is no transition of its own: the trace has no step there), and once before the
-    # first transition.
-    calls = [
-        n
-        for n, line in enumerate(program.read_text(encoding="utf-8").splitlines(), 1)
-        if line.strip() == "sense_all();"
+def test_a_recursion_has_the_same_stack_live_and_replayed(tmp_path: Path) -> None:
+    """Stepping in through count_down(3) (a recursion) and the tail call at the end: the stack
+    at each stop is the calls with their arguments, each caller at its call, live and replayed."""
+    stops, replayed = live_and_replayed(tmp_path, {"program": str(REPLAY_AGENT)}, "counter()")
+    live = [frames for frames, _ in stops]
+    main = ("main()", 46)
+    assert live[2:8] == [
+        (("count_down(3)", 36), main),
+        (("count_down(2)", 36), ("count_down(3)", 37), main),
+        (("count_down(1)", 36), ("count_down(2)", 37), ("count_down(3)", 37), main),
+        (("count_down(1)", 38), ("count_down(2)", 37), ("count_down(3)", 37), main),
+        (("count_down(2)", 38), ("count_down(3)", 37), main),
+        (("count_down(3)", 38), main),
     ]
-    assert len(calls) == 2
-    transitions = [stop for stop in live if stop[0][0][1] not in calls]
-    assert len(transitions) > 10
-    assert replayed[: len(transitions)] == transitions
+    # counter() before each: 2 after visit(kitchen), then + 3, + 2, + 1, then - 1 on each return.
+    assert [value for _, value in stops[2:8]] == ["1", "4", "6", "7", "6", "5"]
+    # The `pick`'s body begins with a call: the stop is inside it, at its first transition.
+    assert live[8] == (("visit(office)", 30), ("main()", 48))
+    # The last call is main's last statement: the caller shows at the call's first
+    # transition, and nothing of it is left after (a tail call).
+    assert live[-2:] == [(("visit(hall)", 30), ("main()", 56)), (("visit(hall)", 31),)]
+    assert replayed[: len(stops)] == stops
+
+
+def test_a_breakpoint_on_a_call_stops_at_its_first_transition_live_and_replayed(tmp_path: Path) -> None:
+    """Line 37, `count_down(n - 1);`: the calls count_down(2) and count_down(1) begin with a
+    transition (line 36); count_down(0) has none of its own, so no stop there."""
+    breakpoints = {str(REPLAY_AGENT): [{"line": 37}]}
+    live, replayed = live_and_replayed(tmp_path, {"program": str(REPLAY_AGENT)}, "n", breakpoints)
+    main = ("main()", 46)
+    assert live == [
+        ((("count_down(2)", 36), ("count_down(3)", 37), main), "2"),
+        ((("count_down(1)", 36), ("count_down(2)", 37), ("count_down(3)", 37), main), "1"),
+    ]
+    assert replayed == live

@@ -46,10 +46,13 @@ def test_stop_on_entry_stops_before_the_first_transition_of_main(dap: DapClient,
     program = launch_errands(dap, programs)
     stop = dap.stopped()
     assert stop["reason"] == "entry"
+    # main's first transition is collect(kitchen)'s first (a call is no transition).
     frames = dap.ok("stackTrace", {"threadId": 1})["stackFrames"]
-    assert [f["name"] for f in frames] == ["main(kitchen, 2)"]
+    assert [(f["name"], f["line"]) for f in frames] == [
+        ("collect(kitchen)", line_of(program, "go(r);")),
+        ("main(kitchen, 2)", line_of(program, "collect(first);")),
+    ]
     assert frames[0]["source"]["path"] == str(program.resolve())
-    assert frames[0]["line"] == line_of(program, "collect(first);")
     assert dap.ok("threads")["threads"] == [{"id": 1, "name": "main"}]
 
 
@@ -136,8 +139,9 @@ def test_evaluate_locates_what_does_not_check(dap: DapClient, programs: Path) ->
         "column 12: cannot add `Room` and `number`"
     )
     assert dap.error("evaluate", {"expression": "1); go(lab", "frameId": 0}) == "column 1: one expression is expected"
-    # In main's scope, `r` (collect's parameter) is not visible.
-    assert "unknown name `r`" in dap.error("evaluate", {"expression": "cups(r)", "frameId": 0})
+    # In main's scope (the caller's frame), `r` (collect's parameter) is not visible.
+    assert dap.evaluate("cups(r)")["result"] == "2"
+    assert "unknown name `r`" in dap.error("evaluate", {"expression": "cups(r)", "frameId": 1})
     assert dap.error("evaluate", {"expression": "carried() / 0", "frameId": 0}) == "division by zero"
 
 

@@ -26,32 +26,37 @@ def test_step_in_over_and_out_of_procedure_calls(dap: DapClient, programs: Path)
         text: line_of(program, text)
         for text in ("go(r);", "push_back", "pick_up();", "collect(lab);", "pose().x", "go(office);")
     }
-    assert step(dap, "stepIn") == ("collect(kitchen)", at["go(r);"], 2)
+    # On entry: at main's first transition, inside the call it begins (a call is no
+    # transition of its own).
+    assert (dap.top()["name"], dap.top()["line"]) == ("collect(kitchen)", at["go(r);"])
     # Over the call of an action: its end is no step of its own.
     assert step(dap, "next") == ("collect(kitchen)", at["push_back"], 2)
     assert step(dap, "next") == ("collect(kitchen)", at["pick_up();"], 2)
     assert step(dap, "next") == ("collect(kitchen)", at["pick_up();"], 2)
     assert dap.evaluate("cups(r)")["result"] == "1"
-    # Out: back in main, at the next call.
-    assert step(dap, "stepOut") == ("main(kitchen, 2)", at["collect(lab);"], 1)
-    assert dap.evaluate("carried()")["result"] == "2"
-    # Over a procedure call: all of it.
-    assert step(dap, "next") == ("main(kitchen, 2)", at["pose().x"], 1)
+    # Out: at the first transition of main's own (the next call's are inside that call).
+    assert step(dap, "stepOut") == ("main(kitchen, 2)", at["pose().x"], 1)
     assert dap.evaluate("carried()")["result"] == "3"
     assert step(dap, "next") == ("main(kitchen, 2)", at["go(office);"], 1)
     dap.ok("next", {"threadId": 1})
     assert dap.event("exited")["body"]["exitCode"] == 0
 
 
-def test_step_in_from_a_call_enters_the_callee(dap: DapClient, programs: Path) -> None:
+def test_a_breakpoint_on_a_call_stops_inside_the_callee(dap: DapClient, programs: Path) -> None:
     program = programs / "errands.gpp"
     dap.start(
         {"program": str(program), "args": ERRANDS_ARGS}, {str(program): [{"line": line_of(program, "collect(lab);")}]}
     )
-    dap.stopped()
-    # From office? No: the robot is in the kitchen, so collect(lab) begins with go(lab).
-    assert step(dap, "stepIn") == ("collect(lab)", line_of(program, "go(r);"), 2)
+    assert dap.stopped()["reason"] == "breakpoint"
+    # A breakpoint on a call stops at the call's first transition, inside the callee, with
+    # the caller at the call: the robot is in the kitchen, so collect(lab) begins with go(lab).
+    frames = dap.ok("stackTrace", {"threadId": 1})["stackFrames"]
+    assert [(f["name"], f["line"]) for f in frames] == [
+        ("collect(lab)", line_of(program, "go(r);")),
+        ("main(kitchen, 2)", line_of(program, "collect(lab);")),
+    ]
     assert dap.evaluate("robot_at() != r")["result"] == "true"
+    assert step(dap, "stepIn") == ("collect(lab)", line_of(program, "push_back"), 2)
 
 
 def test_pause_stops_a_running_agent_at_its_next_transition(dap: DapClient, programs: Path) -> None:

@@ -85,14 +85,11 @@ test(`gpp dap on the ${PLATFORM} platform, driven by the DebugClient`, { timeout
       [['main()', first]],
     );
 
-    // Step over the action: main's next statement, a call.
-    let top = await stepTo(dc, dc.nextRequest({ threadId: 1 }), 'step');
-    assert.deepEqual([top.name, top.line], ['main()', lineOf('collect(kitchen);')]);
-
-    // Step in: into the call, at its first transition (the robot is in the kitchen already: the
-    // first pick-up), with the call on the stack.
+    // Step in: main's next statement is a call, which is no transition of its own: the stop is
+    // at the call's first transition (the robot is in the kitchen already: the first pick-up),
+    // with the caller at the call on the stack.
     const pickUp = lineOf('pick_up();');
-    top = await stepTo(dc, dc.stepInRequest({ threadId: 1 }), 'step');
+    let top = await stepTo(dc, dc.stepInRequest({ threadId: 1 }), 'step');
     stack = await frames(dc);
     assert.deepEqual(
       stack.map((f) => [f.name, f.line]),
