@@ -15,6 +15,9 @@ from gpp.runtime.values import show_json
 from tests.support.dap_client import DapClient, Message, dap_session
 from tests.support.replay import BLOCKSWORLD, REPLAY_AGENT, Watcher, record
 
+# Processes: each test records a run, then replays it in a `gpp dap` process.
+pytestmark = pytest.mark.slow
+
 
 def position(stop: Message) -> int:
     """The 0-based position a stop's description names (`position 3 of 40 ...`)."""

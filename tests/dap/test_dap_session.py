@@ -11,9 +11,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from gpp.dap.protocol import encode_message, read_message
 from tests.support.cli import Runner
 from tests.support.dap_client import ROOT, DapClient, line_of
+
+# A `gpp dap` process for each test.
+pytestmark = pytest.mark.slow
 
 ERRANDS_ARGS = {"first": "kitchen", "rounds": 2}
 

@@ -15,8 +15,13 @@ import zipfile
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 from gpp.syntax.editor_files import GENERATED, TEXTMATE_SCOPE
 from tests.support.node import EXTENSION, GPP, needs_node, node, npm_tool
+
+# Node processes: the grammar test, the extension's activation, vsce packaging.
+pytestmark = pytest.mark.slow
 
 ROOT = EXTENSION.parents[1]
 

@@ -27,6 +27,9 @@ from gpp.runtime.events import (
 )
 from gpp.runtime.executor import RunStatus
 
+# Real ROS 2 nodes over DDS: each test waits for discovery and for its robot's answers.
+pytestmark = pytest.mark.slow
+
 FIB = '"/fib : test_msgs/action/Fibonacci"'
 
 COUNT = f"""
