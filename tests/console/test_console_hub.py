@@ -147,11 +147,12 @@ def test_an_agent_on_ros2_read_from_its_live_records_topic(tmp_path: Path) -> No
     try:
         live = LiveTopics()
         live.attach(agent)
+        # The hub listens before the run starts, as an operator's console does.
+        hub.add(Ros2Feed("/robot1/gpp_agent", console))
         program = ROOT / "tests/programs/exog_events.gpp"
         outcome = run_program(program, RunOptions(), [live])
         assert outcome.ok
         live.flush()
-        hub.add(Ros2Feed("/robot1/gpp_agent", console))
         deadline = time.monotonic() + WAIT
         view: dict[str, Any] = {}
         while view.get("status") != "finished":
