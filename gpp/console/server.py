@@ -262,9 +262,9 @@ class ConsoleServer(WebServer):
         woken = self._woken = asyncio.Event()
         while not self.channel.closing:
             # Told of each change only while a browser looks; else the records are folded once
-            # a heartbeat or when many wait (their deque stays short): each wake of this thread
-            # costs the run a hand-over of the interpreter's lock.
-            self.state.on_change(self._changed, watched=bool(self.channel.streams))
+            # a heartbeat (their deque stays short): each wake of this thread costs the run a
+            # hand-over of the interpreter's lock.
+            self.state.on_change(self._changed if self.channel.streams else None)
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(woken.wait(), HEARTBEAT)
             woken.clear()

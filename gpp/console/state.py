@@ -119,10 +119,6 @@ class _View:
     records: int = 0
 
 
-# Records handed over that wake the server to fold them even while no browser looks.
-FOLD_AT = 1024
-
-
 class ConsoleState:
     """A trace listener that keeps what the console's page shows of one run."""
 
@@ -133,7 +129,6 @@ class ConsoleState:
         # Set by the server: called (from the executor's thread) when something was handed over
         # and the server is not already told; it then folds and pushes.
         self._wake: Callable[[], None] | None = None
-        self._watched = False
         self._told = False
         # What the run control says beyond the records: waiting for Start, paused.
         self.control_status: str | None = None
@@ -142,14 +137,9 @@ class ConsoleState:
     # ------------------------------------------------------------ the executor's side
 
     def __call__(self, event: TraceEvent | Setup) -> None:
-        """A record of the run (or the Setup): handed over, folded later by the server (at
-        once while a browser looks; else once a heartbeat, or sooner when FOLD_AT records wait:
-        records kept waiting cost the run more, in the garbage collector's passes, than folding
-        them)."""
-        handed = self._handed
-        handed.append(event)
-        if self._watched or len(handed) >= FOLD_AT:
-            self.nudge()
+        """A record of the run (or the Setup): handed over, folded later by the server."""
+        self._handed.append(event)
+        self.nudge()
 
     def nudge(self) -> None:
         """Tell the server something changed (once until it looks)."""
@@ -160,11 +150,9 @@ class ConsoleState:
 
     # ------------------------------------------------------------ the server's side
 
-    def on_change(self, wake: Callable[[], None] | None, watched: bool = True) -> None:
-        """The server's callback for `nudge` (None: none); `watched`: a browser looks, so every
-        record wakes the server (else only FOLD_AT waiting records do)."""
+    def on_change(self, wake: Callable[[], None] | None) -> None:
+        """The server's callback for `nudge` (None: none)."""
         self._wake = wake
-        self._watched = watched
         self._told = False
 
     def view(self, clock: float | None = None) -> dict[str, Any]:
