@@ -505,7 +505,7 @@ def open_console(
     except AccessError as e:
         usage_error(f"--console: {e}")
     options.control = control
-    listeners.append(state)
+    listeners.extend(state.listeners())
     print(f"console: {server.url}", file=sys.stderr, flush=True)
     if not access.address.loopback:
         print(

@@ -123,7 +123,7 @@ class ConsoleControl(RunControl):
             self._clock = executor.platform.now
         if self.wait:
             self.state.control_status = "waiting for Start"
-        self.state(setup(executor, self.exogenous, self.actions))
+        self.state.attach(executor, setup(executor, self.exogenous, self.actions))
         if not self.wait:
             self._handle(executor)
             return
@@ -261,23 +261,23 @@ def _parameter(param: Symbol, model: Model) -> Parameter:
 
 
 def setup(executor: Executor, exogenous: tuple[Form, ...], actions: tuple[Form, ...]) -> Setup:
-    """The fluent instances the page shows with their values now (those of fluents whose
-    parameters all have finite types, up to MAX_FLUENT_INSTANCES), and the forms."""
+    """The fluent instances the page shows (those of fluents whose parameters all have finite
+    types, up to MAX_FLUENT_INSTANCES), and the forms."""
     program = executor.program
-    values: dict[str, ev.JsonValue] = {}
+    instances: list[tuple[int, str]] = []
     left_out = 0
     for symbol in program.model.globals.values():
         if symbol.kind is not SymbolKind.FLUENT or symbol.predefined or not all(_finite(p.type) for p in symbol.params):
             continue  # a parameter of an infinite type: its instances show once they are set
         domains = [domain_values(p.type, program.model) for p in symbol.params]
         count = math.prod(len(d) for d in domains)
-        if len(values) + count > MAX_FLUENT_INSTANCES:
+        if len(instances) + count > MAX_FLUENT_INSTANCES:
             left_out += count
             continue
         for args in itertools.product(*domains):
-            value: Value = program.read(executor.state, symbol.name, args)
-            values[program.instance_text(program.slot(symbol.name, args))] = ev.json_value(value)
-    return Setup(values, exogenous, actions, left_out)
+            slot = program.slot(symbol.name, args)  # the slot made here, in the run's thread
+            instances.append((slot, program.instance_text(slot)))
+    return Setup(tuple(instances), exogenous, actions, left_out)
 
 
 def _finite(t: Type | None) -> bool:

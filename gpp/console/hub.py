@@ -33,7 +33,7 @@ from starlette.routing import Route
 
 from gpp.console.access import TOKEN_HEADER, Access
 from gpp.console.server import Channel, WebServer, event_stream, page_html, page_response, refused
-from gpp.console.state import ConsoleState
+from gpp.console.state import RecordFold
 from gpp.runtime.events import decode
 
 # Seconds to wait for an agent's console to answer a request the hub hands on.
@@ -120,7 +120,7 @@ class Ros2Feed(Feed):
         from gpp.platform.ros2.interfaces import load_interface
         from gpp.platform.ros2.live import EVENTS_KEPT
 
-        self.state = ConsoleState()
+        self.state = RecordFold()
         string = load_interface("std_msgs/msg/String")
         qos = Qos(reliability="reliable", durability="transient_local", history="keep_last", depth=EVENTS_KEPT)
         topic = node.rstrip("/") + "/events"

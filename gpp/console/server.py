@@ -125,6 +125,24 @@ def page_response() -> HTMLResponse:
     return HTMLResponse(PAGE, headers={"Cache-Control": "no-store", "Referrer-Policy": "no-referrer"})
 
 
+class _QuietServer(uvicorn.Server):
+    """uvicorn's server without the ten wakes a second of its main loop (each would cost the
+    run a hand-over of the interpreter's lock): it serves until `leave` is called, on its loop."""
+
+    _left: asyncio.Event | None = None
+
+    async def main_loop(self) -> None:
+        self._left = asyncio.Event()
+        await self.on_tick(0)  # the default headers, once
+        if not self.should_exit:
+            await self._left.wait()
+
+    def leave(self) -> None:
+        self.should_exit = True
+        if self._left is not None:
+            self._left.set()
+
+
 class WebServer:
     """A web server in a thread of its own (uvicorn), its routes those of the subclass, at
     `access.address` until `close`."""
@@ -133,7 +151,7 @@ class WebServer:
         self.access = access
         self.port = access.address.port
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._server: uvicorn.Server | None = None
+        self._server: _QuietServer | None = None
         self._thread: threading.Thread | None = None
         self._socket: socket.socket | None = None
 
@@ -167,12 +185,18 @@ class WebServer:
             lifespan="off",
             timeout_graceful_shutdown=CLOSE_GRACE,
             access_log=False,
+            date_header=False,
         )
-        self._server = uvicorn.Server(config)
+        self._server = _QuietServer(config)
         started = threading.Event()
         self._thread = threading.Thread(target=self._serve, args=(started,), name="gpp-console", daemon=True)
         self._thread.start()
         started.wait(10.0)
+
+    @property
+    def thread_id(self) -> int | None:
+        """The server thread's id in the system (the bench reads its CPU time)."""
+        return self._thread.native_id if self._thread is not None else None
 
     @property
     def url(self) -> str:
@@ -214,7 +238,7 @@ class WebServer:
     def _finish(self) -> None:
         self.closing()
         if self._server is not None:
-            self._server.should_exit = True
+            self._server.leave()
 
 
 class ConsoleServer(WebServer):
@@ -257,19 +281,28 @@ class ConsoleServer(WebServer):
             self._woken.set()
 
     async def _push(self) -> None:
-        """Fold the run's records into a new view when they come (or the clock moved), and
-        tell the streams."""
+        """While a browser looks, make a new view when the run changed it (told at once of the
+        few records the page must show soon: a plan, a failure, the end; the others are counted,
+        the count looked at `PUSHES_PER_SECOND` times a second), or the clock moved (every
+        `HEARTBEAT`), and tell the streams. While none looks, nothing: each wake of this thread
+        costs the run a hand-over of the interpreter's lock."""
         woken = self._woken = asyncio.Event()
+        loop = asyncio.get_running_loop()
+        seen, published = -1, 0.0
         while not self.channel.closing:
-            # Told of each change only while a browser looks; else the records are folded once
-            # a heartbeat (their deque stays short): each wake of this thread costs the run a
-            # hand-over of the interpreter's lock.
-            self.state.on_change(self._changed if self.channel.streams else None)
+            watched = self.channel.streams > 0
+            self.state.on_change(self._changed if watched else None)
             with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(woken.wait(), HEARTBEAT)
+                await asyncio.wait_for(woken.wait(), 1.0 / PUSHES_PER_SECOND if watched else None)
+            told = woken.is_set()
             woken.clear()
-            self.channel.publish(self._view())
-            await asyncio.sleep(1.0 / PUSHES_PER_SECOND)
+            if not self.channel.streams:
+                continue
+            records = self.state.records
+            if told or records != seen or loop.time() - published >= HEARTBEAT:
+                seen, published = records, loop.time()
+                self.channel.publish(self._view())
+                await asyncio.sleep(1.0 / PUSHES_PER_SECOND)
 
     def _view(self, closed: bool = False) -> str:
         data = self.state.view(self.control.clock())

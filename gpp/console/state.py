@@ -1,14 +1,20 @@
-"""What the console's page shows of a run, folded from the run's trace records.
+"""What the console's page shows of a run: one view, from either of two sources.
 
-The executor's thread only hands each record over (`ConsoleState.__call__`, a trace listener:
-one append to a deque); the server's thread folds what was handed over into the view
-(`ConsoleState.view`) when it pushes to the page. So the cost of the console to the run does
-not grow with the page's work, nor with a slow browser.
+* `ConsoleState`, the run's own console (`gpp run --console`), a trace listener that keeps
+  almost nothing of each record: the latest ones (a bounded ring, for the page's lines of
+  events), a count, and a note of the few kinds whose news the executor does not keep (the
+  header, a plan and the step it is at, failures, problems, the finish). The world itself, the
+  fluents' values and the running activities, is read from the executor when the page asks
+  (`view`, on the server's thread): the executor's state and activity set are values it
+  replaces whole at each step, never changes, so another thread reads them without a lock. So
+  the run pays for no record the page will not show, and holds none beyond the ring, however
+  fast it goes and however long no browser looks.
+* `RecordFold`, a run known only by its records (the `gpp console` hub reading an agent's live
+  event topic): every record is folded in as it comes.
 
-Besides the records, the page needs what the trace does not say: the fluent instances at their
-initial values and the forms of the actions an operator may trigger. The console's run control
-hands them over once, when the program starts (`Setup`), through the same deque, so they come
-in order with the records.
+Besides what records say, the page needs the fluent instances at their initial values and the
+forms of the actions an operator may trigger; the console's run control hands them over once,
+when the program starts (`Setup`).
 """
 
 from __future__ import annotations
@@ -16,9 +22,9 @@ from __future__ import annotations
 import math
 import threading
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gpp.run.view import describe
 from gpp.runtime.events import (
@@ -27,6 +33,7 @@ from gpp.runtime.events import (
     CancelEvent,
     EndEvent,
     ErrorEvent,
+    EventBase,
     ExogEvent,
     FinishEvent,
     HeaderEvent,
@@ -41,11 +48,18 @@ from gpp.runtime.events import (
     WaitingEvent,
     waiting_fields,
 )
-from gpp.runtime.values import show_json
+from gpp.runtime.trace import KindListener, TraceListener
+from gpp.runtime.values import Value, same, show, show_json
+
+if TYPE_CHECKING:
+    from gpp.runtime.contract import Activity
+    from gpp.runtime.control import Executor
 
 # Lines of the latest events and failures the page shows.
 EVENTS_SHOWN = 40
 FAILURES_SHOWN = 20
+# Records a run's console keeps (the latest): those lines come from them.
+LATEST_KEPT = EVENTS_SHOWN * 4
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,14 +89,18 @@ class Form:
 
 @dataclass(frozen=True, slots=True)
 class Setup:
-    """What the page needs besides the records, from the program as it starts: every fluent
-    instance it can enumerate with its value (`name(args)` → trace value), and the forms."""
+    """What the page needs besides the records, from the program as it starts: the fluent
+    instances it can enumerate (their slots in the run's state and their text), and the forms."""
 
-    fluents: dict[str, JsonValue]
+    instances: tuple[tuple[int, str], ...]
     exogenous: tuple[Form, ...]
     actions: tuple[Form, ...]
     # Fluent instances left out (more than the page shows).
     fluents_left_out: int = 0
+    slots: frozenset[int] = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "slots", frozenset(slot for slot, _ in self.instances))
 
 
 @dataclass
@@ -97,49 +115,36 @@ class _Activity:
 
 @dataclass
 class _View:
-    """The fold of the records so far (server thread only)."""
+    """A `RecordFold`'s fold of the records so far."""
 
     agent: dict[str, JsonValue] = field(default_factory=dict)
     status: str = "starting"
     t: float = 0.0
     fluents: dict[str, JsonValue] = field(default_factory=dict)
     changed: dict[str, float] = field(default_factory=dict)
-    fluents_left_out: int = 0
     activities: dict[int, _Activity] = field(default_factory=dict)
     plan: dict[str, JsonValue] | None = None
     plan_step: int = 0
     waiting: dict[str, JsonValue] | None = None
     # The latest records, described (a line each) only when the page is sent.
-    latest: deque[TraceEvent] = field(default_factory=lambda: deque(maxlen=EVENTS_SHOWN * 4))
+    latest: deque[TraceEvent] = field(default_factory=lambda: deque(maxlen=LATEST_KEPT))
     failures: deque[dict[str, JsonValue]] = field(default_factory=lambda: deque(maxlen=FAILURES_SHOWN))
     problem: str | None = None
-    exogenous: list[dict[str, JsonValue]] = field(default_factory=list)
-    actions: list[dict[str, JsonValue]] = field(default_factory=list)
     counts: dict[str, JsonValue] = field(default_factory=dict)
     records: int = 0
 
 
-class ConsoleState:
-    """A trace listener that keeps what the console's page shows of one run."""
+class _Watched:
+    """What a console's server needs of a view's source: it is told of changes through
+    `on_change`, the run control sets `control_status`."""
 
     def __init__(self) -> None:
-        self._handed: deque[TraceEvent | Setup] = deque()
-        self._view = _View()
-        self._fold_lock = threading.Lock()
-        # Set by the server: called (from the executor's thread) when something was handed over
-        # and the server is not already told; it then folds and pushes.
+        # Set by the server: called (from the run's thread) when something changed and the
+        # server is not already told; it then makes a new view and pushes it.
         self._wake: Callable[[], None] | None = None
         self._told = False
         # What the run control says beyond the records: waiting for Start, paused.
         self.control_status: str | None = None
-        self.version = 0
-
-    # ------------------------------------------------------------ the executor's side
-
-    def __call__(self, event: TraceEvent | Setup) -> None:
-        """A record of the run (or the Setup): handed over, folded later by the server."""
-        self._handed.append(event)
-        self.nudge()
 
     def nudge(self) -> None:
         """Tell the server something changed (once until it looks)."""
@@ -148,86 +153,293 @@ class ConsoleState:
             self._told = True
             wake()
 
-    # ------------------------------------------------------------ the server's side
-
     def on_change(self, wake: Callable[[], None] | None) -> None:
         """The server's callback for `nudge` (None: none)."""
         self._wake = wake
         self._told = False
 
+    def _status(self, status: str) -> str:
+        if self.control_status is not None and status == "running":
+            return self.control_status
+        return status
+
+
+class ConsoleState(_Watched):
+    """The view of the run this process runs: its trace listeners (`listeners`), and a reader
+    of the executor's state (given by the run control when the program starts: `attach`)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        # ---- written on the run's thread only (the server reads them)
+        self._latest: deque[TraceEvent] = deque(maxlen=LATEST_KEPT)
+        self._run: Executor | None = None
+        self._setup: Setup | None = None
+        self._agent: dict[str, JsonValue] = {}
+        self._status_now = "starting"
+        self._plan: dict[str, JsonValue] | None = None
+        self._policy: tuple[str, ...] = ()
+        self._plan_step = 0
+        self._failures: deque[dict[str, JsonValue]] = deque(maxlen=FAILURES_SHOWN)
+        self._problem: str | None = None
+        self._counts: dict[str, JsonValue] = {}
+        self._cancelling: set[int] = set()
+        # The kinds of record noted, each with its note.
+        self._notes: dict[type[EventBase], Callable[[Any], None]] = {
+            HeaderEvent: self._header,
+            PlanEvent: self._planned,
+            ReplanEvent: self._planned,
+            StartEvent: self._step_taken,
+            UpdateEvent: self._updated,
+            CancelEvent: self._cancelled,
+            BlockedEvent: self._problem_noted,
+            ErrorEvent: self._problem_noted,
+            FinishEvent: self._finished,
+        }
+        # ---- the server's thread only
+        self._view_lock = threading.Lock()
+        # Per slot shown: the value last shown (compared by identity first: the run's states
+        # share their values), its text, and the latest record's time when it changed.
+        self._shown: dict[int, tuple[Value, str, float | None]] = {}
+        # Instances beyond the Setup's (of fluents with infinite parameter types), in the
+        # order they were first seen set: shown from then on.
+        self._extra: dict[int, str] = {}
+
+    # ------------------------------------------------------------ the run's thread
+
+    def listeners(self) -> list[TraceListener]:
+        """The run's trace listeners for this view: every record goes to the ring of the latest
+        (a C method, no Python code per record); the kinds the executor does not keep the news
+        of go to their notes, which tell the server."""
+        return [self._latest.append, KindListener(frozenset(self._notes), self._note)]
+
+    def _note(self, event: TraceEvent) -> None:
+        self._notes[type(event)](event)
+        if self._wake is not None and not self._told:
+            self.nudge()
+
+    def attach(self, run: Executor, setup: Setup) -> None:
+        """The run's program starts: from now on the view reads `run`'s world."""
+        self._setup = setup
+        self._run = run
+        self.nudge()
+
+    @property
+    def records(self) -> int:
+        """The run's records so far."""
+        run = self._run
+        return run.trace.written if run is not None else len(self._latest)
+
+    def _header(self, event: HeaderEvent) -> None:
+        self._agent = _agent(event)
+        self._status_now = "running"
+
+    def _planned(self, event: PlanEvent | ReplanEvent) -> None:
+        self._policy = tuple(event.policy)
+        self._plan_step = 0
+        self._plan = _plan(event)
+
+    def _step_taken(self, event: StartEvent) -> None:
+        """A start: the followed plan's next step, if it is that action."""
+        step = self._plan_step
+        if step < len(self._policy) and self._policy[step] == event.action:
+            self._plan_step = step + 1
+
+    def _updated(self, event: UpdateEvent) -> None:
+        if event.status == "failed":
+            self._failures.append(_failure(event))
+
+    def _cancelled(self, event: CancelEvent) -> None:
+        run = self._run
+        if run is not None and len(self._cancelling) >= 64:  # those consumed since go
+            self._cancelling = {r.id for r in list(run.records.values())} & self._cancelling
+        self._cancelling.add(event.id)
+
+    def _problem_noted(self, event: BlockedEvent | ErrorEvent) -> None:
+        self._problem = _problem_text(self._problem, event)
+
+    def _finished(self, event: FinishEvent) -> None:
+        self._status_now = event.status
+        self._counts = _counts(event)
+
+    # ------------------------------------------------------------ the server's side
+
     def view(self, clock: float | None = None) -> dict[str, Any]:
-        """Fold what was handed over and return what the page shows, as JSON data (`clock`:
-        the platform's clock now, if the server can read it)."""
-        with self._fold_lock:
+        """What the page shows now, as JSON data (`clock`: the platform's clock now, if the
+        server can read it)."""
+        with self._view_lock:
             self._told = False
-            view = self._view
-            # The fold of each record, with the lookups done once (it is the console's main cost).
-            handed, take, keep, folds = self._handed, self._handed.popleft, view.latest.append, _FOLDS
-            while handed:
-                item = take()
-                self.version += 1
-                fold = folds.get(type(item))
-                if fold is not None:
-                    fold(view, item)
-                if isinstance(item, Setup):
-                    _set_up(view, item)
-                else:
-                    keep(item)
-                    view.t = item.t
-                    view.records += 1
-            now = clock if clock is not None and math.isfinite(clock) else view.t
-            status = view.status
-            if self.control_status is not None and status == "running":
-                status = self.control_status
-            return {
-                "agent": view.agent,
-                "status": status,
-                "t": view.t,
-                "clock": now,
-                "fluents": [
-                    {"name": name, "value": show_json(value), "changed": view.changed.get(name)}
-                    for name, value in view.fluents.items()
-                ],
-                "fluents_left_out": view.fluents_left_out,
-                "activities": [
-                    {
-                        "id": a.id,
-                        "action": a.action,
-                        "status": a.status,
-                        "cancelling": a.cancelling,
-                        "started": a.started,
-                        "elapsed": max(0.0, now - a.started),
-                        "args": {k: show_json(v) for k, v in a.args.items()},
-                    }
-                    for a in view.activities.values()
-                ],
-                "plan": None if view.plan is None else {**view.plan, "step": view.plan_step},
-                "waiting": view.waiting,
-                "events": _latest_lines(view.latest),
-                "failures": list(view.failures),
-                "problem": view.problem,
-                "exogenous": view.exogenous,
-                "actions": view.actions,
-                "counts": view.counts,
-                "records": view.records,
-            }
+            latest = _copy(self._latest)
+            t = latest[-1].t if latest else 0.0
+            now = clock if clock is not None and math.isfinite(clock) else t
+            run, setup = self._run, self._setup
+            finished = self._status_now not in ("starting", "running")
+            waiting = run.waiting_at if run is not None and not finished else None
+            return _page(
+                agent=self._agent,
+                status=self._status(self._status_now),
+                t=t,
+                clock=now,
+                fluents=self._fluents(run, setup, t) if run is not None and setup is not None else [],
+                fluents_left_out=setup.fluents_left_out if setup is not None else 0,
+                activities=self._activities(run, now) if run is not None else [],
+                plan=None if self._plan is None else {**self._plan, "step": self._plan_step},
+                waiting=None if waiting is None else waiting_fields(waiting),
+                latest=latest,
+                failures=list(self._failures),
+                problem=self._problem,
+                exogenous=[f.as_json() for f in setup.exogenous] if setup is not None else [],
+                actions=[f.as_json() for f in setup.actions] if setup is not None else [],
+                counts=self._counts,
+                records=self.records,
+            )
+
+    def _fluents(self, run: Executor, setup: Setup, t: float) -> list[dict[str, JsonValue]]:
+        program = run.program
+        held = run.state.held()  # a state's values are never changed: read without a lock
+        initial = program.initial
+        shown, extra = self._shown, self._extra
+        known = setup.slots
+        for slot in held:
+            if slot not in known and slot not in extra:
+                extra[slot] = program.instance_text(slot)
+        rows: list[dict[str, JsonValue]] = []
+        for instances in (setup.instances, extra.items()):
+            for slot, name in instances:
+                value = held[slot] if slot in held else initial(slot)
+                before = shown.get(slot)
+                if before is None:
+                    before = shown[slot] = (value, show(value), None)
+                elif before[0] is not value and not same(before[0], value):
+                    before = shown[slot] = (value, show(value), t)
+                rows.append({"name": name, "value": before[1], "changed": before[2]})
+        return rows
+
+    def _activities(self, run: Executor, now: float) -> list[dict[str, JsonValue]]:
+        acts = run.acts
+        rows: list[dict[str, JsonValue]] = []
+        for record in sorted(list(run.records.values()), key=_id):
+            status = acts.status(record.action)
+            if status is None:
+                continue  # consumed between the two reads
+            started = record.started if math.isfinite(record.started) else now
+            rows.append(
+                {
+                    "id": record.id,
+                    "action": record.action.text,
+                    "status": status.value,
+                    "cancelling": record.id in self._cancelling,
+                    "started": started,
+                    "elapsed": max(0.0, now - started),
+                    "args": {k: show(v) for k, v in record.args.items()},
+                }
+            )
+        return rows
 
 
-def _set_up(view: _View, setup: Setup) -> None:
-    view.fluents.update(setup.fluents)
-    view.fluents_left_out = setup.fluents_left_out
-    view.exogenous = [f.as_json() for f in setup.exogenous]
-    view.actions = [f.as_json() for f in setup.actions]
+class RecordFold(_Watched):
+    """The view of a run known only by its records (the hub's view of an agent's event topic):
+    a trace listener that folds every record in."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._view = _View()
+
+    def __call__(self, event: TraceEvent) -> None:
+        view = self._view
+        fold = _FOLDS.get(type(event))
+        if fold is not None:
+            fold(view, event)
+        view.latest.append(event)
+        view.t = event.t
+        view.records += 1
+        self.nudge()
+
+    def view(self, clock: float | None = None) -> dict[str, Any]:
+        """What the page shows now, as JSON data."""
+        self._told = False
+        view = self._view
+        now = clock if clock is not None and math.isfinite(clock) else view.t
+        return _page(
+            agent=view.agent,
+            status=self._status(view.status),
+            t=view.t,
+            clock=now,
+            fluents=[
+                {"name": name, "value": show_json(value), "changed": view.changed.get(name)}
+                for name, value in view.fluents.items()
+            ],
+            fluents_left_out=0,
+            activities=[
+                {
+                    "id": a.id,
+                    "action": a.action,
+                    "status": a.status,
+                    "cancelling": a.cancelling,
+                    "started": a.started,
+                    "elapsed": max(0.0, now - a.started),
+                    "args": {k: show_json(v) for k, v in a.args.items()},
+                }
+                for a in view.activities.values()
+            ],
+            plan=None if view.plan is None else {**view.plan, "step": view.plan_step},
+            waiting=view.waiting,
+            latest=list(view.latest),
+            failures=list(view.failures),
+            problem=view.problem,
+            exogenous=[],
+            actions=[],
+            counts=view.counts,
+            records=view.records,
+        )
 
 
-def _header(view: _View, event: HeaderEvent) -> None:
-    view.agent = {
+def _page(*, latest: list[TraceEvent], **parts: Any) -> dict[str, Any]:
+    """The view as the page takes it (the same keys from either source)."""
+    return {**parts, "events": _latest_lines(latest)}
+
+
+def _copy(ring: deque[TraceEvent]) -> list[TraceEvent]:
+    """The records in `ring` (appended to by another thread) as a list."""
+    while True:
+        try:
+            return list(ring)
+        except RuntimeError:  # appended to while copied
+            continue
+
+
+def _id(record: Activity) -> int:
+    return record.id
+
+
+def _agent(event: HeaderEvent) -> dict[str, JsonValue]:
+    return {
         "program": event.program,
         "platform": event.platform,
         "started": event.started,
         "node": event.node,
         "world": event.world,
     }
+
+
+def _plan(event: PlanEvent | ReplanEvent) -> dict[str, JsonValue]:
+    return {"kind": event.kind, "feasible": event.feasible, "policy": list(event.policy), "t": event.t}
+
+
+def _failure(event: UpdateEvent) -> dict[str, JsonValue]:
+    return {"t": event.t, "action": event.action, "reason": event.reason or ""}
+
+
+def _problem_text(before: str | None, event: BlockedEvent | ErrorEvent) -> str:
+    # The first says why the run ended; what went wrong while it ended comes after it.
+    return event.message if before is None else f"{before}\n{event.message}"
+
+
+def _counts(event: FinishEvent) -> dict[str, JsonValue]:
+    return {"actions": event.actions, "failures": event.failures, "exog_events": event.exog_events}
+
+
+def _header(view: _View, event: HeaderEvent) -> None:
+    view.agent = _agent(event)
     view.status = "running"
 
 
@@ -249,7 +461,7 @@ def _update(view: _View, event: UpdateEvent) -> None:
     if activity is not None:
         activity.status = event.status
     if event.status == "failed":
-        view.failures.append({"t": event.t, "action": event.action, "reason": event.reason or ""})
+        view.failures.append(_failure(event))
 
 
 def _cancel(view: _View, event: CancelEvent) -> None:
@@ -278,8 +490,8 @@ def _assigned(view: _View, event: SenseEvent | AssignEvent) -> None:
     view.changed[event.fluent] = event.t
 
 
-def _plan(view: _View, event: PlanEvent | ReplanEvent) -> None:
-    view.plan = {"kind": event.kind, "feasible": event.feasible, "policy": list(event.policy), "t": event.t}
+def _planned(view: _View, event: PlanEvent | ReplanEvent) -> None:
+    view.plan = _plan(event)
     view.plan_step = 0
 
 
@@ -288,14 +500,13 @@ def _waiting(view: _View, event: WaitingEvent) -> None:
 
 
 def _problem(view: _View, event: BlockedEvent | ErrorEvent) -> None:
-    # The first says why the run ended; what went wrong while it ended comes after it.
-    view.problem = event.message if view.problem is None else f"{view.problem}\n{event.message}"
+    view.problem = _problem_text(view.problem, event)
 
 
 def _finish(view: _View, event: FinishEvent) -> None:
     view.status = event.status
     view.waiting = None
-    view.counts = {"actions": event.actions, "failures": event.failures, "exog_events": event.exog_events}
+    view.counts = _counts(event)
 
 
 # What each kind of record changes in the view (the others only go to the latest events).
@@ -309,8 +520,8 @@ _FOLDS: dict[type, Callable[[_View, Any], None]] = {
     ExogEvent: _changes,
     SenseEvent: _assigned,
     AssignEvent: _assigned,
-    PlanEvent: _plan,
-    ReplanEvent: _plan,
+    PlanEvent: _planned,
+    ReplanEvent: _planned,
     WaitingEvent: _waiting,
     BlockedEvent: _problem,
     ErrorEvent: _problem,
@@ -318,7 +529,7 @@ _FOLDS: dict[type, Callable[[_View, Any], None]] = {
 }
 
 
-def _latest_lines(latest: deque[TraceEvent]) -> list[dict[str, JsonValue]]:
+def _latest_lines(latest: Sequence[TraceEvent]) -> list[dict[str, JsonValue]]:
     """The lines of the latest records worth one (silent actions' records left out)."""
     lines: list[dict[str, JsonValue]] = []
     for event in reversed(latest):

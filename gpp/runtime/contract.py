@@ -63,6 +63,8 @@ class Activity:
     args: Mapping[str, Value]
     # `duration: [min, max]` of the action, if given.
     duration: tuple[float, float] | None = None
+    # The platform's clock when the executor started it (NaN: not told).
+    started: float = math.nan
 
 
 @dataclass(frozen=True, slots=True)

@@ -39,12 +39,14 @@ of ending as blocked.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, Protocol
 
 from gpp.base.source import Span
 from gpp.runtime.compiled import CompiledProgram
-from gpp.runtime.contract import Attention, EventQueue, PlatformPort
+from gpp.runtime.contract import Activity, Attention, EventQueue, PlatformPort
+from gpp.runtime.events import WaitingEvent
 from gpp.runtime.state import Activities, GroundAction, State
 from gpp.runtime.trace import Trace
 
@@ -68,6 +70,15 @@ class Executor(Protocol):
     def state(self) -> State: ...
     @property
     def acts(self) -> Activities: ...
+    @property
+    def records(self) -> Mapping[GroundAction, Activity]:
+        """The activities not consumed yet, by action (changed in place by the executor)."""
+        ...
+
+    @property
+    def waiting_at(self) -> WaitingEvent | None:
+        """The `waiting` record of the wait the program is in (None: it is not waiting)."""
+        ...
 
     def drain(self) -> None:
         """Take in the platform's queued events now (while the control holds the run)."""

@@ -836,7 +836,8 @@ class Executor:
         updates = self.sem.effects(g, self.state, at_start=True) if info.start_effects else {}
         if updates:
             self.state = self.state.updated(updates, self.program.initial)
-        activity = Activity(self.next_id, g, mapped, args, duration)
+        now = self.platform.now()
+        activity = Activity(self.next_id, g, mapped, args, duration, now)
         self.next_id += 1
         self.records[g] = activity
         self.by_id[activity.id] = g
@@ -845,7 +846,7 @@ class Executor:
         self.result.actions += 1
         self.trace.emit(
             ev.StartEvent(
-                t=self.platform.now(),
+                t=now,
                 action=g.text,
                 id=activity.id,
                 mapped=mapped,

@@ -2,7 +2,9 @@
 run stopped by Ctrl-C or a crash still leaves a complete trace up to that point.
 
 A Trace keeps no events: its memory does not grow with the run. Whoever needs the events
-asks for a listener (`Recording`, all of them or the latest few) or reads the file.
+asks for a listener (`Recording`, all of them or the latest few) or reads the file. A listener
+that wants only a few kinds of record says so (`KindListener`): the trace tells it only those,
+so a run that makes many records of the other kinds pays nothing for it.
 
 A long run's trace can be split into parts (`TraceSplit`: by size, by platform time): the
 first part is the file given (`run.jsonl`), the next ones `run.1.jsonl`, `run.2.jsonl`, ...
@@ -53,6 +55,19 @@ class Recording:
 
     def __len__(self) -> int:
         return len(self.records)
+
+
+@dataclass(frozen=True, slots=True)
+class KindListener:
+    """A listener told only the records of `kinds` (a Trace looks the record's class up: the
+    records of other kinds cost nothing, not even a call)."""
+
+    kinds: frozenset[type[EventBase]]
+    listener: TraceListener
+
+    def __call__(self, event: TraceEvent) -> None:
+        if type(event) in self.kinds:
+            self.listener(event)
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,7 +123,15 @@ class Trace:
         """A trace written to `path` (None: to no file, only to the listeners), split into parts
         as `split` says. The parts after the first that an earlier run left at this name are
         removed (they would read as part of this run)."""
-        self.listeners = list(listeners or [])
+        self.listeners: list[TraceListener] = []
+        # The listeners of some kinds only, by kind (KindListener).
+        self.by_kind: dict[type, list[TraceListener]] = {}
+        for listener in listeners or []:
+            if isinstance(listener, KindListener):
+                for kind in listener.kinds:
+                    self.by_kind.setdefault(kind, []).append(listener.listener)
+            else:
+                self.listeners.append(listener)
         self.path = path
         self.split = split if path is not None else None
         # Records written to this trace (all parts), and whether the `finish` was one of them.
@@ -141,6 +164,9 @@ class Trace:
             self.finished = True
         for listener in self.listeners:
             listener(event)
+        if self.by_kind:
+            for listener in self.by_kind.get(type(event), ()):
+                listener(event)
         return event
 
     def split_due(self, now: float) -> bool:
