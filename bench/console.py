@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import os
 import socket
 import statistics
 import subprocess
@@ -221,9 +222,16 @@ def main() -> None:
     parser.add_argument("--browser", choices=BROWSERS, help=argparse.SUPPRESS)
     parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
+    cores = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
     if args.browser is not None:
+        if len(cores) > 1:
+            os.sched_setaffinity(0, cores[1:])  # the browsers on other cores, as on a tablet
         browse(args.browser, args.port)
         return
+    if len(cores) > 1:
+        # The run and the console's thread (started later: it inherits this) share one core: the
+        # console's work comes out of the run's own time, as on a robot's busy computer.
+        os.sched_setaffinity(0, cores[:1])
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "steps.gpp"
         path.write_text(PROGRAM % args.steps, encoding="utf-8")

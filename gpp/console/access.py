@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 DEFAULT_ADDRESS = "127.0.0.1:8765"
 TOKEN_HEADER = "x-gpp-token"
+# The header in which the `gpp console` hub says for whom it passes a control request on.
+FOR_HEADER = "x-gpp-for"
 LOOPBACK_NAMES = ("localhost", "127.0.0.1", "::1")
 
 

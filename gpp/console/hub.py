@@ -31,7 +31,7 @@ from starlette.requests import Request as HttpRequest
 from starlette.responses import HTMLResponse, JSONResponse, Response
 from starlette.routing import Route
 
-from gpp.console.access import TOKEN_HEADER, Access
+from gpp.console.access import FOR_HEADER, TOKEN_HEADER, Access
 from gpp.console.server import Channel, WebServer, event_stream, page_html, page_response, refused
 from gpp.console.state import RecordFold
 from gpp.runtime.events import decode
@@ -49,7 +49,8 @@ class Feed:
         self.channel = Channel()
         self.publish: Callable[[str], None] = lambda view: None  # set by the hub
 
-    def control(self, body: bytes) -> tuple[int, Any]:
+    def control(self, body: bytes, client: str | None = None) -> tuple[int, Any]:
+        """Pass an operator's request on to the agent (`client`: the browser that asked)."""
         return 405, {"error": "this agent's panel only shows its run"}
 
     def close(self) -> None:
@@ -92,8 +93,8 @@ class HttpFeed(Feed):
             if not self._stop.is_set():
                 self.publish(json.dumps({"agent": {"program": self.name}, "status": "disconnected", "problem": str(e)}))
 
-    def control(self, body: bytes) -> tuple[int, Any]:
-        headers = {"Content-Type": "application/json", **self._headers()}
+    def control(self, body: bytes, client: str | None = None) -> tuple[int, Any]:
+        headers = {"Content-Type": "application/json", **self._headers(), **({FOR_HEADER: client} if client else {})}
         request = urllib.request.Request(self.base + "control", data=body, headers=headers)
         try:
             with urllib.request.urlopen(request, timeout=AGENT_TIMEOUT) as answer:
@@ -228,7 +229,8 @@ class Hub(WebServer):
         answer = refused(self.access, request, control=True)
         if answer is not None or feed is None:
             return answer or JSONResponse({}, status_code=404)
-        status, body = await asyncio.to_thread(feed.control, await request.body())
+        client = request.client.host if request.client else None
+        status, body = await asyncio.to_thread(feed.control, await request.body(), client)
         return JSONResponse(body, status_code=status)
 
 

@@ -29,7 +29,7 @@ from starlette.requests import Request as HttpRequest
 from starlette.responses import HTMLResponse, JSONResponse, Response, StreamingResponse
 from starlette.routing import Route
 
-from gpp.console.access import Access, AccessError
+from gpp.console.access import FOR_HEADER, Access, AccessError
 from gpp.console.control import ConsoleControl, Request, ground
 from gpp.console.state import ConsoleState
 from gpp.model.symbols import SymbolKind
@@ -111,6 +111,17 @@ class Channel:
 
 def event_stream(channel: Channel) -> StreamingResponse:
     return StreamingResponse(channel.stream(), media_type="text/event-stream", headers={"Cache-Control": "no-store"})
+
+
+def client_of(request: HttpRequest) -> str | None:
+    """Who asked, for the `operator` record: the peer's address; for a request a `gpp console`
+    hub passed on, the browser it names and then the hub (`10.0.0.7 via 127.0.0.1`: the name
+    comes from the hub and is not checked, the peer's address is)."""
+    peer = request.client.host if request.client else None
+    named = request.headers.get(FOR_HEADER, "")
+    if named and len(named) <= 100 and named.isprintable():
+        return f"{named} via {peer}" if peer else named
+    return peer
 
 
 def refused(access: Access, request: HttpRequest, control: bool) -> Response | None:
@@ -342,7 +353,7 @@ class ConsoleServer(WebServer):
             body: Any = await request.json()
         except ValueError:
             return JSONResponse({"error": "the request is not JSON"}, status_code=400)
-        problem = self._read(body, request.client.host if request.client else None)
+        problem = self._read(body, client_of(request))
         if isinstance(problem, str):
             return JSONResponse({"error": problem}, status_code=400)
         self.control.request(problem)

@@ -127,6 +127,7 @@ def page_data(model: RunModel, sources: Sources, *, trace_name: str, notes: Sequ
             {"t": e.t, "action": e.action, "precondition": e.precondition, "silent": e.silent, "failed": e.failed}
             for e in model.exog
         ],
+        "operator": [{"t": o.t, "command": o.command, "action": o.action, "client": o.client} for o in model.operator],
         "plans": [
             {
                 "t": p.t,

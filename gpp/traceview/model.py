@@ -39,6 +39,7 @@ from gpp.runtime.events import (
     HeaderEvent,
     JsonValue,
     NoticeEvent,
+    OperatorEvent,
     PlanEvent,
     ReplanEvent,
     SenseEvent,
@@ -324,6 +325,8 @@ class RunModel:
     problems: list[ErrorEvent | BlockedEvent]
     series: list[Series]
     states: list[StateSeries] = field(default_factory=list)
+    # What operators did at the console (`gpp run --console`), in order.
+    operator: list[OperatorEvent] = field(default_factory=list)
 
     @property
     def duration(self) -> float:
@@ -367,6 +370,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
     # Terminated activities not consumed yet, by action text: `end` names no id.
     unconsumed: dict[str, list[Activity]] = defaultdict(list)
     exog: list[ExogEvent] = []
+    operator: list[OperatorEvent] = []
     plans: list[PlanEvent | ReplanEvent] = []
     changes: list[AssignEvent | SenseEvent] = []
     problems: list[ErrorEvent | BlockedEvent] = []
@@ -411,6 +415,8 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
                     taken.unhandled = event.unhandled
             case ExogEvent():
                 exog.append(event)
+            case OperatorEvent():
+                operator.append(event)
             case PlanEvent() | ReplanEvent():
                 plans.append(event)
             case AssignEvent() | SenseEvent():
@@ -447,6 +453,7 @@ def build_run_model(events: Sequence[TraceEvent]) -> RunModel:
         problems=problems,
         series=build_series(events, histories),
         states=build_states(histories, end),
+        operator=operator,
     )
 
 

@@ -2,8 +2,8 @@
 activities as bars; one row per call, `goto(room1)`, `goto(room2)`, when an action has a few
 different ones), rows for exogenous events, plans, waits and problems, a sparkline per numeric
 series, a band row per fluent with other values (where the robot is) and a time axis in
-seconds; then the plans, the exogenous events, what failed or was cancelled, and how the run
-ended. Plain text (no colour) off a terminal."""
+seconds; then the plans, the exogenous events, what operators did at the console, what failed
+or was cancelled, and how the run ended. Plain text (no colour) off a terminal."""
 
 from __future__ import annotations
 
@@ -87,7 +87,7 @@ def summary_parts(model: RunModel, width: int) -> list[RenderableType]:
     parts: list[RenderableType] = [_title(model, width), _counts(model, width), Text()]
     parts.extend(_timeline(model, width))
     parts.append(_legend(model, width))
-    for section in (_plans, _exog, _troubles, _waits_section, _problems, _series, _states):
+    for section in (_plans, _exog, _operator, _troubles, _waits_section, _problems, _series, _states):
         body = section(model, width)
         if body:
             parts.append(Text())
@@ -494,6 +494,17 @@ def _exog(model: RunModel, width: int) -> list[RenderableType]:
         rows.append([events[0].action if same else name, f"×{len(events)}", note])
     columns = [("action", "left"), ("", "right"), ("when", "fold")]
     return [_heading("exogenous events"), _table(columns, rows, width), *_more(len(by_name))]
+
+
+def _operator(model: RunModel, width: int) -> list[RenderableType]:
+    """What operators did at the console: when, what, who."""
+    if not model.operator:
+        return []
+    rows: list[list[str | Text]] = [
+        [format_seconds(e.t), e.command, e.action or "", e.client or ""] for e in model.operator[:LIST_LIMIT]
+    ]
+    columns = [("t", "right"), ("command", "left"), ("action", "fold"), ("who", "fold")]
+    return [_heading("operator (console)"), _table(columns, rows, width), *_more(len(model.operator))]
 
 
 def _troubles(model: RunModel, width: int) -> list[RenderableType]:

@@ -126,6 +126,8 @@
   });
   if (exogRows.length) addRow({ kind: "group", h: 22, label: "exogenous events" });
   for (const row of exogRows) addRow({ kind: "exog", h: MARK, label: row.name, count: row.items.length, items: row.items, other: !!row.other });
+  const operator = D.operator || []; // traces written before schema 1.8 have none
+  if (operator.length) addRow({ kind: "operator", h: MARK, label: "operator", count: operator.length });
   if (D.plans.length || D.changes.length || D.waits.length || D.problems.length) addRow({ kind: "group", h: 22, label: "program" });
   if (D.plans.length) addRow({ kind: "plans", h: MARK, label: "plans", count: D.plans.length });
   if (D.changes.length) addRow({ kind: "changes", h: MARK + 14, label: "fluent changes", count: D.changes.length });
@@ -222,6 +224,7 @@
     for (const row of rows) {
       if (row.kind === "exog") drawExog(out, row);
       else if (row.kind === "plans") drawPlans(out, row);
+      else if (row.kind === "operator") drawOperator(out, row);
       else if (row.kind === "changes") drawChanges(out, row);
       else if (row.kind === "program") drawProgram(out, row);
       else if (row.kind === "lane") drawLane(out, row);
@@ -321,6 +324,21 @@
       const texts = events.map((e) => (row.other ? e.action : e.action.slice(e.action.indexOf("(")))).filter((t) => t.length > 2);
       label(out, m.px, cy + 4, times(events.length) + texts.join(", "), null, events.length > 1 ? "×" + events.length : "");
     }
+  }
+
+  // What operators did at the console: a square per request, labelled with the command.
+  function drawOperator(out, row) {
+    const cy = row.y + row.h / 2;
+    const label = labeller(operator.map((o) => x(o.t)));
+    operator.forEach((o, i) => {
+      const px = x(o.t);
+      if (!visible(px)) return;
+      out.push(
+        '<g class="operator" data-tip="operator:' + i + '" data-command="' + esc(o.command) + '" data-t="' + o.t + '">' +
+          '<rect class="operator-mark" x="' + (px - 5).toFixed(1) + '" y="' + (cy - 5) + '" width="10" height="10"/></g>'
+      );
+      label(out, px + 2, cy + 4, o.command + (o.action ? " " + o.action : ""));
+    });
   }
 
   function drawPlans(out, row) {
@@ -587,6 +605,17 @@
           ["platform", '<span class="policy">' + esc(act.mapped) + (act.args.length ? " { " + esc(act.args.join(", ")) + " }" : "") + "</span>"],
           ["result", act.result === null ? "" : '<span class="policy">' + esc(act.result) + "</span>"],
         ]) + sourceHtml(act.at)
+      );
+    }
+    if (kind === "operator") {
+      const o = operator[i];
+      return (
+        '<div class="kind">operator at the console</div>' +
+        '<div class="head">' + esc(o.command + (o.action ? " " + o.action : "")) + "</div>" +
+        table([
+          ["at", esc(fmtTime(o.t))],
+          ["who", o.client ? esc(o.client) : ""],
+        ])
       );
     }
     if (kind === "exog") {

@@ -51,9 +51,9 @@ def hub() -> Iterator[HubRun]:
     running.close()
 
 
-def operator_commands(trace: Path) -> list[str]:
+def operator_records(trace: Path) -> list[OperatorEvent]:
     records = [decode(line) for line in trace.read_text(encoding="utf-8").splitlines()]
-    return [r.command for r in records if isinstance(r, OperatorEvent)]
+    return [r for r in records if isinstance(r, OperatorEvent)]
 
 
 def test_two_agents_on_one_page_each_started_from_its_panel(browser: Browser, hub: HubRun, tmp_path: Path) -> None:
@@ -87,7 +87,11 @@ def test_two_agents_on_one_page_each_started_from_its_panel(browser: Browser, hu
         for agent in agents:
             agent.close()
     for trace in traces:
-        assert operator_commands(trace) == ["start", "exog"]
+        # Who asked: the browser, through the hub (both on loopback here).
+        assert [(r.command, r.client) for r in operator_records(trace)] == [
+            ("start", "127.0.0.1 via 127.0.0.1"),
+            ("exog", "127.0.0.1 via 127.0.0.1"),
+        ]
 
 
 def test_an_agent_named_on_the_command_line(tmp_path: Path) -> None:

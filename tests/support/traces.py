@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from gpp.runtime.events import (
     AssignEvent,
     CancelEvent,
@@ -96,3 +98,24 @@ def live_panel_at_first_wait(records: list[TraceEvent], program: str) -> tuple[s
     out = io.StringIO()
     Console(file=out, width=120, color_system=None).print(live.render())
     return out.getvalue(), live
+
+
+def operator_trace(folder: Path) -> Path:
+    """The trace of a console run (tests/programs/exog_events.gpp, waiting for Start) in which an
+    operator through a hub opened the back door (an exogenous event) and one at 127.0.0.1 then
+    gave Start."""
+    from gpp.check import check_program
+    from gpp.console.control import ConsoleControl, Request, ground
+    from gpp.console.state import ConsoleState
+    from gpp.model.symbols import SymbolKind
+    from gpp.run.runner import RunOptions, run_program
+
+    program = Path(__file__).resolve().parents[1] / "programs" / "exog_events.gpp"
+    checked = check_program(program)
+    control = ConsoleControl(ConsoleState(), checked.model, wait=True)
+    door = ground(checked.model, "door_opened", {"d": "back"}, SymbolKind.EXOG_ACTION)
+    control.request(Request("exog", door, client="10.0.0.7 via 127.0.0.1"))
+    control.request(Request("start", client="127.0.0.1"))
+    trace = folder / "operator.jsonl"
+    run_program(program, RunOptions(trace=trace, control=control), checked=checked)
+    return trace

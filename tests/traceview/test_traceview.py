@@ -139,6 +139,24 @@ def test_summary_of_a_run_that_stops_is_golden(capsys: pytest.CaptureFixture[str
     check_golden("stopped.summary.txt", out)
 
 
+def test_summary_lists_what_operators_did_at_the_console(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from tests.support.traces import operator_trace
+
+    code, out, err = gpp(capsys, "trace", "summary", str(operator_trace(tmp_path)), "--width", "100")
+    assert code == 0, err
+    section = out[out.index("operator (console)") :].splitlines()
+    rows = [line.split() for line in section[2:4]]
+    assert rows == [
+        ["0.000", "s", "exog", "door_opened(back)", "10.0.0.7", "via", "127.0.0.1"],
+        ["0.000", "s", "start", "127.0.0.1"],
+    ]
+    model = build_run_model(load_trace(operator_trace(tmp_path)).events)
+    assert [(o.command, o.client) for o in model.operator] == [
+        ("exog", "10.0.0.7 via 127.0.0.1"),
+        ("start", "127.0.0.1"),
+    ]
+
+
 @pytest.mark.parametrize("width", [80, 120])
 def test_summary_fits_80_to_120_columns(
     capsys: pytest.CaptureFixture[str], runs: dict[str, Path], width: int, tmp_path: Path

@@ -288,6 +288,24 @@ def test_a_run_that_stops_renders_its_waits_and_problems(browser: Browser, tmp_p
         opened.page.close()
 
 
+def test_what_operators_did_is_a_row_with_who_asked(browser: Browser, tmp_path: Path) -> None:
+    from tests.support.traces import operator_trace
+
+    model = build_run_model(load_trace(operator_trace(tmp_path)).events)
+    page, _ = html_page(model, trace_name="operator.jsonl", search=[tmp_path])
+    path = tmp_path / "operator.html"
+    path.write_text(page, encoding="utf-8")
+    opened = Opened(browser, path, width=900)
+    try:
+        assert opened.problems == []
+        assert opened.attr("g.operator", "data-command") == ["exog", "start"]
+        opened.page.hover("g.operator >> nth=1")  # both at 0 s: the later is drawn on top
+        for part in ("operator at the console", "start", "127.0.0.1"):
+            expect(opened.page.locator("#tooltip")).to_contain_text(part)
+    finally:
+        opened.page.close()
+
+
 def test_quick_retries_simultaneous_events_close_changes_and_states(browser: Browser, tmp_path: Path) -> None:
     """tests/traceview/programs/retries.gpp: two visitors arrive at once, two assignments 1 s
     apart, a `goto(room1)` fails at once and is retried, and where the robot is changes."""
