@@ -227,7 +227,8 @@ def main() -> None:
     parser.add_argument("--browser", choices=BROWSERS, help=argparse.SUPPRESS)
     parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    cores = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
+    # The machine's cores (not this process's: a browser inherits the run's one core).
+    cores = list(range(os.cpu_count() or 1)) if hasattr(os, "sched_setaffinity") else []
     if args.browser is not None:
         if len(cores) > 1:
             os.sched_setaffinity(0, cores[1:])  # the browsers on other cores, as on a tablet
