@@ -63,6 +63,8 @@ class Channel:
         self.sequence = 0
         self.closing = False
         self.streams = 0  # open live streams (the tests and the bench look)
+        # Streams waiting for a new view (the others are still sending one: a slow browser's).
+        self.ready = 0
         self._tick: asyncio.Event | None = None
 
     def publish(self, view: str) -> None:
@@ -98,8 +100,12 @@ class Channel:
                         return
                     if self._tick is None:
                         self._tick = asyncio.Event()
-                    with contextlib.suppress(TimeoutError):
-                        await asyncio.wait_for(self._tick.wait(), HEARTBEAT * 5)
+                    self.ready += 1
+                    try:
+                        with contextlib.suppress(TimeoutError):
+                            await asyncio.wait_for(self._tick.wait(), HEARTBEAT * 5)
+                    finally:
+                        self.ready -= 1
                     if seen == self.sequence:
                         yield ": still here\n\n"  # a comment: a vanished browser is noticed
                         continue
@@ -295,8 +301,9 @@ class ConsoleServer(WebServer):
         """While a browser looks, make a new view when the run changed it (told at once of the
         few records the page must show soon: a plan, a failure, the end; the others are counted,
         the count looked at `PUSHES_PER_SECOND` times a second), or the clock moved (every
-        `HEARTBEAT`), and tell the streams. While none looks, nothing: each wake of this thread
-        costs the run a hand-over of the interpreter's lock."""
+        `HEARTBEAT`), and tell the streams; but only when a stream waits for one (a slow
+        browser still sending the last one gets no new view made for it). While none looks,
+        nothing: each wake of this thread costs the run a hand-over of the interpreter's lock."""
         woken = self._woken = asyncio.Event()
         loop = asyncio.get_running_loop()
         seen, published = -1, 0.0
@@ -309,6 +316,8 @@ class ConsoleServer(WebServer):
             woken.clear()
             if not self.channel.streams:
                 continue
+            if not self.channel.ready:
+                continue  # every stream still sends a view (slow browsers): none would take a new one
             records = self.state.records
             if told or records != seen or loop.time() - published >= HEARTBEAT:
                 seen, published = records, loop.time()
@@ -338,11 +347,9 @@ class ConsoleServer(WebServer):
         answer = refused(self.access, request, control=False)
         if answer is not None:
             return answer
-        if self.channel.sequence == 0:
-            self.channel.publish(self._view())
-        # The pusher makes a new view now and is told of changes from now on (a browser that
-        # comes and goes again and again costs no view of its own).
-        self._wake()
+        if not self.channel.closing:
+            self.channel.publish(self._view())  # the stream starts with the world as it is now
+        self._wake()  # the pusher is told of changes from now on
         return event_stream(self.channel)
 
     async def _control(self, request: HttpRequest) -> Response:

@@ -139,3 +139,39 @@ procedure main() {
         return len(state._latest), len(state._shown), len(state._extra), len(state._cancelling)
 
     assert kept(100) == kept(3000) == (LATEST_KEPT, 1, 0, 0)
+
+
+def test_a_stream_still_sending_is_not_ready_for_a_new_view() -> None:
+    """A slow browser's stream, still sending the last view, does not count as waiting for one,
+    so the server makes no view for it; it sends the newest once it can, never a queue."""
+    import asyncio
+
+    from gpp.console.server import Channel
+
+    async def scenario() -> list[object]:
+        channel = Channel()
+        channel.publish('{"n": 1}')
+        stream = channel.stream()
+        seen: list[object] = [await anext(stream)]  # the first view, sent at once
+        seen.append((channel.streams, channel.ready))  # not asking for the next: still "sending"
+        asking = asyncio.ensure_future(anext(stream))
+        await asyncio.sleep(0.01)
+        seen.append((channel.streams, channel.ready))  # now waiting for a new view
+        channel.publish('{"n": 2}')
+        channel.publish('{"n": 3}')
+        seen.append(await asking)
+        seen.append(channel.ready)
+        channel.close('{"n": 4}')
+        seen.append([chunk async for chunk in stream])
+        seen.append(channel.streams)
+        return seen
+
+    assert asyncio.run(scenario()) == [
+        'data: {"n": 1}\n\n',
+        (1, 0),
+        (1, 1),
+        'data: {"n": 3}\n\n',
+        0,
+        ['data: {"n": 4}\n\n'],
+        0,
+    ]
