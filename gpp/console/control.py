@@ -26,7 +26,7 @@ from gpp.platform.values import ConversionError
 from gpp.run.runner import value_from_text
 from gpp.runtime.compiled import domain_values
 from gpp.runtime.contract import EventQueue, ExogOccurrence
-from gpp.runtime.control import Executor, RunControl, RunStopped, request_attention
+from gpp.runtime.control import Executor, Happening, RunControl, RunStopped, request_attention
 from gpp.runtime.semantics import Prog
 from gpp.runtime.state import GroundAction
 from gpp.runtime.values import Value, show
@@ -132,6 +132,10 @@ class ConsoleControl(RunControl):
     def checkpoint(self, executor: Executor, prog: Prog) -> None:
         if self.paused:
             self._hold(executor, until=lambda: not self.paused)
+
+    def happened(self, executor: Executor, prog: Prog | None, happening: Happening) -> None:
+        if happening.kind == "failed" and happening.t is not None and happening.action is not None:
+            self.state.failed(happening.t, happening.action, happening.reason)
 
     def attend(self, executor: Executor) -> None:
         if not self._holding:

@@ -24,7 +24,7 @@ import threading
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from gpp.run.view import describe
 from gpp.runtime.events import (
@@ -183,18 +183,18 @@ class ConsoleState(_Watched):
         self._problem: str | None = None
         self._counts: dict[str, JsonValue] = {}
         self._cancelling: set[int] = set()
-        # The kinds of record noted, each with its note.
+        # The kinds of record noted, each with its note: all rare (a failure comes from the run
+        # control, `failed`; the starts are told only while a plan is followed, `_follow`).
         self._notes: dict[type[EventBase], Callable[[Any], None]] = {
             HeaderEvent: self._header,
             PlanEvent: self._planned,
             ReplanEvent: self._planned,
-            StartEvent: self._step_taken,
-            UpdateEvent: self._updated,
             CancelEvent: self._cancelled,
             BlockedEvent: self._problem_noted,
             ErrorEvent: self._problem_noted,
             FinishEvent: self._finished,
         }
+        self._following = False
         # ---- the server's thread only
         self._view_lock = threading.Lock()
         # Per slot shown: the value last shown (compared by identity first: the run's states
@@ -237,16 +237,34 @@ class ConsoleState(_Watched):
         self._policy = tuple(event.policy)
         self._plan_step = 0
         self._plan = _plan(event)
+        self._follow(bool(self._policy))
 
-    def _step_taken(self, event: StartEvent) -> None:
-        """A start: the followed plan's next step, if it is that action."""
-        step = self._plan_step
-        if step < len(self._policy) and self._policy[step] == event.action:
-            self._plan_step = step + 1
+    def _follow(self, following: bool) -> None:
+        """Be told of the run's starts (while a plan is followed: its step) or no longer."""
+        run = self._run
+        if run is None or following == self._following:
+            return
+        self._following = following
+        if following:
+            run.trace.listen(StartEvent, self._step_taken)
+        else:
+            run.trace.unlisten(StartEvent, self._step_taken)
 
-    def _updated(self, event: UpdateEvent) -> None:
-        if event.status == "failed":
-            self._failures.append(_failure(event))
+    def _step_taken(self, event: TraceEvent) -> None:
+        """A start while a plan is followed: the plan's step is past the next entry that is
+        this action (the entries before it were the plan's other steps: assignments, tests)."""
+        policy, action = self._policy, cast(StartEvent, event).action
+        for step in range(self._plan_step, len(policy)):
+            if policy[step] == action:
+                self._plan_step = step + 1
+                break
+        if self._plan_step >= len(policy):
+            self._follow(False)
+
+    def failed(self, t: float, action: str, reason: str | None) -> None:
+        """An activity failed (told by the run control, from the run's thread)."""
+        self._failures.append({"t": t, "action": action, "reason": reason or ""})
+        self.nudge()
 
     def _cancelled(self, event: CancelEvent) -> None:
         run = self._run
@@ -260,6 +278,7 @@ class ConsoleState(_Watched):
     def _finished(self, event: FinishEvent) -> None:
         self._status_now = event.status
         self._counts = _counts(event)
+        self._follow(False)
 
     # ------------------------------------------------------------ the server's side
 

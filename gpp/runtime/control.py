@@ -111,6 +111,10 @@ class Happening:
     # One line saying what happened (for `blocked`, R0011's explanation).
     description: str
     span: Span | None = None
+    # For `failed`: the platform time, the action (as in the trace) and the platform's reason.
+    t: float | None = None
+    action: str | None = None
+    reason: str | None = None
 
 
 class RunControl:

@@ -646,7 +646,8 @@ class Executor:
         if update.status is ActivityStatus.FAILED:
             self.result.failures += 1
             reason = f": {update.reason}" if update.reason else ""
-            self.control.happened(self, None, Happening("failed", f"{g.text} failed{reason}"))
+            failed = Happening("failed", f"{g.text} failed{reason}", t=t, action=g.text, reason=update.reason or None)
+            self.control.happened(self, None, failed)
 
     def on_exog(self, t: float, event: ExogOccurrence) -> None:
         info = self.program.action(event.action)

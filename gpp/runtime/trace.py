@@ -169,6 +169,19 @@ class Trace:
                 listener(event)
         return event
 
+    def listen(self, kind: type[EventBase], listener: TraceListener) -> None:
+        """Tell `listener` the records of `kind` from now on (from the run's thread; a record
+        being told meanwhile is told to the listeners it found)."""
+        self.by_kind[kind] = [*self.by_kind.get(kind, ()), listener]
+
+    def unlisten(self, kind: type[EventBase], listener: TraceListener) -> None:
+        """Stop telling `listener` the records of `kind` (as `listen`)."""
+        rest = [other for other in self.by_kind.get(kind, ()) if other != listener]
+        if rest:
+            self.by_kind[kind] = rest
+        else:
+            self.by_kind.pop(kind, None)
+
     def split_due(self, now: float) -> bool:
         """Should the trace go on in a new part (asked between steps, where the state is whole)?
         Never before the part holds a record after its header and snapshot."""

@@ -12,7 +12,7 @@ from gpp.check import check_program
 from gpp.console.control import ConsoleControl
 from gpp.console.state import LATEST_KEPT, ConsoleState
 from gpp.run.runner import RunOptions, run_program
-from gpp.runtime.events import AssignEvent, StartEvent, TraceEvent
+from gpp.runtime.events import AssignEvent, EndEvent, StartEvent, TraceEvent
 from gpp.runtime.trace import KindListener
 
 PROGRAMS = Path(__file__).resolve().parents[1] / "programs"
@@ -68,11 +68,15 @@ def test_the_view_reads_the_world_and_the_running_activities_from_the_run() -> N
 
 
 def test_a_plans_step_follows_the_starts_of_its_actions() -> None:
-    _, taken = run_with_view(PROGRAMS / "solve.gpp", StartEvent, lambda e: True)
+    state, taken = run_with_view(PROGRAMS / "solve.gpp", EndEvent, lambda e: True)
     policy = taken[0]["plan"]["policy"]
     assert policy[-1] == "drop()" and taken[0]["plan"]["feasible"] is True
-    # At each start of the policy's actions, the step counts it.
+    # At each end of the policy's actions, the step counts its start.
     assert [v["plan"]["step"] for v in taken[: len(policy)]] == list(range(1, len(policy) + 1))
+    # The next plan begins with an assignment: its action's start is its second step.
+    assert taken[-1]["plan"]["policy"] == ["planned_steps() = 1", "go(a)"] and taken[-1]["plan"]["step"] == 2
+    # The starts are told only while a plan is followed: after its last step, no more.
+    assert state._following is False and StartEvent not in state._run.trace.by_kind  # type: ignore[union-attr]
 
 
 def test_a_value_is_marked_changed_when_a_later_view_sees_it_new(tmp_path: Path) -> None:
