@@ -37,11 +37,6 @@ from gpp.runtime.events import OPERATOR_COMMANDS
 
 PUSHES_PER_SECOND = 5
 HEARTBEAT = 1.0
-# Seconds between looks at the run's pace while no browser looks, and the pace (records a
-# second) above which the run's latest records are kept only for CAPTURE seconds before a view.
-RATE_LOOK = 0.1
-BUSY_RECORDS_PER_SECOND = 1000
-CAPTURE = 0.02
 # Seconds the server gives the open streams to send the last view when it closes.
 CLOSE_GRACE = 2
 
@@ -312,32 +307,21 @@ class ConsoleServer(WebServer):
         woken = self._woken = asyncio.Event()
         loop = asyncio.get_running_loop()
         seen, published = -1, 0.0
-        counted, at, busy = 0, loop.time(), False
         while not self.channel.closing:
             watched = self.channel.streams > 0
             self.state.on_change(self._changed if watched else None)
             with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(woken.wait(), 1.0 / PUSHES_PER_SECOND if watched else RATE_LOOK)
+                await asyncio.wait_for(woken.wait(), 1.0 / PUSHES_PER_SECOND if watched else None)
             told = woken.is_set()
             woken.clear()
-            # The run's pace: at a robot's, the ring of the latest records is kept all along; at
-            # thousands of records a second only just before a view.
-            records, now = self.state.records, loop.time()
-            if now - at >= RATE_LOOK / 2:
-                busy = (records - counted) / (now - at) > BUSY_RECORDS_PER_SECOND
-                counted, at = records, now
-            if not self.channel.streams or not self.channel.ready:
-                # No browser, or every stream still sends a view (slow browsers): none would
-                # take a new one.
-                self.state.keep_latest(not busy)
+            if not self.channel.streams:
                 continue
-            if told or records != seen or now - published >= HEARTBEAT:
-                if busy:
-                    self.state.keep_latest(True)
-                    await asyncio.sleep(CAPTURE)  # the latest records, for the view's lines
-                seen, published = self.state.records, loop.time()
+            if not self.channel.ready:
+                continue  # every stream still sends a view (slow browsers): none would take a new one
+            records = self.state.records
+            if told or records != seen or loop.time() - published >= HEARTBEAT:
+                seen, published = records, loop.time()
                 self.channel.publish(self._view())
-                self.state.keep_latest(not busy)
                 await asyncio.sleep(1.0 / PUSHES_PER_SECOND)
 
     def _view(self, closed: bool = False) -> str:

@@ -195,7 +195,6 @@ class ConsoleState(_Watched):
             FinishEvent: self._finished,
         }
         self._following = False
-        self._keeping = False
         # ---- the server's thread only
         self._view_lock = threading.Lock()
         # Per slot shown: the value last shown (compared by identity first: the run's states
@@ -208,24 +207,10 @@ class ConsoleState(_Watched):
     # ------------------------------------------------------------ the run's thread
 
     def listeners(self) -> list[TraceListener]:
-        """The run's trace listeners for this view: the kinds the executor does not keep the
-        news of go to their notes, which tell the server. The ring of the latest records is a
-        listener of its own, there while it is kept (`keep_latest`)."""
-        return [KindListener(frozenset(self._notes), self._note)]
-
-    def keep_latest(self, keep: bool) -> None:
-        """Have every record of the run go to the ring of the latest (a C method: no Python code
-        per record), or no longer (the ring keeps what it has). The server keeps it while the
-        run makes records at a robot's pace; at thousands a second, where keeping them alive
-        costs the run (about 2 % in bench/console.py's loop) and no one reads every line, only
-        just before each view (gpp.console.server)."""
-        run = self._run
-        if run is None or keep == self._keeping:
-            return
-        self._keeping = keep
-        trace, ring = run.trace, self._latest.append
-        # A new list, never a change of the one the run's thread may be going through.
-        trace.listeners = [*trace.listeners, ring] if keep else [told for told in trace.listeners if told != ring]
+        """The run's trace listeners for this view: every record goes to the ring of the latest
+        (a C method, no Python code per record); the kinds the executor does not keep the news
+        of go to their notes, which tell the server."""
+        return [self._latest.append, KindListener(frozenset(self._notes), self._note)]
 
     def _note(self, event: TraceEvent) -> None:
         self._notes[type(event)](event)
@@ -236,7 +221,6 @@ class ConsoleState(_Watched):
         """The run's program starts: from now on the view reads `run`'s world."""
         self._setup = setup
         self._run = run
-        self.keep_latest(True)
         self.nudge()
 
     @property
@@ -306,7 +290,6 @@ class ConsoleState(_Watched):
             latest = _copy(self._latest)
             t = latest[-1].t if latest else 0.0
             now = clock if clock is not None and math.isfinite(clock) else t
-            t = max(t, now)  # the ring may hold older records than the run is at
             run, setup = self._run, self._setup
             finished = self._status_now not in ("starting", "running")
             waiting = run.waiting_at if run is not None and not finished else None
