@@ -341,17 +341,9 @@ class ConsoleState(_Watched):
             if status is None:
                 continue  # consumed between the two reads
             started = record.started if math.isfinite(record.started) else now
-            rows.append(
-                {
-                    "id": record.id,
-                    "action": record.action.text,
-                    "status": status.value,
-                    "cancelling": record.id in self._cancelling,
-                    "started": started,
-                    "elapsed": max(0.0, now - started),
-                    "args": {k: show(v) for k, v in record.args.items()},
-                }
-            )
+            args: dict[str, JsonValue] = {k: show(v) for k, v in record.args.items()}
+            cancelling = record.id in self._cancelling
+            rows.append(_activity(record.id, record.action.text, status.value, cancelling, started, now, args))
         return rows
 
 
@@ -389,15 +381,7 @@ class RecordFold(_Watched):
             ],
             fluents_left_out=0,
             activities=[
-                {
-                    "id": a.id,
-                    "action": a.action,
-                    "status": a.status,
-                    "cancelling": a.cancelling,
-                    "started": a.started,
-                    "elapsed": max(0.0, now - a.started),
-                    "args": {k: show_json(v) for k, v in a.args.items()},
-                }
+                _activity(a.id, a.action, a.status, a.cancelling, a.started, now, _shown(a.args))
                 for a in view.activities.values()
             ],
             plan=None if view.plan is None else {**view.plan, "step": view.plan_step},
@@ -415,6 +399,26 @@ class RecordFold(_Watched):
 def _page(*, latest: list[TraceEvent], **parts: Any) -> dict[str, Any]:
     """The view as the page takes it (the same keys from either source)."""
     return {**parts, "events": _latest_lines(latest)}
+
+
+def _activity(
+    id: int, action: str, status: str, cancelling: bool, started: float, now: float, args: dict[str, JsonValue]
+) -> dict[str, JsonValue]:
+    """A running activity as the page shows it (`args`: each argument's text)."""
+    return {
+        "id": id,
+        "action": action,
+        "status": status,
+        "cancelling": cancelling,
+        "started": started,
+        "elapsed": max(0.0, now - started),
+        "args": args,
+    }
+
+
+def _shown(args: dict[str, JsonValue]) -> dict[str, JsonValue]:
+    """Arguments as the trace has them, as text."""
+    return {k: show_json(v) for k, v in args.items()}
 
 
 def _copy(ring: deque[TraceEvent]) -> list[TraceEvent]:

@@ -163,17 +163,11 @@ def _runs(tmp_path: Path) -> Iterator[tuple[str, Path]]:
         run_program(PROGRAMS / "during_on_fail.gpp", RunOptions(trace=trace))
     yield "dropped", trace
 
-    # The operator console's records: a Start given before the run waits for it.
-    from gpp.check import check_program
-    from gpp.console.control import ConsoleControl, Request
-    from gpp.console.state import ConsoleState
+    # The operator console's records: an event sent through a hub and a Start, given before
+    # the run waits for it.
+    from tests.support.traces import operator_trace
 
-    checked = check_program(PROGRAMS / "exog_events.gpp")
-    control = ConsoleControl(ConsoleState(), checked.model, wait=True)
-    control.request(Request("start", client="127.0.0.1"))
-    trace = tmp_path / "operator.jsonl"
-    run_program(PROGRAMS / "exog_events.gpp", RunOptions(trace=trace, control=control), checked=checked)
-    yield "operator", trace
+    yield "operator", operator_trace(tmp_path)
 
 
 @pytest.mark.slow
